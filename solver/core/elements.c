@@ -1,0 +1,21 @@
+/* elements: standard atomic masses (IUPAC 2013 conventional values). */
+#include "core/elements.h"
+
+#include <string.h>
+
+double element_mass(const char *s)
+{
+    static const struct {
+        const char *sym;
+        double m;
+    } table[] = {{"H", 1.008},    {"He", 4.0026},  {"C", 12.011},   {"N", 14.007},
+                 {"O", 15.999},   {"Ne", 20.180},  {"Al", 26.9815}, {"Si", 28.0855},
+                 {"Ar", 39.948},  {"Ti", 47.867},  {"Fe", 55.845},  {"Ni", 58.6934},
+                 {"Cu", 63.546},  {"Zn", 65.38},   {"Ge", 72.630},  {"Kr", 83.798},
+                 {"Mo", 95.95},   {"Ag", 107.8682}, {"Ta", 180.94788}, {"W", 183.84},
+                 {"Pt", 195.084}, {"Au", 196.96657}, {"Pb", 207.2}, {NULL, 0}};
+    for (int i = 0; table[i].sym; i++)
+        if (strcmp(table[i].sym, s) == 0)
+            return table[i].m;
+    return 0.0;
+}

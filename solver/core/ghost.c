@@ -1,0 +1,80 @@
+/* ghost: creation and refresh of periodic-image ghost particles. */
+#include "core/ghost.h"
+
+#include <math.h>
+#include <string.h>
+
+static int add_image(struct particles *p, int src, int d, int shift, double len, struct err *e)
+{
+    int n = p->n_owned + p->n_ghost;
+    if (particles_reserve(p, n + 1, e) != 0)
+        return -1;
+    particles_copy_one(p, n, src);
+    p->x[3 * n + d] += shift * len;
+    p->origin[n] = p->origin[src];
+    p->gshift[3 * n + d] = p->gshift[3 * src + d] + shift;
+    p->n_ghost++;
+    return 0;
+}
+
+int ghost_build(struct particles *p, const struct box *b, double range, struct err *e)
+{
+    p->n_ghost = 0;
+    for (int i = 0; i < p->n_owned; i++) {
+        p->origin[i] = i;
+        p->gshift[3 * i] = p->gshift[3 * i + 1] = p->gshift[3 * i + 2] = 0;
+    }
+    for (int d = 0; d < 3; d++) {
+        if (b->bc[d] != BOUNDARY_PERIODIC)
+            continue;
+        double lo = b->lo[d], hi = b->hi[d], len = hi - lo;
+        int nlayers = (int)ceil(range / len);
+        int nsrc = p->n_owned + p->n_ghost;   /* images of ghosts of earlier axes too */
+        for (int s = 1; s <= nlayers; s++) {
+            for (int i = 0; i < nsrc; i++) {
+                double x = p->x[3 * i + d];
+                /* image shifted by +s*len lands above hi: keep if within range */
+                if (x + s * len < hi + range && add_image(p, i, d, s, len, e))
+                    return ERR_RUNTIME;
+                if (x - s * len >= lo - range && add_image(p, i, d, -s, len, e))
+                    return ERR_RUNTIME;
+            }
+        }
+    }
+    return 0;
+}
+
+void ghost_update_positions(struct particles *p, const struct box *b)
+{
+    double len[3] = {box_length(b, 0), box_length(b, 1), box_length(b, 2)};
+    int n0 = p->n_owned, n1 = p->n_owned + p->n_ghost;
+    for (int g = n0; g < n1; g++) {
+        int o = p->origin[g];
+        for (int d = 0; d < 3; d++)
+            p->x[3 * g + d] = p->x[3 * o + d] + p->gshift[3 * g + d] * len[d];
+    }
+    for (int k = 0; k < p->nfields; k++)
+        if (p->fields[k].ghost_copy)
+            ghost_forward(p, p->fields[k].data, p->fields[k].ncomp);
+}
+
+void ghost_update_velocities(struct particles *p) { ghost_forward(p, p->v, 3); }
+
+void ghost_reverse_add(const struct particles *p, double *arr, int ncomp)
+{
+    int n0 = p->n_owned, n1 = p->n_owned + p->n_ghost;
+    for (int g = n0; g < n1; g++) {
+        int o = p->origin[g];
+        for (int c = 0; c < ncomp; c++)
+            arr[(size_t)ncomp * o + c] += arr[(size_t)ncomp * g + c];
+    }
+}
+
+void ghost_forward(const struct particles *p, double *arr, int ncomp)
+{
+    int n0 = p->n_owned, n1 = p->n_owned + p->n_ghost;
+    for (int g = n0; g < n1; g++) {
+        int o = p->origin[g];
+        memcpy(arr + (size_t)ncomp * g, arr + (size_t)ncomp * o, (size_t)ncomp * sizeof(double));
+    }
+}

@@ -1,0 +1,34 @@
+/*
+ * ghost: periodic images as ghost particles -- the serial form of the halo
+ * exchange (CoMD's pattern).  Under MPI domain decomposition this module is
+ * the one to grow an exchange with neighbour ranks; kernels do not change.
+ *
+ * Ghosts are rebuilt with the neighbour list (ghost_build) and refreshed
+ * every step in between (ghost_update_positions).  Data flows owner ->
+ * ghost (ghost_forward) and ghost -> owner (ghost_reverse_add).
+ */
+#ifndef CASCADE_GHOST_H
+#define CASCADE_GHOST_H
+
+#include "core/box.h"
+#include "core/particles.h"
+#include "util/err.h"
+
+/* Create ghosts for every periodic axis: images of owned particles (and of
+ * ghosts made for earlier axes, which covers edges and corners) that lie
+ * within `range` of the box.  Several image layers are made when the box is
+ * shorter than `range`.  Existing ghosts are dropped first. */
+int ghost_build(struct particles *p, const struct box *b, double range, struct err *e);
+
+/* x[g] = x[origin[g]] + gshift[g] * L, for all ghosts; extra fields flagged
+ * ghost_copy are copied as well. */
+void ghost_update_positions(struct particles *p, const struct box *b);
+/* Copy velocities to ghosts (needed by velocity-dependent pair forces). */
+void ghost_update_velocities(struct particles *p);
+
+/* arr[ncomp * origin[g] + c] += arr[ncomp * g + c] for every ghost g. */
+void ghost_reverse_add(const struct particles *p, double *arr, int ncomp);
+/* arr[ncomp * g + c] = arr[ncomp * origin[g] + c]. */
+void ghost_forward(const struct particles *p, double *arr, int ncomp);
+
+#endif

@@ -1,0 +1,42 @@
+/*
+ * textfile: a whitespace tokenizer over a text file that knows its line
+ * numbers, for the readers of potential and configuration files.  Errors
+ * read "path:line: message".
+ */
+#ifndef CASCADE_TEXTFILE_H
+#define CASCADE_TEXTFILE_H
+
+#include <stdio.h>
+
+#include "util/err.h"
+
+struct textfile {
+    FILE *fp;
+    char path[512];
+    int line;            /* current line number (1-based) */
+    char buf[4096];      /* current line */
+    char *cursor;        /* next unread character of buf */
+    int eof;
+    int strip_comments;  /* drop everything after '#' on each line */
+};
+
+int textfile_open(struct textfile *t, const char *path, struct err *e);
+void textfile_close(struct textfile *t);
+
+/* Read the next whole line (without the newline) into buf; 0 or -1 at EOF. */
+int textfile_next_line(struct textfile *t);
+/* Next line that is not blank and not a '#' comment; 0 or -1 at EOF. */
+int textfile_next_content_line(struct textfile *t);
+
+/* Next token, crossing lines; NULL at end of file. */
+const char *textfile_token(struct textfile *t);
+
+/* Read `n` numbers crossing lines; `what` names them in errors. */
+int textfile_doubles(struct textfile *t, double *out, long n, const char *what, struct err *e);
+int textfile_double(struct textfile *t, double *out, const char *what, struct err *e);
+int textfile_int(struct textfile *t, long *out, const char *what, struct err *e);
+
+int textfile_error(struct textfile *t, struct err *e, const char *fmt, ...)
+    __attribute__((format(printf, 3, 4)));
+
+#endif

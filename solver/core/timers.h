@@ -1,0 +1,41 @@
+/*
+ * timers: wall-clock timers per phase (CLOCK_MONOTONIC), an enum plus a name
+ * table; indentation in the names shows the hierarchy.
+ */
+#ifndef CASCADE_TIMERS_H
+#define CASCADE_TIMERS_H
+
+enum timer_id {
+    TIMER_TOTAL,
+    TIMER_SETUP,
+    TIMER_LOOP,
+    TIMER_NEIGHBOR,
+    TIMER_COMM,
+    TIMER_FORCE,
+    TIMER_INTEGRATE,
+    TIMER_MPM_P2G,
+    TIMER_MPM_GRID,
+    TIMER_MPM_G2P,
+    TIMER_ANALYSIS,
+    TIMER_OUTPUT,
+    TIMER_COUNT
+};
+
+struct timers {
+    double total[TIMER_COUNT];   /* seconds */
+    double start[TIMER_COUNT];
+    long calls[TIMER_COUNT];
+};
+
+extern const char *const timer_names[TIMER_COUNT];   /* "  neighbor", ... */
+extern const char *const timer_keys[TIMER_COUNT];    /* "neighbor", ... */
+
+double timers_now(void);   /* seconds, monotonic */
+static inline void timer_start(struct timers *t, enum timer_id id) { t->start[id] = timers_now(); }
+static inline void timer_stop(struct timers *t, enum timer_id id)
+{
+    t->total[id] += timers_now() - t->start[id];
+    t->calls[id]++;
+}
+
+#endif

@@ -1,0 +1,356 @@
+/*
+ * cascade-solver: runs one simulation from a case file.
+ *
+ *   cascade-solver run CASE.yaml [--out DIR] [--threads N] [--quiet] [--no-progress]
+ *   cascade-solver check CASE.yaml
+ *   cascade-solver resolve CASE.yaml | --batch
+ *   cascade-solver info
+ *
+ * Exit codes: 0 success, 1 runtime failure, 2 invalid input or usage,
+ * 4 the simulation diverged (result.json says so).
+ */
+#include <errno.h>
+#include <libgen.h>
+#include <omp.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "input/case.h"
+#include "md/potential.h"
+#include "output/provenance.h"
+#include "scenarios/case_type.h"
+#include "scenarios/run.h"
+#include "util/canon.h"
+
+static const char *usage_main =
+    "usage: cascade-solver <command> [options]\n"
+    "\n"
+    "Runs one particle simulation (MD, DPD, MPM, coupled) from a YAML case file.\n"
+    "\n"
+    "commands:\n"
+    "  run CASE.yaml      run the case; outputs go to --out DIR\n"
+    "  check CASE.yaml    validate the case (keys, values, files, time step) and exit\n"
+    "  resolve CASE.yaml  print the canonical case as JSON (defaults filled in)\n"
+    "  resolve --batch    read cases as JSON lines on stdin, print one result line each\n"
+    "  info               version, git hash, build flags, libraries, case types, potentials\n"
+    "\n"
+    "Run 'cascade-solver <command> --help' for a command's options.\n"
+    "Exit codes: 0 ok, 1 runtime failure, 2 invalid input, 4 diverged.\n";
+
+static const char *usage_run =
+    "usage: cascade-solver run CASE.yaml [--out DIR] [--threads N] [--quiet] [--no-progress]\n"
+    "\n"
+    "Runs the case.  Writes DIR/result.json (metrics, status, timing), DIR/thermo.csv,\n"
+    "DIR/fields.h5 + DIR/fields.xdmf (snapshots for ParaView) and, when asked,\n"
+    "DIR/snapshots.xyz (extended XYZ for OVITO).\n"
+    "\n"
+    "  --out DIR      output directory (default: CASE-out next to the current directory)\n"
+    "  --threads N    OpenMP threads (default: OMP_NUM_THREADS or 1); results do not\n"
+    "                 depend on it beyond round-off\n"
+    "  --quiet        print errors only\n"
+    "  --no-progress  no progress line\n";
+
+static const char *usage_check =
+    "usage: cascade-solver check CASE.yaml\n"
+    "\n"
+    "Validates the case: unknown keys, types and ranges, potential and data files,\n"
+    "the time step against the stability bound.  Prints 'ok' or the first error as\n"
+    "file:line:column: key: message; exit code 0 or 2.\n";
+
+static const char *usage_resolve =
+    "usage: cascade-solver resolve CASE.yaml [--key]\n"
+    "       cascade-solver resolve --batch < cases.jsonl\n"
+    "\n"
+    "Prints the canonical case as JSON: every default filled in, keys sorted, numbers\n"
+    "normalised.  Its SHA-256 (first 16 hex digits) is the job key; --key prints it\n"
+    "instead.  With --batch, each stdin line is a case as JSON and each output line is\n"
+    "  {\"ok\": true, \"key\": \"...\", \"case\": {...}}  or  {\"ok\": false, \"error\": \"...\"}\n"
+    "Files named in the cases are not opened (run 'check' for that).\n";
+
+static const char *usage_info = "usage: cascade-solver info\n\nPrints build and library "
+                                "provenance, the case types and the potential styles as JSON.\n";
+
+static int wants_help(int argc, char **argv)
+{
+    for (int i = 0; i < argc; i++)
+        if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0)
+            return 1;
+    return 0;
+}
+
+static int exit_code(int rc)
+{
+    return rc == ERR_INPUT ? 2 : rc == ERR_DIVERGED ? 4 : rc ? 1 : 0;
+}
+
+static int parse_int(const char *s, long lo, long hi, long *out)
+{
+    char *end;
+    errno = 0;
+    long v = strtol(s, &end, 10);
+    if (errno || *end || end == s || v < lo || v > hi)
+        return -1;
+    *out = v;
+    return 0;
+}
+
+static int cmd_check(int argc, char **argv)
+{
+    if (wants_help(argc, argv)) {
+        fputs(usage_check, stdout);
+        return 0;
+    }
+    if (argc != 1) {
+        fputs(usage_check, stderr);
+        return 2;
+    }
+    struct err e = {0};
+    struct case_doc cd;
+    struct case_resolved cr;
+    int rc = case_load_file(&cd, argv[0], &e);
+    if (!rc)
+        rc = case_resolve(&cd, 0, 1, &cr, &e);
+    if (!rc) {
+        printf("ok: %s (%s, %ld particles)\n", argv[0], cr.type->name,
+               cr.type->particles(cr.state));
+        case_resolved_free(&cr);
+    } else {
+        fprintf(stderr, "error: %s\n", e.msg);
+    }
+    case_doc_free(&cd);
+    return exit_code(rc);
+}
+
+static int resolve_one(struct case_doc *cd, json_t **line)
+{
+    struct err e = {0};
+    struct case_resolved cr;
+    int rc = case_resolve(cd, 1, 1, &cr, &e);
+    if (rc) {
+        *line = json_pack("{s:b, s:s}", "ok", 0, "error", e.msg);
+        return rc;
+    }
+    case_resolved_free(&cr);
+    char key[CANON_KEY_LEN + 1];
+    canon_key(cd->doc, key);
+    *line = json_pack("{s:b, s:s, s:O}", "ok", 1, "key", key, "case", cd->doc);
+    return 0;
+}
+
+static int cmd_resolve(int argc, char **argv)
+{
+    if (wants_help(argc, argv)) {
+        fputs(usage_resolve, stdout);
+        return 0;
+    }
+    int batch = 0, key_only = 0;
+    const char *file = NULL;
+    for (int i = 0; i < argc; i++) {
+        if (strcmp(argv[i], "--batch") == 0)
+            batch = 1;
+        else if (strcmp(argv[i], "--key") == 0)
+            key_only = 1;
+        else if (!file && argv[i][0] != '-')
+            file = argv[i];
+        else {
+            fprintf(stderr, "error: unknown option '%s'\n%s", argv[i], usage_resolve);
+            return 2;
+        }
+    }
+    if (batch == (file != NULL)) {
+        fputs(usage_resolve, stderr);
+        return 2;
+    }
+    if (!batch) {
+        struct err e = {0};
+        struct case_doc cd;
+        int rc = case_load_file(&cd, file, &e);
+        json_t *line = NULL;
+        if (!rc) {
+            rc = resolve_one(&cd, &line);
+            if (rc)
+                fprintf(stderr, "error: %s\n", json_string_value(json_object_get(line, "error")));
+            else if (key_only)
+                printf("%s\n", json_string_value(json_object_get(line, "key")));
+            else {
+                char *text = canon_json(cd.doc);
+                printf("%s\n", text);
+                free(text);
+            }
+        } else {
+            fprintf(stderr, "error: %s\n", e.msg);
+        }
+        json_decref(line);
+        case_doc_free(&cd);
+        return exit_code(rc);
+    }
+    /* batch: one JSON case per line; every line answered, exit 0 unless I/O fails */
+    char *buf = NULL;
+    size_t cap = 0;
+    ssize_t len;
+    long lineno = 0;
+    while ((len = getline(&buf, &cap, stdin)) >= 0) {
+        lineno++;
+        if (len == 0 || buf[strspn(buf, " \t\r\n")] == '\0')
+            continue;
+        char name[64];
+        snprintf(name, sizeof name, "<stdin line %ld>", lineno);
+        struct err e = {0};
+        struct case_doc cd;
+        json_t *line = NULL;
+        if (case_load_json(&cd, buf, name, &e) != 0)
+            line = json_pack("{s:b, s:s}", "ok", 0, "error", e.msg);
+        else
+            resolve_one(&cd, &line);
+        char *text = canon_json(line);
+        printf("%s\n", text);
+        free(text);
+        json_decref(line);
+        case_doc_free(&cd);
+    }
+    free(buf);
+    return fflush(stdout) == 0 ? 0 : 1;
+}
+
+static int cmd_info(int argc, char **argv)
+{
+    if (wants_help(argc, argv)) {
+        fputs(usage_info, stdout);
+        return 0;
+    }
+    json_t *info = provenance_json();
+    json_t *types = json_object();
+    for (int i = 0; case_types[i]; i++)
+        json_object_set_new(types, case_types[i]->name, json_string(case_types[i]->summary));
+    json_object_set_new(info, "case_types", types);
+    json_t *pots = json_object();
+    for (int i = 0; potential_styles[i].name; i++)
+        json_object_set_new(pots, potential_styles[i].name,
+                            json_string(potential_styles[i].summary));
+    json_object_set_new(info, "potential_styles", pots);
+    json_object_set_new(info, "openmp_max_threads", json_integer(omp_get_max_threads()));
+    json_dumpf(info, stdout, JSON_INDENT(2) | JSON_SORT_KEYS);
+    printf("\n");
+    json_decref(info);
+    return 0;
+}
+
+static int cmd_run(int argc, char **argv)
+{
+    if (wants_help(argc, argv)) {
+        fputs(usage_run, stdout);
+        return 0;
+    }
+    const char *file = NULL, *out = NULL;
+    long threads = 0;
+    int quiet = 0, progress = 1;
+    for (int i = 0; i < argc; i++) {
+        if (strcmp(argv[i], "--out") == 0 && i + 1 < argc) {
+            out = argv[++i];
+        } else if (strcmp(argv[i], "--threads") == 0 && i + 1 < argc) {
+            if (parse_int(argv[++i], 1, 1024, &threads) != 0) {
+                fprintf(stderr, "error: --threads needs an integer 1..1024, got '%s'\n", argv[i]);
+                return 2;
+            }
+        } else if (strcmp(argv[i], "--quiet") == 0) {
+            quiet = 1;
+        } else if (strcmp(argv[i], "--no-progress") == 0) {
+            progress = 0;
+        } else if (!file && argv[i][0] != '-') {
+            file = argv[i];
+        } else {
+            fprintf(stderr, "error: unknown option or missing value '%s'\n%s", argv[i], usage_run);
+            return 2;
+        }
+    }
+    if (!file) {
+        fputs(usage_run, stderr);
+        return 2;
+    }
+    if (threads == 0) {
+        const char *env = getenv("OMP_NUM_THREADS");
+        threads = 1;
+        if (env && parse_int(env, 1, 1024, &threads) != 0)
+            threads = 1;
+    }
+    char outbuf[4096];
+    if (!out) {
+        char tmp[4096];
+        snprintf(tmp, sizeof tmp, "%s", file);
+        char *base = basename(tmp);
+        char *dot = strrchr(base, '.');
+        if (dot)
+            *dot = '\0';
+        snprintf(outbuf, sizeof outbuf, "%s-out", base);
+        out = outbuf;
+    }
+    struct err e = {0};
+    struct case_doc cd;
+    struct case_resolved cr;
+    int rc = case_load_file(&cd, file, &e);
+    double t0 = timers_now();
+    if (!rc)
+        rc = case_resolve(&cd, 0, (int)threads, &cr, &e);
+    if (rc) {
+        fprintf(stderr, "error: %s\n", e.msg);
+        case_doc_free(&cd);
+        return exit_code(rc);
+    }
+    struct run_options opt = {out, (int)threads, progress, quiet};
+    struct run run;
+    rc = run_open(&run, &opt, &cr.output, cd.doc, cr.common.seed, cr.common.title, &e);
+    if (rc) {
+        fprintf(stderr, "error: %s\n", e.msg);
+        case_resolved_free(&cr);
+        case_doc_free(&cd);
+        return exit_code(rc);
+    }
+    run.timers.total[TIMER_SETUP] = timers_now() - t0;
+    run.timers.calls[TIMER_SETUP] = 1;
+    run_log(&run, "cascade-solver %s (%s): %s case '%s', %ld particles, %d thread(s), out %s",
+            provenance_version(), provenance_git_hash(), cr.type->name, file,
+            cr.type->particles(cr.state), (int)threads, out);
+    rc = cr.type->run(cr.state, &run, &e);
+    long steps = 0;
+    json_t *st = json_object_get(json_object_get(cd.doc, "md"), "steps");
+    if (json_is_integer(st))
+        steps = (long)json_integer_value(st);
+    const char *status = rc == 0 ? "ok" : rc == ERR_DIVERGED ? "diverged" : "failed";
+    struct err e2 = {0};
+    int rc2 = run_close(&run, status, rc ? e.msg : NULL, steps, cr.type->particles(cr.state), &e2);
+    if (rc)
+        fprintf(stderr, "error: %s\n", e.msg);
+    else if (rc2)
+        fprintf(stderr, "error: %s\n", e2.msg);
+    case_resolved_free(&cr);
+    case_doc_free(&cd);
+    return exit_code(rc ? rc : rc2);
+}
+
+int main(int argc, char **argv)
+{
+    if (argc < 2) {
+        fputs(usage_main, stderr);
+        return 2;
+    }
+    const char *cmd = argv[1];
+    if (strcmp(cmd, "--help") == 0 || strcmp(cmd, "-h") == 0 || strcmp(cmd, "help") == 0) {
+        fputs(usage_main, stdout);
+        return 0;
+    }
+    if (strcmp(cmd, "--version") == 0) {
+        printf("cascade-solver %s (%s)\n", provenance_version(), provenance_git_hash());
+        return 0;
+    }
+    if (strcmp(cmd, "run") == 0)
+        return cmd_run(argc - 2, argv + 2);
+    if (strcmp(cmd, "check") == 0)
+        return cmd_check(argc - 2, argv + 2);
+    if (strcmp(cmd, "resolve") == 0)
+        return cmd_resolve(argc - 2, argv + 2);
+    if (strcmp(cmd, "info") == 0)
+        return cmd_info(argc - 2, argv + 2);
+    fprintf(stderr, "error: unknown command '%s'\n\n%s", cmd, usage_main);
+    return 2;
+}

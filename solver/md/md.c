@@ -1,0 +1,286 @@
+/* md: velocity Verlet, neighbour and ghost management, observables. */
+#include "md/md.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "core/ghost.h"
+#include "core/units.h"
+
+static void tstart(struct md *md, enum timer_id id)
+{
+    if (md->timers)
+        timer_start(md->timers, id);
+}
+static void tstop(struct md *md, enum timer_id id)
+{
+    if (md->timers)
+        timer_stop(md->timers, id);
+}
+
+/* Wrap, (sort), ghosts, list. */
+static int rebuild(struct md *md, struct err *e)
+{
+    struct particles *p = md->p;
+    double range = md->pot->cutoff + md->skin;
+    particles_clear_ghosts(p);
+    int rc = box_remap(&md->box, p, 0.0, e);
+    if (rc)
+        return rc;
+    if (md->sort_every > 0 && md->nrebuilds % md->sort_every == 0 && p->n_owned > 1) {
+        int *perm = malloc((size_t)p->n_owned * sizeof *perm);
+        if (!perm)
+            return err_nomem(e, "spatial sort");
+        rc = nlist_spatial_order(p, 0.5 * range, perm, e);
+        if (!rc)
+            rc = particles_permute(p, perm, e);
+        free(perm);
+        if (rc)
+            return rc;
+    }
+    tstart(md, TIMER_COMM);
+    rc = ghost_build(p, &md->box, range, e);
+    tstop(md, TIMER_COMM);
+    if (rc)
+        return rc;
+    rc = nlist_build(md->nl, p, e);
+    md->nrebuilds++;
+    return rc;
+}
+
+int md_compute_forces(struct md *md, struct err *e)
+{
+    struct particles *p = md->p;
+    int rc;
+    tstart(md, TIMER_NEIGHBOR);
+    int need = nlist_needs_rebuild(md->nl, p);
+    if (need) {
+        rc = rebuild(md, e);
+        tstop(md, TIMER_NEIGHBOR);
+        if (rc)
+            return rc;
+    } else {
+        tstop(md, TIMER_NEIGHBOR);
+        tstart(md, TIMER_COMM);
+        ghost_update_positions(p, &md->box);
+        tstop(md, TIMER_COMM);
+    }
+    tstart(md, TIMER_FORCE);
+    md->pot->nthreads = md->nthreads;
+    rc = md->pot->ops->compute(md->pot, p, md->nl, md->peratom ? POT_PERATOM : 0, &md->last, e);
+    tstop(md, TIMER_FORCE);
+    if (rc)
+        return rc;
+    tstart(md, TIMER_COMM);
+    ghost_reverse_add(p, p->f, 3);
+    if (md->peratom) {
+        ghost_reverse_add(p, p->pe, 1);
+        ghost_reverse_add(p, p->virial, 6);
+    }
+    tstop(md, TIMER_COMM);
+    return 0;
+}
+
+int md_init(struct md *md, struct particles *p, const struct box *box, struct potential *pot,
+            double dt, double skin, int nthreads, struct err *e)
+{
+    memset(md, 0, sizeof *md);
+    md->p = p;
+    md->box = *box;
+    md->pot = pot;
+    md->dt = dt;
+    md->skin = skin;
+    md->nthreads = nthreads < 1 ? 1 : nthreads;
+    md->sort_every = 20;
+    md->thermo.style = THERMOSTAT_NONE;
+    md->thermo.group_mask = 1u;
+    md->nl = nlist_create(pot->list_kind, pot->cutoff, skin);
+    if (!md->nl)
+        return err_nomem(e, "neighbor list");
+    for (int d = 0; d < 3; d++)
+        if (box->bc[d] == BOUNDARY_PERIODIC && box_length(box, d) <= 0)
+            return err_set(e, ERR_INPUT, "periodic box length along %c must be positive",
+                           "xyz"[d]);
+    int rc = potential_bind(pot, p, e);
+    if (rc)
+        return rc;
+    return md_compute_forces(md, e);
+}
+
+void md_free(struct md *md)
+{
+    particles_destroy(&md->p);
+    potential_destroy(&md->pot);
+    nlist_destroy(&md->nl);
+}
+
+int md_step(struct md *md, struct err *e)
+{
+    struct particles *p = md->p;
+    const double dt = md->dt;
+    const uint32_t hold = md->frozen_mask | md->rigid_mask;
+    tstart(md, TIMER_INTEGRATE);
+    for (int i = 0; i < p->n_owned; i++) {
+        double dtfm = 0.5 * dt * UNITS_FTM2V / p->mass[p->type[i]];
+        if (p->mask[i] & md->frozen_mask)
+            continue;
+        if (!(p->mask[i] & hold))
+            for (int d = 0; d < 3; d++)
+                p->v[3 * i + d] += dtfm * p->f[3 * i + d];
+        for (int d = 0; d < 3; d++)
+            p->x[3 * i + d] += dt * p->v[3 * i + d];
+    }
+    tstop(md, TIMER_INTEGRATE);
+
+    int rc = md_compute_forces(md, e);
+    if (rc)
+        return rc;
+    if (md->thermo.style == THERMOSTAT_LANGEVIN)
+        thermostat_langevin_forces(&md->thermo, p, dt, md->seed, md->step + 1);
+
+    tstart(md, TIMER_INTEGRATE);
+    for (int i = 0; i < p->n_owned; i++) {
+        if (p->mask[i] & hold)
+            continue;
+        double dtfm = 0.5 * dt * UNITS_FTM2V / p->mass[p->type[i]];
+        for (int d = 0; d < 3; d++)
+            p->v[3 * i + d] += dtfm * p->f[3 * i + d];
+    }
+    if (md->thermo.style == THERMOSTAT_BERENDSEN)
+        thermostat_berendsen_rescale(&md->thermo, p, dt, md_temperature(md));
+    tstop(md, TIMER_INTEGRATE);
+    md->step++;
+    md->time += dt;
+    return 0;
+}
+
+double md_kinetic_energy(const struct md *md)
+{
+    const struct particles *p = md->p;
+    double ke = 0;
+    for (int i = 0; i < p->n_owned; i++) {
+        const double *v = p->v + 3 * i;
+        ke += p->mass[p->type[i]] * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+    }
+    return 0.5 * ke * UNITS_MVV2E;
+}
+
+double md_temperature(const struct md *md)
+{
+    int n = md->p->n_owned;
+    double dof = n > 1 ? 3.0 * n - 3.0 : 3.0 * n;
+    return dof > 0 ? 2.0 * md_kinetic_energy(md) / (dof * UNITS_KB) : 0.0;
+}
+
+void md_pressure_tensor(const struct md *md, double P[6])
+{
+    const struct particles *p = md->p;
+    double k[6] = {0};
+    for (int i = 0; i < p->n_owned; i++) {
+        double m = p->mass[p->type[i]] * UNITS_MVV2E;
+        const double *v = p->v + 3 * i;
+        k[0] += m * v[0] * v[0];
+        k[1] += m * v[1] * v[1];
+        k[2] += m * v[2] * v[2];
+        k[3] += m * v[0] * v[1];
+        k[4] += m * v[0] * v[2];
+        k[5] += m * v[1] * v[2];
+    }
+    double V = box_volume(&md->box);
+    for (int c = 0; c < 6; c++)
+        P[c] = (k[c] + md->last.virial[c]) / V;
+}
+
+void md_momentum(const struct md *md, double P[3])
+{
+    const struct particles *p = md->p;
+    P[0] = P[1] = P[2] = 0;
+    for (int i = 0; i < p->n_owned; i++)
+        for (int d = 0; d < 3; d++)
+            P[d] += p->mass[p->type[i]] * p->v[3 * i + d];
+}
+
+void md_peratom_stress(const struct md *md, double *out)
+{
+    const struct particles *p = md->p;
+    double omega = p->n_owned > 0 ? box_volume(&md->box) / p->n_owned : 1.0;
+    for (int i = 0; i < p->n_owned; i++) {
+        double m = p->mass[p->type[i]] * UNITS_MVV2E;
+        const double *v = p->v + 3 * i, *w = p->virial + 6 * i;
+        double kv[6] = {v[0] * v[0], v[1] * v[1], v[2] * v[2], v[0] * v[1], v[0] * v[2], v[1] * v[2]};
+        for (int c = 0; c < 6; c++)
+            out[6 * i + c] = -(m * kv[c] + w[c]) / omega;
+    }
+}
+
+int md_einstein_frequency(struct md *md, double *omega, struct err *e)
+{
+    struct particles *p = md->p;
+    *omega = 0;
+    int n = p->n_owned;
+    if (n < 2)
+        return 0;
+    const double delta = 1e-3;   /* Å: small enough to be harmonic */
+    /* Sample atoms far enough apart (2 cutoffs: EAM couples through the
+     * density of shared neighbours) that displacing them together leaves
+     * each one's restoring force unaffected by the others; periodic images
+     * count, so compare minimum-image distances. */
+    enum { MAXS = 8 };
+    int sample[MAXS], ns = 0;
+    double sep = 2.0 * md->pot->cutoff + 0.1;
+    for (int i = 0; i < n && ns < MAXS; i += 1 + n / (4 * MAXS)) {
+        int ok = 1;
+        for (int k = 0; k < ns && ok; k++) {
+            double r2 = 0;
+            for (int d = 0; d < 3; d++) {
+                double dd = p->x[3 * i + d] - p->x[3 * sample[k] + d];
+                if (md->box.bc[d] == BOUNDARY_PERIODIC) {
+                    double L = box_length(&md->box, d);
+                    dd -= L * round(dd / L);
+                }
+                r2 += dd * dd;
+            }
+            ok = r2 > sep * sep;
+        }
+        if (ok)
+            sample[ns++] = i;
+    }
+    double *f0 = malloc((size_t)3 * n * sizeof *f0);
+    int64_t ids[MAXS];
+    if (!f0)
+        return err_nomem(e, "frequency estimate");
+    memcpy(f0, p->f, (size_t)3 * n * sizeof(double));
+    int sort_saved = md->sort_every;
+    md->sort_every = 0;   /* keep indices stable while probing */
+    struct force_result keep = md->last;
+    for (int k = 0; k < ns; k++)
+        ids[k] = p->id[sample[k]];
+    int rc = 0;
+    for (int d = 0; d < 3 && !rc; d++) {
+        double x0[MAXS];
+        for (int k = 0; k < ns; k++) {
+            x0[k] = p->x[3 * sample[k] + d];
+            p->x[3 * sample[k] + d] += delta;
+        }
+        rc = md_compute_forces(md, e);
+        for (int k = 0; k < ns && !rc; k++) {
+            int i = sample[k];
+            if (p->id[i] != ids[k])
+                continue;   /* a rebuild reordered atoms: skip this sample */
+            double kspring = -(p->f[3 * i + d] - f0[3 * i + d]) / delta;   /* eV/Å^2 */
+            double w2 = kspring * UNITS_FTM2V / p->mass[p->type[i]];
+            if (w2 > *omega * *omega)
+                *omega = sqrt(w2);
+        }
+        for (int k = 0; k < ns; k++)
+            p->x[3 * sample[k] + d] = x0[k];   /* exactly, not x + delta - delta */
+    }
+    /* restore the unperturbed forces */
+    if (!rc && p->n_owned == n)
+        memcpy(p->f, f0, (size_t)3 * n * sizeof(double));
+    md->sort_every = sort_saved;
+    md->last = keep;
+    free(f0);
+    return rc;
+}

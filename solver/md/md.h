@@ -1,0 +1,72 @@
+/*
+ * md: the molecular-dynamics engine -- one particle set in one box driven by
+ * one potential with velocity Verlet.
+ *
+ * The step reads like the algorithm (CoMD): half kick, drift, ghosts or
+ * neighbour rebuild, forces, half kick, thermostat.  Particles in the
+ * `frozen` groups keep their positions (fixed boundary layers); the
+ * `rigid` groups move with their velocity unchanged (pistons, flyers).
+ */
+#ifndef CASCADE_MD_H
+#define CASCADE_MD_H
+
+#include <stdint.h>
+
+#include "core/box.h"
+#include "core/particles.h"
+#include "core/timers.h"
+#include "md/neighbor.h"
+#include "md/potential.h"
+#include "md/thermostat.h"
+#include "util/err.h"
+
+struct md {
+    struct particles *p;        /* owned by the md */
+    struct box box;
+    struct potential *pot;      /* owned by the md */
+    struct nlist *nl;           /* owned by the md */
+    struct thermostat thermo;
+    double dt;                  /* ps */
+    double skin;                /* Å */
+    int nthreads;
+    long step;
+    double time;                /* ps */
+    int sort_every;             /* spatial sort every this many rebuilds (0 = never) */
+    uint32_t frozen_mask;       /* group bits of particles held in place */
+    uint32_t rigid_mask;        /* group bits of particles moving at constant velocity */
+    int peratom;                /* keep per-particle energy and virial current */
+    struct force_result last;   /* energy and virial of the last force call */
+    struct timers *timers;      /* borrowed, may be NULL */
+    long nrebuilds;
+    uint64_t seed;
+};
+
+/* Take ownership of p and pot, build ghosts and lists, compute forces. */
+int md_init(struct md *md, struct particles *p, const struct box *box, struct potential *pot,
+            double dt, double skin, int nthreads, struct err *e);
+void md_free(struct md *md);
+
+/* Recompute forces at the current positions (rebuilding lists if needed). */
+int md_compute_forces(struct md *md, struct err *e);
+
+/* One velocity-Verlet step of dt. */
+int md_step(struct md *md, struct err *e);
+
+/* Observables of the owned particles. */
+double md_kinetic_energy(const struct md *md);            /* eV */
+double md_temperature(const struct md *md);               /* K, 3N-3 degrees of freedom */
+void md_pressure_tensor(const struct md *md, double P[6]); /* eV/Å^3, xx yy zz xy xz yz */
+void md_momentum(const struct md *md, double P[3]);        /* amu Å/ps */
+
+/* Per-particle stress -(m v v + W_i) / (V/N) in eV/Å^3 (6 per particle);
+ * needs md->peratom. */
+void md_peratom_stress(const struct md *md, double *out);
+
+/* Einstein frequency (rad/ps): the largest sqrt(k/m) over a few particles
+ * displaced by 1e-3 Å along each axis with all others held, k the restoring
+ * force constant.  0 when nothing binds.  For fcc with nearest-neighbour
+ * springs the highest phonon frequency is sqrt(2) times this, so velocity
+ * Verlet is unstable above dt = sqrt(2) / omega_E. */
+int md_einstein_frequency(struct md *md, double *omega, struct err *e);
+
+#endif

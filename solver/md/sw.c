@@ -1,0 +1,283 @@
+/*
+ * sw: Stillinger-Weber three-body potential (Phys. Rev. B 31, 5262 (1985))
+ * read from LAMMPS *.sw files (entries: e1 e2 e3 epsilon sigma a lambda
+ * gamma costheta0 A B p q tol).
+ *
+ *   E = sum_{i<j} phi2(r_ij) + sum_i sum_{j<k} phi3(r_ij, r_ik, theta_jik)
+ *   phi2 = A eps [B (sigma/r)^p - (sigma/r)^q] exp(sigma / (r - a sigma))
+ *   phi3 = lambda eps (cos theta - cos theta0)^2
+ *          exp(gamma_ij sigma_ij / (r_ij - a_ij sigma_ij))
+ *          exp(gamma_ik sigma_ik / (r_ik - a_ik sigma_ik))
+ *
+ * A full neighbour list: each owned atom takes half of each pair's energy
+ * and its own pair force; the three-body terms centred on it push on both
+ * neighbours (ghost forces are added back to the owners by the caller).
+ * Parameters of the ij leg come from entry (i, j, j), lambda and cos theta0
+ * from (i, j, k), as in LAMMPS.
+ */
+#include <math.h>
+#include <omp.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "core/textfile.h"
+#include "md/potential.h"
+#include "md/potential_common.h"
+
+#define NE PARTICLES_MAX_TYPES
+
+struct sw_entry {
+    double eps, sigma, a, lambda, gamma, cos0, A, B, p, q;
+    double cut, cutsq;
+    int set;
+};
+
+struct sw {
+    struct potential base;
+    struct sw_entry e[NE][NE][NE];
+    struct pair_scratch scratch;
+};
+
+static void sw_two_body(const struct sw_entry *P, double r, double *phi, double *dphi)
+{
+    double rinv = 1.0 / r;
+    double sr = P->sigma * rinv;
+    double srp = pow(sr, P->p), srq = P->q == 0 ? 1.0 : pow(sr, P->q);
+    double den = r - P->a * P->sigma;
+    double ex = exp(P->sigma / den);
+    double poly = P->B * srp - srq;
+    *phi = P->A * P->eps * poly * ex;
+    /* d/dr: poly' = (-p B srp + q srq) / r ; ex' = -sigma / den^2 ex */
+    double dpoly = (-P->p * P->B * srp + P->q * srq) * rinv;
+    *dphi = P->A * P->eps * (dpoly - poly * P->sigma / (den * den)) * ex;
+}
+
+static int sw_compute(struct potential *pot, struct particles *p, const struct nlist *nl, int flags,
+                      struct force_result *out, struct err *e)
+{
+    struct sw *s = (struct sw *)pot;
+    int nt = pot->nthreads < 1 ? 1 : pot->nthreads;
+    int rc = pair_scratch_begin(&s->scratch, p, flags, nt, e);
+    if (rc)
+        return rc;
+    const int *tmap = pot->type_map;
+#pragma omp parallel num_threads(nt)
+    {
+        int tid = omp_get_thread_num();
+        struct pair_target t = pair_scratch_target(&s->scratch, p, tid);
+        double esum = 0, w[6] = {0};
+#pragma omp for schedule(static)
+        for (int i = 0; i < p->n_owned; i++) {
+            const double *xi = p->x + 3 * i;
+            int ti = tmap[p->type[i]];
+            int kbeg = nl->offset[i], kend = nl->offset[i + 1];
+            /* two-body: half of each pair, force on i only */
+            for (int k = kbeg; k < kend; k++) {
+                int j = nl->neigh[k];
+                int tj = tmap[p->type[j]];
+                const struct sw_entry *P = &s->e[ti][tj][tj];
+                double d[3] = {xi[0] - p->x[3 * j], xi[1] - p->x[3 * j + 1], xi[2] - p->x[3 * j + 2]};
+                double r2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+                if (r2 >= P->cutsq)
+                    continue;
+                double r = sqrt(r2), phi, dphi;
+                sw_two_body(P, r, &phi, &dphi);
+                /* the whole pair force acts on i here (j's own loop gives
+                 * j its share); energy and virial are split between the
+                 * two loops */
+                double fpair = -dphi / r;
+                for (int c = 0; c < 3; c++)
+                    t.f[3 * i + c] += d[c] * fpair;
+                esum += 0.5 * phi;
+                pair_tally_virial(w, d[0], d[1], d[2], 0.5 * fpair);
+                if (t.pe) {
+                    t.pe[i] += 0.5 * phi;
+                    double v[6] = {d[0] * d[0], d[1] * d[1], d[2] * d[2],
+                                   d[0] * d[1], d[0] * d[2], d[1] * d[2]};
+                    for (int c = 0; c < 6; c++)
+                        t.vir[6 * i + c] += 0.5 * v[c] * fpair;
+                }
+            }
+            /* three-body terms centred on i */
+            for (int k1 = kbeg; k1 < kend; k1++) {
+                int j = nl->neigh[k1];
+                int tj = tmap[p->type[j]];
+                const struct sw_entry *Pij = &s->e[ti][tj][tj];
+                double d1[3] = {p->x[3 * j] - xi[0], p->x[3 * j + 1] - xi[1], p->x[3 * j + 2] - xi[2]};
+                double r1sq = d1[0] * d1[0] + d1[1] * d1[1] + d1[2] * d1[2];
+                if (r1sq >= Pij->cutsq)
+                    continue;
+                double r1 = sqrt(r1sq);
+                double den1 = r1 - Pij->a * Pij->sigma;
+                double g1 = Pij->gamma * Pij->sigma / den1;
+                double e1 = exp(g1);
+                double de1 = -g1 / den1 * e1;   /* d e1 / d r1 */
+                for (int k2 = k1 + 1; k2 < kend; k2++) {
+                    int k = nl->neigh[k2];
+                    int tk = tmap[p->type[k]];
+                    const struct sw_entry *Pik = &s->e[ti][tk][tk];
+                    double d2[3] = {p->x[3 * k] - xi[0], p->x[3 * k + 1] - xi[1],
+                                    p->x[3 * k + 2] - xi[2]};
+                    double r2sq = d2[0] * d2[0] + d2[1] * d2[1] + d2[2] * d2[2];
+                    if (r2sq >= Pik->cutsq)
+                        continue;
+                    const struct sw_entry *Pijk = &s->e[ti][tj][tk];
+                    double r2 = sqrt(r2sq);
+                    double den2 = r2 - Pik->a * Pik->sigma;
+                    double g2 = Pik->gamma * Pik->sigma / den2;
+                    double e2 = exp(g2);
+                    double de2 = -g2 / den2 * e2;
+                    double cs = (d1[0] * d2[0] + d1[1] * d2[1] + d1[2] * d2[2]) / (r1 * r2);
+                    double dc = cs - Pijk->cos0;
+                    double le = Pijk->lambda * Pijk->eps;
+                    double E3 = le * dc * dc * e1 * e2;
+                    double dEdc = 2.0 * le * dc * e1 * e2;
+                    double dEdr1 = le * dc * dc * de1 * e2;
+                    double dEdr2 = le * dc * dc * e1 * de2;
+                    double fj[3], fk[3];
+                    for (int c = 0; c < 3; c++) {
+                        double dcd1 = d2[c] / (r1 * r2) - cs * d1[c] / r1sq;
+                        double dcd2 = d1[c] / (r1 * r2) - cs * d2[c] / r2sq;
+                        fj[c] = -(dEdr1 * d1[c] / r1 + dEdc * dcd1);
+                        fk[c] = -(dEdr2 * d2[c] / r2 + dEdc * dcd2);
+                    }
+                    for (int c = 0; c < 3; c++) {
+                        t.f[3 * j + c] += fj[c];
+                        t.f[3 * k + c] += fk[c];
+                        t.f[3 * i + c] -= fj[c] + fk[c];
+                    }
+                    esum += E3;
+                    double v[6] = {d1[0] * fj[0] + d2[0] * fk[0], d1[1] * fj[1] + d2[1] * fk[1],
+                                   d1[2] * fj[2] + d2[2] * fk[2], d1[0] * fj[1] + d2[0] * fk[1],
+                                   d1[0] * fj[2] + d2[0] * fk[2], d1[1] * fj[2] + d2[1] * fk[2]};
+                    for (int c = 0; c < 6; c++)
+                        w[c] += v[c];
+                    if (t.pe) {
+                        int who[3] = {i, j, k};
+                        for (int a = 0; a < 3; a++) {
+                            t.pe[who[a]] += E3 / 3.0;
+                            for (int c = 0; c < 6; c++)
+                                t.vir[6 * who[a] + c] += v[c] / 3.0;
+                        }
+                    }
+                }
+            }
+        }
+        pair_scratch_store_sums(&s->scratch, tid, esum, w);
+    }
+    pair_scratch_end(&s->scratch, p, out);
+    return 0;
+}
+
+static void sw_destroy(struct potential *pot)
+{
+    struct sw *s = (struct sw *)pot;
+    pair_scratch_free(&s->scratch);
+    free(s);
+}
+
+static const struct potential_ops sw_ops = {"sw", sw_compute, sw_destroy};
+
+static int sw_read_file(struct sw *s, const char *path, struct err *e)
+{
+    struct textfile t;
+    int rc = textfile_open(&t, path, e);
+    if (rc)
+        return rc;
+    t.strip_comments = 1;
+    for (;;) {
+        /* an entry is 14 fields, possibly spread over several lines */
+        char tok[14][64];
+        int ntok = 0;
+        const char *s1;
+        while (ntok < 14 && (s1 = textfile_token(&t)) != NULL)
+            snprintf(tok[ntok++], sizeof tok[0], "%s", s1);
+        if (ntok == 0)
+            break;
+        if (ntok < 14) {
+            rc = textfile_error(&t, e, "incomplete Stillinger-Weber entry: 14 fields needed, %d found",
+                                ntok);
+            textfile_close(&t);
+            return rc;
+        }
+        int idx[3];
+        for (int k = 0; k < 3; k++) {
+            idx[k] = -1;
+            for (int a = 0; a < s->base.nelements; a++)
+                if (strcmp(s->base.element[a], tok[k]) == 0)
+                    idx[k] = a;
+        }
+        double v[11];
+        for (int k = 0; k < 11; k++) {
+            char *end;
+            v[k] = strtod(tok[3 + k], &end);
+            if (*end || end == tok[3 + k]) {
+                rc = textfile_error(&t, e, "expected a number in field %d, found '%s'", 4 + k,
+                                    tok[3 + k]);
+                textfile_close(&t);
+                return rc;
+            }
+        }
+        if (idx[0] < 0 || idx[1] < 0 || idx[2] < 0)
+            continue;   /* an entry for elements not in use */
+        struct sw_entry *P = &s->e[idx[0]][idx[1]][idx[2]];
+        P->eps = v[0]; P->sigma = v[1]; P->a = v[2]; P->lambda = v[3]; P->gamma = v[4];
+        P->cos0 = v[5]; P->A = v[6]; P->B = v[7]; P->p = v[8]; P->q = v[9];
+        if (!(P->eps >= 0) || !(P->sigma > 0) || !(P->a > 0)) {
+            rc = textfile_error(&t, e, "epsilon, sigma and a must be positive");
+            textfile_close(&t);
+            return rc;
+        }
+        P->cut = P->a * P->sigma;
+        P->cutsq = P->cut * P->cut;
+        P->set = 1;
+    }
+    textfile_close(&t);
+    int ne = s->base.nelements;
+    for (int a = 0; a < ne; a++)
+        for (int b = 0; b < ne; b++)
+            for (int c = 0; c < ne; c++)
+                if (!s->e[a][b][c].set)
+                    return err_set(e, ERR_INPUT, "%s: no entry for the triplet %s %s %s", path,
+                                   s->base.element[a], s->base.element[b], s->base.element[c]);
+    return 0;
+}
+
+int sw_create(struct cfg_obj *o, struct potential **out)
+{
+    struct sw *s = calloc(1, sizeof *s);
+    if (!s)
+        return err_nomem(o->cfg->err, "sw");
+    s->base.ops = &sw_ops;
+    s->base.list_kind = NLIST_FULL;
+    char path[512];
+    int rc = potential_file_key(o, path, sizeof path);
+    if (!rc)
+        rc = potential_read_elements(o, &s->base);
+    if (rc || o->cfg->shallow) {
+        free(s);
+        return rc;
+    }
+    if ((rc = sw_read_file(s, path, o->cfg->err))) {
+        char msg[ERR_MSG_MAX], kp[CFG_PATH_MAX];
+        snprintf(msg, sizeof msg, "%s", o->cfg->err->msg);
+        snprintf(kp, sizeof kp, "%s.file", o->path);
+        rc = cfg_error_at(o->cfg, kp, "corrupt or unreadable Stillinger-Weber file: %s", msg);
+    }
+    if (rc) {
+        free(s);
+        return rc;
+    }
+    double cut = 0;
+    int ne = s->base.nelements;
+    for (int a = 0; a < ne; a++)
+        for (int b = 0; b < ne; b++)
+            if (s->e[a][b][b].cut > cut)
+                cut = s->e[a][b][b].cut;
+    s->base.cutoff = cut;
+    snprintf(s->base.description, sizeof s->base.description,
+             "Stillinger-Weber from %s, cutoff %g Å", path, cut);
+    snprintf(s->base.source_path, sizeof s->base.source_path, "%s", path);
+    *out = &s->base;
+    return 0;
+}

@@ -1,0 +1,254 @@
+/* h5out: HDF5 snapshots and the XDMF sidecar for ParaView. */
+#include "output/h5out.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "output/provenance.h"
+#include "util/canon.h"
+
+void h5out_attr_string(hid_t obj, const char *name, const char *value)
+{
+    hid_t type = H5Tcopy(H5T_C_S1);
+    H5Tset_size(type, strlen(value) + 1);
+    H5Tset_strpad(type, H5T_STR_NULLTERM);
+    hid_t space = H5Screate(H5S_SCALAR);
+    hid_t attr = H5Acreate2(obj, name, type, space, H5P_DEFAULT, H5P_DEFAULT);
+    H5Awrite(attr, type, value);
+    H5Aclose(attr);
+    H5Sclose(space);
+    H5Tclose(type);
+}
+
+void h5out_attr_double(hid_t obj, const char *name, double value)
+{
+    hid_t space = H5Screate(H5S_SCALAR);
+    hid_t attr = H5Acreate2(obj, name, H5T_NATIVE_DOUBLE, space, H5P_DEFAULT, H5P_DEFAULT);
+    H5Awrite(attr, H5T_NATIVE_DOUBLE, &value);
+    H5Aclose(attr);
+    H5Sclose(space);
+}
+
+int h5out_create(struct h5out *h, const char *path, const json_t *case_doc, struct err *e)
+{
+    memset(h, 0, sizeof *h);
+    snprintf(h->path, sizeof h->path, "%s", path);
+    snprintf(h->xdmf_path, sizeof h->xdmf_path, "%s", path);
+    char *dot = strrchr(h->xdmf_path, '.');
+    if (dot)
+        *dot = '\0';
+    strncat(h->xdmf_path, ".xdmf", sizeof h->xdmf_path - strlen(h->xdmf_path) - 1);
+    H5Eset_auto2(H5E_DEFAULT, NULL, NULL);   /* errors are reported by us */
+    h->file = H5Fcreate(path, H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+    if (h->file < 0)
+        return err_set(e, ERR_RUNTIME, "%s: cannot create HDF5 file", path);
+    json_t *prov = provenance_json();
+    char *ptext = canon_json(prov);
+    json_decref(prov);
+    h5out_attr_string(h->file, "provenance", ptext ? ptext : "{}");
+    free(ptext);
+    if (case_doc) {
+        char *ctext = canon_json(case_doc);
+        h5out_attr_string(h->file, "case", ctext ? ctext : "{}");
+        free(ctext);
+    }
+    h5out_attr_string(h->file, "units",
+                      "length: Å, time: ps, energy: eV, mass: amu, temperature: K, "
+                      "velocity: Å/ps, force: eV/Å, stress: GPa");
+    hid_t g = H5Gcreate2(h->file, "/particles", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+    H5Gclose(g);
+    g = H5Gcreate2(h->file, "/series", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+    H5Gclose(g);
+    return 0;
+}
+
+hid_t h5out_begin_snapshot(struct h5out *h, const char *collection, long step, double time, long n,
+                           struct err *e)
+{
+    if (h->nsnaps >= h->cap_snaps) {
+        int cap = h->cap_snaps ? 2 * h->cap_snaps : 16;
+        struct h5out_snap *s = realloc(h->snaps, (size_t)cap * sizeof *s);
+        if (!s) {
+            err_nomem(e, "snapshot index");
+            return H5I_INVALID_HID;
+        }
+        h->snaps = s;
+        h->cap_snaps = cap;
+    }
+    struct h5out_snap *s = &h->snaps[h->nsnaps];
+    memset(s, 0, sizeof *s);
+    snprintf(s->collection, sizeof s->collection, "%s", collection);
+    snprintf(s->group, sizeof s->group, "/%s/%08ld", collection, step);
+    s->step = step;
+    s->time = time;
+    s->n = n;
+    char parent[64];
+    snprintf(parent, sizeof parent, "/%s", collection);
+    if (H5Lexists(h->file, parent, H5P_DEFAULT) <= 0) {
+        hid_t pg = H5Gcreate2(h->file, parent, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+        H5Gclose(pg);
+    }
+    if (H5Lexists(h->file, s->group, H5P_DEFAULT) > 0) {
+        err_set(e, ERR_RUNTIME, "%s: snapshot %s written twice", h->path, s->group);
+        return H5I_INVALID_HID;
+    }
+    hid_t g = H5Gcreate2(h->file, s->group, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+    if (g < 0) {
+        err_set(e, ERR_RUNTIME, "%s: cannot create group %s", h->path, s->group);
+        return H5I_INVALID_HID;
+    }
+    h5out_attr_double(g, "time_ps", time);
+    h5out_attr_double(g, "step", (double)step);
+    h->nsnaps++;
+    return g;
+}
+
+static int write_dataset(struct h5out *h, hid_t group, const char *name, hid_t memtype,
+                         const void *data, long n, int ncomp, const char *unit, int is_int,
+                         struct err *e)
+{
+    hsize_t dims[2] = {(hsize_t)n, (hsize_t)ncomp};
+    hid_t space = H5Screate_simple(ncomp > 1 ? 2 : 1, dims, NULL);
+    hid_t dcpl = H5Pcreate(H5P_DATASET_CREATE);
+    if (n > 4096) {   /* compress larger datasets */
+        hsize_t chunk[2] = {(hsize_t)(n < 65536 ? n : 65536), (hsize_t)ncomp};
+        H5Pset_chunk(dcpl, ncomp > 1 ? 2 : 1, chunk);
+        H5Pset_shuffle(dcpl);
+        H5Pset_deflate(dcpl, 1);
+    }
+    hid_t ds = H5Dcreate2(group, name, memtype, space, H5P_DEFAULT, dcpl, H5P_DEFAULT);
+    herr_t st = ds >= 0 && n > 0 ? H5Dwrite(ds, memtype, H5S_ALL, H5S_ALL, H5P_DEFAULT, data) : 0;
+    if (ds >= 0)
+        h5out_attr_string(ds, "unit", unit);
+    if (ds >= 0)
+        H5Dclose(ds);
+    H5Pclose(dcpl);
+    H5Sclose(space);
+    if (ds < 0 || st < 0)
+        return err_set(e, ERR_RUNTIME, "%s: cannot write dataset %s", h->path, name);
+    if (h->nsnaps > 0) {
+        struct h5out_snap *s = &h->snaps[h->nsnaps - 1];
+        if (s->nfields < H5OUT_MAX_FIELDS) {
+            struct h5out_field *f = &s->fields[s->nfields++];
+            snprintf(f->name, sizeof f->name, "%s", name);
+            f->ncomp = ncomp;
+            f->is_int = is_int;
+            snprintf(f->unit, sizeof f->unit, "%s", unit);
+        }
+    }
+    return 0;
+}
+
+int h5out_write_doubles(struct h5out *h, hid_t group, const char *name, const double *data, long n,
+                        int ncomp, const char *unit, struct err *e)
+{
+    return write_dataset(h, group, name, H5T_NATIVE_DOUBLE, data, n, ncomp, unit, 0, e);
+}
+
+int h5out_write_ints(struct h5out *h, hid_t group, const char *name, const int64_t *data, long n,
+                     const char *unit, struct err *e)
+{
+    return write_dataset(h, group, name, H5T_NATIVE_INT64, data, n, 1, unit, 1, e);
+}
+
+void h5out_end_snapshot(struct h5out *h, hid_t group)
+{
+    (void)h;
+    if (group >= 0)
+        H5Gclose(group);
+}
+
+int h5out_write_series(struct h5out *h, const char *name, const double *data, long n,
+                       const char *unit, struct err *e)
+{
+    hid_t g = H5Gopen2(h->file, "/series", H5P_DEFAULT);
+    if (g < 0)
+        return err_set(e, ERR_RUNTIME, "%s: no /series group", h->path);
+    int saved = h->nsnaps;
+    h->nsnaps = 0;   /* series are not snapshot fields */
+    int rc = write_dataset(h, g, name, H5T_NATIVE_DOUBLE, data, n, 1, unit, 0, e);
+    h->nsnaps = saved;
+    H5Gclose(g);
+    return rc;
+}
+
+static const char *basename_of(const char *path)
+{
+    const char *s = strrchr(path, '/');
+    return s ? s + 1 : path;
+}
+
+static int write_xdmf(const struct h5out *h, struct err *e)
+{
+    FILE *f = fopen(h->xdmf_path, "w");
+    if (!f)
+        return err_set(e, ERR_RUNTIME, "%s: cannot create", h->xdmf_path);
+    const char *h5name = basename_of(h->path);
+    fprintf(f, "<?xml version=\"1.0\" ?>\n<!DOCTYPE Xdmf SYSTEM \"Xdmf.dtd\" []>\n");
+    fprintf(f, "<Xdmf Version=\"3.0\">\n <Domain>\n");
+    const char *collections[] = {"particles", "points", "grid"};
+    for (int c = 0; c < 3; c++) {
+        int any = 0;
+        for (int k = 0; k < h->nsnaps; k++)
+            any |= strcmp(h->snaps[k].collection, collections[c]) == 0;
+        if (!any)
+            continue;
+        fprintf(f, "  <Grid Name=\"%s\" GridType=\"Collection\" CollectionType=\"Temporal\">\n",
+                collections[c]);
+        for (int k = 0; k < h->nsnaps; k++) {
+            const struct h5out_snap *s = &h->snaps[k];
+            if (strcmp(s->collection, collections[c]) != 0)
+                continue;
+            const char *geo = "position";
+            fprintf(f, "   <Grid Name=\"%s_%ld\" GridType=\"Uniform\">\n", collections[c], s->step);
+            fprintf(f, "    <Time Value=\"%.10g\"/>\n", s->time);
+            fprintf(f, "    <Topology TopologyType=\"Polyvertex\" NumberOfElements=\"%ld\" "
+                       "NodesPerElement=\"1\"/>\n",
+                    s->n);
+            fprintf(f, "    <Geometry GeometryType=\"XYZ\">\n     <DataItem Dimensions=\"%ld 3\" "
+                       "NumberType=\"Float\" Precision=\"8\" Format=\"HDF\">%s:%s/%s</DataItem>\n"
+                       "    </Geometry>\n",
+                    s->n, h5name, s->group, geo);
+            for (int a = 0; a < s->nfields; a++) {
+                const struct h5out_field *fl = &s->fields[a];
+                if (strcmp(fl->name, geo) == 0)
+                    continue;
+                const char *atype = fl->ncomp == 1 ? "Scalar" : fl->ncomp == 3 ? "Vector" : fl->ncomp == 6 ? "Tensor6" : "Matrix";
+                char dims[64];
+                if (fl->ncomp == 1)
+                    snprintf(dims, sizeof dims, "%ld", s->n);
+                else
+                    snprintf(dims, sizeof dims, "%ld %d", s->n, fl->ncomp);
+                fprintf(f, "    <Attribute Name=\"%s [%s]\" AttributeType=\"%s\" Center=\"Node\">\n"
+                           "     <DataItem Dimensions=\"%s\" NumberType=\"%s\" Precision=\"8\" "
+                           "Format=\"HDF\">%s:%s/%s</DataItem>\n    </Attribute>\n",
+                        fl->name, fl->unit, atype, dims, fl->is_int ? "Int" : "Float", h5name,
+                        s->group, fl->name);
+            }
+            fprintf(f, "   </Grid>\n");
+        }
+        fprintf(f, "  </Grid>\n");
+    }
+    fprintf(f, " </Domain>\n</Xdmf>\n");
+    int bad = ferror(f);
+    if (fclose(f) != 0 || bad)
+        return err_set(e, ERR_RUNTIME, "%s: write error", h->xdmf_path);
+    return 0;
+}
+
+int h5out_close(struct h5out *h, struct err *e)
+{
+    int rc = 0;
+    if (h->file >= 0) {
+        if (H5Fclose(h->file) < 0)
+            rc = err_set(e, ERR_RUNTIME, "%s: error closing HDF5 file", h->path);
+        h->file = H5I_INVALID_HID;
+    }
+    if (!rc && h->nsnaps > 0)
+        rc = write_xdmf(h, e);
+    free(h->snaps);
+    h->snaps = NULL;
+    h->nsnaps = h->cap_snaps = 0;
+    return rc;
+}

@@ -1,0 +1,74 @@
+/*
+ * h5out: the run's HDF5 file and its XDMF sidecar.
+ *
+ * Layout (every dataset carries a "unit" attribute):
+ *   /                         attributes: provenance, case (canonical JSON), units
+ *   /particles/NNNNNNNN/      one group per snapshot (attributes step, time_ps):
+ *        position (N x 3, Å), velocity (N x 3, Å/ps), force (N x 3, eV/Å),
+ *        id, type, pe (eV), stress (N x 6: xx yy zz xy xz yz, GPa),
+ *        and any extra per-particle fields (structure class, region, ...)
+ *   /series/NAME              1-D time series (thermo columns)
+ *   /grid/...                 MPM grid fields (added by the MPM writer)
+ *
+ * The XDMF file (same name, .xdmf) describes the snapshots as a temporal
+ * collection of point clouds, so ParaView opens them directly.
+ */
+#ifndef CASCADE_H5OUT_H
+#define CASCADE_H5OUT_H
+
+#include <hdf5.h>
+#include <jansson.h>
+#include <stdint.h>
+
+#include "util/err.h"
+
+#define H5OUT_MAX_SNAPS 100000
+#define H5OUT_MAX_FIELDS 32
+
+struct h5out_field {
+    char name[48];
+    int ncomp;          /* 1, 3 or 6 (6 = symmetric tensor, written as 6 columns) */
+    int is_int;         /* integer data */
+    char unit[16];
+};
+
+/* One snapshot's description, kept to write the XDMF at the end. */
+struct h5out_snap {
+    char group[64];
+    char collection[16];   /* "particles" or "grid" ... */
+    long step;
+    double time;
+    long n;
+    int nfields;
+    struct h5out_field fields[H5OUT_MAX_FIELDS];
+};
+
+struct h5out {
+    hid_t file;
+    char path[4096];
+    char xdmf_path[4096];
+    int nsnaps;
+    struct h5out_snap *snaps;
+    int cap_snaps;
+};
+
+int h5out_create(struct h5out *h, const char *path, const json_t *case_doc, struct err *e);
+/* Begin a snapshot group; returns the group id or H5I_INVALID_HID. */
+hid_t h5out_begin_snapshot(struct h5out *h, const char *collection, long step, double time, long n,
+                           struct err *e);
+int h5out_write_doubles(struct h5out *h, hid_t group, const char *name, const double *data, long n,
+                        int ncomp, const char *unit, struct err *e);
+int h5out_write_ints(struct h5out *h, hid_t group, const char *name, const int64_t *data, long n,
+                     const char *unit, struct err *e);
+void h5out_end_snapshot(struct h5out *h, hid_t group);
+/* A named 1-D series under /series. */
+int h5out_write_series(struct h5out *h, const char *name, const double *data, long n,
+                       const char *unit, struct err *e);
+/* Write the XDMF sidecar and close the file. */
+int h5out_close(struct h5out *h, struct err *e);
+
+/* Attribute helpers. */
+void h5out_attr_string(hid_t obj, const char *name, const char *value);
+void h5out_attr_double(hid_t obj, const char *name, double value);
+
+#endif

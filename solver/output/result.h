@@ -1,0 +1,36 @@
+/*
+ * result: the run's result.json -- the scalar metrics the campaign records,
+ * with units, plus status, timing and provenance:
+ *
+ *   {"status": "ok" | "diverged" | "failed",
+ *    "message": "...",                       (when not ok)
+ *    "metrics": {NAME: {"value": X, "unit": "U"}, ...},
+ *    "series":  {NAME: {"unit": "U", "values": [...]}, ...},   (optional)
+ *    "timing":  {...}, "provenance": {...}, "case_key": "...", "case": {...}}
+ *
+ * Written atomically (temporary file + rename) so a reader never sees half
+ * of it.
+ */
+#ifndef CASCADE_RESULT_H
+#define CASCADE_RESULT_H
+
+#include <jansson.h>
+
+#include "util/err.h"
+
+struct result {
+    json_t *root;      /* owned */
+    json_t *metrics;   /* borrowed from root */
+    json_t *series;    /* borrowed from root */
+};
+
+int result_init(struct result *r);
+void result_free(struct result *r);
+void result_metric(struct result *r, const char *name, double value, const char *unit);
+/* A series of values (for example counts over time), copied. */
+void result_series(struct result *r, const char *name, const double *values, int n,
+                   const char *unit);
+void result_set_status(struct result *r, const char *status, const char *message);
+int result_write(const struct result *r, const char *path, struct err *e);
+
+#endif

@@ -1,0 +1,44 @@
+/*
+ * case_type: the kinds of simulation a case file can ask for (`type:`),
+ * selected by name from a registry.  Each reads its own sections of the
+ * case; in a deep read (check, run) it also builds its models.
+ *
+ * Common top-level keys, read by input/case.c for every type:
+ *   type    the case type (default md)
+ *   title   free text
+ *   seed    random seed (default 1)
+ *   output  see run.h
+ */
+#ifndef CASCADE_CASE_TYPE_H
+#define CASCADE_CASE_TYPE_H
+
+#include <stdint.h>
+
+#include "scenarios/run.h"
+#include "util/cfg.h"
+
+struct case_common {
+    uint64_t seed;
+    const char *title;
+    int nthreads;          /* from the command line, for set-up that needs it */
+};
+
+struct case_type {
+    const char *name;
+    const char *summary;
+    /* Read the type's sections from the root object.  When the cfg is not
+     * shallow, build the models and return them in *state. */
+    int (*read)(struct cfg_obj *root, const struct case_common *common, void **state);
+    /* Run; returns ERR_DIVERGED when the simulation ran away (the run's
+     * result is still written by the caller). */
+    int (*run)(void *state, struct run *run, struct err *e);
+    void (*destroy)(void *state);
+    /* Particle count for timing reports. */
+    long (*particles)(const void *state);
+};
+
+extern const struct case_type *const case_types[];   /* NULL-terminated */
+
+const struct case_type *case_type_find(const char *name);
+
+#endif

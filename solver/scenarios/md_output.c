@@ -1,0 +1,131 @@
+/* md_output: the MD run's thermo, snapshots and frames. */
+#include "scenarios/md_output.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+#include "core/units.h"
+#include "output/xyz_write.h"
+
+static const char *const thermo_cols[MD_THERMO_COLS] = {
+    "step", "time_ps", "pe_eV", "ke_eV", "etotal_eV", "temp_K", "press_GPa",
+    "pxx_GPa", "pyy_GPa", "pzz_GPa", "pxy_GPa", "pxz_GPa", "pyz_GPa"};
+static const char *const thermo_units[MD_THERMO_COLS] = {
+    "1", "ps", "eV", "eV", "eV", "K", "GPa", "GPa", "GPa", "GPa", "GPa", "GPa", "GPa"};
+
+int md_output_begin(struct md_output *o, struct run *run, struct md *md, struct err *e)
+{
+    memset(o, 0, sizeof *o);
+    (void)md;
+    if (run_thermo_header(run, thermo_cols, MD_THERMO_COLS) != 0)
+        return err_set(e, ERR_RUNTIME, "%s: cannot write thermo.csv", run->opt.out_dir);
+    return 0;
+}
+
+static int thermo_row(struct md_output *o, struct run *run, struct md *md)
+{
+    double P[6];
+    md_pressure_tensor(md, P);
+    double pe = md->last.energy, ke = md_kinetic_energy(md);
+    double row[MD_THERMO_COLS] = {(double)md->step, md->time, pe, ke, pe + ke, md_temperature(md),
+                                  (P[0] + P[1] + P[2]) / 3.0 * UNITS_EVA3_TO_GPA};
+    for (int k = 0; k < 6; k++)
+        row[7 + k] = P[k] * UNITS_EVA3_TO_GPA;
+    run_thermo_row(run, row, MD_THERMO_COLS);
+    if (o->nrows >= o->cap) {
+        long cap = o->cap ? 2 * o->cap : 256;
+        double *s = realloc(o->series, (size_t)cap * MD_THERMO_COLS * sizeof *s);
+        if (!s)
+            return ERR_RUNTIME;
+        o->series = s;
+        o->cap = cap;
+    }
+    memcpy(o->series + o->nrows * MD_THERMO_COLS, row, sizeof row);
+    o->nrows++;
+    return 0;
+}
+
+int md_output_snapshot(struct md_output *o, struct run *run, struct md *md)
+{
+    if (!run->h5_open)
+        return 0;
+    struct particles *p = md->p;
+    long n = p->n_owned;
+    struct err e = {0};
+    if (n > o->cap_atoms) {
+        double *s = realloc(o->stress, (size_t)6 * n * sizeof *s);
+        if (s)
+            o->stress = s;
+        int64_t *ib = realloc(o->ibuf, (size_t)n * sizeof *ib);
+        if (ib)
+            o->ibuf = ib;
+        if (!s || !ib)
+            return ERR_RUNTIME;
+        o->cap_atoms = n;
+    }
+    hid_t g = h5out_begin_snapshot(&run->h5, "particles", md->step, md->time, n, &e);
+    if (g < 0)
+        return ERR_RUNTIME;
+    int rc = h5out_write_doubles(&run->h5, g, "position", p->x, n, 3, "Å", &e);
+    if (!rc)
+        rc = h5out_write_doubles(&run->h5, g, "velocity", p->v, n, 3, "Å/ps", &e);
+    if (!rc)
+        rc = h5out_write_doubles(&run->h5, g, "force", p->f, n, 3, "eV/Å", &e);
+    for (long i = 0; i < n; i++)
+        o->ibuf[i] = p->id[i];
+    if (!rc)
+        rc = h5out_write_ints(&run->h5, g, "id", o->ibuf, n, "1", &e);
+    for (long i = 0; i < n; i++)
+        o->ibuf[i] = p->type[i];
+    if (!rc)
+        rc = h5out_write_ints(&run->h5, g, "type", o->ibuf, n, "1", &e);
+    if (!rc && md->peratom) {
+        rc = h5out_write_doubles(&run->h5, g, "pe", p->pe, n, 1, "eV", &e);
+        md_peratom_stress(md, o->stress);
+        for (long k = 0; k < 6 * n; k++)
+            o->stress[k] *= UNITS_EVA3_TO_GPA;
+        if (!rc)
+            rc = h5out_write_doubles(&run->h5, g, "stress", o->stress, n, 6, "GPa", &e);
+    }
+    for (int k = 0; !rc && k < p->nfields; k++)
+        rc = h5out_write_doubles(&run->h5, g, p->fields[k].name, p->fields[k].data, n,
+                                 p->fields[k].ncomp, "1", &e);
+    h5out_end_snapshot(&run->h5, g);
+    return rc;
+}
+
+int md_output_step(struct md_output *o, struct run *run, struct md *md, long total)
+{
+    long s = md->step;
+    int rc = 0;
+    timer_start(&run->timers, TIMER_OUTPUT);
+    if (run_due(s, total, run->out.thermo_every))
+        rc = thermo_row(o, run, md);
+    if (!rc && run_due(s, total, run->out.snapshot_every))
+        rc = md_output_snapshot(o, run, md);
+    if (!rc && run->xyz && run->out.xyz_every > 0 && s % run->out.xyz_every == 0)
+        rc = xyz_write_frame(run->xyz, md->p, &md->box, s, md->time, NULL, NULL) ? ERR_RUNTIME : 0;
+    timer_stop(&run->timers, TIMER_OUTPUT);
+    return rc;
+}
+
+int md_output_end(struct md_output *o, struct run *run, struct err *e)
+{
+    int rc = 0;
+    if (run->h5_open && o->nrows > 0) {
+        double *col = malloc((size_t)o->nrows * sizeof *col);
+        if (!col)
+            rc = err_nomem(e, "thermo series");
+        for (int k = 0; k < MD_THERMO_COLS && !rc; k++) {
+            for (long r = 0; r < o->nrows; r++)
+                col[r] = o->series[r * MD_THERMO_COLS + k];
+            rc = h5out_write_series(&run->h5, thermo_cols[k], col, o->nrows, thermo_units[k], e);
+        }
+        free(col);
+    }
+    free(o->series);
+    free(o->stress);
+    free(o->ibuf);
+    memset(o, 0, sizeof *o);
+    return rc;
+}

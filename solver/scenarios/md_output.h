@@ -1,0 +1,33 @@
+/*
+ * md_output: thermo rows, HDF5 snapshots and XYZ frames of an MD run, on
+ * the schedule of the case's `output` section.
+ *
+ * Thermo columns (thermo.csv and /series in fields.h5):
+ *   step, time_ps, pe_eV, ke_eV, etotal_eV, temp_K, press_GPa,
+ *   pxx_GPa, pyy_GPa, pzz_GPa, pxy_GPa, pxz_GPa, pyz_GPa
+ */
+#ifndef CASCADE_MD_OUTPUT_H
+#define CASCADE_MD_OUTPUT_H
+
+#include "md/md.h"
+#include "scenarios/run.h"
+
+#define MD_THERMO_COLS 13
+
+struct md_output {
+    double *series;   /* MD_THERMO_COLS per row */
+    long nrows, cap;
+    double *stress;   /* scratch: 6 per atom */
+    int64_t *ibuf;    /* scratch: ids / types */
+    long cap_atoms;
+};
+
+int md_output_begin(struct md_output *o, struct run *run, struct md *md, struct err *e);
+/* Act on md->step if due (thermo, snapshot, xyz). */
+int md_output_step(struct md_output *o, struct run *run, struct md *md, long total_steps);
+/* Force a snapshot now (for example at the end of a diverged run). */
+int md_output_snapshot(struct md_output *o, struct run *run, struct md *md);
+/* Write the thermo series to the HDF5 file and free. */
+int md_output_end(struct md_output *o, struct run *run, struct err *e);
+
+#endif

@@ -1,0 +1,184 @@
+/* md_system: lattice / data-file / XYZ systems for MD cases. */
+#include "scenarios/md_system.h"
+
+#include <math.h>
+#include <string.h>
+
+#include "core/elements.h"
+#include "core/rng.h"
+#include "input/config_read.h"
+
+static int read_boundary(struct cfg_obj *s, struct box *b)
+{
+    int rc = 0;
+    char path[CFG_PATH_MAX];
+    snprintf(path, sizeof path, "%s.boundary", s->path);
+    json_t *arr = json_object_get(s->node, "boundary");
+    cfg_allow(s, "boundary");
+    if (!arr) {
+        json_t *def = json_pack("[sss]", "periodic", "periodic", "periodic");
+        json_object_set_new(s->node, "boundary", def);
+        arr = def;
+    }
+    if (!json_is_array(arr) || json_array_size(arr) != 3)
+        return cfg_error_at(s->cfg, path, "must be a list of 3 boundary kinds (periodic, free, "
+                                          "fixed)");
+    for (int d = 0; d < 3 && !rc; d++) {
+        json_t *v = json_array_get(arr, (size_t)d);
+        const char *name = json_is_string(v) ? json_string_value(v) : "";
+        int k = -1;
+        for (int q = 0; boundary_names[q]; q++)
+            if (strcmp(boundary_names[q], name) == 0)
+                k = q;
+        if (k < 0) {
+            char ip[CFG_PATH_MAX];
+            snprintf(ip, sizeof ip, "%s[%d]", path, d);
+            rc = cfg_error_at(s->cfg, ip, "unknown boundary '%s' (one of: periodic, free, fixed)",
+                              name);
+        }
+        b->bc[d] = (enum boundary)k;
+    }
+    return rc;
+}
+
+int md_system_read(struct cfg_obj *root, uint64_t seed, struct particles **pout, struct box *b,
+                   struct md_system_info *info)
+{
+    struct cfg_obj s;
+    int rc = cfg_section_required(root, "system", &s);
+    if (rc)
+        return rc;
+    memset(info, 0, sizeof *info);
+    memset(b, 0, sizeof *b);
+    int has_lat, has_data, has_xyz;
+    struct cfg_obj lat;
+    const char *data_file = NULL, *xyz_file = NULL, *element = NULL;
+    if ((rc = cfg_section_opt(&s, "lattice", &lat, &has_lat)) ||
+        (rc = cfg_string_opt(&s, "read_data", &data_file, &has_data)) ||
+        (rc = cfg_string_opt(&s, "read_xyz", &xyz_file, &has_xyz)))
+        return rc;
+    if (has_lat + has_data + has_xyz != 1)
+        return cfg_error_at(s.cfg, s.path,
+                            "give exactly one of 'lattice', 'read_data' or 'read_xyz' (found %d)",
+                            has_lat + has_data + has_xyz);
+    if ((rc = read_boundary(&s, b)))
+        return rc;
+    double displace, mass;
+    if ((rc = cfg_real(&s, "displace", 0.0, CFG_GE(0), &displace)) ||
+        (rc = cfg_real(&s, "mass", 0.0, CFG_GE(0), &mass)))
+        return rc;
+    struct region region;
+    int has_region;
+    struct cfg_obj ro;
+    if ((rc = cfg_section_opt(&s, "region", &ro, &has_region)))
+        return rc;
+    if (has_region && (rc = region_read(&ro, &region)))
+        return rc;
+
+    const char *elements[PARTICLES_MAX_TYPES];
+    int nelements = 0;
+    if (has_lat) {
+        static const long one[3] = {1, 1, 1};
+        const double zero[3] = {0, 0, 0};
+        int style;
+        info->from_lattice = 1;
+        if ((rc = cfg_enum(&lat, "style", NULL, lattice_style_names, &style)) ||
+            (rc = cfg_real(&lat, "a", CFG_REQUIRED, CFG_GT(0), &info->lattice.a)) ||
+            (rc = cfg_ints(&lat, "cells", 3, one, CFG_GE(1), info->cells)) ||
+            (rc = cfg_reals(&lat, "origin", 3, zero, CFG_ANY, info->lattice.origin)))
+            return rc;
+        long orient[9];
+        static const long ident[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+        if ((rc = cfg_ints(&lat, "orient", 9, ident, CFG_RANGE(-20, 20), orient)))
+            return rc;
+        for (int k = 0; k < 9; k++)
+            info->lattice.orient[k / 3][k % 3] = (int)orient[k];
+        info->lattice.style = (enum lattice_style)style;
+        char why[128];
+        if (lattice_check_orient(&info->lattice, why, sizeof why) != 0) {
+            char kp[CFG_PATH_MAX];
+            snprintf(kp, sizeof kp, "%s.orient", lat.path);
+            return cfg_error_at(s.cfg, kp, "%s", why);
+        }
+        if ((rc = cfg_close(&lat)))
+            return rc;
+        if ((rc = cfg_string(&s, "element", NULL, &element)))
+            return rc;
+    } else if (has_data) {
+        if ((rc = cfg_strings(&s, "elements", 0, elements, PARTICLES_MAX_TYPES, &nelements)))
+            return rc;
+    }
+    if ((rc = cfg_close(&s)))
+        return rc;
+    if (s.cfg->shallow)
+        return 0;
+
+    struct particles *p = particles_create(1024);
+    if (!p)
+        return err_nomem(s.cfg->err, "particles");
+    char path[4096], keypath[CFG_PATH_MAX];
+    if (has_lat) {
+        double m = mass > 0 ? mass : element_mass(element);
+        int t = particles_type_index(p, element, m);
+        int64_t next_id = 1;
+        if (lattice_fill(&info->lattice, info->cells, has_region ? &region : NULL, p, t, &next_id,
+                         s.cfg->err) < 0) {
+            particles_destroy(&p);
+            return ERR_RUNTIME;
+        }
+        double cell[3];
+        lattice_cell(&info->lattice, cell);
+        for (int d = 0; d < 3; d++) {
+            b->lo[d] = info->lattice.origin[d];
+            b->hi[d] = info->lattice.origin[d] + info->cells[d] * cell[d];
+        }
+    } else {
+        const char *file = has_data ? data_file : xyz_file;
+        snprintf(keypath, sizeof keypath, "%s.%s", s.path, has_data ? "read_data" : "read_xyz");
+        if (cfg_find_file(s.cfg, file, path, sizeof path) != 0) {
+            particles_destroy(&p);
+            return cfg_error_at(s.cfg, keypath, "cannot read '%s'", file);
+        }
+        enum boundary keep[3] = {b->bc[0], b->bc[1], b->bc[2]};
+        if (has_data) {
+            rc = config_read_lammps_data(path, elements, nelements, p, b, s.cfg->err);
+        } else {
+            int pbc[3];
+            rc = config_read_extxyz(path, p, b, pbc, s.cfg->err);
+        }
+        for (int d = 0; d < 3; d++)
+            b->bc[d] = keep[d];
+        if (rc) {
+            particles_destroy(&p);
+            return rc;
+        }
+        if (has_region) {
+            unsigned char *keepmask = malloc((size_t)(p->n_owned ? p->n_owned : 1));
+            if (!keepmask) {
+                particles_destroy(&p);
+                return err_nomem(s.cfg->err, "region");
+            }
+            for (int i = 0; i < p->n_owned; i++)
+                keepmask[i] = (unsigned char)region_contains(&region, p->x + 3 * i);
+            particles_compact(p, keepmask);
+            free(keepmask);
+        }
+    }
+    if (p->n_owned == 0) {
+        particles_destroy(&p);
+        return cfg_error_at(s.cfg, s.path, "the system has no atoms (check the region)");
+    }
+    if (displace > 0) {
+        struct rng_seq *r = rng_seq_create(seed ^ 0x5eedd15ace1ull);
+        if (!r) {
+            particles_destroy(&p);
+            return err_nomem(s.cfg->err, "rng");
+        }
+        for (int i = 0; i < p->n_owned; i++)
+            for (int d = 0; d < 3; d++)
+                p->x[3 * i + d] += displace * (2.0 * rng_seq_uniform(r) - 1.0);
+        rng_seq_destroy(&r);
+    }
+    *pout = p;
+    return 0;
+}

@@ -1,0 +1,27 @@
+/* md_timestep: stability bound of the MD time step. */
+#include "scenarios/md_timestep.h"
+
+#include <math.h>
+#include <stdio.h>
+
+int md_check_timestep(struct md *md, struct cfg *c, const char *path)
+{
+    double wE;
+    int rc = md_einstein_frequency(md, &wE, c->err);
+    if (rc || !(wE > 0))
+        return rc;
+    double wmax = sqrt(2.0) * wE;
+    double limit = 2.0 / wmax;
+    if (md->dt > limit)
+        return cfg_error_at(c, path,
+                            "time step %g ps is unstable for this system: the highest vibration "
+                            "frequency is about %.3g THz, so velocity Verlet needs dt < %.3g ps "
+                            "(and dt <= %.3g ps for accuracy)",
+                            md->dt, wmax / (2 * M_PI), limit, 0.1 * 2 * M_PI / wmax);
+    if (md->dt > 0.1 * 2 * M_PI / wmax)
+        fprintf(stderr,
+                "warning: time step %g ps is more than a tenth of the shortest vibration period "
+                "(%.3g ps); energy conservation will be poor\n",
+                md->dt, 2 * M_PI / wmax);
+    return 0;
+}

@@ -1,0 +1,21 @@
+/* registry: the case types cascade-solver knows, selected by `type:`. */
+#include <string.h>
+
+#include "scenarios/case_type.h"
+
+extern const struct case_type md_case_type;
+extern const struct case_type crystal_case_type;
+
+const struct case_type *const case_types[] = {
+    &md_case_type,
+    &crystal_case_type,
+    NULL,
+};
+
+const struct case_type *case_type_find(const char *name)
+{
+    for (int i = 0; case_types[i]; i++)
+        if (strcmp(case_types[i]->name, name) == 0)
+            return case_types[i];
+    return NULL;
+}

@@ -1,0 +1,185 @@
+/* run: output files, timing report and result.json of one simulation. */
+#include "scenarios/run.h"
+
+#include <errno.h>
+#include <stdarg.h>
+#include <string.h>
+#include <sys/resource.h>
+#include <sys/stat.h>
+
+#include "output/provenance.h"
+#include "util/canon.h"
+
+int output_settings_read(struct cfg_obj *root, struct output_settings *o)
+{
+    struct cfg_obj s;
+    int rc = cfg_section(root, "output", &s);
+    if (rc)
+        return rc;
+    if ((rc = cfg_int(&s, "thermo_every", 100, CFG_GE(0), &o->thermo_every)) ||
+        (rc = cfg_int(&s, "snapshot_every", 0, CFG_GE(0), &o->snapshot_every)) ||
+        (rc = cfg_int(&s, "xyz_every", 0, CFG_GE(0), &o->xyz_every)) ||
+        (rc = cfg_bool(&s, "hdf5", 1, &o->hdf5)))
+        return rc;
+    return cfg_close(&s);
+}
+
+static int mkdir_p(const char *dir)
+{
+    char tmp[4096];
+    snprintf(tmp, sizeof tmp, "%s", dir);
+    for (char *s = tmp + 1; *s; s++)
+        if (*s == '/') {
+            *s = '\0';
+            if (mkdir(tmp, 0777) != 0 && errno != EEXIST)
+                return -1;
+            *s = '/';
+        }
+    if (mkdir(tmp, 0777) != 0 && errno != EEXIST)
+        return -1;
+    return 0;
+}
+
+void run_path(const struct run *r, const char *name, char *out, size_t len)
+{
+    snprintf(out, len, "%s/%s", r->opt.out_dir, name);
+}
+
+void run_log(struct run *r, const char *fmt, ...)
+{
+    if (!r->log)
+        return;
+    va_list ap;
+    va_start(ap, fmt);
+    vfprintf(r->log, fmt, ap);
+    va_end(ap);
+    fputc('\n', r->log);
+    fflush(r->log);
+}
+
+int run_due(long s, long total, long every)
+{
+    if (s == 0 || s == total)
+        return 1;
+    return every > 0 && s % every == 0;
+}
+
+int run_open(struct run *r, const struct run_options *opt, const struct output_settings *out,
+             json_t *case_doc, uint64_t seed, const char *title, struct err *e)
+{
+    memset(r, 0, sizeof *r);
+    r->opt = *opt;
+    r->out = *out;
+    r->case_doc = case_doc;
+    r->seed = seed;
+    snprintf(r->title, sizeof r->title, "%s", title ? title : "");
+    r->log = opt->quiet ? NULL : stderr;
+    canon_key(case_doc, r->case_key);
+    if (mkdir_p(opt->out_dir) != 0)
+        return err_set(e, ERR_RUNTIME, "%s: cannot create output directory: %s", opt->out_dir,
+                       strerror(errno));
+    if (result_init(&r->result) != 0)
+        return err_nomem(e, "result");
+    char path[4096];
+    if (out->hdf5) {
+        run_path(r, "fields.h5", path, sizeof path);
+        int rc = h5out_create(&r->h5, path, case_doc, e);
+        if (rc)
+            return rc;
+        r->h5_open = 1;
+    }
+    if (out->xyz_every > 0) {
+        run_path(r, "snapshots.xyz", path, sizeof path);
+        r->xyz = fopen(path, "w");
+        if (!r->xyz)
+            return err_set(e, ERR_RUNTIME, "%s: cannot create: %s", path, strerror(errno));
+    }
+    timer_start(&r->timers, TIMER_TOTAL);
+    return 0;
+}
+
+int run_thermo_header(struct run *r, const char *const *columns, int n)
+{
+    char path[4096];
+    run_path(r, "thermo.csv", path, sizeof path);
+    r->thermo_csv = fopen(path, "w");
+    if (!r->thermo_csv)
+        return -1;
+    for (int k = 0; k < n; k++)
+        fprintf(r->thermo_csv, "%s%s", k ? "," : "", columns[k]);
+    fputc('\n', r->thermo_csv);
+    return 0;
+}
+
+void run_thermo_row(struct run *r, const double *values, int n)
+{
+    if (!r->thermo_csv)
+        return;
+    for (int k = 0; k < n; k++)
+        fprintf(r->thermo_csv, "%s%.10g", k ? "," : "", values[k]);
+    fputc('\n', r->thermo_csv);
+    fflush(r->thermo_csv);
+}
+
+static double peak_rss_mib(void)
+{
+    struct rusage ru;
+    getrusage(RUSAGE_SELF, &ru);
+    return (double)ru.ru_maxrss / 1024.0;   /* Linux: kB */
+}
+
+int run_close(struct run *r, const char *status, const char *message, long steps, long particles,
+              struct err *e)
+{
+    int rc = 0;
+    timer_stop(&r->timers, TIMER_TOTAL);
+    if (r->thermo_csv)
+        fclose(r->thermo_csv);
+    r->thermo_csv = NULL;
+    if (r->xyz)
+        fclose(r->xyz);
+    r->xyz = NULL;
+    if (r->h5_open) {
+        struct err e2 = {0};
+        if (h5out_close(&r->h5, &e2) != 0 && !rc)
+            rc = err_set(e, ERR_RUNTIME, "%s", e2.msg);
+        r->h5_open = 0;
+    }
+    /* timing per phase: seconds and µs per particle-step */
+    json_t *timing = json_object();
+    double denom = (double)steps * (double)particles;
+    for (int t = 0; t < TIMER_COUNT; t++) {
+        if (r->timers.calls[t] == 0 && t != TIMER_TOTAL)
+            continue;
+        json_t *row = json_pack("{s:f, s:I}", "seconds", r->timers.total[t], "calls",
+                                (json_int_t)r->timers.calls[t]);
+        if (denom > 0)
+            json_object_set_new(row, "us_per_particle_step",
+                                json_real(1e6 * r->timers.total[t] / denom));
+        json_object_set_new(timing, timer_keys[t], row);
+    }
+    json_object_set_new(timing, "peak_rss_mib", json_real(peak_rss_mib()));
+    json_object_set_new(timing, "threads", json_integer(r->opt.nthreads));
+    json_object_set_new(r->result.root, "timing", timing);
+    json_object_set_new(r->result.root, "provenance", provenance_json());
+    json_object_set_new(r->result.root, "case_key", json_string(r->case_key));
+    json_object_set_new(r->result.root, "case", json_deep_copy(r->case_doc));
+    json_object_set_new(r->result.root, "steps", json_integer(steps));
+    json_object_set_new(r->result.root, "particles", json_integer(particles));
+    result_set_status(&r->result, status, message);
+    if (r->log && steps > 0 && particles > 0) {
+        run_log(r, "timing (%ld steps x %ld particles):", steps, particles);
+        for (int t = 0; t < TIMER_COUNT; t++)
+            if (r->timers.calls[t] > 0 || t == TIMER_TOTAL)
+                run_log(r, "  %-16s %10.3f s  %9.4f us/particle-step", timer_names[t],
+                        r->timers.total[t], 1e6 * r->timers.total[t] / denom);
+        run_log(r, "  peak memory      %10.1f MiB", peak_rss_mib());
+    }
+    char path[4096];
+    run_path(r, "result.json", path, sizeof path);
+    struct err e3 = {0};
+    if (result_write(&r->result, path, &e3) != 0 && !rc)
+        rc = err_set(e, ERR_RUNTIME, "%s", e3.msg);
+    result_free(&r->result);
+    return rc;
+}

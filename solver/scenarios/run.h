@@ -1,0 +1,77 @@
+/*
+ * run: the services every case type uses while it runs -- output directory,
+ * result.json, the HDF5/XDMF file, thermo CSV, extended XYZ, timers,
+ * progress and the log.  A case type owns its models; the run owns the
+ * outputs.
+ */
+#ifndef CASCADE_RUN_H
+#define CASCADE_RUN_H
+
+#include <jansson.h>
+#include <stdint.h>
+#include <stdio.h>
+
+#include "core/timers.h"
+#include "output/h5out.h"
+#include "output/progress.h"
+#include "output/result.h"
+#include "util/cfg.h"
+#include "util/err.h"
+
+/* What the command line asks of a run. */
+struct run_options {
+    const char *out_dir;
+    int nthreads;
+    int progress;       /* show progress (terminal or plain lines) */
+    int quiet;          /* only errors on stderr */
+};
+
+/* The `output` section of a case. */
+struct output_settings {
+    long thermo_every;      /* steps between thermo rows (0: first and last only) */
+    long snapshot_every;    /* steps between HDF5 snapshots (0: first and last only) */
+    long xyz_every;         /* steps between extended XYZ frames (0: none) */
+    int hdf5;               /* write fields.h5 + fields.xdmf */
+};
+
+int output_settings_read(struct cfg_obj *root, struct output_settings *o);
+
+struct run {
+    struct run_options opt;
+    struct output_settings out;
+    json_t *case_doc;          /* resolved case (borrowed) */
+    char case_key[32];
+    uint64_t seed;
+    char title[256];
+    struct result result;
+    struct h5out h5;
+    int h5_open;
+    FILE *thermo_csv;
+    FILE *xyz;
+    FILE *log;                 /* stderr unless quiet */
+    struct timers timers;
+    struct progress progress;
+};
+
+int run_open(struct run *r, const struct run_options *opt, const struct output_settings *out,
+             json_t *case_doc, uint64_t seed, const char *title, struct err *e);
+/* Write result.json with status and timing, close every file.  `status` is
+ * "ok", "diverged" or "failed". */
+int run_close(struct run *r, const char *status, const char *message, long steps, long particles,
+              struct err *e);
+
+/* Path of a file inside the output directory. */
+void run_path(const struct run *r, const char *name, char *out, size_t len);
+
+/* Thermo CSV: header once, then rows (same number of values). */
+int run_thermo_header(struct run *r, const char *const *columns, int n);
+void run_thermo_row(struct run *r, const double *values, int n);
+
+/* Log line (printf style) unless quiet. */
+void run_log(struct run *r, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+
+/* Whether step `s` of `total` is one to act on with interval `every` (0:
+ * first and last only). */
+int run_due(long s, long total, long every);
+
+#endif

@@ -1,0 +1,46 @@
+/* err: implementation of the error convention described in err.h. */
+#include "util/err.h"
+
+#include <stdarg.h>
+#include <stdio.h>
+#include <string.h>
+
+int err_set(struct err *e, int code, const char *fmt, ...)
+{
+    if (e) {
+        va_list ap;
+        va_start(ap, fmt);
+        vsnprintf(e->msg, sizeof e->msg, fmt, ap);
+        va_end(ap);
+        e->code = code;
+    }
+    return code;
+}
+
+int err_prefix(struct err *e, const char *fmt, ...)
+{
+    if (!e)
+        return ERR_RUNTIME;
+    char head[ERR_MSG_MAX];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(head, sizeof head, fmt, ap);
+    va_end(ap);
+    char tmp[ERR_MSG_MAX];
+    snprintf(tmp, sizeof tmp, "%s%s", head, e->msg);
+    memcpy(e->msg, tmp, sizeof e->msg);
+    return e->code;
+}
+
+int err_nomem(struct err *e, const char *what)
+{
+    return err_set(e, ERR_RUNTIME, "out of memory (%s)", what);
+}
+
+void err_clear(struct err *e)
+{
+    if (e) {
+        e->code = ERR_OK;
+        e->msg[0] = '\0';
+    }
+}
