@@ -67,10 +67,11 @@ Test(sputter, groups_above_the_surface_moving_away)
     cr_assert_eq(st.largest, 2);
     cr_assert_eq(st.groups, 5, "groups %ld (target, monomer, dimer, incoming, near)", st.groups);
     int n = p->n_owned;
-    cr_assert(flag[n - 5] && flag[n - 4] && flag[n - 3] && !flag[n - 2] && !flag[n - 1]);
+    cr_assert(flag[n - 5] == SPUTTER_LEFT && flag[n - 4] == SPUTTER_LEFT && flag[n - 3] == SPUTTER_LEFT);
+    cr_assert(flag[n - 2] == SPUTTER_DETACHED && flag[n - 1] == SPUTTER_DETACHED);
     for (int i = 0; i < n - 5; i++)
-        cr_assert(!flag[i]);
-    sp.cutoff = 5.0;
+        cr_assert(flag[i] == SPUTTER_TARGET);
+    sp.cutoff = 5.0;   /* beyond the frame's range */
     cr_assert_eq(sputter_find(&f, p->v, NULL, &sp, flag, &st, &e), ERR_RUNTIME);
     frame_free(&f);
     free(flag);

@@ -228,6 +228,7 @@ int frame_build(struct frame *f, const double *x, int n, const struct box *b, do
     f->n = n;
     f->ntot = 0;
     f->radius = radius;
+    f->range = range;
     f->nthreads = nthreads < 1 ? 1 : nthreads;
     if (frame_reserve(f, n, e))
         return ERR_RUNTIME;

@@ -38,6 +38,7 @@ struct frame {
     int *cell_start, *cell_sorted;
     long cap_cells;
     int cap_sorted;
+    double range;        /* Å: images and cells cover this distance (frame_query) */
     /* neighbour lists of the owned particles */
     double radius;       /* Å */
     int *offset;         /* n + 1 */

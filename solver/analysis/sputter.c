@@ -14,15 +14,34 @@ static int find_root(int *parent, int i)
     return i;
 }
 
+struct link {
+    const struct frame *f;
+    int *parent;
+    int i;
+};
+
+static void link_cb(void *ctx, int entry, double r2)
+{
+    (void)r2;
+    struct link *l = ctx;
+    int a = find_root(l->parent, l->i), b = find_root(l->parent, l->f->origin[entry]);
+    if (a != b) {
+        if (a < b)
+            l->parent[b] = a;   /* smallest index as root: reproducible */
+        else
+            l->parent[a] = b;
+    }
+}
+
 int sputter_find(const struct frame *f, const double *v, const double *mass,
-                 const struct sputter_params *p, unsigned char *sputtered,
+                 const struct sputter_params *p, unsigned char *state,
                  struct sputter_stats *out, struct err *e)
 {
     int n = f->n;
     memset(out, 0, sizeof *out);
-    if (p->cutoff > f->radius * (1 + 1e-12))
-        return err_set(e, ERR_RUNTIME, "sputter: connection cutoff %g Å exceeds the neighbour "
-                                       "radius %g Å of the frame", p->cutoff, f->radius);
+    if (p->cutoff > f->range * (1 + 1e-12))
+        return err_set(e, ERR_RUNTIME, "sputter: connection cutoff %g Å exceeds the range %g Å "
+                                       "of the frame", p->cutoff, f->range);
     int *parent = malloc((size_t)(n + 1) * sizeof *parent);
     long *size = calloc((size_t)(n + 1), sizeof *size);
     double *zmin = malloc((size_t)(n + 1) * sizeof *zmin);
@@ -33,19 +52,11 @@ int sputter_find(const struct frame *f, const double *v, const double *mass,
     }
     for (int i = 0; i < n; i++)
         parent[i] = i;
-    double c2 = p->cutoff * p->cutoff;
-    for (int i = 0; i < n; i++)
-        for (int k = f->offset[i]; k < f->offset[i + 1]; k++) {
-            if (f->r2[k] >= c2)
-                continue;
-            int a = find_root(parent, i), b = find_root(parent, f->origin[f->nbr[k]]);
-            if (a != b) {
-                if (a < b)
-                    parent[b] = a;   /* smallest index as root: reproducible */
-                else
-                    parent[a] = b;
-            }
-        }
+    struct link ctx = {f, parent, 0};
+    for (int i = 0; i < n; i++) {
+        ctx.i = i;
+        frame_query(f, i, p->cutoff, link_cb, &ctx);
+    }
     for (int i = 0; i < n; i++)
         zmin[i] = INFINITY;
     for (int i = 0; i < n; i++) {
@@ -79,10 +90,10 @@ int sputter_find(const struct frame *f, const double *v, const double *mass,
             size[i] = -size[i];   /* mark: not sputtered */
         }
     }
-    if (sputtered)
+    if (state)
         for (int i = 0; i < n; i++) {
             int r = find_root(parent, i);
-            sputtered[i] = (unsigned char)(r != target && size[r] > 0);
+            state[i] = r == target ? SPUTTER_TARGET : size[r] > 0 ? SPUTTER_LEFT : SPUTTER_DETACHED;
         }
     free(parent); free(size); free(zmin); free(mv); free(msum);
     return 0;

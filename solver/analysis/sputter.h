@@ -3,8 +3,11 @@
  * surface (Guo & Yang 2005, section 3.3: "monomers and small clusters are
  * sputtered out").
  *
- * Two atoms are connected when closer than `cutoff` (the nearest-neighbour
- * shell: the CNA cutoff is the natural choice).  The largest group is the
+ * Two atoms are connected when closer than `cutoff`.  Hot material near an
+ * impact stretches bonds beyond the first-shell cutoff for a moment, so a
+ * longer connection (md_analysis uses the structure analysis's surface
+ * radius, about three neighbour shells) keeps rim atoms attached while an
+ * atom that has really left is soon farther than that from everything.  The largest group is the
  * target.  Any other group is sputtered when every one of its atoms lies
  * more than `margin` above the original surface (along +axis) and its
  * centre of mass moves away from the surface.  A projectile still on its
@@ -21,7 +24,7 @@ struct sputter_params {
     int axis;          /* surface normal: 0, 1, 2 (x, y, z), pointing out of the target */
     double surface;    /* Å: original surface position along axis */
     double margin;     /* Å: a sputtered group lies entirely above surface + margin */
-    double cutoff;     /* Å: connection distance (<= the frame's neighbour radius) */
+    double cutoff;     /* Å: connection distance (<= the frame's range) */
 };
 
 struct sputter_stats {
@@ -33,11 +36,14 @@ struct sputter_stats {
     long target;       /* atoms in the largest group */
 };
 
-/* f: a frame whose neighbour radius is at least p->cutoff; v: velocities
+/* Where each atom is. */
+enum { SPUTTER_TARGET = 0, SPUTTER_LEFT = 1, SPUTTER_DETACHED = 2 /* e.g. still incoming */ };
+
+/* f: a frame whose range is at least p->cutoff; v: velocities
  * (3 per owned particle); mass: per particle (NULL: equal masses).  Fills
- * sputtered[i] (1 or 0, may be NULL) and *out. */
+ * state[i] (SPUTTER_*, may be NULL) and *out. */
 int sputter_find(const struct frame *f, const double *v, const double *mass,
-                 const struct sputter_params *p, unsigned char *sputtered,
+                 const struct sputter_params *p, unsigned char *state,
                  struct sputter_stats *out, struct err *e);
 
 #endif
