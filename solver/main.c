@@ -314,7 +314,9 @@ static int cmd_run(int argc, char **argv)
     rc = cr.type->run(cr.state, &run, &e);
     long steps = 0;
     json_t *st = json_object_get(json_object_get(cd.doc, "md"), "steps");
-    if (json_is_integer(st))
+    if (run.steps_run > 0)   /* cases that do not run md.steps say what they ran */
+        steps = run.steps_run;
+    else if (json_is_integer(st))
         steps = (long)json_integer_value(st);
     const char *status = rc == 0 ? "ok" : rc == ERR_DIVERGED ? "diverged" : "failed";
     struct err e2 = {0};

@@ -6,11 +6,15 @@
 extern const struct case_type md_case_type;
 extern const struct case_type crystal_case_type;
 extern const struct case_type impact_case_type;
+extern const struct case_type hugoniot_case_type;
+extern const struct case_type isotherm_case_type;
 
 const struct case_type *const case_types[] = {
     &md_case_type,
     &crystal_case_type,
     &impact_case_type,
+    &hugoniot_case_type,
+    &isotherm_case_type,
     NULL,
 };
 
