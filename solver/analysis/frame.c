@@ -108,9 +108,16 @@ static int bin_entries(struct frame *f, double width, struct err *e)
     }
     if (f->cap_sorted < f->ntot + 1) {
         int *so = realloc(f->cell_sorted, (size_t)(f->ntot + 1) * sizeof *so);
-        if (!so)
+        if (so)
+            f->cell_sorted = so;
+        double *cx = realloc(f->cell_x, (size_t)3 * (f->ntot + 1) * sizeof *cx);
+        if (cx)
+            f->cell_x = cx;
+        double *cs = realloc(f->cell_s, (size_t)3 * (f->ntot + 1) * sizeof *cs);
+        if (cs)
+            f->cell_s = cs;
+        if (!so || !cx || !cs)
             return err_nomem(e, "analysis cells");
-        f->cell_sorted = so;
         f->cap_sorted = f->ntot + 1;
     }
     int *cellof = malloc((size_t)(f->ntot + 1) * sizeof *cellof);
@@ -135,32 +142,46 @@ static int bin_entries(struct frame *f, double width, struct err *e)
         f->cell_start[c] = f->cell_start[c - 1];
     f->cell_start[0] = 0;
     free(cellof);
+    for (int k = 0; k < f->ntot; k++) {
+        int j = f->cell_sorted[k], o = f->origin[j];
+        for (int d = 0; d < 3; d++) {
+            f->cell_x[3 * k + d] = f->x[3 * o + d];
+            f->cell_s[3 * k + d] = (double)f->shift[3 * j + d] * f->len[d];
+        }
+    }
     return 0;
 }
 
 void frame_query(const struct frame *f, int i, double radius,
                  void (*fn)(void *ctx, int entry, double r2), void *ctx)
 {
-    int c[3];
+    int c[3], reach[3];
     for (int d = 0; d < 3; d++) {
         c[d] = (int)((f->x[3 * i + d] - f->clo[d]) * f->cinv[d]);
         if (c[d] >= f->nc[d]) c[d] = f->nc[d] - 1;
         if (c[d] < 0) c[d] = 0;
+        reach[d] = (int)ceil(radius * f->cinv[d] * (1.0 + 1e-12));
+        if (reach[d] < 1) reach[d] = 1;
     }
-    double rr = radius * radius;
-    for (int z = c[2] - 1; z <= c[2] + 1; z++) {
+    const double rr = radius * radius;
+    const double xi = f->x[3 * i], yi = f->x[3 * i + 1], zi = f->x[3 * i + 2];
+    for (int z = c[2] - reach[2]; z <= c[2] + reach[2]; z++) {
         if (z < 0 || z >= f->nc[2]) continue;
-        for (int y = c[1] - 1; y <= c[1] + 1; y++) {
+        for (int y = c[1] - reach[1]; y <= c[1] + reach[1]; y++) {
             if (y < 0 || y >= f->nc[1]) continue;
-            for (int x = c[0] - 1; x <= c[0] + 1; x++) {
-                if (x < 0 || x >= f->nc[0]) continue;
-                int cell = (z * f->nc[1] + y) * f->nc[0] + x;
-                for (int k = f->cell_start[cell]; k < f->cell_start[cell + 1]; k++) {
+            int x0 = c[0] - reach[0] < 0 ? 0 : c[0] - reach[0];
+            int x1 = c[0] + reach[0] >= f->nc[0] ? f->nc[0] - 1 : c[0] + reach[0];
+            /* the cells of one row are consecutive: one contiguous range */
+            int row = (z * f->nc[1] + y) * f->nc[0];
+            for (int k = f->cell_start[row + x0]; k < f->cell_start[row + x1 + 1]; k++) {
+                const double *cx = f->cell_x + 3 * k, *cs = f->cell_s + 3 * k;
+                /* the canonical pair vector of frame_vec: (x_o - x_i) + s L */
+                double dx = (cx[0] - xi) + cs[0], dy = (cx[1] - yi) + cs[1],
+                       dz = (cx[2] - zi) + cs[2];
+                double r2 = dx * dx + dy * dy + dz * dz;
+                if (r2 < rr) {
                     int j = f->cell_sorted[k];
-                    if (j == i)
-                        continue;
-                    double r2 = frame_dist2(f, i, j);
-                    if (r2 < rr)
+                    if (j != i)
                         fn(ctx, j, r2);
                 }
             }
@@ -253,7 +274,7 @@ int frame_build(struct frame *f, const double *x, int n, const struct box *b, do
     f->ntot = n;
     int rc = make_images(f, b, range, e);
     if (!rc)
-        rc = bin_entries(f, range, e);
+        rc = bin_entries(f, radius, e);
     if (rc)
         return rc;
     if (f->cap_offset < n + 1) {
@@ -301,6 +322,8 @@ void frame_free(struct frame *f)
     free(f->shift);
     free(f->cell_start);
     free(f->cell_sorted);
+    free(f->cell_x);
+    free(f->cell_s);
     free(f->offset);
     free(f->nbr);
     free(f->r2);

@@ -32,10 +32,13 @@ struct frame {
     int *origin;         /* owned index of each entry */
     int *shift;          /* 3 * ntot: image shift in box lengths */
     double len[3];       /* box lengths of periodic axes (0 otherwise) */
-    /* link cells over all entries */
+    /* link cells over all entries, at least the neighbour radius wide; the
+     * entries in cell order with their owned position and shift (x L) side
+     * by side, so a cell's candidates are contiguous in memory */
     int nc[3];
     double clo[3], cinv[3];
     int *cell_start, *cell_sorted;
+    double *cell_x, *cell_s;   /* 3 per sorted entry */
     long cap_cells;
     int cap_sorted;
     double range;        /* Å: images and cells cover this distance (frame_query) */
@@ -50,7 +53,7 @@ struct frame {
 };
 
 /* Build from n owned positions x (3 per particle) in box b: images within
- * `range` (>= radius) of the box on periodic axes, cells at least `range`
+ * `range` (>= radius) of the box on periodic axes, cells at least `radius`
  * wide, neighbour lists within `radius`.  The arrays are reused by the
  * next build. */
 int frame_build(struct frame *f, const double *x, int n, const struct box *b, double radius,

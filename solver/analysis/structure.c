@@ -97,17 +97,34 @@ int structure_params_read(struct cfg_obj *o, const struct structure_params *def,
 
 static inline int popcount(uint32_t v) { return __builtin_popcount(v); }
 
-/* Bonds among the m entries of `ent` (bitmask per entry) within rc2. */
+/* Bonds among the m entries of `ent` (bitmask per entry) within rc2.  The
+ * owned positions and shifts are gathered once; each distance is the
+ * canonical one of frame_vec, so the bond between two neighbours is the
+ * neighbour relation they have between themselves, bit for bit. */
 static void bond_masks(const struct frame *f, const int *ent, int m, double rc2, uint32_t *bond)
 {
-    for (int a = 0; a < m; a++)
+    double xo[MAXN][3];
+    int sh[MAXN][3];
+    for (int a = 0; a < m; a++) {
+        int o = f->origin[ent[a]];
+        for (int k = 0; k < 3; k++) {
+            xo[a][k] = f->x[3 * o + k];
+            sh[a][k] = f->shift[3 * ent[a] + k];
+        }
         bond[a] = 0;
+    }
     for (int a = 0; a < m; a++)
-        for (int b = a + 1; b < m; b++)
-            if (frame_dist2(f, ent[a], ent[b]) < rc2) {
+        for (int b = a + 1; b < m; b++) {
+            double r2 = 0;
+            for (int k = 0; k < 3; k++) {
+                double d = (xo[b][k] - xo[a][k]) + (double)(sh[b][k] - sh[a][k]) * f->len[k];
+                r2 += d * d;
+            }
+            if (r2 < rc2) {
                 bond[a] |= 1u << b;
                 bond[b] |= 1u << a;
             }
+        }
 }
 
 /* Bonds in the largest connected group of bonds among `set`. */

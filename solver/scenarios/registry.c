@@ -8,6 +8,7 @@ extern const struct case_type crystal_case_type;
 extern const struct case_type impact_case_type;
 extern const struct case_type hugoniot_case_type;
 extern const struct case_type isotherm_case_type;
+extern const struct case_type structure_case_type;
 
 const struct case_type *const case_types[] = {
     &md_case_type,
@@ -15,6 +16,7 @@ const struct case_type *const case_types[] = {
     &impact_case_type,
     &hugoniot_case_type,
     &isotherm_case_type,
+    &structure_case_type,
     NULL,
 };
 
