@@ -54,7 +54,8 @@
  * up_measured_km_s, us_km_s, us_err_km_s, us_leading_km_s, us_reference_km_s,
  * us_deviation, pxx_GPa, pyy_GPa, pzz_GPa, shear_GPa, p_rh_GPa,
  * p_rh_deviation, compression, compression_rh, temperature_K,
- * fcc_fraction, run_time_ps; metrics c0, s (with errors) from the fit,
+ * fcc_fraction, hcp_fraction, bcc_fraction, other_fraction (structure
+ * classes in the middle of the shocked region at the end), run_time_ps; metrics c0, s (with errors) from the fit,
  * us_deviation_max and p_rh_deviation_max over the fit range, the lattice
  * constant and density at the temperature, and with a single velocity the
  * values of that velocity.  fields.h5 has the front trajectories
@@ -79,20 +80,22 @@
 
 enum {
     H_UP, H_UPM, H_US, H_USERR, H_USLEAD, H_USREF, H_USDEV, H_PXX, H_PYY, H_PZZ, H_SHEAR, H_PRH,
-    H_PRHDEV, H_COMP, H_COMPRH, H_TEMP, H_FCC, H_TIME, H_NCOL
+    H_PRHDEV, H_COMP, H_COMPRH, H_TEMP, H_FCC, H_HCP, H_BCC, H_OTHER, H_TIME, H_NCOL
 };
 static const char *const hcols[H_NCOL] = {
     "up_piston_km_s", "up_measured_km_s", "us_km_s", "us_err_km_s", "us_leading_km_s",
     "us_reference_km_s", "us_deviation", "pxx_GPa", "pyy_GPa", "pzz_GPa", "shear_GPa", "p_rh_GPa",
-    "p_rh_deviation", "compression", "compression_rh", "temperature_K", "fcc_fraction", "run_time_ps"};
+    "p_rh_deviation", "compression", "compression_rh", "temperature_K", "fcc_fraction",
+    "hcp_fraction", "bcc_fraction", "other_fraction", "run_time_ps"};
 /* metric names when the case has one velocity */
 static const char *const hmetrics[H_NCOL] = {
     "up_piston", "up_measured", "us", "us_err", "us_leading", "us_reference", "us_deviation", "pxx",
     "pyy", "pzz", "shear", "p_rh", "p_rh_deviation", "compression", "compression_rh",
-    "temperature_behind", "fcc_fraction", "run_time"};
+    "temperature_behind", "fcc_fraction", "hcp_fraction", "bcc_fraction", "other_fraction",
+    "run_time"};
 static const char *const hunits[H_NCOL] = {
     "km/s", "km/s", "km/s", "km/s", "km/s", "km/s", "1", "GPa", "GPa", "GPa", "GPa", "GPa", "1", "1",
-    "1", "K", "1", "ps"};
+    "1", "K", "1", "1", "1", "1", "ps"};
 
 struct hugoniot {
     struct potential *pot;
@@ -343,7 +346,7 @@ static void region_measure(const struct md *md, double x1, double x2, double are
 }
 
 struct shock_out {
-    double us, us_err, us_lead, upm, P[6], rho, T, fcc, time;
+    double us, us_err, us_lead, upm, P[6], rho, T, fcc, hcp, bcc, other, time;
     long npts;
 };
 
@@ -494,7 +497,7 @@ static int run_shock(struct hugoniot *h, const struct particles *tmpl, const str
         if (!rc)
             rc = structure_classify_particles(&sp, md.p, &md.box, &fr, cls, e);
         double front = xf[nsamp - 1], xpist = xp0 + u * md.time, gap = front - xpist;
-        long nin = 0, nfcc = 0;
+        long nin = 0, nfcc = 0, nhcp = 0, nbcc = 0;
         double *fs = particles_field(md.p, f_struct), *fsh = particles_field(md.p, f_shock);
         for (int i = 0; !rc && i < md.p->n_owned; i++) {
             double x = md.p->x[3 * i];
@@ -502,10 +505,15 @@ static int run_shock(struct hugoniot *h, const struct particles *tmpl, const str
             fsh[i] = x < front && !(md.p->mask[i] & GROUP_PISTON);
             if (x > xpist + 0.15 * gap && x < front - 0.15 * gap) {
                 nin++;
-                nfcc += cls[i] == (int)structure_ideal_class(sp.ref);
+                nfcc += cls[i] == STRUCT_FCC;
+                nhcp += cls[i] == STRUCT_HCP;
+                nbcc += cls[i] == STRUCT_BCC;
             }
         }
         o->fcc = nin > 0 ? (double)nfcc / nin : 0.0;
+        o->hcp = nin > 0 ? (double)nhcp / nin : 0.0;
+        o->bcc = nin > 0 ? (double)nbcc / nin : 0.0;
+        o->other = nin > 0 ? 1.0 - o->fcc - o->hcp - o->bcc : 0.0;
         frame_free(&fr);
         free(cls);
     }
@@ -616,13 +624,17 @@ static int hugoniot_run(void *state, struct run *run, struct err *e)
         r[H_COMPRH] = eos_rh_compression(o.us, h->up[k] * 10.0);
         r[H_TEMP] = o.T;
         r[H_FCC] = o.fcc;
+        r[H_HCP] = o.hcp;
+        r[H_BCC] = o.bcc;
+        r[H_OTHER] = o.other;
         r[H_TIME] = o.time;
         run_log(run, "up %.3f km/s: Us %.3f +- %.3f km/s (leading edge %.3f; line %.3f, %+.1f %%), "
                      "Pxx %.2f GPa vs rho0 Us up %.2f GPa (%+.1f %%), shear %.2f GPa, rho/rho0 "
-                     "%.4f (RH %.4f), T %.0f K, %.0f %% %s behind the front",
+                     "%.4f (RH %.4f), T %.0f K; behind the front %.0f %% fcc, %.0f %% hcp, %.0f %% "
+                     "bcc, %.0f %% other",
                 h->up[k], r[H_US], r[H_USERR], r[H_USLEAD], r[H_USREF], 100 * r[H_USDEV], r[H_PXX],
                 r[H_PRH], 100 * r[H_PRHDEV], r[H_SHEAR], r[H_COMP], r[H_COMPRH], r[H_TEMP],
-                100 * r[H_FCC], structure_class_names[structure_ideal_class(h->sp.ref)]);
+                100 * r[H_FCC], 100 * r[H_HCP], 100 * r[H_BCC], 100 * r[H_OTHER]);
     }
     particles_destroy(&tmpl);
     if (rc)
