@@ -17,9 +17,11 @@
  *     the answer flips cleanly from fcc to bcc (Bain path) at +-1e-4 Å, the neighbour
  *     relation is symmetric (bit-identical distances from both ends) even
  *     on the tie, the thread count does not matter, and adaptive CNA calls
- *     all three fcc.
+ *     all three fcc;
+ *   - the `structure` case type counts the surface and fcc atoms of a slab.
  */
 #include <criterion/criterion.h>
+#include <jansson.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -385,4 +387,34 @@ Test(structure, bad_parameters_are_refused)
     struct structure_params dp = {STRUCT_REF_FCC, CNA_FIXED, 0, 0.5 * (1 + 1 / M_SQRT2) * 7.23, 0, 0, 0, 1};
     cr_assert_eq(structure_params_resolve(&dp, &e), 0);
     cr_assert_float_eq(dp.a, 7.23, 1e-12);
+}
+
+/* The `structure` case type through cascade-solver: a free (001) slab of
+ * 4 x 4 x 4 cells has 2 x 32 surface atoms and 192 fcc atoms. */
+Test(structure, structure_case_counts_a_slab, .timeout = 60)
+{
+    const char *text = "type: structure\n"
+                       "system:\n"
+                       "  lattice: {style: fcc, a: 3.615, cells: [4, 4, 4]}\n"
+                       "  element: Cu\n"
+                       "  boundary: [periodic, periodic, free]\n"
+                       "analysis: {structure: {method: adaptive}, repeat: 3}\n";
+    const char *path = th_write_temp(3, "slab.yaml", text);
+    char outdir[512], out[4096], rpath[600];
+    snprintf(outdir, sizeof outdir, "%s/slab-out", th_temp_dir());
+    const char *argv[] = {th_solver(), "run", path, "--out", outdir, "--quiet", NULL};
+    int st = th_run(argv, out, sizeof out);
+    cr_assert_eq(st, 0, "exit %d: %s", st, out);
+    snprintf(rpath, sizeof rpath, "%s/result.json", outdir);
+    json_error_t je;
+    json_t *res = json_load_file(rpath, 0, &je);
+    cr_assert_not_null(res, "%s", je.text);
+    json_t *m = json_object_get(res, "metrics");
+    double ns = json_number_value(json_object_get(json_object_get(m, "n_surface"), "value"));
+    double nf = json_number_value(json_object_get(json_object_get(m, "n_fcc"), "value"));
+    double t = json_number_value(json_object_get(json_object_get(m, "cna_us_per_atom"), "value"));
+    cr_assert_eq(ns, 64.0, "surface atoms %g", ns);
+    cr_assert_eq(nf, 192.0, "fcc atoms %g", nf);
+    cr_assert_gt(t, 0.0);
+    json_decref(res);
 }
