@@ -58,9 +58,10 @@
  * classes in the middle of the shocked region at the end), run_time_ps; metrics c0, s (with errors) from the fit,
  * us_deviation_max and p_rh_deviation_max over the fit range, the lattice
  * constant and density at the temperature, and with a single velocity the
- * values of that velocity.  fields.h5 has the front trajectories
- * (front_time_ps_K, front_x_A_K for velocity K) and a snapshot at the end
- * of every shock with the fields structure and shocked.
+ * values of that velocity.  The front trajectories (front_time_ps_K,
+ * front_x_A_K for velocity K, in the order given) are series in
+ * result.json and fields.h5, which also has a snapshot at the end of every
+ * shock with the fields structure and shocked.
  */
 #include <math.h>
 #include <stdio.h>
@@ -516,6 +517,13 @@ static int run_shock(struct hugoniot *h, const struct particles *tmpl, const str
         o->other = nin > 0 ? 1.0 - o->fcc - o->hcp - o->bcc : 0.0;
         frame_free(&fr);
         free(cls);
+    }
+    if (nsamp > 0) {
+        char n1[64], n2[64];
+        snprintf(n1, sizeof n1, "front_time_ps_%d", k);
+        snprintf(n2, sizeof n2, "front_x_A_%d", k);
+        result_series(&run->result, n1, ts, (int)nsamp, "ps");
+        result_series(&run->result, n2, xf, (int)nsamp, "Å");
     }
     if (run->h5_open && nsamp > 0) {
         char n1[64], n2[64];
