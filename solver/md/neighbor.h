@@ -12,7 +12,9 @@
  * ghost lies above it in z (ties broken by y, then x).  Each physical pair
  * across a periodic boundary appears as two owned-ghost pairs; the
  * coordinate rule keeps exactly one.  Forces on ghosts are added back to
- * their owners afterwards (ghost_reverse_add).  Full lists hold every
+ * their owners afterwards (ghost_reverse_add).  A kernel may reorder the
+ * neighbours of a particle within its range (the EAM density pass moves
+ * the ones inside the cutoff to the front); the set never changes.  Full lists hold every
  * neighbour of each owned particle (three-body and structure analysis).
  */
 #ifndef CASCADE_NEIGHBOR_H
