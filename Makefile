@@ -46,7 +46,7 @@ ifeq ($(WERROR),1)
   WARN += -Werror
 endif
 
-CFLAGS   := -std=c11 -D_POSIX_C_SOURCE=200809L -D_DEFAULT_SOURCE $(OPT_$(VARIANT)) $(WARN) -Itests \
+CFLAGS   := -std=c11 -D_POSIX_C_SOURCE=200809L -D_DEFAULT_SOURCE $(OPT_$(VARIANT)) $(WARN) -I. -Itests \
             -fopenmp -Isolver -I$(OBJDIR)/gen $(PKG_CFLAGS) -MMD -MP
 SAN_LD_asan := -fsanitize=address,undefined
 LDFLAGS  := -fopenmp $(SAN_LD_$(VARIANT))
