@@ -80,3 +80,51 @@ Test(convergence, divergent_and_degenerate_sequences_flagged)
     cr_assert_eq(r.kind, CONV_INDETERMINATE);
     cr_assert_eq(conv_three_grid((double[]){1, 1, 2}, (double[]){1, 2, 3}, 1.25, &r, &e), ERR_INPUT);
 }
+
+/* Report documents: a figure drawn by gnuplot is inlined in the HTML page
+ * and referenced by the Markdown page. */
+#include <stdio.h>
+#include <string.h>
+
+#include "campaign/plot.h"
+#include "campaign/report_doc.h"
+#include "helpers/th.h"
+
+Test(report, figure_table_markdown_html)
+{
+    const char *dir = th_temp_dir();
+    double x[3] = {2, 4, 8}, y[3] = {3846, 3801, 3650};
+    struct plot_spec ps = {"wave speed", "cell edge h (Å)", "wave speed (m/s)", 0, 0, 1,
+                           {{"DPD/MPM-grid", x, y, 3, PLOT_LINESPOINTS}}, "3846", "DPD-only"};
+    char svg[1024];
+    snprintf(svg, sizeof svg, "%s/fig.svg", dir);
+    struct err e = {0};
+    cr_assert_eq(plot_svg(&ps, svg, &e), 0, "%s", e.msg);
+    struct rdoc *d = rdoc_create("Study <x> & y");
+    rdoc_heading(d, 1, "wave_speed");
+    rdoc_para(d, "observed order p = %.3f", 1.234);
+    const char *hdr[2] = {"h (Å)", "value | m/s"};
+    const char *cells[4] = {"2", "3846", "4", "3801"};
+    rdoc_table(d, 2, hdr, 2, cells);
+    rdoc_figure(d, dir, "fig.svg", "wave speed against cell edge");
+    char md[1024], html[1024];
+    snprintf(md, sizeof md, "%s/r.md", dir);
+    snprintf(html, sizeof html, "%s/r.html", dir);
+    cr_assert_eq(rdoc_write_markdown(d, md, &e), 0);
+    cr_assert_eq(rdoc_write_html(d, html, &e), 0);
+    rdoc_destroy(&d);
+    static char buf[200000];
+    FILE *f = fopen(html, "r");
+    size_t n = fread(buf, 1, sizeof buf - 1, f);
+    buf[n] = '\0';
+    fclose(f);
+    cr_assert(strstr(buf, "<svg") && !strstr(buf, "<?xml"), "SVG must be inline without prolog");
+    cr_assert(strstr(buf, "Study &lt;x&gt; &amp; y"));
+    cr_assert(strstr(buf, "<td>3801</td>"));
+    f = fopen(md, "r");
+    n = fread(buf, 1, sizeof buf - 1, f);
+    buf[n] = '\0';
+    fclose(f);
+    cr_assert(strstr(buf, "![wave speed against cell edge](fig.svg)"));
+    cr_assert(strstr(buf, "| value \\| m/s |"), "%s", buf);
+}
