@@ -73,7 +73,7 @@ static int eam_reserve(struct eam *m, int n, struct err *e)
 
 /* Embedding energies and F'(rho) of the owned atoms; beyond the table F
  * continues linearly (as LAMMPS), so a close approach conserves energy. */
-static double eam_embed(struct eam *m, struct particles *p, int flags)
+static double eam_embed(struct eam *m, struct particles *p, const struct nlist *nl, int flags)
 {
     const int *tmap = m->base.type_map;
     double embed = 0;
@@ -85,6 +85,9 @@ static double eam_embed(struct eam *m, struct particles *p, int flags)
         double phi = eam_spline_value(F, im, q);
         if (m->rho[i] > m->rhomax)
             phi += m->fp[i] * (m->rho[i] - m->rhomax);
+        /* every rank knows every F'(rho); the energy belongs to one slice */
+        if (i < nl->ilo || i >= nl->ihi)
+            continue;
         embed += phi;
         if (flags & POT_PERATOM)
             p->pe[i] = phi;
@@ -146,7 +149,7 @@ static int eam_compute_one(struct eam *m, struct particles *p, const struct nlis
     }
     thread_accum_reduce(&m->rho_acc, m->rho, (size_t)ntot);
     ghost_reverse_add(p, m->rho, 1);
-    double embed = eam_embed(m, p, flags);
+    double embed = eam_embed(m, p, nl, flags);
     ghost_forward(p, m->fp, 1);
 
     const double *restrict fp = m->fp;
@@ -253,7 +256,7 @@ static int eam_compute(struct potential *pot, struct particles *p, const struct 
     thread_accum_reduce(&m->rho_acc, m->rho, (size_t)ntot);
     ghost_reverse_add(p, m->rho, 1);
 
-    double embed = eam_embed(m, p, flags);
+    double embed = eam_embed(m, p, nl, flags);
     ghost_forward(p, m->fp, 1);
 
     /* pass 2: forces */

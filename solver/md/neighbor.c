@@ -13,6 +13,8 @@ struct nlist *nlist_create(enum nlist_kind kind, double cutoff, double skin)
     nl->kind = kind;
     nl->cutoff = cutoff;
     nl->skin = skin;
+    nl->ilo = 0;
+    nl->ihi = 1 << 30;
     return nl;
 }
 
@@ -167,6 +169,8 @@ int nlist_build(struct nlist *nl, const struct particles *p, struct err *e)
     long at = 0;
     for (int i = 0; i < p->n_owned; i++) {
         nl->offset[i] = (int)at;
+        if (i < nl->ilo || i >= nl->ihi)
+            continue;
         int cell = nl->cell_of[i];
         int cx = cell % nc[0], cy = (cell / nc[0]) % nc[1], cz = cell / (nc[0] * nc[1]);
         const double xi = p->x[3 * i], yi = p->x[3 * i + 1], zi = p->x[3 * i + 2];
@@ -213,6 +217,8 @@ int nlist_build_brute(struct nlist *nl, const struct particles *p, struct err *e
     long at = 0;
     for (int i = 0; i < p->n_owned; i++) {
         nl->offset[i] = (int)at;
+        if (i < nl->ilo || i >= nl->ihi)
+            continue;
         for (int j = 0; j < ntot; j++) {
             if (j == i || (nl->kind == NLIST_HALF && !half_keeps(p, i, j)))
                 continue;

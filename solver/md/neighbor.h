@@ -30,6 +30,8 @@ struct nlist {
     enum nlist_kind kind;
     double cutoff, skin;     /* Å */
     int n;                   /* owned particles listed */
+    int ilo, ihi;            /* only owned particles in [ilo, ihi) get a list (the
+                              * slice of this MPI rank); others have none */
     int *offset;             /* n + 1 entries: neighbours of i are neigh[offset[i]..offset[i+1]) */
     int *neigh;
     long cap_neigh;

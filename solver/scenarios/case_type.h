@@ -17,10 +17,13 @@
 #include "scenarios/run.h"
 #include "util/cfg.h"
 
+struct parallel;
+
 struct case_common {
     uint64_t seed;
     const char *title;
-    int nthreads;          /* from the command line, for set-up that needs it */
+    int nthreads;                  /* from the command line, for set-up that needs it */
+    const struct parallel *par;    /* MPI ranks of this run (NULL: serial) */
 };
 
 struct case_type {

@@ -86,6 +86,7 @@ static int md_case_read(struct cfg_obj *root, const struct case_common *common, 
             return rc;
         }
     }
+    p->par = common->par;
     rc = md_init(&c->md, p, &box, pot, dt, skin, common->nthreads, e);
     c->md.thermo = th;
     c->md.seed = common->seed;

@@ -73,13 +73,16 @@ int run_open(struct run *r, const struct run_options *opt, const struct output_s
     r->case_doc = case_doc;
     r->seed = seed;
     snprintf(r->title, sizeof r->title, "%s", title ? title : "");
-    r->log = opt->quiet ? NULL : stderr;
+    r->log = opt->quiet || opt->rank != 0 ? NULL : stderr;
     canon_key(case_doc, r->case_key);
+    if (result_init(&r->result) != 0)
+        return err_nomem(e, "result");
+    timer_start(&r->timers, TIMER_TOTAL);
+    if (opt->rank != 0)
+        return 0;   /* replicated ranks compute; rank 0 writes */
     if (mkdir_p(opt->out_dir) != 0)
         return err_set(e, ERR_RUNTIME, "%s: cannot create output directory: %s", opt->out_dir,
                        strerror(errno));
-    if (result_init(&r->result) != 0)
-        return err_nomem(e, "result");
     char path[4096];
     if (out->hdf5) {
         run_path(r, "fields.h5", path, sizeof path);
@@ -94,12 +97,13 @@ int run_open(struct run *r, const struct run_options *opt, const struct output_s
         if (!r->xyz)
             return err_set(e, ERR_RUNTIME, "%s: cannot create: %s", path, strerror(errno));
     }
-    timer_start(&r->timers, TIMER_TOTAL);
     return 0;
 }
 
 int run_thermo_header(struct run *r, const char *const *columns, int n)
 {
+    if (r->opt.rank != 0)
+        return 0;
     char path[4096];
     run_path(r, "thermo.csv", path, sizeof path);
     r->thermo_csv = fopen(path, "w");
@@ -178,7 +182,7 @@ int run_close(struct run *r, const char *status, const char *message, long steps
     char path[4096];
     run_path(r, "result.json", path, sizeof path);
     struct err e3 = {0};
-    if (result_write(&r->result, path, &e3) != 0 && !rc)
+    if (r->opt.rank == 0 && result_write(&r->result, path, &e3) != 0 && !rc)
         rc = err_set(e, ERR_RUNTIME, "%s", e3.msg);
     result_free(&r->result);
     return rc;

@@ -24,6 +24,7 @@ struct run_options {
     int nthreads;
     int progress;       /* show progress (terminal or plain lines) */
     int quiet;          /* only errors on stderr */
+    int rank;           /* MPI rank: only rank 0 writes files and logs */
 };
 
 /* The `output` section of a case. */
