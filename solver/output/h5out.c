@@ -186,6 +186,8 @@ static int write_xdmf(const struct h5out *h, struct err *e)
         return err_set(e, ERR_RUNTIME, "%s: cannot create", h->xdmf_path);
     const char *h5name = basename_of(h->path);
     fprintf(f, "<?xml version=\"1.0\" ?>\n<!DOCTYPE Xdmf SYSTEM \"Xdmf.dtd\" []>\n");
+    fprintf(f, "<!-- written by cascade-solver %s (git %s) -->\n", provenance_version(),
+            provenance_git_hash());
     fprintf(f, "<Xdmf Version=\"3.0\">\n <Domain>\n");
     const char *collections[] = {"particles", "points", "grid"};
     for (int c = 0; c < 3; c++) {

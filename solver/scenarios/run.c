@@ -109,6 +109,9 @@ int run_thermo_header(struct run *r, const char *const *columns, int n)
     r->thermo_csv = fopen(path, "w");
     if (!r->thermo_csv)
         return -1;
+    /* provenance as a comment line (gnuplot, numpy and pandas skip '#') */
+    fprintf(r->thermo_csv, "# cascade-solver %s (git %s), case key %s\n", provenance_version(),
+            provenance_git_hash(), r->case_key);
     for (int k = 0; k < n; k++)
         fprintf(r->thermo_csv, "%s%s", k ? "," : "", columns[k]);
     fputc('\n', r->thermo_csv);
