@@ -8,7 +8,7 @@
 
 static const char *usage =
     "usage: cascade query \"SQL\" [--db FILE] [--csv | --json] [--param NAME=VALUE ...]\n"
-    "       cascade query -f FILE.sql [...]\n"
+    "       cascade query -f FILE.sql [...]      (-f - reads the SQL from stdin)\n"
     "\n"
     "Runs SQL on a read-only connection to the results database and prints the\n"
     "rows as an aligned table (default), CSV or JSON lines.  Several statements\n"
@@ -43,18 +43,26 @@ static void bind_value(sqlite3_stmt *st, int idx, const char *v)
 
 static char *read_file(const char *path)
 {
-    FILE *f = fopen(path, "rb");
+    FILE *f = strcmp(path, "-") == 0 ? stdin : fopen(path, "rb");
     if (!f)
         return NULL;
-    fseek(f, 0, SEEK_END);
-    long n = ftell(f);
-    fseek(f, 0, SEEK_SET);
-    char *buf = n >= 0 ? malloc((size_t)n + 1) : NULL;
-    if (buf) {
-        size_t got = fread(buf, 1, (size_t)n, f);
-        buf[got] = '\0';
+    size_t cap = 4096, n = 0, got;
+    char *buf = malloc(cap);
+    while (buf && (got = fread(buf + n, 1, cap - n - 1, f)) > 0) {
+        n += got;
+        if (n + 1 == cap) {
+            char *g = realloc(buf, cap *= 2);
+            if (!g) {
+                free(buf);
+                buf = NULL;
+            }
+            buf = g;
+        }
     }
-    fclose(f);
+    if (buf)
+        buf[n] = '\0';
+    if (f != stdin)
+        fclose(f);
     return buf;
 }
 

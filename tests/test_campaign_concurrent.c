@@ -1,0 +1,38 @@
+/*
+ * Two `cascade run` processes on one database and one study at the same
+ * time: leases taken in BEGIN IMMEDIATE transactions mean no job is ever run
+ * twice -- each job has exactly one run, all done, and both runners return
+ * when the study is complete.  Both do work (the jobs are shared out).
+ */
+#include <criterion/criterion.h>
+#include <stdio.h>
+
+#include "helpers/ct.h"
+
+Test(campaign_concurrent, two_runners_never_run_a_job_twice, .timeout = 90)
+{
+    char dir[64];
+    ct_mkdir(dir, sizeof dir);
+    ct_write(0, dir, "shared.yaml",
+             "name: shared\n"
+             "base: {fake: {action: sleep, seconds: 0.05}}\n"
+             "sweep:\n"
+             "  grid:\n"
+             "    fake.x: [1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12]\n"
+             "    fake.y: [1, 2, 3]\n");
+    const char *argv[] = {ct_cascade_bin(), "run", "shared.yaml", "--solver", ct_standin(),
+                          "--jobs", "2", "--quiet", NULL};
+    pid_t a = ct_spawn(dir, NULL, argv, "a.log");
+    pid_t b = ct_spawn(dir, NULL, argv, "b.log");
+    cr_assert_eq(ct_wait(a), 0, "runner a failed (see %s/a.log)", dir);
+    cr_assert_eq(ct_wait(b), 0, "runner b failed (see %s/b.log)", dir);
+    sqlite3 *db = ct_db(dir);
+    cr_assert_eq(ct_int(db, "SELECT count(*) FROM jobs"), 36);
+    cr_assert_eq(ct_int(db, "SELECT count(*) FROM runs"), 36, "some job was run twice");
+    cr_assert_eq(ct_int(db, "SELECT count(DISTINCT job_id) FROM runs WHERE status = 'done'"), 36);
+    cr_assert_eq(ct_int(db, "SELECT count(DISTINCT runner) FROM runs"), 2,
+                 "one runner did all the work: the test shows nothing");
+    cr_assert_eq(ct_int(db, "SELECT count(*) FROM leases"), 0);
+    sqlite3_close(db);
+    ct_rmrf(dir);
+}
