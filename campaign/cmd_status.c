@@ -114,10 +114,8 @@ static int one_study(sqlite3 *db, const char *name, struct err *e)
                "runs them again\n",
                stale, stale == 1 ? "" : "s");
     if ((rc = db_prepare(db,
-                         "SELECT r.solver_version || ' (' || r.solver_git || ')', count(*) "
-                         "FROM jobs j JOIN runs r ON r.id = j.last_run_id "
-                         "WHERE j.study_id = ?1 AND j.active = 1 AND j.state = 'done' "
-                         "GROUP BY 1 ORDER BY 2 DESC",
+                         "SELECT solver, count(*) FROM jobs WHERE study_id = ?1 AND active = 1 "
+                         "AND state = 'done' GROUP BY solver ORDER BY 2 DESC",
                          &st, e)))
         return rc;
     sqlite3_bind_int64(st, 1, id);

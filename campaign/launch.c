@@ -135,6 +135,9 @@ int launch_from_json(struct launch_spec *L, const json_t *j, struct err *e)
 
 int launch_mkdirs(const char *path, struct err *e)
 {
+    /* usually only the last component is missing: try that first */
+    if (mkdir(path, 0777) == 0 || errno == EEXIST)
+        return 0;
     char buf[4096];
     snprintf(buf, sizeof buf, "%s", path);
     for (char *p = buf + 1; *p; p++) {

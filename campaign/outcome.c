@@ -153,6 +153,7 @@ static json_t *read_result(const char *dir)
 
 void outcome_collect(struct outcome *o, const char *dir, const struct exit_info *x)
 {
+    double t0 = sys_mono();
     char path[4096 + 32];
     snprintf(path, sizeof path, "%s/stderr", dir);
     outcome_file_tail(path, 20, o->stderr_tail, sizeof o->stderr_tail);
@@ -211,6 +212,7 @@ void outcome_collect(struct outcome *o, const char *dir, const struct exit_info 
     }
     json_decref(res);
     collect_artifacts(o, dir);
+    o->collect_s = sys_mono() - t0;
 }
 
 void outcome_free(struct outcome *o)
@@ -231,12 +233,15 @@ json_t *outcome_to_json(const struct outcome *o)
                                               a->kind, "bytes", (json_int_t)a->bytes, "sha256",
                                               a->sha256));
     }
-    return json_pack("{s:i, s:i, s:i, s:s, s:f, s:f, s:f, s:f, s:i, s:s, s:s, s:s, s:s, s:O?, s:o}",
+    json_t *j = json_pack("{s:i, s:i, s:i, s:s, s:f, s:f, s:f, s:f, s:i, s:s, s:s, s:s, s:s, s:O?, s:o}",
                      "status", (int)o->status, "exit_code", o->exit_code, "signal", o->signal,
                      "message", o->message, "started", o->started, "finished", o->finished,
                      "wall_s", o->wall_s, "peak_rss_mib", o->peak_rss_mib, "pid", o->pid, "host",
                      o->host, "stderr_tail", o->stderr_tail, "solver_version", o->solver_version,
                      "solver_git", o->solver_git, "metrics", o->metrics, "artifacts", arts);
+    if (j)
+        json_object_set_new(j, "collect_s", json_real(o->collect_s));
+    return j;
 }
 
 #define COPY_STR(dst, obj, key)                                                                   \
@@ -259,6 +264,7 @@ int outcome_from_json(struct outcome *o, const json_t *j, struct err *e)
     o->finished = json_number_value(json_object_get(j, "finished"));
     o->wall_s = json_number_value(json_object_get(j, "wall_s"));
     o->peak_rss_mib = json_number_value(json_object_get(j, "peak_rss_mib"));
+    o->collect_s = json_number_value(json_object_get(j, "collect_s"));
     o->pid = (int)json_integer_value(json_object_get(j, "pid"));
     COPY_STR(o->message, j, "message");
     COPY_STR(o->host, j, "host");

@@ -48,6 +48,7 @@ struct outcome {
     json_t *metrics;            /* {name: {"value": x, "unit": u}}, owned, or NULL */
     struct artifact *artifacts; /* owned */
     int nartifacts;
+    double collect_s;           /* time spent reading result.json and hashing files */
 };
 
 /* How the process ended, as the executor saw it. */

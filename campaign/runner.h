@@ -33,6 +33,8 @@ struct runner_options {
 struct runner_summary {
     long total, done, done_before, failed, cancelled, not_run;
     int interrupted;         /* the signal that stopped the run, or 0 */
+    long metric_rows;        /* metric rows recorded */
+    double record_s;         /* time spent reading results and writing them to the database */
 };
 
 int runner_run(const struct study *s, const struct plan *p, const struct solver *sv, sqlite3 *db,

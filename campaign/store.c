@@ -143,11 +143,13 @@ static int register_study(struct store *st, const struct study *s, long long *st
     }
     *study_id = sqlite3_column_int64(up, 0);
     sqlite3_finalize(up);
-    char sql[200];
+    char sql[512];
     snprintf(sql, sizeof sql,
              "DELETE FROM study_axes WHERE study_id = %lld; "
+             "DELETE FROM job_params WHERE job_id IN (SELECT id FROM jobs WHERE study_id = %lld); "
+             "DELETE FROM job_deps WHERE job_id IN (SELECT id FROM jobs WHERE study_id = %lld); "
              "UPDATE jobs SET active = 0 WHERE study_id = %lld",
-             *study_id, *study_id);
+             *study_id, *study_id, *study_id, *study_id);
     if ((rc = db_exec(db, sql, e)))
         return rc;
     sqlite3_stmt *ax;
@@ -181,7 +183,7 @@ int store_register(struct store *st, const struct study *s, const struct plan *p
     if (rc)
         return rc;
     rc = register_study(st, s, study_id, e);
-    sqlite3_stmt *job = NULL, *del = NULL, *par = NULL, *dep = NULL;
+    sqlite3_stmt *job = NULL, *par = NULL, *dep = NULL;
     if (!rc)
         rc = db_prepare(db,
                         "INSERT INTO jobs (study_id, key, kind, name, seq, params, case_json) "
@@ -190,9 +192,6 @@ int store_register(struct store *st, const struct study *s, const struct plan *p
                         "params = excluded.params, case_json = excluded.case_json, active = 1 "
                         "RETURNING id",
                         &job, e);
-    if (!rc)
-        rc = db_prepare(db,
-                        "DELETE FROM job_params WHERE job_id = ?1; ", &del, e);
     if (!rc)
         rc = db_prepare(db, "INSERT INTO job_params (job_id, name, value) VALUES (?1, ?2, ?3)",
                         &par, e);
@@ -219,10 +218,6 @@ int store_register(struct store *st, const struct study *s, const struct plan *p
         }
         job_ids[j] = sqlite3_column_int64(job, 0);
         sqlite3_reset(job);
-        sqlite3_reset(del);
-        sqlite3_bind_int64(del, 1, job_ids[j]);
-        if ((rc = step_done(db, del, e, "registering parameters")))
-            break;
         if (pj->sweep >= 0) {
             study_job_indices(s, pj->sweep, idx);
             for (int a = 0; a < s->naxes && !rc; a++) {
@@ -242,7 +237,6 @@ int store_register(struct store *st, const struct study *s, const struct plan *p
         }
     }
     sqlite3_finalize(job);
-    sqlite3_finalize(del);
     sqlite3_finalize(par);
     sqlite3_finalize(dep);
     if (!rc)
@@ -480,6 +474,7 @@ int store_finish(struct store *st, long long job_id, long long run_id, const str
 {
     sqlite3 *db = st->db;
     *lost = 0;
+    st->last_metric_rows = 0;
     int rc = db_begin(db, e);
     if (rc)
         return rc;
@@ -551,6 +546,7 @@ int store_finish(struct store *st, long long job_id, long long run_id, const str
                 rc = db_fail(db, e, "recording a metric");
                 break;
             }
+            st->last_metric_rows++;
         }
         sqlite3_reset(s);
     }

@@ -32,6 +32,7 @@ struct store {
     const char *const *metrics;   /* record only these (NULL: all) */
     int nmetrics;
     sqlite3_stmt *st[16];
+    long last_metric_rows;        /* metric rows the last store_finish wrote */
 };
 
 int store_init(struct store *st, sqlite3 *db, const struct study *s, const struct solver *sv,

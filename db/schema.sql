@@ -45,10 +45,11 @@ CREATE TABLE jobs (
     active      INTEGER NOT NULL DEFAULT 1, -- 0: no longer produced by the study file
     state       TEXT NOT NULL DEFAULT 'pending',  -- status of the latest attempt
     last_run_id INTEGER,                    -- runs.id of the latest attempt
+    solver      TEXT,                       -- 'version (git hash)' of the latest attempt
     retry_after INTEGER NOT NULL DEFAULT 0, -- attempts up to this one are forgiven
     UNIQUE (study_id, key)
 );
-CREATE INDEX jobs_study_state ON jobs (study_id, active, state);
+CREATE INDEX jobs_study_state ON jobs (study_id, active, state, solver);
 CREATE INDEX jobs_study_seq ON jobs (study_id, seq);
 CREATE INDEX jobs_key ON jobs (key);
 
@@ -130,15 +131,20 @@ CREATE TABLE leases (
 );
 CREATE INDEX leases_runner ON leases (runner);
 
--- jobs.state follows the latest attempt, whoever writes the runs table.
+-- jobs.state, last_run_id and solver follow the latest attempt, whoever
+-- writes the runs table (so `cascade status` counts jobs without joins).
 CREATE TRIGGER runs_state_insert AFTER INSERT ON runs
 BEGIN
-    UPDATE jobs SET state = NEW.status, last_run_id = NEW.id WHERE id = NEW.job_id;
+    UPDATE jobs SET state = NEW.status, last_run_id = NEW.id,
+                    solver = NEW.solver_version || ' (' || NEW.solver_git || ')'
+    WHERE id = NEW.job_id;
 END;
-CREATE TRIGGER runs_state_update AFTER UPDATE OF status ON runs
+CREATE TRIGGER runs_state_update AFTER UPDATE OF status, solver_version, solver_git ON runs
     WHEN NEW.id = (SELECT last_run_id FROM jobs WHERE id = NEW.job_id)
 BEGIN
-    UPDATE jobs SET state = NEW.status WHERE id = NEW.job_id;
+    UPDATE jobs SET state = NEW.status,
+                    solver = NEW.solver_version || ' (' || NEW.solver_git || ')'
+    WHERE id = NEW.job_id;
 END;
 
 -- Every metric of every finished run, with the job's study, parameters and
