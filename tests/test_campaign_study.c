@@ -257,3 +257,29 @@ Test(campaign_study, bad_input_writes_nothing)
     sqlite3_close(db);
     ct_rmrf(dir);
 }
+
+Test(campaign_study, shipped_studies_expand)
+{
+    /* every study in studies/ is valid for the solver, with the jobs it says */
+    const struct {
+        const char *file;
+        long njobs;
+        int nprep;
+    } studies[] = {{"studies/demo.yaml", 7, 1}, {"studies/md_timestep.yaml", 13, 1},
+                   {"studies/sc_cutoff.yaml", 6, 0}};
+    for (size_t i = 0; i < sizeof studies / sizeof studies[0]; i++) {
+        char path[1024];
+        snprintf(path, sizeof path, "%s/%s", th_root(), studies[i].file);
+        struct study s;
+        struct solver sv;
+        struct plan p;
+        struct err e = {0};
+        cr_assert_eq(study_load(&s, path, &e), 0, "%s", e.msg);
+        cr_assert_eq(solver_open(&sv, th_solver(), &e), 0, "%s", e.msg);
+        cr_assert_eq(plan_build(&p, &s, &sv, &e), 0, "%s: %s", studies[i].file, e.msg);
+        cr_assert_eq(p.njobs, studies[i].njobs, "%s", studies[i].file);
+        cr_assert_eq(p.nprep, studies[i].nprep, "%s", studies[i].file);
+        plan_free(&p);
+        study_free(&s);
+    }
+}
