@@ -45,8 +45,8 @@ static void draw(struct progress_view *v)
     char elapsed[32], eta[32] = "?";
     progress_view_duration(el, elapsed, sizeof elapsed);
     if (v->finished_here > 0 && left > 0) {
-        /* throughput so far, counting the jobs running now as half done */
-        double rate = ((double)v->finished_here + 0.5 * (double)v->running) / el;
+        /* throughput so far */
+        double rate = (double)v->finished_here / el;
         if (rate > 0)
             progress_view_duration((double)left / rate, eta, sizeof eta);
     } else if (left <= 0) {
@@ -62,7 +62,7 @@ static void draw(struct progress_view *v)
 
 void progress_view_tick(struct progress_view *v, int force)
 {
-    if (!v->tty || v->quiet)
+    if (!v->tty || v->quiet || v->finished)
         return;
     if (force || sys_mono() - v->last_draw >= 0.5)
         draw(v);
@@ -102,7 +102,7 @@ void progress_view_note(struct progress_view *v, const char *fmt, ...)
     va_end(ap);
     fputc('\n', v->out);
     fflush(v->out);
-    if (v->tty)
+    if (v->tty && !v->finished)
         draw(v);
 }
 
@@ -113,4 +113,5 @@ void progress_view_finish(struct progress_view *v)
         fputc('\n', v->out);
         v->drawn = 0;
     }
+    v->finished = 1;
 }

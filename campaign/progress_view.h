@@ -19,6 +19,7 @@ struct progress_view {
     long done_before;       /* done for this solver before this run */
     long done, failed, running, finished_here;
     int drawn;              /* a status line is on screen */
+    int finished;           /* the final status line has been drawn */
 };
 
 void progress_view_init(struct progress_view *v, FILE *out, int quiet, long total);

@@ -3,6 +3,8 @@
  * time: leases taken in BEGIN IMMEDIATE transactions mean no job is ever run
  * twice -- each job has exactly one run, all done, and both runners return
  * when the study is complete.  Both do work (the jobs are shared out).
+ * Heartbeats renew the leases, so a job running longer than the lease is
+ * not taken over by the other runner.
  */
 #include <criterion/criterion.h>
 #include <stdio.h>
@@ -33,6 +35,29 @@ Test(campaign_concurrent, two_runners_never_run_a_job_twice, .timeout = 90)
     cr_assert_eq(ct_int(db, "SELECT count(DISTINCT runner) FROM runs"), 2,
                  "one runner did all the work: the test shows nothing");
     cr_assert_eq(ct_int(db, "SELECT count(*) FROM leases"), 0);
+    sqlite3_close(db);
+    ct_rmrf(dir);
+}
+
+Test(campaign_concurrent, heartbeats_keep_long_jobs, .timeout = 90)
+{
+    /* jobs of 1.6 s under 1 s leases: only the heartbeats (every third of the
+     * lease) stop the second runner from taking over jobs the first still runs */
+    char dir[64];
+    ct_mkdir(dir, sizeof dir);
+    ct_write(0, dir, "long.yaml",
+             "name: long\n"
+             "base: {fake: {action: sleep, seconds: 1.6}}\n"
+             "sweep: {grid: {fake.x: [1, 2, 3, 4]}}\n");
+    const char *argv[] = {ct_cascade_bin(), "run", "long.yaml", "--solver", ct_standin(),
+                          "--jobs", "2", "--lease", "1", "--quiet", NULL};
+    pid_t a = ct_spawn(dir, NULL, argv, "a.log");
+    pid_t b = ct_spawn(dir, NULL, argv, "b.log");
+    cr_assert_eq(ct_wait(a), 0, "runner a failed (see %s/a.log)", dir);
+    cr_assert_eq(ct_wait(b), 0, "runner b failed (see %s/b.log)", dir);
+    sqlite3 *db = ct_db(dir);
+    cr_assert_eq(ct_int(db, "SELECT count(*) FROM runs"), 4, "a running job was taken over");
+    cr_assert_eq(ct_int(db, "SELECT count(*) FROM runs WHERE status = 'done'"), 4);
     sqlite3_close(db);
     ct_rmrf(dir);
 }
