@@ -108,6 +108,7 @@ static int try_start(struct run_state *r, long k, int slot)
     }
     char run_dir[4096 + 300];
     snprintf(run_dir, sizeof run_dir, "%s/%s/%s", r->o->runs_root, r->s->name, pj->key);
+    double t0 = sys_mono();
     enum claim_result res;
     long long run_id = 0;
     int attempt = 0;
@@ -170,6 +171,8 @@ static int try_start(struct run_state *r, long k, int slot)
         return 0;
     }
     qe->j = -1;
+    r->sum->start_s += sys_mono() - t0;
+    r->sum->started++;
     r->mem[j] = M_RUNNING;
     r->slots[slot] = (struct slot){1, j, run_id, attempt};
     r->running++;
@@ -373,10 +376,14 @@ int runner_run(const struct study *s, const struct plan *p, const struct solver 
         progress_view_tick(&r.view, 0);
     }
     progress_view_finish(&r.view);
-    if (sum->metric_rows)
-        progress_view_note(&r.view, "recorded %ld metric rows in %.3f s (reading result.json, "
-                                    "hashing files, writing the database)",
-                           sum->metric_rows, sum->record_s);
+    if (sum->started)
+        progress_view_note(&r.view,
+                           "runner time per job: %.2f ms (claim and start %.2f ms, read and "
+                           "record %.2f ms); %ld metric rows recorded in %.3f s",
+                           1e3 * (sum->start_s + sum->record_s) / (double)sum->started,
+                           1e3 * sum->start_s / (double)sum->started,
+                           1e3 * sum->record_s / (double)sum->started, sum->metric_rows,
+                           sum->record_s);
     sum->not_run = sum->total - sum->done - sum->failed;
     store_fini(&r.store);
     free(r.job_ids);

@@ -33,6 +33,8 @@ struct runner_options {
 struct runner_summary {
     long total, done, done_before, failed, cancelled, not_run;
     int interrupted;         /* the signal that stopped the run, or 0 */
+    long started;            /* attempts started here */
+    double start_s;          /* time spent claiming and starting them */
     long metric_rows;        /* metric rows recorded */
     double record_s;         /* time spent reading results and writing them to the database */
 };

@@ -1,7 +1,8 @@
 /*
  * Fault injection through the stand-in solver (tests/standin/fake_solver.c):
  * jobs that crash (SIGSEGV), hang past the time limit (with a child process
- * of their own, which must die with them), exit 3, or report divergence are
+ * of their own, which must die with them; one ignores SIGTERM and must get
+ * SIGKILL after the grace period), exit 3, or report divergence are
  * each recorded in their class with their exit code or signal, message and
  * stderr tail, while every other job of the campaign completes with its
  * metrics and checksummed files; a job that fails once is retried and then
@@ -52,15 +53,17 @@ Test(campaign_faults, each_outcome_in_its_class, .timeout = 60)
              "base: {fake: {action: ok}}\n"
              "sweep:\n"
              "  zip:\n"
-             "    fake.action: [ok, crash, ok, hang, exit, ok, diverge, ok]\n"
-             "    fake.x: [1, 2, 3, 4, 5, 6, 7, 8]\n"
+             "    fake.action: [ok, crash, ok, hang, exit, ok, diverge, ok, hang]\n"
+             "    fake.x: [1, 2, 3, 4, 5, 6, 7, 8, 9]\n"
+             "    fake.ignore_term: [false, false, false, false, false, false, false, false,"
+             " true]\n"
              "timeout: 1.5\n"
              "retries: 0\n");
     int rc = run_study(dir, "faults.yaml", out, sizeof out);
     cr_assert_eq(rc, 1, "a campaign with failed jobs exits 1 (got %d): %s", rc, out);
     sqlite3 *db = ct_db(dir);
-    cr_assert_eq(ct_int(db, "SELECT count(*) FROM jobs"), 8);
-    cr_assert_eq(ct_int(db, "SELECT count(*) FROM runs"), 8, "retries: 0 means one attempt each");
+    cr_assert_eq(ct_int(db, "SELECT count(*) FROM jobs"), 9);
+    cr_assert_eq(ct_int(db, "SELECT count(*) FROM runs"), 9, "retries: 0 means one attempt each");
     /* every good job completed with its metrics: x_squared = x^2 */
     cr_assert_eq(ct_int(db, "SELECT count(*) FROM jobs WHERE state = 'done'"), 4);
     cr_assert_eq(ct_int(db, "SELECT count(*) FROM results WHERE metric = 'x_squared' AND "
@@ -81,19 +84,32 @@ Test(campaign_faults, each_outcome_in_its_class, .timeout = 60)
                  "SELECT count(*) FROM runs r JOIN job_params p ON p.job_id = r.job_id "
                  "AND p.name = 'fake.action' WHERE p.value = '%s' AND %s",
                  checks[i][0], checks[i][1]);
-        cr_assert_eq(ct_int(db, sql), 1, "%s not recorded as expected", checks[i][0]);
+        cr_assert_eq(ct_int(db, sql), i == 1 ? 2 : 1, "%s not recorded as expected", checks[i][0]);
     }
-    /* the hung job's own child died with its process group */
-    char run_dir[512], pidfile[600];
-    ct_text(db, "SELECT r.run_dir FROM runs r JOIN job_params p ON p.job_id = r.job_id AND "
-                "p.name = 'fake.action' WHERE p.value = 'hang'", run_dir, sizeof run_dir);
-    snprintf(pidfile, sizeof pidfile, "%s/grandchild.pid", run_dir);
-    FILE *f = fopen(pidfile, "r");
-    cr_assert_not_null(f);
-    int gpid = 0;
-    cr_assert_eq(fscanf(f, "%d", &gpid), 1);
-    fclose(f);
-    cr_assert(process_gone(gpid), "the hung job's child %d survived the timeout", gpid);
+    /* SIGTERM ends the plain hang; the job that ignores it gets SIGKILL after
+     * the 2 s grace period */
+    cr_assert_eq(ct_int(db, "SELECT count(*) FROM runs r JOIN job_params p ON p.job_id = r.job_id "
+                            "AND p.name = 'fake.ignore_term' WHERE r.status = 'timeout' AND ("
+                            "(p.value = 0 AND r.signal = 15 AND r.wall_s < 3.0) OR "
+                            "(p.value = 1 AND r.signal = 9 AND r.wall_s > 3.0))"),
+                 2);
+    /* the hung jobs' own children died with their process groups */
+    for (int ignore = 0; ignore < 2; ignore++) {
+        char run_dir[512], pidfile[600], sql[400];
+        snprintf(sql, sizeof sql,
+                 "SELECT r.run_dir FROM runs r JOIN job_params p ON p.job_id = r.job_id AND "
+                 "p.name = 'fake.ignore_term' JOIN job_params q ON q.job_id = r.job_id AND "
+                 "q.name = 'fake.action' WHERE q.value = 'hang' AND p.value = %d",
+                 ignore);
+        ct_text(db, sql, run_dir, sizeof run_dir);
+        snprintf(pidfile, sizeof pidfile, "%s/grandchild.pid", run_dir);
+        FILE *f = fopen(pidfile, "r");
+        cr_assert_not_null(f);
+        int gpid = 0;
+        cr_assert_eq(fscanf(f, "%d", &gpid), 1);
+        fclose(f);
+        cr_assert(process_gone(gpid), "the hung job's child %d survived the timeout", gpid);
+    }
     /* files with checksums: result.json of a done job hashes as recorded */
     char path[600], sha[80];
     ct_text(db, "SELECT path FROM artifacts a JOIN runs r ON r.id = a.run_id "
@@ -111,7 +127,7 @@ Test(campaign_faults, each_outcome_in_its_class, .timeout = 60)
     rc = run_study(dir, "faults.yaml", out, sizeof out);
     cr_assert_eq(rc, 1, "%s", out);
     db = ct_db(dir);
-    cr_assert_eq(ct_int(db, "SELECT count(*) FROM runs"), 8);
+    cr_assert_eq(ct_int(db, "SELECT count(*) FROM runs"), 9);
     sqlite3_close(db);
     ct_rmrf(dir);
 }
