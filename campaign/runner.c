@@ -33,6 +33,8 @@ struct run_state {
     long long study_id;
     long long *job_ids;
     enum mem_state *mem;
+    double *dep_check;   /* monotonic time to look at a preparation job held elsewhere */
+    signed char *dep_verdict;   /* what that look said: 1 done, -1 failed for good, 0 not yet */
     struct queue_entry *q;
     long qn, qcap, head;
     struct slot *slots;
@@ -63,17 +65,36 @@ static void label(struct run_state *r, long j, char *buf, size_t len)
     plan_job_label(r->p, j, buf, len);
 }
 
-/* In-memory look at the preparation jobs of j: 1 ready (ask the database),
- * 0 wait, -1 blocked. */
+/* A look at the preparation jobs of j: 1 ready (ask the database), 0 wait,
+ * -1 blocked.  A preparation job another runner holds is looked up in the
+ * database at most once per poll interval, however many jobs wait for it. */
 static int deps_ready(struct run_state *r, long j)
 {
     const struct plan_job *pj = &r->p->jobs[j];
     int ready = 1;
     for (int d = 0; d < pj->ndeps; d++) {
-        enum mem_state m = r->mem[pj->deps[d]];
+        long dj = pj->deps[d];
+        enum mem_state m = r->mem[dj];
+        if (m == M_ELSEWHERE) {
+            double now = sys_mono();
+            if (now >= r->dep_check[dj]) {
+                r->dep_check[dj] = now + r->o->poll_s;
+                enum claim_result v;
+                struct err e = {0};
+                if (store_job_verdict(&r->store, r->job_ids[dj], &v, &e) == 0)
+                    r->dep_verdict[dj] = v == CLAIM_DONE                                   ? 1
+                                         : v == CLAIM_EXHAUSTED || v == CLAIM_BLOCKED ? -1
+                                                                                      : 0;
+            }
+            if (r->dep_verdict[dj] < 0)
+                return -1;
+            if (r->dep_verdict[dj] == 0)
+                ready = 0;
+            continue;
+        }
         if (m == M_FAILED)
             return -1;
-        if (m == M_QUEUED || m == M_RUNNING || m == M_CANCELLED)
+        if (m != M_DONE)
             ready = 0;
     }
     return ready;
@@ -318,8 +339,10 @@ int runner_run(const struct study *s, const struct plan *p, const struct solver 
         return rc;
     r.job_ids = calloc((size_t)p->njobs, sizeof *r.job_ids);
     r.mem = calloc((size_t)p->njobs, sizeof *r.mem);
+    r.dep_check = calloc((size_t)p->njobs, sizeof *r.dep_check);
+    r.dep_verdict = calloc((size_t)p->njobs, sizeof *r.dep_verdict);
     r.slots = calloc((size_t)b->nslots, sizeof *r.slots);
-    if (!r.job_ids || !r.mem || !r.slots)
+    if (!r.job_ids || !r.mem || !r.dep_check || !r.dep_verdict || !r.slots)
         rc = err_nomem(e, "runner");
     if (!rc)
         rc = store_register(&r.store, s, p, &r.study_id, r.job_ids, e);
@@ -333,6 +356,8 @@ int runner_run(const struct study *s, const struct plan *p, const struct solver 
         store_fini(&r.store);
         free(r.job_ids);
         free(r.mem);
+        free(r.dep_check);
+        free(r.dep_verdict);
         free(r.slots);
         free(r.q);
         return rc;
@@ -388,6 +413,8 @@ int runner_run(const struct study *s, const struct plan *p, const struct solver 
     store_fini(&r.store);
     free(r.job_ids);
     free(r.mem);
+    free(r.dep_check);
+    free(r.dep_verdict);
     free(r.slots);
     free(r.q);
     return r.fatal ? ERR_RUNTIME : 0;

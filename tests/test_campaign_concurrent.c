@@ -61,3 +61,36 @@ Test(campaign_concurrent, heartbeats_keep_long_jobs, .timeout = 90)
     sqlite3_close(db);
     ct_rmrf(dir);
 }
+
+Test(campaign_concurrent, two_runners_share_a_preparation_job, .timeout = 90)
+{
+    /* one runner takes the preparation job; the other waits for it (it is
+     * leased elsewhere) and then takes its share of the jobs that read it */
+    char dir[64];
+    ct_mkdir(dir, sizeof dir);
+    ct_write(0, dir, "prep.yaml",
+             "name: prep\n"
+             "base: {fake: {action: sleep, seconds: 0.1, read: '${prep.p}/state.txt'}}\n"
+             "prep:\n"
+             "  p: {base: {fake: {action: sleep, seconds: 0.8, write: state.txt}}}\n"
+             "sweep: {grid: {fake.x: [1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12]}}\n");
+    const char *argv[] = {ct_cascade_bin(), "run", "prep.yaml", "--solver", ct_standin(),
+                          "--jobs", "2", "--quiet", NULL};
+    pid_t a = ct_spawn(dir, NULL, argv, "a.log");
+    pid_t b = ct_spawn(dir, NULL, argv, "b.log");
+    cr_assert_eq(ct_wait(a), 0, "runner a failed (see %s/a.log)", dir);
+    cr_assert_eq(ct_wait(b), 0, "runner b failed (see %s/b.log)", dir);
+    sqlite3 *db = ct_db(dir);
+    cr_assert_eq(ct_int(db, "SELECT count(*) FROM runs"), 13, "some job was run twice");
+    cr_assert_eq(ct_int(db, "SELECT count(*) FROM runs WHERE status = 'done'"), 13);
+    /* every sweep job read the file the preparation job wrote, after it finished */
+    cr_assert_eq(ct_int(db, "SELECT count(*) FROM results WHERE metric = 'read_bytes' AND "
+                            "value > 0"),
+                 12);
+    cr_assert_eq(ct_int(db, "SELECT count(*) FROM runs s JOIN jobs j ON j.id = s.job_id, "
+                            "runs p JOIN jobs pj ON pj.id = p.job_id AND pj.kind = 'prep' "
+                            "WHERE j.kind = 'sweep' AND s.started < p.finished"),
+                 0, "a job started before the preparation job it reads had finished");
+    sqlite3_close(db);
+    ct_rmrf(dir);
+}
