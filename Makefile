@@ -138,6 +138,14 @@ $(TEST_BIN): $(call obj,$(TEST_SRC) $(TEST_HELPERS)) $(SOLVER_LIB) $(CAMPAIGN_LI
 	@$(if $(Q),echo "  LD      $@")
 	$(Q)$(CC) $(LDFLAGS) -o $@ $^ $(LDLIBS) -lcriterion
 
+# The database schema and migrations are compiled into the campaign library.
+DB_SQL  := db/schema.sql $(sort $(wildcard db/migrations/*.sql))
+GEN_SQL := $(OBJDIR)/gen/db_sql.h
+$(GEN_SQL): $(DB_SQL) campaign/embed_sql.sh
+	@mkdir -p $(dir $@)
+	@sh campaign/embed_sql.sh $(DB_SQL) > $@.tmp && mv $@.tmp $@
+$(call obj,campaign/db_schema.c): $(GEN_SQL)
+
 $(STANDIN_BIN): $(call obj,tests/standin/fake_solver.c) $(UTIL_LIB)
 	@mkdir -p $(dir $@)
 	@$(if $(Q),echo "  LD      $@")
