@@ -20,7 +20,7 @@
 
 #include "core/units.h"
 #include "md/md.h"
-#include "md/velocity.h"
+#include "core/velocity.h"
 #include "scenarios/case_type.h"
 #include "scenarios/md_system.h"
 #include "scenarios/md_output.h"
