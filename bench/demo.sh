@@ -16,3 +16,7 @@ tr -d '\n' < "$OUT/cu_nve/result.json" | sed 's/.*"metrics": *{//; s/}, *"partic
     | tr '}' '\n' | sed -n 's/^[ ,]*"\([a-z_]*\)": *{ *"unit": *"\([^"]*\)", *"value": *\([^ ,]*\).*/  \1 = \3 \2/p'
 echo
 echo "demo: open $OUT/cu_nve/fields.xdmf in ParaView; thermo in $OUT/cu_nve/thermo.csv"
+echo
+echo "demo: DPD-only flyer/target and tensile rod of Chen et al. 2014, quick variant"
+echo "      (studies/chen2014/dpd_quick.yaml: 2,304-particle bar; outputs in runs/chen2014_quick)"
+sh "$ROOT/studies/chen2014/run_dpd.sh" quick "$BIN/cascade-solver"

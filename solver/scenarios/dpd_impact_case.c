@@ -127,10 +127,31 @@ static int add_flyer(struct particles *p, const struct dpd_bar *bar, const struc
     box.shape = REGION_BOX;
     box.lo[ax] = bar->face_lo[ax] - nplanes * dpl - tol;
     box.hi[ax] = bar->face_lo[ax] - dpl + tol;
+    /* Stacking: a (100) plane holds the sites whose two transverse
+     * coordinates, in half cells from the lattice origin, add up to an even
+     * (A) or odd (B) number.  The flyer's plane next to the face must be of
+     * the other kind, so find the face plane's kind from its particle
+     * nearest the transverse corner. */
+    int best = -1;
+    double bestd = INFINITY;
+    for (int i = 0; i < p->n_owned; i++) {
+        if (p->x[3 * i + ax] > bar->face_lo[ax] + 0.5 * dpl)
+            continue;
+        double dd = p->x[3 * i + t1] - bar->face_lo[t1] + p->x[3 * i + t2] - bar->face_lo[t2];
+        if (dd < bestd) {
+            bestd = dd;
+            best = i;
+        }
+    }
+    long parity = 0;
+    if (best >= 0)
+        parity = lround((p->x[3 * best + t1] - bar->face_lo[t1]) / dpl) +
+                 lround((p->x[3 * best + t2] - bar->face_lo[t2]) / dpl);
     for (int q = 0; q < 2; q++) {
         int t = q ? t2 : t1;
-        lat.origin[t] = bar->face_lo[t];
-        cells[t] = lround((bar->face_hi[t] - bar->face_lo[t]) / a) + 1;
+        /* one spare cell on each side; the region keeps the cross-section */
+        lat.origin[t] = bar->face_lo[t] - a + (q == 0 && (parity & 1) ? dpl : 0.0);
+        cells[t] = lround((bar->face_hi[t] - bar->face_lo[t]) / a) + 3;
         box.lo[t] = bar->face_lo[t] - tol;
         box.hi[t] = bar->face_hi[t] + tol;
     }
