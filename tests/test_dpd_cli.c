@@ -238,6 +238,44 @@ Test(dpd_cli, prepared_slab_impact_wave_speed_is_longitudinal_sound_speed, .time
     json_decref(r);
 }
 
+/* The reference run (same state, same random numbers, no flyer) cancels
+ * the thermal wander of a region's displacement: at 298 K the raw signal
+ * of the far region moves by hundredths of an Å before anything can have
+ * reached it; the difference stays below 1e-5 Å (it is not zero: the
+ * dynamics amplifies round-off, and the pairs the sweep meets in another
+ * order, by an e-fold every few hundredths of a picosecond). */
+Test(dpd_cli, reference_run_cancels_thermal_noise, .timeout = 600)
+{
+    th_write_temp(2, "cg.yaml", PARAMS);
+    char dir[512];
+    snprintf(dir, sizeof dir, "%s/noise-out", th_temp_dir());
+    run_ok("noise.yaml",
+           "type: dpd_impact\nsystem:\n  lattice: {style: fcc, a: 7.2336, cells: [15, 4, 4]}\n"
+           "  element: Cu\n  boundary: [free, periodic, periodic]\n"
+           "dpd: {parameters: cg.yaml, steps: 200, gamma: 5.0, initial_temperature: 600}\n"
+           "impact: {regions: [30, 90], flyer_velocity: 5.0}\n"
+           "output: {hdf5: false}\n",
+           dir);
+    json_t *r = load_result(dir);
+    json_t *series = json_object_get(r, "series");
+    json_t *t = json_object_get(json_object_get(series, "time_ps"), "values");
+    json_t *d2 = json_object_get(json_object_get(series, "displacement_region_2"), "values");
+    json_t *raw = json_object_get(json_object_get(series, "raw_displacement_region_2"), "values");
+    cr_assert(t && d2 && raw, "series missing");
+    /* nothing travels 87 Å (far region edge 87 Å from the face) in 0.8 ps */
+    double dmax = 0, rawmax = 0;
+    for (size_t k = 0; k < json_array_size(t); k++) {
+        if (json_number_value(json_array_get(t, k)) > 0.8)
+            break;
+        dmax = fmax(dmax, fabs(json_number_value(json_array_get(d2, k))));
+        rawmax = fmax(rawmax, fabs(json_number_value(json_array_get(raw, k))));
+    }
+    cr_assert_gt(rawmax, 1e-2, "raw thermal wander only %g Å", rawmax);
+    cr_assert_lt(dmax, 1e-5, "difference to the reference run %g Å ahead of the wave (raw %g Å)",
+                 dmax, rawmax);
+    json_decref(r);
+}
+
 /* output.final_state of an MD run is a LAMMPS data file that the next case
  * reads back: same particles, positions and velocities. */
 Test(dpd_cli, final_state_reads_back)

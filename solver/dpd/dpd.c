@@ -28,6 +28,46 @@ static double list_cutoff(const struct dpd *d)
     return fmax(d->prm.sc.rc, d->set.cutoff);
 }
 
+/* Order every particle's neighbours by (id, periodic image counted on
+ * unwrapped positions): the sweep's order of a particle's pairs then
+ * depends on who its neighbours are, not on storage or ghost indices or on
+ * when particles were wrapped (insertion sort: lists are short). */
+static void neighbour_key(const struct particles *p, int i, int j, int64_t key[4])
+{
+    int o = p->origin[j];
+    key[0] = p->id[o];
+    for (int k = 0; k < 3; k++)
+        key[1 + k] = p->gshift[3 * j + k] - p->image[3 * o + k] + p->image[3 * i + k];
+}
+
+static int key_less(const int64_t a[4], const int64_t b[4])
+{
+    for (int k = 0; k < 4; k++)
+        if (a[k] != b[k])
+            return a[k] < b[k];
+    return 0;
+}
+
+static void canonical_order(const struct particles *p, struct nlist *nl)
+{
+    for (int i = 0; i < nl->n; i++) {
+        int *a = nl->neigh + nl->offset[i], n = nl->offset[i + 1] - nl->offset[i];
+        for (int k = 1; k < n; k++) {
+            int j = a[k], q = k;
+            int64_t kj[4], km[4];
+            neighbour_key(p, i, j, kj);
+            while (q > 0) {
+                neighbour_key(p, i, a[q - 1], km);
+                if (!key_less(kj, km))
+                    break;
+                a[q] = a[q - 1];
+                q--;
+            }
+            a[q] = j;
+        }
+    }
+}
+
 /* Wrap, (sort), ghosts, list. */
 static int rebuild(struct dpd *d, struct err *e)
 {
@@ -53,6 +93,8 @@ static int rebuild(struct dpd *d, struct err *e)
     tstop(d, TIMER_COMM);
     if (!rc)
         rc = nlist_build(d->nl, p, e);
+    if (!rc && d->canonical_lists)
+        canonical_order(p, d->nl);
     d->nrebuilds++;
     return rc;
 }

@@ -95,6 +95,9 @@ struct dpd {
     double time;                /* ps */
     uint64_t seed;
     int sort_every;             /* spatial sort every this many rebuilds (0: never) */
+    int canonical_lists;        /* order each neighbour list by (id, image) so that the
+                                 * pair sweep visits a particle's pairs in the same
+                                 * order whatever else is in the system (reference runs) */
     int peratom;                /* keep per-particle energy and virial current */
     struct dpd_body body[DPD_MAX_BODIES];
     int nbodies;

@@ -33,29 +33,31 @@ static inline int dpd_body_of(const struct dpd *d, int i)
 static inline double dpd_normal(uint64_t key) { return gsl_cdf_ugaussian_Pinv(rng_uniform(key, 0)); }
 
 /* Key of the physical pair (owned i, neighbour j): the two ids in
- * increasing order and the periodic image from the lower id to the higher,
- * so both orientations of a pair -- and no two different images -- share a
- * key. */
+ * increasing order and which periodic copy of the higher-id particle the
+ * pair joins, counted from the unwrapped positions: x_j - x_i = u_j - u_i
+ * + (gshift_j - image_j + image_i) L.  The key does not change when a
+ * particle is wrapped back into the box, both orientations of a pair share
+ * it, and different images of one pair never do. */
 static inline uint64_t dpd_pair_key(const struct dpd *d, int site, int i, int j)
 {
     const struct particles *p = d->p;
-    int64_t a = p->id[i], b = p->id[j];
-    int s[3] = {p->gshift[3 * j], p->gshift[3 * j + 1], p->gshift[3 * j + 2]};
+    int oj = p->origin[j];
+    int64_t a = p->id[i], b = p->id[oj];
+    int s[3];
+    for (int k = 0; k < 3; k++)
+        s[k] = p->gshift[3 * j + k] - p->image[3 * oj + k] + p->image[3 * i + k];
     if (a > b) {
         int64_t t = a;
         a = b;
         b = t;
-        s[0] = -s[0];
-        s[1] = -s[1];
-        s[2] = -s[2];
+        for (int k = 0; k < 3; k++)
+            s[k] = -s[k];
     }
     uint64_t code = 0;
-    for (int k = 0; k < 3; k++) {
-        int c = s[k] < -15 ? 0 : s[k] > 15 ? 30 : s[k] + 15;
-        code = code * 31 + (uint64_t)c;
-    }
+    for (int k = 0; k < 3; k++)
+        code = (code << 10) | (uint64_t)((s[k] + 512) & 1023);
     return rng_key(d->seed, (uint64_t)site, (uint64_t)d->step, (uint64_t)a,
-                   ((uint64_t)b << 15) ^ code);
+                   ((uint64_t)b << 30) ^ code);
 }
 
 /* DPDE: 1 / Theta_ij = (1/theta_i + 1/theta_j) / 2, theta = u / (C_v kB). */

@@ -19,9 +19,15 @@
  *     gap: 0.0                  Å added to one plane spacing between flyer and target
  *     regions: [100.0, 150.0]   Å: centres of the reference regions from the impact face
  *     region_thickness: 6.0     Å
- *     arrival_threshold: 0.2    Å: the wave has arrived at a region when the mean
- *                               displacement of its particles along the axis first
- *                               reaches this (linear interpolation between samples)
+ *     arrival_threshold: 0.01   Å: the wave has arrived at a region when the mean
+ *                               displacement of its particles along the axis that
+ *                               the impact caused first reaches this (linear
+ *                               interpolation between samples); without a reference
+ *                               run use about 0.2 Å, above the thermal wander
+ *     reference: true           also run the target without the flyer from the same
+ *                               state with the same random numbers, and measure the
+ *                               displacement the impact causes as the difference
+ *                               between the two runs (see below)
  *     sample_every: 1           steps between displacement samples
  *     profile_times: []         ps: displacement profiles along the bar at these times
  *     profile_bin: 0            Å: profile bin width (0: the plane spacing a/2)
@@ -30,12 +36,28 @@
  * the start; regions and profile bins are Lagrangian (selected by where the
  * material was then).
  *
+ * Why a reference run: at 298 K the mean displacement of a 6 Å slab of a
+ * 72 Å bar wanders by a few hundredths of an Å (its centre-of-mass velocity
+ * alone is sqrt(kB T / M_slab), about 0.04 Å/ps), and the front of the wave
+ * rises over a picosecond, so the time a raw signal crosses a threshold
+ * depends on the noise.  The unperturbed run sees the same forces and --
+ * the random numbers being keyed on pair ids and step -- the same random
+ * kicks, so ahead of the wave both runs agree (to round-off amplified by
+ * the dynamics, 1e-6 Å over ten picoseconds here) and their difference is
+ * the disturbance the impact alone has caused.  The arrival then marks
+ * where that disturbance first becomes significant, at any threshold.
+ * The threshold scan (series arrival_thresholds, wave_speed_scan) shows
+ * how the speed depends on it: small thresholds follow the leading edge,
+ * large ones the main pulse.
+ *
  * Metrics: wave_speed (m/s), arrival_time_1/2 (ps), region_particles_1/2,
  * displacement_max_1/2 (Å), flyer_velocity_final (Å/ps), target_particles,
  * flyer_particles, energy_drift and energy_deviation_max (relative change
  * of pe + ke + internal energy: conserved by DPDE with a free flyer),
  * momentum_change (amu Å/ps: zero with a free flyer).
- * Series: time_ps, displacement_region_1/2 (Å), etotal (eV), and per
+ * Series: time_ps, displacement_region_1/2 (Å; differences to the reference
+ * run when there is one, raw_displacement_region_1/2 the flyer run's own),
+ * etotal (eV), arrival_thresholds (Å) and wave_speed_scan (m/s), and per
  * profile time T: profile_x (Å from the face, bin centres), profile_tT (Å).
  */
 #include <math.h>
@@ -55,6 +77,8 @@
 
 struct impact_case {
     struct dpd d;
+    struct dpd ref;            /* the target without the flyer (has_ref) */
+    int has_ref, xref_ref;
     long steps;
     int axis;
     double regions[2], half;   /* Å from the face; half thickness */
@@ -69,7 +93,7 @@ struct impact_case {
 };
 
 struct impact_keys {
-    int axis, motion;
+    int axis, motion, reference;
     double thickness, velocity, a, gap, regions[2], half, threshold, bin;
     long sample_every;
     double *ptimes;
@@ -94,7 +118,8 @@ static int read_impact(struct cfg_obj *root, struct impact_keys *k)
         (rc = cfg_real(&o, "gap", 0.0, CFG_GE(0), &k->gap)) ||
         (rc = cfg_reals(&o, "regions", 2, regions, CFG_GT(0), k->regions)) ||
         (rc = cfg_real(&o, "region_thickness", 6.0, CFG_GT(0), &thick)) ||
-        (rc = cfg_real(&o, "arrival_threshold", 0.2, CFG_GT(0), &k->threshold)) ||
+        (rc = cfg_real(&o, "arrival_threshold", 0.01, CFG_GT(0), &k->threshold)) ||
+        (rc = cfg_bool(&o, "reference", 1, &k->reference)) ||
         (rc = cfg_int(&o, "sample_every", 1, CFG_GE(1), &k->sample_every)) ||
         (rc = cfg_real_list(&o, "profile_times", 0, CFG_GE(0), &k->ptimes, &k->nptimes)) ||
         (rc = cfg_real(&o, "profile_bin", 0.0, CFG_GE(0), &k->bin)) || (rc = cfg_close(&o)))
@@ -171,6 +196,68 @@ static int add_flyer(struct particles *p, const struct dpd_bar *bar, const struc
     return 0;
 }
 
+/* A copy of the owned particles (positions, velocities, types, ids, masks). */
+static struct particles *clone_particles(const struct particles *p, struct err *e)
+{
+    struct particles *q = particles_create(p->n_owned > 0 ? p->n_owned : 1);
+    if (!q) {
+        err_nomem(e, "reference particles");
+        return NULL;
+    }
+    for (int t = 0; t < p->ntypes; t++)
+        particles_type_index(q, p->type_name[t], p->mass[t]);
+    for (int i = 0; i < p->n_owned; i++) {
+        int k = particles_add(q, p->x + 3 * i, p->v + 3 * i, p->type[i], p->id[i]);
+        if (k < 0) {
+            particles_destroy(&q);
+            err_nomem(e, "reference particles");
+            return NULL;
+        }
+        q->mask[k] = p->mask[i];
+        for (int c = 0; c < 3; c++)
+            q->image[3 * k + c] = p->image[3 * i + c];
+    }
+    return q;
+}
+
+static int cmp_id_index(const void *a, const void *b)
+{
+    int64_t x = ((const int64_t *)a)[0], y = ((const int64_t *)b)[0];
+    return (x > y) - (x < y);
+}
+
+/* Store the particles in id order for good, with canonical neighbour lists,
+ * and recompute the forces. */
+static int order_by_id(struct dpd *d, struct err *e)
+{
+    struct particles *p = d->p;
+    int n = p->n_owned;
+    int64_t (*key)[2] = malloc((size_t)(n ? n : 1) * sizeof *key);
+    int *perm = malloc((size_t)(n ? n : 1) * sizeof *perm);
+    int rc = 0;
+    if (!key || !perm) {
+        rc = err_nomem(e, "id order");
+    } else {
+        for (int i = 0; i < n; i++) {
+            key[i][0] = p->id[i];
+            key[i][1] = i;
+        }
+        qsort(key, (size_t)n, sizeof *key, cmp_id_index);
+        for (int i = 0; i < n; i++)
+            perm[i] = (int)key[i][1];
+        particles_clear_ghosts(p);
+        rc = particles_permute(p, perm, e);
+    }
+    free(key);
+    free(perm);
+    if (rc)
+        return rc;
+    d->sort_every = 0;
+    d->canonical_lists = 1;
+    d->nl->nbuilds = 0;   /* rebuild ghosts and list from the new order */
+    return dpd_compute_forces(d, e);
+}
+
 static int impact_read(struct cfg_obj *root, const struct case_common *common, void **state)
 {
     struct particles *p = NULL;
@@ -204,13 +291,17 @@ static int impact_read(struct cfg_obj *root, const struct case_common *common, v
     struct dpd_bar bar;
     long nflyer = 0;
     c->n_target = p->n_owned;
+    struct particles *pref = NULL;
     rc = dpd_init_velocities(&in, p, common, e);
+    if (!rc && k.reference && !(pref = clone_particles(p, e)))
+        rc = ERR_RUNTIME;
     if (!rc) {
         dpd_bar_measure(p, 0, 0.5 * a, &bar);
         rc = add_flyer(p, &bar, &k, a, &nflyer, e);
     }
     if (rc) {
         particles_destroy(&p);
+        particles_destroy(&pref);
         free(k.ptimes);
         free(c);
         return rc;
@@ -227,8 +318,30 @@ static int impact_read(struct cfg_obj *root, const struct case_common *common, v
         if (c->xref < 0)
             rc = ERR_RUNTIME;
     }
+    if (pref) {
+        /* Same seed: the same random kick for every target pair.  Same
+         * storage order (no spatial sorting: the target particles keep their
+         * indices, the flyer's come after them) and canonical neighbour
+         * lists: the pair sweep meets every target particle's pairs in the
+         * same order in both runs, so ahead of the wave they stay equal. */
+        if (!rc) {
+            c->has_ref = 1;
+            rc = dpd_build(&in, pref, &box, common, e, &c->ref);
+        } else {
+            particles_destroy(&pref);
+        }
+        for (int r = 0; !rc && r < 2; r++)
+            rc = order_by_id(r ? &c->ref : &c->d, e);
+        if (!rc) {
+            c->xref_ref = displacement_begin(c->ref.p, &c->ref.box, e);
+            if (c->xref_ref < 0)
+                rc = ERR_RUNTIME;
+        }
+    }
     if (rc) {
         dpd_free(&c->d);
+        if (c->has_ref)
+            dpd_free(&c->ref);
         free(k.ptimes);
         free(c);
         return rc;
@@ -253,6 +366,8 @@ static int impact_read(struct cfg_obj *root, const struct case_common *common, v
                               r + 1, c->regions[r], c->half, c->length);
     if (rc) {
         dpd_free(&c->d);
+        if (c->has_ref)
+            dpd_free(&c->ref);
         free(c->profile_times);
         free(c);
         return rc;
@@ -261,10 +376,16 @@ static int impact_read(struct cfg_obj *root, const struct case_common *common, v
     return 0;
 }
 
-static double region_disp(const struct impact_case *c, int r, long *count)
+/* Mean displacement of reference region r in the flyer run (*raw) and, with
+ * a reference run, less that of the same material without the flyer. */
+static double region_disp(const struct impact_case *c, int r, long *count, double *raw)
 {
     double lo = c->face + c->regions[r] - c->half, hi = c->face + c->regions[r] + c->half;
-    return displacement_slab_mean(c->d.p, &c->d.box, c->xref, c->axis, lo, hi, FLYER_BIT, count);
+    *raw = displacement_slab_mean(c->d.p, &c->d.box, c->xref, c->axis, lo, hi, FLYER_BIT, count);
+    if (!c->has_ref)
+        return *raw;
+    return *raw - displacement_slab_mean(c->ref.p, &c->ref.box, c->xref_ref, c->axis, lo, hi, 0,
+                                         NULL);
 }
 
 static int impact_run(void *state, struct run *run, struct err *e)
@@ -280,9 +401,11 @@ static int impact_run(void *state, struct run *run, struct err *e)
     int nbins = (int)ceil(c->length / c->profile_bin);
     double *ts = malloc((size_t)nsamp * sizeof *ts), *s1 = malloc((size_t)nsamp * sizeof *s1),
            *s2 = malloc((size_t)nsamp * sizeof *s2), *es = malloc((size_t)nsamp * sizeof *es);
+    double *r1 = malloc((size_t)nsamp * sizeof *r1), *r2 = malloc((size_t)nsamp * sizeof *r2);
     double *prof = calloc((c->nprofiles ? c->nprofiles : 1) * (size_t)nbins, sizeof *prof);
+    double *pref = calloc((size_t)nbins, sizeof *pref);
     long *pstep = malloc((c->nprofiles ? c->nprofiles : 1) * sizeof *pstep);
-    if (!ts || !s1 || !s2 || !es || !prof || !pstep) {
+    if (!ts || !s1 || !s2 || !es || !r1 || !r2 || !prof || !pref || !pstep) {
         rc = err_nomem(e, "impact samples");
         goto done;
     }
@@ -296,6 +419,11 @@ static int impact_run(void *state, struct run *run, struct err *e)
     d->peratom = run_due(0, c->steps, run->out.snapshot_every);
     if ((rc = dpd_compute_forces(d, e)))
         goto done;
+    if (c->has_ref) {
+        c->ref.timers = NULL;
+        if ((rc = dpd_compute_forces(&c->ref, e)))
+            goto done;
+    }
     dpd_momentum(d, P0);
     e0 = dpd_total_energy(d);
     rc = dpd_output_step(&out, run, d, c->steps);
@@ -304,7 +432,7 @@ static int impact_run(void *state, struct run *run, struct err *e)
     for (long s = 0; s <= c->steps && !rc; s++) {
         if (s > 0) {
             d->peratom = run_due(s, c->steps, run->out.snapshot_every);
-            if ((rc = dpd_step(d, e)))
+            if ((rc = dpd_step(d, e)) || (c->has_ref && (rc = dpd_step(&c->ref, e))))
                 break;
             double et = dpd_total_energy(d);
             if (!isfinite(et)) {
@@ -318,15 +446,24 @@ static int impact_run(void *state, struct run *run, struct err *e)
         timer_start(&run->timers, TIMER_ANALYSIS);
         if (s % c->sample_every == 0 || s == c->steps) {
             ts[ns] = d->time;
-            s1[ns] = region_disp(c, 0, &count[0]);
-            s2[ns] = region_disp(c, 1, &count[1]);
+            s1[ns] = region_disp(c, 0, &count[0], &r1[ns]);
+            s2[ns] = region_disp(c, 1, &count[1], &r2[ns]);
             es[ns] = dpd_total_energy(d);
             ns++;
         }
-        for (size_t q = 0; q < c->nprofiles; q++)
-            if (pstep[q] == s)
-                displacement_profile(d->p, &d->box, c->xref, c->axis, c->face, c->profile_bin,
-                                     nbins, FLYER_BIT, prof + q * nbins);
+        for (size_t q = 0; q < c->nprofiles; q++) {
+            if (pstep[q] != s)
+                continue;
+            double *pq = prof + q * nbins;
+            displacement_profile(d->p, &d->box, c->xref, c->axis, c->face, c->profile_bin, nbins,
+                                 FLYER_BIT, pq);
+            if (c->has_ref) {
+                displacement_profile(c->ref.p, &c->ref.box, c->xref_ref, c->axis, c->face,
+                                     c->profile_bin, nbins, 0, pref);
+                for (int b = 0; b < nbins; b++)
+                    pq[b] -= pref[b];
+            }
+        }
         timer_stop(&run->timers, TIMER_ANALYSIS);
     }
     timer_stop(&run->timers, TIMER_LOOP);
@@ -363,6 +500,22 @@ static int impact_run(void *state, struct run *run, struct err *e)
     result_series(res, "time_ps", ts, (int)ns, "ps");
     result_series(res, "displacement_region_1", s1, (int)ns, "Å");
     result_series(res, "displacement_region_2", s2, (int)ns, "Å");
+    if (c->has_ref) {
+        result_series(res, "raw_displacement_region_1", r1, (int)ns, "Å");
+        result_series(res, "raw_displacement_region_2", r2, (int)ns, "Å");
+    }
+    {
+        /* how the speed depends on the arrival threshold */
+        static const double th[] = {0.005, 0.01, 0.02, 0.05, 0.1, 0.2, 0.5, 1.0};
+        const int nth = (int)(sizeof th / sizeof th[0]);
+        double vs[sizeof th / sizeof th[0]];
+        for (int q = 0; q < nth; q++)
+            vs[q] = wave_speed(c->regions[1] - c->regions[0], wave_arrival_time(ts, s1, ns, th[q]),
+                               wave_arrival_time(ts, s2, ns, th[q])) *
+                    UNITS_APS_TO_MS;
+        result_series(res, "arrival_thresholds", th, nth, "Å");
+        result_series(res, "wave_speed_scan", vs, nth, "m/s");
+    }
     result_series(res, "etotal", es, (int)ns, "eV");
     if (c->nprofiles) {
         double *xc = malloc((size_t)nbins * sizeof *xc);
@@ -385,6 +538,9 @@ done:
     free(s1);
     free(s2);
     free(es);
+    free(r1);
+    free(r2);
+    free(pref);
     free(prof);
     free(pstep);
     int rc2 = dpd_output_end(&out, run, e);
@@ -399,14 +555,20 @@ static void impact_destroy(void *state)
     if (!c)
         return;
     dpd_free(&c->d);
+    if (c->has_ref)
+        dpd_free(&c->ref);
     free(c->profile_times);
     free(c);
 }
 
+/* Particles integrated per step: the flyer run and the reference run. */
 static long impact_particles(const void *state)
 {
     const struct impact_case *c = state;
-    return c->d.p ? c->d.p->n_owned : 0;
+    long n = c->d.p ? c->d.p->n_owned : 0;
+    if (c->has_ref && c->ref.p)
+        n += c->ref.p->n_owned;
+    return n;
 }
 
 static long impact_steps(const void *state)
