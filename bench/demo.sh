@@ -37,3 +37,7 @@ echo "      or  $CASCADE export demo --csv --db $DB"
 
 # --- the report (issue 8: cascade report) goes here ---------------------------
 # "$CASCADE" report demo --db "$DB" --out reports/demo && echo "demo: report in reports/demo/"
+echo
+echo "demo: DPD-only flyer/target and tensile rod of Chen et al. 2014, quick variant"
+echo "      (studies/chen2014/dpd_quick.yaml: 2,304-particle bar; outputs in runs/chen2014_quick)"
+sh "$ROOT/studies/chen2014/run_dpd.sh" quick "$BIN/cascade-solver"

@@ -6,7 +6,7 @@
 #define CASCADE_POTENTIAL_COMMON_H
 
 #include "md/potential.h"
-#include "md/thread_accum.h"
+#include "core/thread_accum.h"
 
 struct pair_scratch {
     struct thread_accum f, pe, vir;

@@ -38,6 +38,8 @@ struct case_type {
     void (*destroy)(void *state);
     /* Particle count for timing reports. */
     long (*particles)(const void *state);
+    /* Time steps the run takes, for timing reports (NULL: md.steps). */
+    long (*steps)(const void *state);
 };
 
 extern const struct case_type *const case_types[];   /* NULL-terminated */

@@ -5,10 +5,18 @@
 
 extern const struct case_type md_case_type;
 extern const struct case_type crystal_case_type;
+extern const struct case_type dpd_case_type;
+extern const struct case_type dpd_impact_case_type;
+extern const struct case_type dpd_tensile_case_type;
+extern const struct case_type dpd_fit_case_type;
 
 const struct case_type *const case_types[] = {
     &md_case_type,
     &crystal_case_type,
+    &dpd_case_type,
+    &dpd_impact_case_type,
+    &dpd_tensile_case_type,
+    &dpd_fit_case_type,
     NULL,
 };
 

@@ -7,7 +7,9 @@
 #include <sys/resource.h>
 #include <sys/stat.h>
 
+#include "output/lammps_data_write.h"
 #include "output/provenance.h"
+#include "output/xyz_write.h"
 #include "util/canon.h"
 
 int output_settings_read(struct cfg_obj *root, struct output_settings *o)
@@ -21,6 +23,19 @@ int output_settings_read(struct cfg_obj *root, struct output_settings *o)
         (rc = cfg_int(&s, "xyz_every", 0, CFG_GE(0), &o->xyz_every)) ||
         (rc = cfg_bool(&s, "hdf5", 1, &o->hdf5)))
         return rc;
+    int has_final;
+    o->final_state = NULL;
+    if ((rc = cfg_string_opt(&s, "final_state", &o->final_state, &has_final)))
+        return rc;
+    if (has_final) {
+        const char *dot = strrchr(o->final_state, '.');
+        if (strchr(o->final_state, '/') || !dot ||
+            (strcmp(dot, ".data") != 0 && strcmp(dot, ".xyz") != 0))
+            return cfg_error_at(s.cfg, "output.final_state",
+                                "'%s' must be a file name (no directory) ending in .data (LAMMPS "
+                                "data) or .xyz (extended XYZ)",
+                                o->final_state);
+    }
     return cfg_close(&s);
 }
 
@@ -98,6 +113,34 @@ int run_open(struct run *r, const struct run_options *opt, const struct output_s
             return err_set(e, ERR_RUNTIME, "%s: cannot create: %s", path, strerror(errno));
     }
     return 0;
+}
+
+int run_write_final_state(struct run *r, const struct particles *p, const struct box *b,
+                          long step, double time, struct err *e)
+{
+    const char *name = r->out.final_state;
+    if (!name)
+        return 0;
+    char path[4096];
+    run_path(r, name, path, sizeof path);
+    const char *dot = strrchr(name, '.');
+    int rc = 0;
+    if (dot && strcmp(dot, ".xyz") == 0) {
+        FILE *f = fopen(path, "w");
+        if (!f)
+            return err_set(e, ERR_RUNTIME, "%s: cannot create: %s", path, strerror(errno));
+        int bad = xyz_write_frame(f, p, b, step, time, NULL, NULL);
+        if (fclose(f) != 0 || bad)
+            return err_set(e, ERR_RUNTIME, "%s: write failed", path);
+    } else {
+        char title[512];
+        snprintf(title, sizeof title, "cascade-solver final state: case %s, step %ld, time %g ps",
+                 r->case_key, step, time);
+        rc = lammps_data_write(path, p, b, title, e);
+    }
+    if (!rc)
+        result_artifact(&r->result, "final_state", name);
+    return rc;
 }
 
 int run_thermo_header(struct run *r, const char *const *columns, int n)

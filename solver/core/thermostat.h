@@ -1,5 +1,5 @@
 /*
- * thermostat: temperature control of the MD engine.
+ * thermostat: temperature control of particle dynamics (MD and DPD).
  *
  *   none        NVE
  *   berendsen   velocities scaled by sqrt(1 + dt/tau (T0/T - 1)) each step

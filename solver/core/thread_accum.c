@@ -1,5 +1,5 @@
 /* thread_accum: private buffers and their ordered reduction. */
-#include "md/thread_accum.h"
+#include "core/thread_accum.h"
 
 #include <stdlib.h>
 #include <string.h>

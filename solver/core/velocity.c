@@ -1,5 +1,5 @@
 /* velocity: Maxwell-Boltzmann initial velocities. */
-#include "md/velocity.h"
+#include "core/velocity.h"
 
 #include <math.h>
 #include <stdlib.h>

@@ -1,5 +1,5 @@
 /* thermostat: Berendsen rescaling and Langevin forces. */
-#include "md/thermostat.h"
+#include "core/thermostat.h"
 
 #include <math.h>
 

@@ -1,5 +1,5 @@
 /* neighbor: link-cell binning (counting sort) and Verlet list construction. */
-#include "md/neighbor.h"
+#include "core/neighbor.h"
 
 #include <math.h>
 #include <stdlib.h>
