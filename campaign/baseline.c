@@ -376,7 +376,7 @@ int baseline_compare(const json_t *b, const struct study_analysis *a,
                      job->name ? job->name : "");
         else {
             char lab[SA_LABEL_MAX - 32];
-            sa_params_label(job->params, lab, sizeof lab);
+            sa_job_label(d, job->params, lab, sizeof lab);
             snprintf(where, sizeof where, "%s (%s)", job->key, lab);
         }
         struct cmp_item *it = add_item(r, CMP_FAILED, "-", "job", where);

@@ -52,18 +52,15 @@ int plot_svg(const struct plot_spec *ps, const char *path, struct err *e)
         unlink(errpath);
         return err_set(e, ERR_RUNTIME, "cannot start gnuplot: %s", strerror(errno));
     }
-    /* long key entries go below the plot, where they have the full width */
-    int entries = ps->nseries + (ps->overlay != NULL) + ps->noverlays, below = ps->key_below;
-    for (int k = 0; k < ps->nseries; k++)
-        below |= ps->series[k].label && strlen(ps->series[k].label) > 40;
-    for (int k = 0; k < ps->noverlays; k++)
-        below |= ps->overlays[k].label && strlen(ps->overlays[k].label) > 40;
+    /* the key below the plot: it never hides data and long entries have the
+     * full width (key_inside puts it back in the top left corner) */
+    int entries = ps->nseries + (ps->overlay != NULL) + ps->noverlays, below = !ps->key_inside;
     fprintf(g, "set terminal svg size 640,%d dynamic enhanced font 'sans,11' background rgb 'white'\n",
             below ? 400 + 18 * entries : 420);
     fprintf(g, "set output ");
     put_quoted(g, path);
     fprintf(g, "\nset encoding utf8\nset grid\n%s\n",
-            below ? "set key below left Left reverse box height 1" : "set key top left box opaque");
+            below ? "set key below left Left reverse box vertical maxcols 1 spacing 1.1 height 0.6" : "set key top left box opaque");
     if (ps->title) {
         fprintf(g, "set title ");
         put_quoted(g, ps->title);
@@ -72,7 +69,7 @@ int plot_svg(const struct plot_spec *ps, const char *path, struct err *e)
     fprintf(g, "set xlabel ");
     put_quoted(g, ps->xlabel ? ps->xlabel : "");
     if (below)
-        fprintf(g, " offset 0,0.7");   /* clear of the key's frame */
+        fprintf(g, " offset 0,0.6");   /* clear of the key's frame */
     fprintf(g, "\nset ylabel ");
     put_quoted(g, ps->ylabel ? ps->ylabel : "");
     fputc('\n', g);

@@ -34,7 +34,7 @@ struct plot_spec {
         const char *expr, *label;
         int color;     /* draw in the colour of series `color` (1 = the first); 0: its own */
     } overlays[PLOT_MAX_SERIES];
-    int key_below;     /* the key below the plot (also chosen for labels over 40 characters) */
+    int key_inside;    /* the key in the top left corner, not below the plot */
 };
 
 /* Write the figure as SVG to `path`.  Returns ERR_RUNTIME when gnuplot is

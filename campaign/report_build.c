@@ -200,7 +200,10 @@ static void summary(struct rdoc *doc, const struct study_analysis *a)
             tab_put(&t, 2, "%s", a->groups[g].label);
             tab_put(&t, 3, "%d", c->npts);
             char b[4][64];
-            report_num(c->status == SA_OK ? c->c.p : NAN, 4, b[0], sizeof b[0]);
+            if (c->status == SA_OK && isfinite(c->c.p))
+                snprintf(b[0], sizeof b[0], "%.3f", c->c.p);
+            else
+                report_num(NAN, 4, b[0], sizeof b[0]);
             report_num(c->formal, 3, b[1], sizeof b[1]);
             report_num(c->status == SA_OK ? c->c.phi_ext : NAN, 9, b[2], sizeof b[2]);
             report_num(c->status == SA_OK ? c->abs_unc : NAN, 3, b[3], sizeof b[3]);
@@ -238,7 +241,7 @@ static void failures(struct rdoc *doc, const struct study_analysis *a)
         if (job->prep)
             snprintf(params, sizeof params, "preparation job %s", job->name ? job->name : "");
         else
-            sa_params_label(job->params, params, sizeof params);
+            sa_job_label(d, job->params, params, sizeof params);
         char reason[CELL];
         if (job->message && job->message[0])
             snprintf(reason, sizeof reason, "%s", job->message);
@@ -371,7 +374,7 @@ static void conv_table(struct rdoc *doc, const struct study_analysis *a, int k, 
     ROW("refinement ratios r21, r32", "%.4g, %.4g", r->r21, r->r32);
     report_num(r->ratio, 4, b, sizeof b);
     ROW("convergence ratio R = eps21/eps32", "%s (%s)", b, conv_kind_names[r->kind]);
-    report_num(r->p, 5, b, sizeof b);
+    snprintf(b, sizeof b, "%.4f", r->p);
     if (isfinite(c->formal))
         ROW("observed order p", "%s (formal %g; %d fixed-point iterations)", b, c->formal,
             r->iterations);
@@ -389,7 +392,10 @@ static void conv_table(struct rdoc *doc, const struct study_analysis *a, int k, 
     pct(r->gci_medium, b, sizeof b);
     ROW("GCI medium (GCI_32)", "%s", b);
     report_num(c->abs_unc, 4, b, sizeof b);
-    ROW("band: fine value ± GCI in units", "± %s%s", b, unit_after(a, m, ub, sizeof ub));
+    if (isfinite(c->abs_unc))
+        ROW("band: fine value ± GCI in units", "± %s%s", b, unit_after(a, m, ub, sizeof ub));
+    else
+        ROW("band: fine value ± GCI in units", "—");
     report_num(r->asymptotic, 5, b, sizeof b);
     ROW("asymptotic ratio GCI_32 / (r21^p GCI_21)", "%s", b);
     ROW("flags", "%s", c->flags[0] ? c->flags : "none");
@@ -444,9 +450,10 @@ static int value_figure(struct rdoc *doc, const struct study_analysis *a, int k,
     int rc = plot_svg(&ps, path, e);
     if (!rc) {
         char cap[SA_LABEL_MAX + 256];
-        snprintf(cap, sizeof cap, "%s against the grid size h%s%s; dashed: the Richardson curve "
-                                  "through the three finest grids",
-                 d->metric[m], a->ngroups > 1 ? ", " : "", a->ngroups > 1 ? a->groups[g].label : "");
+        snprintf(cap, sizeof cap, "%s against the grid size h%s%s%s", d->metric[m],
+                 a->ngroups > 1 ? ", " : "", a->ngroups > 1 ? a->groups[g].label : "",
+                 ps.noverlays ? "; dashed: the Richardson curve through the three finest grids"
+                              : " (no extrapolation)");
         rdoc_figure(doc, dir, file, cap);
     }
     free(hx);
@@ -528,10 +535,16 @@ static int error_figure(struct rdoc *doc, const struct study_analysis *a, int k,
         rc = plot_svg(&ps, path, e);
         if (!rc) {
             char cap[512];
-            snprintf(cap, sizeof cap, "%s: distance from the extrapolated value against h "
-                                      "(log-log); dashed: C h^p with the observed order, whose "
-                                      "slope is p",
-                     d->metric[m]);
+            if (ps.noverlays == ps.nseries)
+                snprintf(cap, sizeof cap, "%s: distance from the extrapolated value against h "
+                                          "(log-log); dashed: C h^p with the observed order, "
+                                          "whose slope is p",
+                         d->metric[m]);
+            else
+                snprintf(cap, sizeof cap, "%s against h (log-log): distance from the "
+                                          "extrapolated value where there is one, else the "
+                                          "change between successive grids",
+                         d->metric[m]);
             rdoc_figure(doc, dir, file, cap);
         }
     }

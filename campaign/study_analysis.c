@@ -82,6 +82,18 @@ void sa_params_label(const json_t *params, char *out, size_t len)
         snprintf(out, len, "all jobs");
 }
 
+void sa_job_label(const struct rdata *d, const json_t *params, char *out, size_t len)
+{
+    json_t *ordered = json_object();
+    for (int i = 0; i < d->naxes; i++) {
+        json_t *v = json_object_get(params, d->axes[i].name);
+        if (v)
+            json_object_set(ordered, d->axes[i].name, v);
+    }
+    sa_params_label(json_object_size(ordered) ? ordered : params, out, len);
+    json_decref(ordered);
+}
+
 static void key_of(const json_t *obj, char *out, size_t len)
 {
     char *t = canon_json(obj);
@@ -311,7 +323,7 @@ static int analyse_one(struct study_analysis *a, int k, int g, struct err *e)
     else if (r->kind == CONV_DIVERGENT)
         add_flag(c, "divergent", 1);
     else if (r->kind == CONV_INDETERMINATE)
-        add_flag(c, "indeterminate (equal values)", 1);
+        add_flag(c, "indeterminate: equal values on two grids", 0);
     if (c->finest_missing)
         add_flag(c, "finest grid has no value", 1);
     if (isfinite(r->phi_ext)) {
@@ -327,7 +339,7 @@ static int analyse_one(struct study_analysis *a, int k, int g, struct err *e)
         add_flag(c, t, 1);
     }
     if (c->limit_near_zero)
-        add_flag(c, "limit near 0: relative GCI not meaningful, use the band", 0);
+        add_flag(c, "limit near 0: relative GCI meaningless, use the band", 0);
     else if (isfinite(r->asymptotic) && fabs(r->asymptotic - 1) > SA_ASYMPTOTIC_TOL)
         add_flag(c, "not in the asymptotic range", 1);
     if (c->npts >= 4 && isfinite(c->local_p[0]) && isfinite(c->local_p[1]) &&

@@ -118,5 +118,7 @@ struct sa_conv *sa_conv_at(const struct study_analysis *a, int k, int g);
 /* "name=value name=value" for the entries of a params object; values print
  * compactly (strings bare, numbers shortest, lists and mappings as JSON). */
 void sa_params_label(const json_t *params, char *out, size_t len);
+/* The same for a job's swept values, in the study's axis order. */
+void sa_job_label(const struct rdata *d, const json_t *params, char *out, size_t len);
 
 #endif
