@@ -86,7 +86,9 @@ json_t *baseline_build(const struct study_analysis *a, const char *created)
 
 static void put_member(FILE *f, const char *key, const json_t *v, int last)
 {
-    char *k = canon_json(json_string(key));
+    json_t *ks = json_string(key);
+    char *k = canon_json(ks);
+    json_decref(ks);
     char *t = canon_json(v);
     fprintf(f, "  %s: %s%s\n", k ? k : "\"?\"", t ? t : "null", last ? "" : ",");
     free(k);

@@ -21,18 +21,22 @@ static const char *usage =
     "their reasons.  The study's `report:` section sets the resolution axis and\n"
     "the rest (docs/reports.md).\n"
     "\n"
-    "  STUDY           a study name in the database, or the study file (its\n"
-    "                  `report:` section is then read from the file)\n"
+    "  STUDY           a study name in the database, or the study file (a path\n"
+    "                  ending in .yaml; its `report:` section is then read from it)\n"
     "  --format LIST   md, html or md,html (default)\n"
     "  --out DIR       output directory (default reports/STUDY); it receives\n"
     "                  report.md with its SVG figures and a self-contained report.html\n"
     "  --db FILE       results database (default ./" CASCADE_DB_DEFAULT ")\n";
 
-/* A study argument is a file when it names an existing regular file. */
+/* A study argument is a file when it looks like a path (a '/' or a .yaml /
+ * .yml ending) and names an existing regular file; otherwise a study name. */
 static int is_file(const char *arg)
 {
+    size_t n = strlen(arg);
+    int pathlike = strchr(arg, '/') || (n > 5 && strcmp(arg + n - 5, ".yaml") == 0) ||
+                   (n > 4 && strcmp(arg + n - 4, ".yml") == 0);
     struct stat sb;
-    return stat(arg, &sb) == 0 && S_ISREG(sb.st_mode);
+    return pathlike && stat(arg, &sb) == 0 && S_ISREG(sb.st_mode);
 }
 
 int cmd_report(int argc, char **argv)

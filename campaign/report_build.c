@@ -12,6 +12,11 @@
 #include "plot.h"
 
 #define CELL 160
+/* A study with many series gets value figures for the first few only, and
+ * error figures for the first REPORT_MAX_ERROR_FIGS x PLOT_MAX_SERIES series
+ * (the tables list them all). */
+#define REPORT_MAX_VALUE_FIGS 12
+#define REPORT_MAX_ERROR_FIGS 4
 
 void report_num(double x, int digits, char *out, size_t len)
 {
@@ -575,11 +580,17 @@ static int convergence(struct rdoc *doc, const struct study_analysis *a, const c
                 rdoc_heading(doc, 3, a->groups[g].label);
             values_table(doc, a, k, g);
             conv_table(doc, a, k, g);
-            rc = value_figure(doc, a, k, g, dir, e);
+            if (g < REPORT_MAX_VALUE_FIGS)
+                rc = value_figure(doc, a, k, g, dir, e);
         }
+        if (!rc && a->ngroups > REPORT_MAX_VALUE_FIGS)
+            rdoc_para(doc, "Value figures are drawn for the first %d of the %d series.",
+                      REPORT_MAX_VALUE_FIGS, a->ngroups);
+        int max_err = REPORT_MAX_ERROR_FIGS * PLOT_MAX_SERIES;
         if (!rc && a->ngroups > 1)
-            rdoc_heading(doc, 3, "Error against h, all series");
-        for (int g0 = 0; g0 < a->ngroups && !rc; g0 += PLOT_MAX_SERIES) {
+            rdoc_heading(doc, 3, a->ngroups > max_err ? "Error against h, the first series"
+                                                      : "Error against h, all series");
+        for (int g0 = 0; g0 < a->ngroups && g0 < max_err && !rc; g0 += PLOT_MAX_SERIES) {
             int ng = a->ngroups - g0 < PLOT_MAX_SERIES ? a->ngroups - g0 : PLOT_MAX_SERIES;
             rc = error_figure(doc, a, k, g0, ng, dir, e);
         }

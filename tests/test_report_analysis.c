@@ -26,8 +26,8 @@
 static int choose(const char *const *names, const char *const *values, int n,
                   const struct report_spec *rs, struct resolution *r)
 {
-    struct res_axis_info ai[8];
-    json_t *vals[8];
+    struct res_axis_info ai[8] = {{0}};
+    json_t *vals[8] = {0};
     for (int i = 0; i < n; i++) {
         vals[i] = json_loads(values[i], 0, NULL);
         cr_assert_not_null(vals[i], "%s", values[i]);
@@ -330,4 +330,60 @@ Test(report_analysis, report_sections_checked_with_locations)
     report_spec_tol(&s.report, "x_squared", &abs, &rel, &ord);
     cr_assert(abs == 0 && rel == 1e-6 && ord == 0.05, "%g %g %g", abs, rel, ord);
     study_free(&s);
+}
+
+/* A Hugoniot-like study: one axis (the piston velocity), metrics up and
+ * us = c0 + s up with scatter; the study asks for us against the metric up. */
+Test(report_analysis, fit_of_a_metric_against_a_metric)
+{
+    struct rdata d;
+    memset(&d, 0, sizeof d);
+    snprintf(d.name, sizeof d.name, "hugoniot");
+    d.nmetrics = 2;
+    d.metric = calloc(2, sizeof *d.metric);
+    d.unit = calloc(2, sizeof *d.unit);
+    d.metric[0] = strdup("us");
+    d.metric[1] = strdup("up_piston");
+    d.unit[0] = strdup("km/s");
+    d.unit[1] = strdup("km/s");
+    add_axis(&d, "hugoniot.particle_velocities", 0, 0, "[[0.5], [1.0], [1.5], [2.0], [3.0]]");
+    const double vp[5] = {0.5, 1.0, 1.5, 2.0, 3.0}, noise[5] = {0.01, -0.02, 0.0, 0.02, -0.01};
+    double x[5], y[5];
+    for (int i = 0; i < 5; i++) {
+        char p[96];
+        snprintf(p, sizeof p, "{\"hugoniot.particle_velocities\": [%g]}", vp[i]);
+        x[i] = 0.98 * vp[i];
+        y[i] = 3.94 + 1.49 * x[i] + noise[i];
+        double v[2] = {y[i], x[i]};
+        add_job(&d, p, "done", v);
+    }
+    struct report_spec rs;
+    report_spec_init(&rs);
+    rs.res_mode = RES_NONE;
+    rs.fits = calloc(1, sizeof *rs.fits);
+    rs.nfits = 1;
+    snprintf(rs.fits[0].metric, sizeof rs.fits[0].metric, "us");
+    snprintf(rs.fits[0].against, sizeof rs.fits[0].against, "up_piston");
+    rs.fits[0].model = FIT_LINEAR;
+    struct study_analysis a;
+    struct err e = {0};
+    cr_assert_eq(sa_build(&a, &d, &rs, &e), 0, "%s", e.msg);
+    cr_assert_null(a.conv, "no resolution axis");
+    /* us and up against the axis (its one-element lists read as numbers), and us against up */
+    cr_assert_eq(a.nxplots, 3);
+    const struct sa_xplot *xp = &a.xplots[2];
+    cr_assert_eq(xp->xaxis, -1);
+    cr_assert_eq(xp->xmetric, 1);
+    const struct sa_xseries *xs = &a.xs[xp->first];
+    cr_assert_eq(xs->n, 5);
+    struct fit_result want;
+    cr_assert_eq(fit_points(FIT_LINEAR, x, y, 5, &want), 0);
+    cr_assert(xs->fit_ok);
+    cr_assert_float_eq(xs->fr.p0, want.p0, 1e-12);
+    cr_assert_float_eq(xs->fr.p1, want.p1, 1e-12);
+    cr_assert(fabs(xs->fr.p1 - 1.49) < 3 * xs->fr.s1, "s = %g +- %g", xs->fr.p1, xs->fr.s1);
+    cr_assert(fabs(xs->fr.p0 - 3.94) < 3 * xs->fr.s0, "c0 = %g +- %g", xs->fr.p0, xs->fr.s0);
+    sa_free(&a);
+    report_spec_free(&rs);
+    rdata_free(&d);
 }
