@@ -251,31 +251,36 @@ static int analysed_slot(const struct study_analysis *a, const char *metric)
     return -1;
 }
 
-static int point_of(const struct study_analysis *a, const json_t *params)
+/* Index of a point or a group by the canonical JSON of its values, through
+ * a dictionary built once per comparison. */
+static int index_of(const json_t *dict, const json_t *params)
 {
     char *key = canon_json(params);
-    int hit = -1;
-    for (int p = 0; key && p < a->npts && hit < 0; p++)
-        if (strcmp(a->pts[p].key, key) == 0)
-            hit = p;
+    json_t *v = key ? json_object_get(dict, key) : NULL;
     free(key);
-    return hit;
+    return v ? (int)json_integer_value(v) : -1;
 }
 
-static int group_of(const struct study_analysis *a, const json_t *params)
+static json_t *point_index(const struct study_analysis *a)
 {
-    char *key = canon_json(params);
-    int hit = -1;
-    for (int g = 0; key && g < a->ngroups && hit < 0; g++)
-        if (strcmp(a->groups[g].key, key) == 0)
-            hit = g;
-    free(key);
-    return hit;
+    json_t *d = json_object();
+    for (int p = 0; p < a->npts; p++)
+        json_object_set_new(d, a->pts[p].key, json_integer(p));
+    return d;
+}
+
+static json_t *group_index(const struct study_analysis *a)
+{
+    json_t *d = json_object();
+    for (int g = 0; g < a->ngroups; g++)
+        json_object_set_new(d, a->groups[g].key, json_integer(g));
+    return d;
 }
 
 static void compare_values(const json_t *b, const struct study_analysis *a,
                            const struct report_spec *rs, struct cmp_report *r, char *seen)
 {
+    json_t *pidx = point_index(a);
     size_t i;
     json_t *v;
     json_array_foreach(json_object_get(b, "values"), i, v)
@@ -284,7 +289,7 @@ static void compare_values(const json_t *b, const struct study_analysis *a,
         const json_t *params = json_object_get(v, "params");
         double base = json_number_value(json_object_get(v, "value"));
         char where[SA_LABEL_MAX];
-        int k = analysed_slot(a, metric), p = point_of(a, params);
+        int k = analysed_slot(a, metric), p = index_of(pidx, params);
         if (p >= 0)
             snprintf(where, sizeof where, "%s", a->pts[p].label);
         else
@@ -312,11 +317,13 @@ static void compare_values(const json_t *b, const struct study_analysis *a,
         else if (verdict == CMP_REGRESSED && base != 0)
             snprintf(it->note, sizeof it->note, "relative change %.3g", (now - base) / fabs(base));
     }
+    json_decref(pidx);
 }
 
 static void compare_orders(const json_t *b, const struct study_analysis *a,
                            const struct report_spec *rs, struct cmp_report *r, char *seen)
 {
+    json_t *gidx = group_index(a);
     size_t i;
     json_t *v;
     json_array_foreach(json_object_get(b, "orders"), i, v)
@@ -326,7 +333,7 @@ static void compare_orders(const json_t *b, const struct study_analysis *a,
         double base = json_number_value(json_object_get(v, "p"));
         const char *kind = json_string_value(json_object_get(v, "kind"));
         char where[SA_LABEL_MAX];
-        int k = analysed_slot(a, metric), g = group_of(a, group);
+        int k = analysed_slot(a, metric), g = index_of(gidx, group);
         if (g >= 0)
             snprintf(where, sizeof where, "%s", a->groups[g].label);
         else
@@ -356,6 +363,7 @@ static void compare_orders(const json_t *b, const struct study_analysis *a,
             snprintf(it->note, sizeof it->note, "convergence %s, baseline %s",
                      conv_kind_names[c->c.kind], kind);
     }
+    json_decref(gidx);
 }
 
 int baseline_compare(const json_t *b, const struct study_analysis *a,

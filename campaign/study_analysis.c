@@ -104,7 +104,7 @@ static void key_of(const json_t *obj, char *out, size_t len)
 /* The swept values of a job restricted to axes for which keep(axis) holds,
  * in the study's axis order. */
 static json_t *restrict_params(const struct rdata *d, const json_t *params,
-                               int (*keep)(const struct study_analysis *, int, int), 
+                               int (*keep)(const struct study_analysis *, int, int),
                                const struct study_analysis *a, int extra)
 {
     json_t *out = json_object();
@@ -145,6 +145,40 @@ static int dict_index(json_t *dict, const char *key, int next, int *added)
     return next;
 }
 
+/* Room for element n of arrays that double at powers of two. */
+static int grow_long(long **arr, int n)
+{
+    if (n & (n - 1))
+        return 0;
+    long *g = realloc(*arr, (size_t)(n ? 2 * n : 1) * sizeof *g);
+    if (!g)
+        return -1;
+    *arr = g;
+    return 0;
+}
+
+static int grow_double(double **arr, int n)
+{
+    if (n & (n - 1))
+        return 0;
+    double *g = realloc(*arr, (size_t)(n ? 2 * n : 1) * sizeof *g);
+    if (!g)
+        return -1;
+    *arr = g;
+    return 0;
+}
+
+static int grow_int(int **arr, int n)
+{
+    if (n & (n - 1))
+        return 0;
+    int *g = realloc(*arr, (size_t)(n ? 2 * n : 1) * sizeof *g);
+    if (!g)
+        return -1;
+    *arr = g;
+    return 0;
+}
+
 static int build_points(struct study_analysis *a, struct err *e)
 {
     const struct rdata *d = a->d;
@@ -159,8 +193,7 @@ static int build_points(struct study_analysis *a, struct err *e)
         if (job->prep)
             continue;
         a->nsweep++;
-        if (strcmp(job->state, "done") == 0 || job->solver)
-            a->ndone += job->solver != NULL;
+        a->ndone += job->solver != NULL;
         json_t *pp = restrict_params(d, job->params, keep_point, a, 0);
         char key[SA_LABEL_MAX];
         key_of(pp, key, sizeof key);
@@ -174,7 +207,6 @@ static int build_points(struct study_analysis *a, struct err *e)
             pt->h = a->res.axis >= 0
                         ? resolution_h(&a->res, json_object_get(pp, d->axes[a->res.axis].name))
                         : NAN;
-            pt->jobs = malloc((size_t)d->njobs * sizeof *pt->jobs);
             json_t *gp = restrict_params(d, job->params, keep_group, a, 0);
             char gkey[SA_LABEL_MAX];
             key_of(gp, gkey, sizeof gkey);
@@ -185,11 +217,10 @@ static int build_points(struct study_analysis *a, struct err *e)
                 gr->params = gp;
                 snprintf(gr->key, sizeof gr->key, "%s", gkey);
                 sa_params_label(gp, gr->label, sizeof gr->label);
-                gr->pts = malloc((size_t)d->njobs * sizeof *gr->pts);
             } else {
                 json_decref(gp);
             }
-            if (!pt->jobs || !gr->pts) {
+            if (grow_int(&gr->pts, gr->npts)) {
                 rc = err_nomem(e, "points");
                 break;
             }
@@ -197,6 +228,10 @@ static int build_points(struct study_analysis *a, struct err *e)
             gr->pts[gr->npts++] = p;
         } else {
             json_decref(pp);
+        }
+        if (grow_long(&pt->jobs, pt->njobs)) {
+            rc = err_nomem(e, "points");
+            break;
         }
         pt->jobs[pt->njobs++] = j;
     }
@@ -454,18 +489,16 @@ static int build_series(struct study_analysis *a, int m, int xa, int xm, int res
             sa_params_label(rest, xs->label, sizeof xs->label);
             if (!json_object_size(rest))
                 snprintf(xs->label, sizeof xs->label, "all");
-            size_t cap_pts = (size_t)a->ngroups;
-            xs->x = malloc(cap_pts * sizeof *xs->x);
-            xs->y = malloc(cap_pts * sizeof *xs->y);
-            xs->yext = malloc(cap_pts * sizeof *xs->yext);
-            xs->ysd = malloc(cap_pts * sizeof *xs->ysd);
-            if (!xs->x || !xs->y || !xs->yext || !xs->ysd)
-                rc = err_nomem(e, "series");
         }
         json_decref(rest);
         if (rc)
             break;
         struct sa_xseries *xs = &a->xs[first + s];
+        if (grow_double(&xs->x, xs->n) || grow_double(&xs->y, xs->n) ||
+            grow_double(&xs->yext, xs->n) || grow_double(&xs->ysd, xs->n)) {
+            rc = err_nomem(e, "series");
+            break;
+        }
         /* insertion by x */
         int i = xs->n++;
         while (i > 0 && xs->x[i - 1] > x) {
