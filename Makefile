@@ -169,6 +169,18 @@ demo: deps
 	@$(MAKE) --no-print-directory $(SOLVER_BIN) $(CAMPAIGN_BIN)
 	CASCADE_SOLVER=$(abspath $(SOLVER_BIN)) sh bench/demo.sh $(abspath $(BINDIR))
 
+# The nightly convergence regression (docs/nightly.md): runs studies/nightly.yaml
+# (only the jobs this solver build has not run), compares every value and
+# observed order with studies/baselines/nightly.json, writes reports/nightly/
+# and exits non-zero when anything regressed.  NIGHTLY_ARGS=--update-baseline
+# rewrites the baseline instead (review and commit it).
+NIGHTLY_DIR ?= runs/nightly
+nightly: deps
+	@$(MAKE) --no-print-directory $(SOLVER_BIN) $(CAMPAIGN_BIN)
+	@mkdir -p $(NIGHTLY_DIR)
+	CASCADE_SOLVER=$(abspath $(SOLVER_BIN)) $(CAMPAIGN_BIN) regress studies/nightly.yaml \
+	    --db $(NIGHTLY_DIR)/cascade.db --runs $(NIGHTLY_DIR)/runs --out reports/nightly $(NIGHTLY_ARGS)
+
 bench: deps
 	@$(MAKE) --no-print-directory BUILD=release all
 	sh bench/bench.sh $(abspath build/release/bin)

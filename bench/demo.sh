@@ -2,9 +2,10 @@
 # make demo: runs the quick demo study (studies/demo.yaml) with the campaign
 # runner -- a preparation job equilibrates copper at 300 K, six NVE jobs
 # continue from its final state with three time steps and two neighbour-list
-# skins -- records everything in an SQLite database and prints the status
-# and a table of metrics against the swept parameters.  Running it again
-# resumes: jobs already done for this solver version are not run again.
+# skins -- records everything in an SQLite database, prints the status and a
+# table of metrics against the swept parameters, and writes the study's
+# convergence report (reports/demo/report.html and report.md).  Running it
+# again resumes: jobs already done for this solver version are not run again.
 #   usage: sh bench/demo.sh BINDIR
 set -eu
 BIN=${1:?usage: demo.sh BINDIR}
@@ -35,9 +36,14 @@ echo
 echo "demo: more with  $CASCADE query --db $DB \"SELECT * FROM results\""
 echo "      or  $CASCADE export demo --csv --db $DB"
 
-# --- the report (issue 8: cascade report) goes here ---------------------------
-# "$CASCADE" report demo --db "$DB" --out reports/demo && echo "demo: report in reports/demo/"
 echo
 echo "demo: DPD-only flyer/target and tensile rod of Chen et al. 2014, quick variant"
 echo "      (studies/chen2014/dpd_quick.yaml: 2,304-particle bar; outputs in runs/chen2014_quick)"
 sh "$ROOT/studies/chen2014/run_dpd.sh" quick "$BIN/cascade-solver"
+
+# --- the report of the study -------------------------------------------------
+REPORT=${DEMO_REPORT:-reports/demo}
+echo
+"$CASCADE" report demo --db "$DB" --out "$REPORT"
+echo "demo: the report of the study (observed order of each metric against the time step,"
+echo "      GCI, figures) is $REPORT/report.html (self-contained) and $REPORT/report.md"

@@ -64,6 +64,23 @@ int cli_real(const char *opt, const char *s, double lo, double *out)
     return 0;
 }
 
+int cli_parse_formats(const char *list, int *md, int *html)
+{
+    *md = *html = 0;
+    char buf[64];
+    snprintf(buf, sizeof buf, "%s", list);
+    char *save = NULL;
+    for (char *t = strtok_r(buf, ",", &save); t; t = strtok_r(NULL, ",", &save)) {
+        if (strcmp(t, "md") == 0 || strcmp(t, "markdown") == 0)
+            *md = 1;
+        else if (strcmp(t, "html") == 0)
+            *html = 1;
+        else
+            return -1;
+    }
+    return *md || *html ? 0 : -1;
+}
+
 int cli_usage_error(const char *usage, const char *fmt, ...)
 {
     va_list ap;

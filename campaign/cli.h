@@ -17,6 +17,8 @@ int cmd_query(int argc, char **argv);
 int cmd_show(int argc, char **argv);
 int cmd_export(int argc, char **argv);
 int cmd_retry(int argc, char **argv);
+int cmd_report(int argc, char **argv);
+int cmd_regress(int argc, char **argv);
 
 /* Whether argv holds --help or -h. */
 int cli_wants_help(int argc, char **argv);
@@ -28,6 +30,8 @@ int cli_opt(int argc, char **argv, int *i, const char *name, const char **val);
 /* Parse an integer option value; prints the error. */
 int cli_int(const char *opt, const char *s, long lo, long hi, long *out);
 int cli_real(const char *opt, const char *s, double lo, double *out);
+/* "md", "html" or "md,html" into two flags; -1 when the list is bad. */
+int cli_parse_formats(const char *list, int *md, int *html);
 /* Print "error: ..." and the usage; returns 2. */
 int cli_usage_error(const char *usage, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
 

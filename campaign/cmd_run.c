@@ -6,12 +6,8 @@
 
 #include "backend_mpi.h"
 #include "cli.h"
-#include "db.h"
-#include "launch.h"
 #include "mpi_pool.h"
-#include "plan.h"
-#include "runner.h"
-#include "sysinfo.h"
+#include "study_run.h"
 
 static const char *usage =
     "usage: cascade run STUDY.yaml [--jobs N] [--db FILE] [--runs DIR] [--solver PATH]\n"
@@ -95,54 +91,14 @@ static int run_study(const struct run_args *a, int mpi_size)
 {
     struct err e = {0};
     struct study s;
-    struct solver sv;
-    struct plan p;
     int rc = study_load(&s, a->file, &e);
     if (rc) {
         fprintf(stderr, "error: %s\n", e.msg);
         return cli_exit_code(rc);
     }
-    rc = solver_open(&sv, a->solver, &e);
-    if (!rc)
-        rc = plan_build(&p, &s, &sv, &e);
-    if (rc) {
-        fprintf(stderr, "error: %s\n", e.msg);
-        study_free(&s);
-        return cli_exit_code(rc);
-    }
-    /* every check has passed: from here on the database and runs/ are written */
-    char runs_abs[4096];
-    sqlite3 *db = NULL;
-    rc = launch_mkdirs(a->runs, &e);
-    if (!rc && !realpath(a->runs, runs_abs))
-        rc = err_set(&e, ERR_RUNTIME, "%s: %s", a->runs, strerror(errno));
-    if (!rc)
-        rc = db_open(a->db_path, &db, &e);
-    struct backend b;
-    memset(&b, 0, sizeof b);
-    if (!rc) {
-        if (mpi_size > 1) {
-            rc = backend_mpi_create(&b, mpi_size - 1, &e);
-        } else {
-            long slots = a->jobs;
-            if (!slots) {
-                long per_job = s.threads * (s.mpirun_np ? s.mpirun_np : 1);
-                slots = sys_ncpu() / per_job;
-                if (slots < 1)
-                    slots = 1;
-            }
-            rc = backend_local_create(&b, (int)slots, &e);
-        }
-    }
+    struct study_run_opts o = {a->db_path, a->runs, a->solver, a->jobs, a->lease, a->quiet, mpi_size};
     struct runner_summary sum;
-    memset(&sum, 0, sizeof sum);
-    if (!rc) {
-        struct runner_options o = {runs_abs, a->lease, 1.0, a->quiet, stderr};
-        rc = runner_run(&s, &p, &sv, db, &b, &o, &sum, &e);
-    }
-    if (b.destroy)
-        b.destroy(&b);
-    db_close(&db);
+    rc = study_run(&s, &o, &sum, &e);
     int code;
     if (rc) {
         fprintf(stderr, "error: %s\n", e.msg);
@@ -151,7 +107,6 @@ static int run_study(const struct run_args *a, int mpi_size)
         print_summary(&s, &sum, a->db_path);
         code = sum.interrupted ? 128 + sum.interrupted : (sum.failed || sum.not_run) ? 1 : 0;
     }
-    plan_free(&p);
     study_free(&s);
     return code;
 }

@@ -21,6 +21,8 @@ static const char *usage =
     "  show KEY                  one job: parameters, attempts, metrics, files\n"
     "  export STUDY --csv        one row per job: parameters and metrics\n"
     "  retry STUDY [--failed]    run the study's jobs again (or only the failed ones)\n"
+    "  report STUDY              convergence report (Markdown + HTML with figures)\n"
+    "  regress STUDY.yaml        rerun a study and compare it with its baseline\n"
     "\n"
     "The database is ./" CASCADE_DB_DEFAULT " unless --db FILE is given; its tables are\n"
     "described in db/README.md.  'cascade <command> --help' shows a command's options.\n"
@@ -42,7 +44,7 @@ int main(int argc, char **argv)
         int (*fn)(int, char **);
     } cmds[] = {{"plan", cmd_plan},     {"run", cmd_run},       {"status", cmd_status},
                 {"query", cmd_query},   {"show", cmd_show},     {"export", cmd_export},
-                {"retry", cmd_retry}};
+                {"retry", cmd_retry},   {"report", cmd_report}, {"regress", cmd_regress}};
     for (size_t i = 0; i < sizeof cmds / sizeof cmds[0]; i++)
         if (strcmp(cmd, cmds[i].name) == 0)
             return cmds[i].fn(argc - 2, argv + 2);

@@ -21,6 +21,18 @@ static void put_quoted(FILE *f, const char *s)
     fputc('\'', f);
 }
 
+void plot_text(const char *in, char *out, size_t len)
+{
+    size_t n = 0;
+    for (; in && *in && n + 2 < len; in++) {
+        if (strchr("_^{}@&~\\", *in))
+            out[n++] = '\\';
+        out[n++] = *in;
+    }
+    if (len)
+        out[n < len ? n : len - 1] = '\0';
+}
+
 static const char *style_name(enum plot_style s)
 {
     return s == PLOT_LINES ? "lines" : s == PLOT_LINESPOINTS ? "linespoints" : "points";
@@ -40,10 +52,15 @@ int plot_svg(const struct plot_spec *ps, const char *path, struct err *e)
         unlink(errpath);
         return err_set(e, ERR_RUNTIME, "cannot start gnuplot: %s", strerror(errno));
     }
-    fprintf(g, "set terminal svg size 640,420 dynamic enhanced font 'sans,11' background rgb 'white'\n");
+    /* the key below the plot: it never hides data and long entries have the
+     * full width (key_inside puts it back in the top left corner) */
+    int entries = ps->nseries + (ps->overlay != NULL) + ps->noverlays, below = !ps->key_inside;
+    fprintf(g, "set terminal svg size 640,%d dynamic enhanced font 'sans,11' background rgb 'white'\n",
+            below ? 400 + 18 * entries : 420);
     fprintf(g, "set output ");
     put_quoted(g, path);
-    fprintf(g, "\nset encoding utf8\nset grid\nset key top left box opaque\n");
+    fprintf(g, "\nset encoding utf8\nset grid\n%s\n",
+            below ? "set key below left Left reverse box vertical maxcols 1 spacing 1.1 height 0.6" : "set key top left box opaque");
     if (ps->title) {
         fprintf(g, "set title ");
         put_quoted(g, ps->title);
@@ -51,13 +68,15 @@ int plot_svg(const struct plot_spec *ps, const char *path, struct err *e)
     }
     fprintf(g, "set xlabel ");
     put_quoted(g, ps->xlabel ? ps->xlabel : "");
+    if (below)
+        fprintf(g, " offset 0,0.6");   /* clear of the key's frame */
     fprintf(g, "\nset ylabel ");
     put_quoted(g, ps->ylabel ? ps->ylabel : "");
     fputc('\n', g);
     if (ps->logx)
-        fprintf(g, "set logscale x\n");
+        fprintf(g, "set logscale x\nset format x '%%g'\n");
     if (ps->logy)
-        fprintf(g, "set logscale y\n");
+        fprintf(g, "set logscale y\nset format y '%%g'\n");
     /* pad the ranges a little so end points are not on the frame */
     fprintf(g, "set offsets graph 0.05, graph 0.05, graph 0.05, graph 0.05\n");
     fprintf(g, "plot ");
@@ -71,6 +90,16 @@ int plot_svg(const struct plot_spec *ps, const char *path, struct err *e)
     if (ps->overlay) {
         fprintf(g, "%s%s with lines dashtype 2 linewidth 1.5 title ", first ? "" : ", ", ps->overlay);
         put_quoted(g, ps->overlay_label ? ps->overlay_label : ps->overlay);
+        first = 0;
+    }
+    for (int k = 0; k < ps->noverlays && k < PLOT_MAX_SERIES; k++) {
+        fprintf(g, "%s%s with lines dashtype 2 linewidth 1.2 ", first ? "" : ", ",
+                ps->overlays[k].expr);
+        if (ps->overlays[k].color > 0)
+            fprintf(g, "linecolor %d ", ps->overlays[k].color);
+        fprintf(g, "title ");
+        put_quoted(g, ps->overlays[k].label ? ps->overlays[k].label : ps->overlays[k].expr);
+        first = 0;
     }
     fputc('\n', g);
     for (int k = 0; k < ps->nseries; k++) {

@@ -187,6 +187,24 @@ static void html_text(FILE *f, const char *s)
     }
 }
 
+/* Whether a cell reads as a number (right-aligned in HTML): "1.5e-3",
+ * "-2", "+0", "± 0.03 K", "12 %", "—". */
+static int is_number(const char *s)
+{
+    if (strncmp(s, "± ", strlen("± ")) == 0)
+        s += strlen("± ");
+    if (strcmp(s, "—") == 0 || strcmp(s, "-") == 0)
+        return 1;
+    char *end;
+    strtod(s, &end);
+    if (end == s)
+        return 0;
+    while (*end == ' ')
+        end++;
+    /* a number may be followed by a short unit */
+    return strlen(end) <= 8 && !strchr(end, ' ');
+}
+
 /* Inline the SVG, dropping its XML prolog (not allowed inside HTML). */
 static int inline_svg(FILE *out, const char *dir, const char *file)
 {
@@ -222,8 +240,8 @@ int rdoc_write_html(const struct rdoc *d, const char *path, struct err *e)
     fputs("</title>\n<style>\n"
           "body{font-family:sans-serif;max-width:60em;margin:2em auto;padding:0 1em;color:#222}\n"
           "table{border-collapse:collapse;margin:1em 0}\n"
-          "th,td{border:1px solid #bbb;padding:.25em .6em;text-align:right}\n"
-          "th{background:#eee}\ntd:first-child,th:first-child{text-align:left}\n"
+          "th,td{border:1px solid #bbb;padding:.25em .6em;text-align:left;vertical-align:top}\n"
+          "th{background:#eee}\ntd.n{text-align:right;white-space:nowrap}\n"
           "figure{margin:1.5em 0}figcaption{font-style:italic;color:#555}\n"
           ".flag{color:#b00;font-weight:bold}\n"
           "</style>\n</head>\n<body>\n<h1>",
@@ -248,7 +266,9 @@ int rdoc_write_html(const struct rdoc *d, const char *path, struct err *e)
             for (int r = 0; r <= b->nrows; r++) {
                 fputs("<tr>", f);
                 for (int c = 0; c < b->ncols; c++) {
-                    fputs(r ? "<td>" : "<th>", f);
+                    fputs(r ? (is_number(b->cells[r * b->ncols + c]) ? "<td class=\"n\">" : "<td>")
+                            : "<th>",
+                          f);
                     html_text(f, b->cells[r * b->ncols + c]);
                     fputs(r ? "</td>" : "</th>", f);
                 }

@@ -680,6 +680,65 @@ static int read_metrics(struct study *s, struct cfg_obj *root, struct err *e)
     return 0;
 }
 
+/* --- report settings against the study ------------------------------------ */
+
+static int swept(const struct study *s, const char *path)
+{
+    for (int i = 0; i < s->naxes; i++)
+        if (strcmp(s->axes[i].path, path) == 0)
+            return 1;
+    return 0;
+}
+
+/* Whether a metric may be recorded: listed, or the study records all. */
+static int recorded(const struct study *s, const char *metric)
+{
+    if (!s->metrics)
+        return 1;
+    for (int i = 0; i < s->nmetrics; i++)
+        if (strcmp(s->metrics[i], metric) == 0)
+            return 1;
+    return 0;
+}
+
+static int check_report(const struct study *s, struct err *e)
+{
+    const struct report_spec *r = &s->report;
+    if (r->res_mode == RES_AXIS && (!swept(s, r->res_axis) || strcmp(r->res_axis, "seed") == 0))
+        return fail_at(s, "report.resolution", e, "'%s' is not a swept key of this study",
+                       r->res_axis);
+    for (int i = 0; i < r->nmetrics; i++)
+        if (!recorded(s, r->metrics[i]))
+            return fail_at(s, "report.metrics", e, "'%s' is not among the study's metrics",
+                           r->metrics[i]);
+    for (int i = 0; i < r->naxes; i++)
+        if (!swept(s, r->axes[i].path)) {
+            char w[STUDY_WHERE_MAX];
+            snprintf(w, sizeof w, "report.axes.%s", r->axes[i].path);
+            return fail_at(s, w, e, "'%s' is not a swept key of this study", r->axes[i].path);
+        }
+    for (int i = 0; i < r->nfits; i++) {
+        const struct rspec_fit *f = &r->fits[i];
+        if (!recorded(s, f->metric))
+            return fail_at(s, f->where, e, "metric '%s' is not among the study's metrics",
+                           f->metric);
+        if (!swept(s, f->against) && !(s->metrics && recorded(s, f->against)) && s->metrics)
+            return fail_at(s, f->where, e, "against: '%s' is neither a swept key nor one of the "
+                                           "study's metrics",
+                           f->against);
+        if (f->along[0] && !swept(s, f->along))
+            return fail_at(s, f->where, e, "along: '%s' is not a swept key of this study",
+                           f->along);
+    }
+    for (int i = 0; i < r->ntols; i++)
+        if (!recorded(s, r->tols[i].metric)) {
+            char w[STUDY_WHERE_MAX];
+            snprintf(w, sizeof w, "regress.tolerances.%s", r->tols[i].metric);
+            return fail_at(s, w, e, "'%s' is not among the study's metrics", r->tols[i].metric);
+        }
+    return 0;
+}
+
 static int study_read(struct study *s, struct err *e)
 {
     struct cfg c = {s->file, s->locs, e, s->dir, 1};
@@ -734,7 +793,8 @@ static int study_read(struct study *s, struct err *e)
         (rc = cfg_real(&root, "timeout", 0.0, CFG_GE(0), &s->timeout)) ||
         (rc = cfg_int(&root, "retries", 0, CFG_RANGE(0, 100), &s->retries)))
         return rc;
-    /* issue 8 (reports) reads its settings here */
+    if ((rc = report_spec_read(&root, &s->report)) || (rc = check_report(s, e)))
+        return rc;
     return cfg_close(&root);
 }
 
@@ -782,6 +842,7 @@ void study_free(struct study *s)
     for (int i = 0; i < s->nmetrics; i++)
         free(s->metrics[i]);
     free(s->metrics);
+    report_spec_free(&s->report);
     memset(s, 0, sizeof *s);
 }
 

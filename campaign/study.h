@@ -18,6 +18,8 @@
  *   threads: 1                         # --threads of each job
  *   timeout: 600                       # seconds per job (0: none)
  *   retries: 1                         # extra attempts after failed/crashed/timeout
+ *   report: {...}                      # report and regression settings (report_spec.h)
+ *   regress: {...}
  *
  * Every error names the file, line and column and the study key.
  */
@@ -28,6 +30,7 @@
 #include <stddef.h>
 
 #include "docpath.h"
+#include "report_spec.h"
 #include "util/err.h"
 #include "util/locmap.h"
 
@@ -99,6 +102,7 @@ struct study {
     double timeout;                /* seconds, 0: none */
     long retries;
     long njobs;                    /* sweep jobs (product of group_len) */
+    struct report_spec report;     /* the `report` and `regress` sections */
 };
 
 int study_load(struct study *s, const char *path, struct err *e);

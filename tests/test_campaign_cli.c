@@ -17,7 +17,8 @@
 
 Test(campaign_cli, help_on_every_command)
 {
-    const char *cmds[] = {"plan", "run", "status", "query", "show", "export", "retry", NULL};
+    const char *cmds[] = {"plan",  "run",   "status", "query",  "show",
+                          "export", "retry", "report", "regress", NULL};
     char out[8192];
     cr_assert_eq(ct_cascade("/tmp", NULL, out, sizeof out, "--help", NULL), 0);
     for (int i = 0; cmds[i]; i++) {

@@ -266,7 +266,7 @@ Test(campaign_study, shipped_studies_expand)
         long njobs;
         int nprep;
     } studies[] = {{"studies/demo.yaml", 7, 1}, {"studies/md_timestep.yaml", 13, 1},
-                   {"studies/sc_cutoff.yaml", 6, 0}};
+                   {"studies/sc_cutoff.yaml", 6, 0}, {"studies/nightly.yaml", 8, 0}};
     for (size_t i = 0; i < sizeof studies / sizeof studies[0]; i++) {
         char path[1024];
         snprintf(path, sizeof path, "%s/%s", th_root(), studies[i].file);

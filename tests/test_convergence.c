@@ -94,8 +94,13 @@ Test(report, figure_table_markdown_html)
 {
     const char *dir = th_temp_dir();
     double x[3] = {2, 4, 8}, y[3] = {3846, 3801, 3650};
-    struct plot_spec ps = {"wave speed", "cell edge h (Å)", "wave speed (m/s)", 0, 0, 1,
-                           {{"DPD/MPM-grid", x, y, 3, PLOT_LINESPOINTS}}, "3846", "DPD-only"};
+    struct plot_spec ps = {.title = "wave speed",
+                           .xlabel = "cell edge h (Å)",
+                           .ylabel = "wave speed (m/s)",
+                           .nseries = 1,
+                           .series = {{"DPD/MPM-grid", x, y, 3, PLOT_LINESPOINTS}},
+                           .overlay = "3846",
+                           .overlay_label = "DPD-only"};
     char svg[1024];
     snprintf(svg, sizeof svg, "%s/fig.svg", dir);
     struct err e = {0};
@@ -120,7 +125,7 @@ Test(report, figure_table_markdown_html)
     fclose(f);
     cr_assert(strstr(buf, "<svg") && !strstr(buf, "<?xml"), "SVG must be inline without prolog");
     cr_assert(strstr(buf, "Study &lt;x&gt; &amp; y"));
-    cr_assert(strstr(buf, "<td>3801</td>"));
+    cr_assert(strstr(buf, "<td class=\"n\">3801</td>"), "numbers are right-aligned cells");
     f = fopen(md, "r");
     n = fread(buf, 1, sizeof buf - 1, f);
     buf[n] = '\0';
