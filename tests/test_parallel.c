@@ -33,6 +33,10 @@ Test(parallel, two_ranks_match_serial, .timeout = 300)
     snprintf(d2, sizeof d2, "%s/mpi", th_temp_dir());
     const char *a1[] = {th_solver(), "run", path, "--out", d1, "--quiet", NULL};
     cr_assert_eq(th_run(a1, out, sizeof out), 0, "%s", out);
+    /* Open MPI's dlopen'ed components leak at exit and cannot be named in
+     * a suppression (their modules are unloaded); the serial runs keep leak
+     * checking for our code */
+    setenv("ASAN_OPTIONS", "detect_leaks=0", 1);
     const char *a2[] = {"/usr/bin/mpirun", "-np", "2", "--oversubscribe", th_solver(), "run", path,
                         "--out", d2, "--quiet", NULL};
     cr_assert_eq(th_run(a2, out, sizeof out), 0, "%s", out);
