@@ -41,16 +41,17 @@ Test(campaign_concurrent, two_runners_never_run_a_job_twice, .timeout = 90)
 
 Test(campaign_concurrent, heartbeats_keep_long_jobs, .timeout = 90)
 {
-    /* jobs of 1.6 s under 1 s leases: only the heartbeats (every third of the
-     * lease) stop the second runner from taking over jobs the first still runs */
+    /* jobs of 3.2 s under 2 s leases: only the heartbeats (every third of the
+     * lease) stop the second runner from taking over jobs the first still
+     * runs (2 s leaves room for a heavily loaded machine) */
     char dir[64];
     ct_mkdir(dir, sizeof dir);
     ct_write(0, dir, "long.yaml",
              "name: long\n"
-             "base: {fake: {action: sleep, seconds: 1.6}}\n"
+             "base: {fake: {action: sleep, seconds: 3.2}}\n"
              "sweep: {grid: {fake.x: [1, 2, 3, 4]}}\n");
     const char *argv[] = {ct_cascade_bin(), "run", "long.yaml", "--solver", ct_standin(),
-                          "--jobs", "2", "--lease", "1", "--quiet", NULL};
+                          "--jobs", "2", "--lease", "2", "--quiet", NULL};
     pid_t a = ct_spawn(dir, NULL, argv, "a.log");
     pid_t b = ct_spawn(dir, NULL, argv, "b.log");
     cr_assert_eq(ct_wait(a), 0, "runner a failed (see %s/a.log)", dir);
