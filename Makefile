@@ -111,7 +111,7 @@ else
   Q := @
 endif
 
-$(OBJDIR)/%.o: %.c $(GEN_PROV)
+$(OBJDIR)/%.o: %.c | $(GEN_PROV)
 	@mkdir -p $(dir $@)
 	@$(if $(Q),echo "  CC      $<")
 	$(Q)$(CC) $(CFLAGS) -c $< -o $@
