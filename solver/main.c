@@ -313,9 +313,13 @@ static int cmd_run(int argc, char **argv)
             cr.type->particles(cr.state), (int)threads, out);
     rc = cr.type->run(cr.state, &run, &e);
     long steps = 0;
-    json_t *st = json_object_get(json_object_get(cd.doc, "md"), "steps");
-    if (json_is_integer(st))
-        steps = (long)json_integer_value(st);
+    if (cr.type->steps) {
+        steps = cr.type->steps(cr.state);
+    } else {
+        json_t *st = json_object_get(json_object_get(cd.doc, "md"), "steps");
+        if (json_is_integer(st))
+            steps = (long)json_integer_value(st);
+    }
     const char *status = rc == 0 ? "ok" : rc == ERR_DIVERGED ? "diverged" : "failed";
     struct err e2 = {0};
     int rc2 = run_close(&run, status, rc ? e.msg : NULL, steps, cr.type->particles(cr.state), &e2);

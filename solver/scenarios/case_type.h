@@ -35,6 +35,8 @@ struct case_type {
     void (*destroy)(void *state);
     /* Particle count for timing reports. */
     long (*particles)(const void *state);
+    /* Steps the run takes, for timing reports; NULL: the `md.steps` key. */
+    long (*steps)(const void *state);
 };
 
 extern const struct case_type *const case_types[];   /* NULL-terminated */

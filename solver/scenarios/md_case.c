@@ -198,5 +198,5 @@ static long md_case_particles(const void *state)
 
 const struct case_type md_case_type = {
     "md", "molecular dynamics of one crystal or configuration (NVE or thermostatted)",
-    md_case_read, md_case_run, md_case_destroy, md_case_particles,
+    md_case_read, md_case_run, md_case_destroy, md_case_particles, NULL,
 };

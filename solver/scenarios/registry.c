@@ -5,10 +5,12 @@
 
 extern const struct case_type md_case_type;
 extern const struct case_type crystal_case_type;
+extern const struct case_type mpm_case_type;
 
 const struct case_type *const case_types[] = {
     &md_case_type,
     &crystal_case_type,
+    &mpm_case_type,
     NULL,
 };
 
