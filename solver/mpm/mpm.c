@@ -14,7 +14,7 @@ int mpm_init(struct mpm *m, struct mpm_grid *grid, int nstate, int nthreads, str
     m->grid = *grid;
     memset(grid, 0, sizeof *grid);
     m->algorithm = MPM_MUSL;
-    m->small_mass_rel = 1e-9;
+    m->small_mass_rel = 1e-12;
     m->fext_scale = 1.0;
     m->sort_every = 20;
     m->nthreads = nthreads > 0 ? nthreads : 1;

@@ -20,23 +20,30 @@ static inline void mpm_point_stress(const struct mpm_material *mat, const double
                     0.5 * (L[2] + L[6]) * dt, 0.5 * (L[5] + L[7]) * dt};
     double s_old[6] = {s[0], s[1], s[2], s[3], s[4], s[5]};
     if (mat->jaumann) {
-        /* Jaumann rate: sigma += (W sigma - sigma W) dt, W = skew(L) */
-        double w01 = 0.5 * (L[1] - L[3]) * dt, w02 = 0.5 * (L[2] - L[6]) * dt,
-               w12 = 0.5 * (L[5] - L[7]) * dt;
-        /* M = W sigma with W = [[0, w01, w02], [-w01, 0, w12], [-w02, -w12, 0]] */
-        double M00 = w01 * s[3] + w02 * s[4], M01 = w01 * s[1] + w02 * s[5],
-               M02 = w01 * s[5] + w02 * s[2];
-        double M10 = -w01 * s[0] + w12 * s[4], M11 = -w01 * s[3] + w12 * s[5],
-               M12 = -w01 * s[4] + w12 * s[2];
-        double M20 = -w02 * s[0] - w12 * s[3], M21 = -w02 * s[3] - w12 * s[1],
-               M22 = -w02 * s[4] - w12 * s[5];
-        /* W sigma - sigma W = M + M^T */
-        s[0] += 2 * M00;
-        s[1] += 2 * M11;
-        s[2] += 2 * M22;
-        s[3] += M01 + M10;
-        s[4] += M02 + M20;
-        s[5] += M12 + M21;
+        /* Jaumann rate integrated as Hughes & Winget (1980): sigma <- Q sigma Q^T
+         * with Q = (I - W/2)^-1 (I + W/2), W = skew(L) dt.  Q is exactly
+         * orthogonal, so the invariants survive any rotation; for a skew
+         * matrix with axial vector a (of W/2), Q = I + 2 (A + A^2) / (1 + a.a)
+         * and A^2 = a a^T - (a.a) I. */
+        double a0 = -0.25 * (L[5] - L[7]) * dt;   /* a = axial(W) / 2 */
+        double a1 = 0.25 * (L[2] - L[6]) * dt;
+        double a2 = -0.25 * (L[1] - L[3]) * dt;
+        double aa = a0 * a0 + a1 * a1 + a2 * a2, k = 2.0 / (1.0 + aa);
+        double Q[9] = {1 + k * (a0 * a0 - aa), k * (-a2 + a0 * a1), k * (a1 + a0 * a2),
+                       k * (a2 + a1 * a0), 1 + k * (a1 * a1 - aa), k * (-a0 + a1 * a2),
+                       k * (-a1 + a2 * a0), k * (a0 + a2 * a1), 1 + k * (a2 * a2 - aa)};
+        double S[9] = {s[0], s[3], s[4], s[3], s[1], s[5], s[4], s[5], s[2]};
+        double T[9];   /* T = Q S */
+        for (int i = 0; i < 3; i++)
+            for (int j = 0; j < 3; j++)
+                T[3 * i + j] = Q[3 * i] * S[j] + Q[3 * i + 1] * S[3 + j] + Q[3 * i + 2] * S[6 + j];
+        /* sigma = T Q^T */
+        s[0] = T[0] * Q[0] + T[1] * Q[1] + T[2] * Q[2];
+        s[1] = T[3] * Q[3] + T[4] * Q[4] + T[5] * Q[5];
+        s[2] = T[6] * Q[6] + T[7] * Q[7] + T[8] * Q[8];
+        s[3] = T[0] * Q[3] + T[1] * Q[4] + T[2] * Q[5];
+        s[4] = T[0] * Q[6] + T[1] * Q[7] + T[2] * Q[8];
+        s[5] = T[3] * Q[6] + T[4] * Q[7] + T[5] * Q[8];
     }
     mat->ops->update(mat, s, de, state);   /* Eq. (s14) */
     for (int k = 0; k < 6; k++)

@@ -159,6 +159,33 @@ static int mpm_type_run(void *state, struct run *run, struct err *e)
         if (isfinite(ke_report[k]))
             result_metric(res, name, ke_report[k] / u->energy, u->energy_name);
     }
+    /* mass-weighted mean velocity of every deformable body */
+    for (int b = 0; b < m->nbody; b++) {
+        if (m->body[b].rigid)
+            continue;
+        double mb = 0, pb[3] = {0, 0, 0};
+        for (long i = 0; i < m->pts.n; i++) {
+            if (m->pts.body[i] != b)
+                continue;
+            mb += m->pts.mass[i];
+            for (int d = 0; d < 3; d++)
+                pb[d] += m->pts.mass[i] * m->pts.v[3 * i + d];
+        }
+        for (int d = 0; d < 3; d++) {
+            char name[64];
+            snprintf(name, sizeof name, "%s_velocity_%c", m->body[b].name, "xyz"[d]);
+            result_metric(res, name, mb > 0 ? pb[d] / mb / u->velocity : 0, u->velocity_name);
+        }
+    }
+    for (int k = 0; k < c->nprobes; k++) {
+        double sg[6], disp[3];
+        mpm_probe_means(c, k, sg, disp);
+        char name[64];
+        snprintf(name, sizeof name, "%s_sxx", c->probe[k].name);
+        result_metric(res, name, sg[0] / u->stress, u->stress_name);
+        snprintf(name, sizeof name, "%s_ux", c->probe[k].name);
+        result_metric(res, name, disp[0] / u->length, u->length_name);
+    }
     for (int b = 0; b < m->nbody; b++) {
         if (!m->body[b].rigid)
             continue;

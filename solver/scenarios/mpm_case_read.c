@@ -26,7 +26,7 @@
  *       - {region: {...}, normal: x, traction: [tx, ty, tz]}
  *     load_ramp: 0                 time to reach the full traction (0: step load)
  *     algorithm: musl | usl
- *     small_mass: 1e-9             nodes lighter than this fraction of the lightest
+ *     small_mass: 1e-12            nodes lighter than this fraction of the lightest
  *                                  point are skipped (Chen 2014)
  *     damping: 0                   nodal velocity damping (1/time)
  *     steps: 1000
@@ -421,7 +421,7 @@ int mpm_case_read(struct cfg_obj *root, const struct case_common *common, struct
     double small, damping, ramp, dt, cfl, max_de;
     if ((rc = cfg_real(&mo, "load_ramp", 0.0, CFG_GE(0), &ramp)) ||
         (rc = cfg_enum(&mo, "algorithm", "musl", algos, &algo)) ||
-        (rc = cfg_real(&mo, "small_mass", 1e-9, CFG_RANGE(0, 0.5), &small)) ||
+        (rc = cfg_real(&mo, "small_mass", 1e-12, CFG_RANGE(0, 0.5), &small)) ||
         (rc = cfg_real(&mo, "damping", 0.0, CFG_GE(0), &damping)) ||
         (rc = cfg_int(&mo, "steps", 1000, CFG_GE(0), &c->steps)) ||
         (rc = cfg_real(&mo, "timestep", 0.0, CFG_GE(0), &dt)) ||
