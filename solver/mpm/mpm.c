@@ -17,7 +17,10 @@ int mpm_init(struct mpm *m, struct mpm_grid *grid, int nstate, int nthreads, str
     m->small_mass_rel = 1e-12;
     m->fext_scale = 1.0;
     m->sort_every = 20;
+    m->fuse = 1;
     m->nthreads = nthreads > 0 ? nthreads : 1;
+    for (int s = 0; s <= MPM_MAX_EXTRA; s++)
+        m->bins[s].blk_step = -1;
     return mpm_points_init(&m->pts, nstate, e);
 }
 
@@ -29,6 +32,7 @@ static void bins_free(struct mpm_bins *b)
     free(b->start);
     free(b->count);
     memset(b, 0, sizeof *b);
+    b->blk_step = -1;
 }
 
 void mpm_free(struct mpm *m)
@@ -100,6 +104,7 @@ int mpm_prepare(struct mpm *m, struct err *e)
         m->body[m->pts.body[p]].npoints++;
     }
     m->vmax = sqrt(v2);
+    mpm_points_moved(m);
     struct mpm_totals t;
     mpm_totals(m, &t);
     m->ke = t.kinetic;
@@ -171,6 +176,12 @@ int mpm_views(struct mpm *m, struct mpm_view *views)
         w->bins = &m->bins[1 + i];
     }
     return 1 + m->nextra;
+}
+
+int mpm_fusable(const struct mpm *m)
+{
+    return m->fuse && m->grid.kind == MPM_GRID_UNIFORM && m->grid.shape == MPM_SHAPE_LINEAR &&
+           m->nextra == 0 && !m->pts.fext;
 }
 
 double mpm_stable_dt(const struct mpm *m)

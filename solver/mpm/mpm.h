@@ -96,6 +96,8 @@ struct mpm_bins {
     long *start;       /* nblocks + 1 offsets into order        */
     long *count;       /* nthreads x nblocks counters           */
     long count_cap;
+    long blk_step;     /* blk already holds the blocks for this step (set by
+                          mpm_update_particles on the linear fast path), or -1 */
 };
 
 struct mpm {
@@ -117,6 +119,12 @@ struct mpm {
     double fext_scale;       /* multiplies the points' external forces         */
     int sort_every;          /* steps between reorders of the points (0: never) */
     int nthreads;
+    int fuse;                /* let mpm_step fuse s1-s3 of the next step into s7-s14
+                                (linear shape functions, uniform grid, no extra sets,
+                                no point loads); results equal to round-off */
+    int fused_ready;         /* the grid already holds s1-s3 of the coming step */
+    int grid_fresh;          /* grid.node holds a fresh mapping (s1-s3), not the
+                                updated velocities and accelerations (s5) */
 
     long step;
     double time;             /* ps */
@@ -150,6 +158,15 @@ int mpm_prepare(struct mpm *m, struct err *e);
 int mpm_attach(struct mpm *m, struct mpm_extra *x, struct err *e);
 void mpm_detach(struct mpm *m, struct mpm_extra *x);
 
+/* Code that changes the material points between steps (positions,
+ * velocities, stresses, masses; other than through the stages) must call
+ * this (or mpm_prepare), so the next step locates and maps them afresh. */
+static inline void mpm_points_moved(struct mpm *m)
+{
+    m->bins[0].blk_step = -1;
+    m->fused_ready = 0;
+}
+
 /* --- stages (see the top of this file) ----------------------------------- */
 int mpm_locate_particles(struct mpm *m, struct err *e);
 void mpm_clear_grid(struct mpm *m);
@@ -158,6 +175,11 @@ void mpm_update_grid(struct mpm *m, double dt);
 void mpm_map_to_particles(struct mpm *m, double dt);
 void mpm_update_grid_velocity(struct mpm *m);
 void mpm_update_particles(struct mpm *m, double dt);
+/* mpm_update_particles plus s1-s3 of the next step for the material points,
+ * into the grid's second buffer, which then becomes the grid; requires the
+ * conditions of m->fuse (see mpm_fusable). */
+void mpm_update_particles_and_map(struct mpm *m, double dt);
+int mpm_fusable(const struct mpm *m);
 
 /* One whole step; ERR_DIVERGED when a particle leaves the grid or a value
  * is not finite. */

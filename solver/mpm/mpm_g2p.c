@@ -17,6 +17,7 @@
 
 #include "core/units.h"
 #include "mpm/mpm_linear.h"
+#include "mpm/mpm_p2g_lin.h"
 #include "mpm/mpm_stress.h"
 #include "mpm/mpm_view.h"
 
@@ -240,10 +241,24 @@ update_particle(const struct mpm *m, const struct mpm_view *w, long p, const int
 }
 
 /* Linear fast path of s7-s8 and s12-s14 for the material points. */
+/* Block of the point's new position for the next step (s9), -1 outside. */
+static inline long next_block(const struct mpm_grid *g, const double *x)
+{
+    long key = 0;
+    for (int d = 0; d < 3; d++) {
+        double u = (x[d] - g->origin[d]) * g->inv_h - (double)g->lo[d];
+        if (!(u >= 0) || u >= (double)(g->nn[d] - 1))
+            return -1;
+        if (d == g->slab_axis)
+            key = (long)u;
+    }
+    return key >> g->slab_shift;
+}
+
 static inline __attribute__((always_inline)) void
 update_point_linear(const struct mpm *m, long p, double dt, const double *vel,
                     const struct mpm_node *node, const long s1, const long s2, const int musl,
-                    struct mpm_points *pts)
+                    struct mpm_points *pts, int32_t *blk)
 {
     double *x = pts->x + 3 * p;
     const struct mpm_body *body = &m->body[pts->body[p]];
@@ -251,6 +266,7 @@ update_point_linear(const struct mpm *m, long p, double dt, const double *vel,
         x[0] += body->velocity[0] * dt;
         x[1] += body->velocity[1] * dt;
         x[2] += body->velocity[2] * dt;
+        blk[p] = (int32_t)next_block(&m->grid, x);
         return;
     }
     struct mpm_lin st;
@@ -285,6 +301,7 @@ update_point_linear(const struct mpm *m, long p, double dt, const double *vel,
     x[0] += vb[1] * dt;   /* Eq. (s8) */
     x[1] += vb[2] * dt;
     x[2] += vb[3] * dt;
+    blk[p] = (int32_t)next_block(&m->grid, x);
     const int o = musl ? 0 : 1;   /* USL: velocities sit in lanes 1-3 of [m v] */
     double lc[3][4];
     memcpy(lc[0], &Lx, sizeof lc[0]);
@@ -306,21 +323,25 @@ update_all(struct mpm *m, const struct mpm_view *views, int nv, double dt, const
     const long s1 = m->grid.stride[1], s2 = m->grid.stride[2];
     m->strain_before = m->strain;
     double se = 0;
+    struct mpm_bins *b0 = &m->bins[0];
+    int32_t *blk = b0->blk;   /* sized by mpm_locate_particles, which runs first */
     for (int s = 0; s < nv; s++) {
         const struct mpm_view *w = &views[s];
         long n = w->n;
         if (kind == MPM_ST_LINEAR && s == 0 && vel) {
 #pragma omp parallel for schedule(static) num_threads(m->nthreads) reduction(+ : se)
             for (long p = 0; p < n; p++) {
-                update_point_linear(m, p, dt, vel, node, s1, s2, 1, pts);
+                update_point_linear(m, p, dt, vel, node, s1, s2, 1, pts, blk);
                 se += pts->eint[p];
             }
+            b0->blk_step = m->step + 1;
         } else if (kind == MPM_ST_LINEAR && s == 0) {
 #pragma omp parallel for schedule(static) num_threads(m->nthreads) reduction(+ : se)
             for (long p = 0; p < n; p++) {
-                update_point_linear(m, p, dt, vel, node, s1, s2, 0, pts);
+                update_point_linear(m, p, dt, vel, node, s1, s2, 0, pts, blk);
                 se += pts->eint[p];
             }
+            b0->blk_step = m->step + 1;
         } else if (s == 0) {
 #pragma omp parallel for schedule(static) num_threads(m->nthreads) reduction(+ : se)
             for (long p = 0; p < n; p++) {
@@ -351,4 +372,96 @@ void mpm_update_particles(struct mpm *m, double dt)
         update_all(m, views, nv, dt, MPM_ST_HIER);
         break;
     }
+}
+
+/* The fused pass: s7-s14 of this step for every material point and,
+ * straight after, its s1-s3 contribution for the next step at its new
+ * position into the grid's second buffer.  It saves a pass over the points.
+ * Threads take slabs of one colour at a time as in mpm_p2g.c: slabs are 4
+ * cells wide and a point moves less than a cell per step (the CFL limit),
+ * so slabs of one colour still share no node. */
+void mpm_update_particles_and_map(struct mpm *m, double dt)
+{
+    struct mpm_grid *g = &m->grid;
+    if (!g->node_next) {
+        g->node_next = aligned_alloc(64, ((size_t)g->nnodes * sizeof *g->node_next + 63) / 64 * 64);
+        if (!g->node_next) {   /* no memory for a second buffer: the unfused way */
+            mpm_update_particles(m, dt);
+            return;
+        }
+    }
+    struct mpm_node *next = g->node_next;
+    long nn = g->nnodes;
+#pragma omp parallel for schedule(static) num_threads(m->nthreads)
+    for (long i = 0; i < nn; i++)
+        memset(&next[i], 0, sizeof next[i]);
+    struct mpm_view views[1 + MPM_MAX_EXTRA];
+    mpm_views(m, views);
+    const struct mpm_view *w = &views[0];
+    const struct mpm_node *node = g->node;
+    const double *vel = m->algorithm == MPM_MUSL ? g->r : NULL;
+    struct mpm_points *pts = &m->pts;
+    const long s1 = g->stride[1], s2 = g->stride[2];
+    struct mpm_bins *b0 = &m->bins[0];
+    int32_t *blk = b0->blk;
+    long off[8];
+    mpm_lin_offsets(g, off);
+    m->strain_before = m->strain;
+    double se = 0;
+    int far = 0;   /* a point moved too far for the colouring: map afresh next step */
+    const int ax = g->slab_axis;
+    const long width = g->bw[ax];
+#pragma omp parallel num_threads(m->nthreads) reduction(+ : se) reduction(| : far)
+    for (int c = 0; c < MPM_COLOURS; c++) {
+        if (g->ncolour[c] == 0)
+            continue;
+#pragma omp for schedule(dynamic, 1)
+        for (long bi = 0; bi < g->ncolour[c]; bi++) {
+            long b = g->colour_block[c][bi];
+            /* keys this slab may map to: its own and one cell either side */
+            long kmin = b * width - 1, kmax = (b + 1) * width;
+            const int32_t *idx = b0->order + b0->start[b];
+            long count = b0->start[b + 1] - b0->start[b];
+            mpm_v4 A[8] = {{0}}, B[8] = {{0}};
+            double aux[8] = {0};
+            long cur = -1;
+            for (long k = 0; k < count; k++) {
+                long p = idx[k];
+                if (vel)
+                    update_point_linear(m, p, dt, vel, node, s1, s2, 1, pts, blk);
+                else
+                    update_point_linear(m, p, dt, vel, node, s1, s2, 0, pts, blk);
+                se += pts->eint[p];
+                if (blk[p] < 0)
+                    continue;   /* left the grid: the next step reports it */
+                long key = (long)((pts->x[3 * p + ax] - g->origin[ax]) * g->inv_h - g->lo[ax]);
+                if (key < kmin || key > kmax) {
+                    far = 1;
+                    continue;
+                }
+                struct mpm_lin st;
+                mpm_lin_eval(g, pts->x + 3 * p, &st);
+                if (st.base != cur) {
+                    if (cur >= 0)
+                        p2g_flush(next, cur, off, A, B, aux);
+                    cur = st.base;
+#pragma GCC unroll 8
+                    for (int q = 0; q < 8; q++) {
+                        A[q] = (mpm_v4){0, 0, 0, 0};
+                        B[q] = (mpm_v4){0, 0, 0, 0};
+                        aux[q] = 0;
+                    }
+                }
+                p2g_lin_add(m, w, p, &st, 1, 1, 0, A, B, aux);   /* Eqs. (s1)-(s3a) */
+            }
+            if (cur >= 0)
+                p2g_flush(next, cur, off, A, B, aux);
+        }
+    }
+    m->strain = se;
+    b0->blk_step = m->step + 1;
+    g->node_next = g->node;
+    g->node = next;
+    m->fused_ready = !far;
+    m->grid_fresh = !far;
 }

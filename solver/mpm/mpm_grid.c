@@ -90,8 +90,10 @@ int mpm_grid_init_uniform(struct mpm_grid *g, const double origin[3], double h,
     for (int d = 0; d < 3; d++)
         nkeys[d] = shape == MPM_SHAPE_GIMP ? ncell[d] + 1 : ncell[d];
     /* keys: linear, the cell (nodes key..key+1); GIMP, base node + 1 (nodes
-     * key-1..key+1) */
-    return make_blocks(g, nkeys, 2, e);
+     * key-1..key+1).  Linear slabs are 4 cells wide so that a point may move
+     * by less than a cell within a step and still map into its slab's nodes
+     * (the fused update-and-map pass, mpm_step) */
+    return make_blocks(g, nkeys, shape == MPM_SHAPE_LINEAR ? 4 : 2, e);
 }
 
 int mpm_grid_init_hier(struct mpm_grid *g, struct mpm_hgrid *hg, struct err *e)
@@ -121,6 +123,7 @@ int mpm_grid_init_hier(struct mpm_grid *g, struct mpm_hgrid *hg, struct err *e)
 void mpm_grid_free(struct mpm_grid *g)
 {
     free(g->node);
+    free(g->node_next);
     free(g->r);
     free(g->bc_node);
     free(g->bc_bits);
@@ -232,7 +235,8 @@ void mpm_grid_clear(struct mpm_grid *g, int nthreads)
 
 double mpm_grid_bytes(const struct mpm_grid *g)
 {
-    double b = (double)g->nnodes * (sizeof(struct mpm_node) + 4 * sizeof(double));
+    double b = (double)g->nnodes * ((g->node_next ? 2 : 1) * sizeof(struct mpm_node) +
+                                    4 * sizeof(double));
     b += (double)g->nbc * (sizeof(int32_t) + 1);
     if (g->hg)
         b += (double)g->hg->ncell * sizeof(struct mpm_hcell) +

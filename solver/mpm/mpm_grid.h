@@ -64,6 +64,7 @@ struct mpm_grid {
     /* node store */
     long nnodes;
     struct mpm_node *node;
+    struct mpm_node *node_next;  /* second buffer of the fused pass (mpm_step), or NULL */
     double *r;                   /* 4 per node (r0 r1 r2 0): remapped momentum, then the
                                     velocity of s11; padded for vector access */
 

@@ -86,9 +86,12 @@ static int locate_set(struct mpm *m, struct mpm_view *w, int kind, long *bad, st
     struct mpm_bins *b = w->bins;
     long nb = g->nblocks, n = w->n;
     int nt = m->nthreads;
+    /* blocks already computed from the positions the last step produced? */
+    int known = b->blk_step == m->step && b->cap >= n && kind != MPM_ST_HIER;
     int rc = bins_reserve(b, n, kind == MPM_ST_HIER, nb, nt, e);
     if (rc)
         return rc;
+    b->blk_step = -1;
     long first_bad = n;
 #pragma omp parallel num_threads(nt) reduction(min : first_bad)
     {
@@ -98,7 +101,7 @@ static int locate_set(struct mpm *m, struct mpm_view *w, int kind, long *bad, st
         memset(cnt, 0, (size_t)nb * sizeof *cnt);
         for (long p = lo; p < hi; p++) {
             int32_t c = 0;
-            long blk = particle_block(m, w, p, kind, &c);
+            long blk = known ? b->blk[p] : particle_block(m, w, p, kind, &c);
             if (blk < 0) {
                 if (p < first_bad)
                     first_bad = p;

@@ -23,8 +23,13 @@ int mpm_step(struct mpm *m, double dt, struct err *e)
         tstop(m, TIMER_MPM_P2G);
         return rc;
     }
-    mpm_clear_grid(m);
-    mpm_map_to_grid(m, MPM_MAP_ALL);       /* s1-s3 */
+    int fused = mpm_fusable(m);
+    if (!(fused && m->fused_ready)) {
+        mpm_clear_grid(m);
+        mpm_map_to_grid(m, MPM_MAP_ALL);   /* s1-s3 (else done by the last step) */
+    }
+    m->fused_ready = 0;
+    m->grid_fresh = 0;
     tstop(m, TIMER_MPM_P2G);
     tstart(m, TIMER_MPM_GRID);
     mpm_update_grid(m, dt);                /* s4-s5 */
@@ -38,7 +43,10 @@ int mpm_step(struct mpm *m, double dt, struct err *e)
         tstop(m, TIMER_MPM_GRID);
     }
     tstart(m, TIMER_MPM_G2P);
-    mpm_update_particles(m, dt);           /* s7-s8, s12-s14 */
+    if (fused)
+        mpm_update_particles_and_map(m, dt);   /* s7-s8, s12-s14 and s1-s3 of the next step */
+    else
+        mpm_update_particles(m, dt);           /* s7-s8, s12-s14 */
     tstop(m, TIMER_MPM_G2P);
     m->time += dt;
     m->step++;

@@ -12,7 +12,7 @@
 #include "mpm/mpm_material.h"
 
 /* L is row-major: L[3a + b] = d v_a / d x_b. */
-static inline void mpm_point_stress(const struct mpm_material *mat, const double L[9], double dt,
+static inline __attribute__((always_inline)) void mpm_point_stress(const struct mpm_material *mat, const double L[9], double dt,
                                     double *s, double *eps, double *F, double *vol, double vol0,
                                     double *eint, double *state)
 {

@@ -38,7 +38,9 @@
  *     probes: [{name: p1, region: {...}}]   mean stress/displacement series
  *     output_grid: true            grid fields in the HDF5 snapshots
  *     max_energy_change: 1.0       relative change of the total energy that
- *                                  counts as divergence (0: no check)
+ *                                  counts as divergence, for closed systems (no
+ *                                  rigid body, load, damping or fixed/sliding
+ *                                  face); 0: no check
  */
 #include <math.h>
 #include <stdio.h>

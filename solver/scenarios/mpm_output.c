@@ -256,8 +256,10 @@ static int grid_snapshot(struct mpm_output *o, struct run *run, struct mpm_case 
     const struct mpm_units *u = &c->u;
     struct mpm *m = &c->m;
     const struct mpm_grid *g = &m->grid;
-    int fresh = m->step == 0;
-    if (fresh) {   /* nothing mapped yet: map the initial state (s1-s3) */
+    /* after a step the nodes hold the updated velocities and accelerations
+     * (s5), or, when mpm_step fused them, the fresh mapping of the next step */
+    int fresh = m->step == 0 || m->grid_fresh;
+    if (m->step == 0) {   /* nothing mapped yet: map the initial state (s1-s3) */
         int rc = mpm_locate_particles(m, e);
         if (rc)
             return rc;
