@@ -425,34 +425,44 @@ void mpm_update_particles_and_map(struct mpm *m, double dt)
             mpm_v4 A[8] = {{0}}, B[8] = {{0}};
             double aux[8] = {0};
             long cur = -1;
-            for (long k = 0; k < count; k++) {
-                long p = idx[k];
-                if (vel)
-                    update_point_linear(m, p, dt, vel, node, s1, s2, 1, pts, blk);
-                else
-                    update_point_linear(m, p, dt, vel, node, s1, s2, 0, pts, blk);
-                se += pts->eint[p];
-                if (blk[p] < 0)
-                    continue;   /* left the grid: the next step reports it */
-                long key = (long)((pts->x[3 * p + ax] - g->origin[ax]) * g->inv_h - g->lo[ax]);
-                if (key < kmin || key > kmax) {
-                    far = 1;
-                    continue;
+            /* chunks of points: update them (s7-s14), then map them while
+             * they are still in cache (s1-s3 of the next step); two light
+             * loops instead of one whose registers spill */
+            for (long k0 = 0; k0 < count; k0 += 256) {
+                long k1 = k0 + 256 < count ? k0 + 256 : count;
+                if (vel) {
+                    for (long k = k0; k < k1; k++)
+                        update_point_linear(m, idx[k], dt, vel, node, s1, s2, 1, pts, blk);
+                } else {
+                    for (long k = k0; k < k1; k++)
+                        update_point_linear(m, idx[k], dt, vel, node, s1, s2, 0, pts, blk);
                 }
-                struct mpm_lin st;
-                mpm_lin_eval(g, pts->x + 3 * p, &st);
-                if (st.base != cur) {
-                    if (cur >= 0)
-                        p2g_flush(next, cur, off, A, B, aux);
-                    cur = st.base;
-#pragma GCC unroll 8
-                    for (int q = 0; q < 8; q++) {
-                        A[q] = (mpm_v4){0, 0, 0, 0};
-                        B[q] = (mpm_v4){0, 0, 0, 0};
-                        aux[q] = 0;
+                for (long k = k0; k < k1; k++) {
+                    long p = idx[k];
+                    se += pts->eint[p];
+                    if (blk[p] < 0)
+                        continue;   /* left the grid: the next step reports it */
+                    long key =
+                        (long)((pts->x[3 * p + ax] - g->origin[ax]) * g->inv_h - g->lo[ax]);
+                    if (key < kmin || key > kmax) {
+                        far = 1;
+                        continue;
                     }
+                    struct mpm_lin st;
+                    mpm_lin_eval(g, pts->x + 3 * p, &st);
+                    if (st.base != cur) {
+                        if (cur >= 0)
+                            p2g_flush(next, cur, off, A, B, aux);
+                        cur = st.base;
+#pragma GCC unroll 8
+                        for (int q = 0; q < 8; q++) {
+                            A[q] = (mpm_v4){0, 0, 0, 0};
+                            B[q] = (mpm_v4){0, 0, 0, 0};
+                            aux[q] = 0;
+                        }
+                    }
+                    p2g_lin_add(m, w, p, &st, 1, 1, 0, A, B, aux);   /* Eqs. (s1)-(s3a) */
                 }
-                p2g_lin_add(m, w, p, &st, 1, 1, 0, A, B, aux);   /* Eqs. (s1)-(s3a) */
             }
             if (cur >= 0)
                 p2g_flush(next, cur, off, A, B, aux);

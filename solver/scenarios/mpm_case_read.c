@@ -34,6 +34,8 @@
  *     cfl: 0.5                     safety factor on h / (c + |v|max)
  *     adaptive: true               recompute the CFL step every step
  *     sort_every: 20               steps between reorders of the points
+ *     fuse: true                   fuse the next step's mapping into the update
+ *                                  pass where possible (same results to round-off)
  *     report_steps: []             steps whose kinetic energy becomes a metric
  *     probes: [{name: p1, region: {...}}]   mean stress/displacement series
  *     output_grid: true            grid fields in the HDF5 snapshots
@@ -418,7 +420,7 @@ int mpm_case_read(struct cfg_obj *root, const struct case_common *common, struct
         nloads++;
     }
     /* integration */
-    int algo, adaptive, output_grid;
+    int algo, adaptive, output_grid, fuse;
     long sort_every;
     double small, damping, ramp, dt, cfl, max_de;
     if ((rc = cfg_real(&mo, "load_ramp", 0.0, CFG_GE(0), &ramp)) ||
@@ -431,6 +433,7 @@ int mpm_case_read(struct cfg_obj *root, const struct case_common *common, struct
         (rc = cfg_bool(&mo, "adaptive", 1, &adaptive)) ||
         (rc = cfg_int(&mo, "sort_every", 20, CFG_GE(0), &sort_every)) ||
         (rc = cfg_bool(&mo, "output_grid", 1, &output_grid)) ||
+        (rc = cfg_bool(&mo, "fuse", 1, &fuse)) ||
         (rc = cfg_real(&mo, "max_energy_change", 1.0, CFG_GE(0), &max_de)))
         goto done;
     double *rs = NULL;
@@ -484,6 +487,7 @@ int mpm_case_read(struct cfg_obj *root, const struct case_common *common, struct
         c->m.small_mass_rel = small;
         c->m.damping = damping / u->time;
         c->m.sort_every = (int)sort_every;
+        c->m.fuse = fuse;
         rc = mpm_prepare(&c->m, cfg->err);
     }
     if (!rc) {
