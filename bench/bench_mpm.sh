@@ -6,7 +6,10 @@
 #   BENCH mpm_bytes_per_point        that memory per material point
 #   BENCH mpm_speedup_2_threads      loop time 1 thread / loop time 2 threads
 # Medians of REPEAT runs, 1- and 2-thread runs interleaved (the machine is
-# shared, load changes during the benchmark).  Run by bench/bench.sh with
+# shared, load changes during the benchmark).  Idle OpenMP threads wait
+# passively (OMP_WAIT_POLICY=passive unless set): on a busy machine a
+# spinning thread takes the core its partner needs; a step has about a
+# dozen barriers, so the cost on an idle machine is a few wake-ups per step.  Run by bench/bench.sh with
 # BIN, ROOT, WORK, REPEAT set; standalone: sh bench/bench_mpm.sh BINDIR.
 set -eu
 BIN=${BIN:-${1:?usage: bench_mpm.sh BINDIR}}
@@ -17,6 +20,7 @@ if [ -z "${WORK:-}" ]; then
     trap 'rm -rf "$WORK"' EXIT
 fi
 CASE="$ROOT/bench/cases/mpm_two_cubes.yaml"
+export OMP_WAIT_POLICY=${OMP_WAIT_POLICY:-passive}
 steps=500
 points=250000
 
@@ -43,6 +47,7 @@ echo "BENCH mpm_ns_per_particle_step $(echo "$t1 * 1000000000 / ($steps * $point
 echo "BENCH mpm_peak_rss_mib $(printf '%.1f' "$rss") MiB"
 echo "BENCH mpm_bytes_per_point $(echo "$rss * 1048576 / $points" | bc -l | xargs printf '%.0f') B"
 echo "BENCH mpm_speedup_2_threads $(echo "$t1 / $t2" | bc -l | xargs printf '%.2f') x"
+echo "mpm bench: load average $(cut -d' ' -f1-3 /proc/loadavg 2>/dev/null) on $(nproc) cores" >&2
 # the physics of the last 1-thread run, for the record
 last="$WORK/mpm_1_$REPEAT"
 echo "mpm reference: ke at steps 50, 100, 199, 500 = $(metric "$last" ke_step_50) $(metric "$last" ke_step_100) $(metric "$last" ke_step_199) $(metric "$last" ke_step_500) J; energy change $(metric "$last" energy_change)" >&2

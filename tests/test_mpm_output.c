@@ -89,6 +89,10 @@ Test(mpm_output, si_case_writes_points_grid_and_xdmf)
     cr_assert(rank == 2 && d[0] == 32 && d[1] == 3 && strcmp(unit, "m") == 0);
     dims_of(f, "/points/00000010/stress", &rank, d, unit);
     cr_assert(rank == 2 && d[1] == 6 && strcmp(unit, "Pa") == 0, "stress unit %s", unit);
+    dims_of(f, "/points/00000010/strain", &rank, d, unit);
+    cr_assert(rank == 2 && d[1] == 6 && strcmp(unit, "1") == 0);
+    dims_of(f, "/points/00000010/deformation_gradient", &rank, d, unit);
+    cr_assert(rank == 2 && d[1] == 9);
     dims_of(f, "/grid/00000010/velocity", &rank, d, unit);
     cr_assert(rank == 4 && d[0] == 4 && d[1] == 5 && d[2] == 9 && d[3] == 3, "grid dims");
     cr_assert_str_eq(unit, "m/s");

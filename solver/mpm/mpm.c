@@ -16,7 +16,7 @@ int mpm_init(struct mpm *m, struct mpm_grid *grid, int nstate, int nthreads, str
     m->algorithm = MPM_MUSL;
     m->small_mass_rel = 1e-12;
     m->fext_scale = 1.0;
-    m->sort_every = 20;
+    m->sort_every = 50;
     m->fuse = 1;
     m->nthreads = nthreads > 0 ? nthreads : 1;
     for (int s = 0; s <= MPM_MAX_EXTRA; s++)

@@ -235,7 +235,7 @@ update_particle(const struct mpm *m, const struct mpm_view *w, long p, const int
     double L[9] = {Lx[o], Ly[o], Lz[o], Lx[o + 1], Ly[o + 1], Lz[o + 1],
                    Lx[o + 2], Ly[o + 2], Lz[o + 2]};
     const struct mpm_material *mat = m->mat[body->material];
-    mpm_point_stress(mat, L, dt, pts->stress + 6 * p, pts->strain + 6 * p, pts->F + 9 * p,
+    mpm_point_stress(mat, L, dt, pts->stress + 6 * p, pts->F + 9 * p,
                      pts->vol + p, pts->vol0[p], pts->eint + p,
                      pts->nstate ? pts->state + (long)pts->nstate * p : NULL);
 }
@@ -309,8 +309,7 @@ update_point_linear(const struct mpm *m, long p, double dt, const double *vel,
     memcpy(lc[2], &Lz, sizeof lc[2]);
     double L[9] = {lc[0][o], lc[1][o], lc[2][o], lc[0][o + 1], lc[1][o + 1], lc[2][o + 1],
                    lc[0][o + 2], lc[1][o + 2], lc[2][o + 2]};
-    mpm_point_stress(m->mat[body->material], L, dt, pts->stress + 6 * p, pts->strain + 6 * p,
-                     pts->F + 9 * p, pts->vol + p, pts->vol0[p], pts->eint + p,
+    mpm_point_stress(m->mat[body->material], L, dt, pts->stress + 6 * p, pts->F + 9 * p, pts->vol + p, pts->vol0[p], pts->eint + p,
                      pts->nstate ? pts->state + (long)pts->nstate * p : NULL);
 }
 

@@ -1,6 +1,7 @@
 /* mpm_points: allocation, append and reorder of the material point arrays. */
 #include "mpm/mpm_points.h"
 
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -22,7 +23,6 @@ void mpm_points_free(struct mpm_points *p)
     free(p->vol0);
     free(p->vol);
     free(p->stress);
-    free(p->strain);
     free(p->F);
     free(p->eint);
     free(p->state);
@@ -57,7 +57,6 @@ int mpm_points_reserve(struct mpm_points *p, long n, struct err *e)
     rc = rc ? rc : grow((void **)&p->vol0, cap, sizeof(double), e);
     rc = rc ? rc : grow((void **)&p->vol, cap, sizeof(double), e);
     rc = rc ? rc : grow((void **)&p->stress, cap, 6 * sizeof(double), e);
-    rc = rc ? rc : grow((void **)&p->strain, cap, 6 * sizeof(double), e);
     rc = rc ? rc : grow((void **)&p->F, cap, 9 * sizeof(double), e);
     rc = rc ? rc : grow((void **)&p->eint, cap, sizeof(double), e);
     rc = rc ? rc : grow((void **)&p->state, cap, (size_t)p->nstate * sizeof(double), e);
@@ -88,7 +87,6 @@ long mpm_points_add(struct mpm_points *p, const double x[3], const double v[3], 
     p->vol0[i] = vol;
     p->vol[i] = vol;
     memset(p->stress + 6 * i, 0, 6 * sizeof(double));
-    memset(p->strain + 6 * i, 0, 6 * sizeof(double));
     double *F = p->F + 9 * i;
     memset(F, 0, 9 * sizeof(double));
     F[0] = F[4] = F[8] = 1.0;
@@ -134,7 +132,6 @@ void mpm_points_permute(struct mpm_points *p, const int32_t *perm, double *tmp)
     permute_doubles(p->vol0, 1, n, perm, tmp);
     permute_doubles(p->vol, 1, n, perm, tmp);
     permute_doubles(p->stress, 6, n, perm, tmp);
-    permute_doubles(p->strain, 6, n, perm, tmp);
     permute_doubles(p->F, 9, n, perm, tmp);
     permute_doubles(p->eint, 1, n, perm, tmp);
     permute_doubles(p->state, p->nstate, n, perm, tmp);
@@ -156,10 +153,69 @@ void mpm_points_permute(struct mpm_points *p, const int32_t *perm, double *tmp)
 
 double mpm_points_bytes_per_point(const struct mpm_points *p)
 {
-    double b = (3 + 3 + 3 + 1 + 1 + 1 + 6 + 6 + 9 + 1) * sizeof(double) +
+    double b = (3 + 3 + 3 + 1 + 1 + 1 + 6 + 9 + 1) * sizeof(double) +
                (double)p->nstate * sizeof(double) + sizeof(int32_t) + sizeof(int64_t) +
                sizeof(uint32_t);
     if (p->fext)
         b += 3 * sizeof(double);
     return b;
+}
+
+/* Eigen-decomposition of a symmetric 3x3 matrix by cyclic Jacobi rotations:
+ * A (row-major) becomes diagonal, V holds the eigenvectors in its columns. */
+static void jacobi3(double A[9], double V[9])
+{
+    for (int k = 0; k < 9; k++)
+        V[k] = (k % 4 == 0);
+    for (int sweep = 0; sweep < 50; sweep++) {
+        double off = A[1] * A[1] + A[2] * A[2] + A[5] * A[5];
+        double diag = A[0] * A[0] + A[4] * A[4] + A[8] * A[8];
+        if (off <= 1e-30 * diag || off == 0)
+            return;
+        for (int p = 0; p < 2; p++)
+            for (int q = p + 1; q < 3; q++) {
+                double apq = A[3 * p + q];
+                if (apq == 0)
+                    continue;
+                double theta = (A[3 * q + q] - A[3 * p + p]) / (2 * apq);
+                double t = (theta >= 0 ? 1.0 : -1.0) / (fabs(theta) + sqrt(theta * theta + 1));
+                double c = 1 / sqrt(t * t + 1), s = t * c;
+                for (int k = 0; k < 3; k++) {   /* A <- J^T A J */
+                    double akp = A[3 * k + p], akq = A[3 * k + q];
+                    A[3 * k + p] = c * akp - s * akq;
+                    A[3 * k + q] = s * akp + c * akq;
+                }
+                for (int k = 0; k < 3; k++) {
+                    double apk = A[3 * p + k], aqk = A[3 * q + k];
+                    A[3 * p + k] = c * apk - s * aqk;
+                    A[3 * q + k] = s * apk + c * aqk;
+                }
+                for (int k = 0; k < 3; k++) {
+                    double vkp = V[3 * k + p], vkq = V[3 * k + q];
+                    V[3 * k + p] = c * vkp - s * vkq;
+                    V[3 * k + q] = s * vkp + c * vkq;
+                }
+            }
+    }
+}
+
+void mpm_points_strain(const struct mpm_points *p, long i, double eps[6])
+{
+    const double *F = p->F + 9 * i;
+    double B[9], V[9];
+    for (int a = 0; a < 3; a++)
+        for (int b = 0; b < 3; b++)
+            B[3 * a + b] = F[3 * a] * F[3 * b] + F[3 * a + 1] * F[3 * b + 1] +
+                           F[3 * a + 2] * F[3 * b + 2];
+    jacobi3(B, V);
+    double l[3];
+    for (int k = 0; k < 3; k++)
+        l[k] = 0.5 * log(B[4 * k] > 0 ? B[4 * k] : 1e-300);
+    static const int ia[6] = {0, 1, 2, 0, 0, 1}, ib[6] = {0, 1, 2, 1, 2, 2};
+    for (int c = 0; c < 6; c++) {
+        double sum = 0;
+        for (int k = 0; k < 3; k++)
+            sum += l[k] * V[3 * ia[c] + k] * V[3 * ib[c] + k];
+        eps[c] = sum;
+    }
 }

@@ -3,9 +3,9 @@
  *
  * A material point carries a fixed mass (so mass is conserved exactly,
  * Guo & Yang 2005 Eq. (1)), its initial and current volume, position,
- * velocity, Cauchy stress, accumulated strain, deformation gradient, the
- * stress work done on it (its strain energy), state variables of its
- * constitutive law, and the body it belongs to.  All arrays are owned here
+ * velocity, Cauchy stress, deformation gradient (its strain: see
+ * mpm_points_strain), the stress work done on it (its strain energy), state
+ * variables of its constitutive law, and the body it belongs to.  All arrays are owned here
  * and allocated in bulk; nothing is allocated per point.
  *
  * Units are metal: Å, Å/ps, amu, Å^3, eV/Å^3, eV.  Tensors with 6
@@ -33,7 +33,6 @@ struct mpm_points {
     double *vol0;       /* 1: initial volume                                   */
     double *vol;        /* 1: current volume = vol0 det F                      */
     double *stress;     /* 6: Cauchy stress                                    */
-    double *strain;     /* 6: sum of the strain increments (Chen 2014 s13)     */
     double *F;          /* 9: deformation gradient                             */
     double *eint;       /* 1: stress work done on the point (eV)               */
     double *state;      /* nstate: constitutive state (e.g. plastic strain)    */
@@ -50,7 +49,7 @@ void mpm_points_free(struct mpm_points *p);
 int mpm_points_reserve(struct mpm_points *p, long n, struct err *e);
 
 /* Append a point at x with velocity v, mass and volume (metal units), at
- * zero stress and strain, F = I; returns its index or -1 (out of memory). */
+ * zero stress, F = I; returns its index or -1 (out of memory). */
 long mpm_points_add(struct mpm_points *p, const double x[3], const double v[3], double mass,
                     double vol, int body, int64_t id, struct err *e);
 
@@ -61,6 +60,12 @@ int mpm_points_enable_fext(struct mpm_points *p, struct err *e);
  * least n doubles (the reorder goes one component at a time so that its
  * memory overhead is one array, not a second copy of the set). */
 void mpm_points_permute(struct mpm_points *p, const int32_t *perm, double *tmp);
+
+/* Logarithmic (Hencky) strain of point i, ln V with F = V R:
+ * 1/2 ln(F F^T) as xx yy zz xy xz yz.  It is what summing the strain
+ * increments sym(L) dt (Chen 2014, Eq. (s13)) gives along a path without
+ * rotation, and unlike that sum it is objective. */
+void mpm_points_strain(const struct mpm_points *p, long i, double eps[6]);
 
 /* Bytes held per point (all arrays), for memory reports. */
 double mpm_points_bytes_per_point(const struct mpm_points *p);

@@ -2,9 +2,10 @@
  * mpm_stress: internal to solver/mpm -- the per-point constitutive update,
  * Chen 2014 Eqs. (s12)-(s14): from the velocity gradient L (s12) the strain
  * increment de = sym(L) dt (s13), the Jaumann rotation of the stress when
- * the material asks for it, the law's increment (s14), and the kinematic
- * bookkeeping (accumulated strain, F <- (I + L dt) F, V = V0 det F, stress
- * work).
+ * the material asks for it (incrementally objective, Hughes & Winget 1980),
+ * the law's increment (s14), and the kinematic bookkeeping
+ * (F <- (I + L dt) F, V = V0 det F, stress work).  The strain of a point is
+ * derived from F when needed (mpm_points_strain).
  */
 #ifndef CASCADE_MPM_STRESS_H
 #define CASCADE_MPM_STRESS_H
@@ -12,9 +13,9 @@
 #include "mpm/mpm_material.h"
 
 /* L is row-major: L[3a + b] = d v_a / d x_b. */
-static inline __attribute__((always_inline)) void mpm_point_stress(const struct mpm_material *mat, const double L[9], double dt,
-                                    double *s, double *eps, double *F, double *vol, double vol0,
-                                    double *eint, double *state)
+static inline __attribute__((always_inline)) void
+mpm_point_stress(const struct mpm_material *mat, const double L[9], double dt, double *s, double *F,
+                 double *vol, double vol0, double *eint, double *state)
 {
     double de[6] = {L[0] * dt, L[4] * dt, L[8] * dt, 0.5 * (L[1] + L[3]) * dt,
                     0.5 * (L[2] + L[6]) * dt, 0.5 * (L[5] + L[7]) * dt};
@@ -46,13 +47,11 @@ static inline __attribute__((always_inline)) void mpm_point_stress(const struct 
         s[5] = T[3] * Q[6] + T[4] * Q[7] + T[5] * Q[8];
     }
     mat->ops->update(mat, s, de, state);   /* Eq. (s14) */
-    for (int k = 0; k < 6; k++)
-        eps[k] += de[k];
     /* stress work, midpoint rule: V (sigma_old + sigma_new) / 2 : de */
     double w = (s_old[0] + s[0]) * de[0] + (s_old[1] + s[1]) * de[1] + (s_old[2] + s[2]) * de[2] +
                2 * ((s_old[3] + s[3]) * de[3] + (s_old[4] + s[4]) * de[4] + (s_old[5] + s[5]) * de[5]);
     *eint += 0.5 * *vol * w;
-    /* F <- (I + L dt) F */
+    /* F <- (I + L dt) F: first order, as the rest of the explicit step */
     double Fn[9];
     for (int a = 0; a < 3; a++)
         for (int b = 0; b < 3; b++)

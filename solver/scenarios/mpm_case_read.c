@@ -33,7 +33,7 @@
  *     timestep: 0                  fixed step; 0: from the CFL condition
  *     cfl: 0.5                     safety factor on h / (c + |v|max)
  *     adaptive: true               recompute the CFL step every step
- *     sort_every: 20               steps between reorders of the points
+ *     sort_every: 50               steps between reorders of the points
  *     fuse: true                   fuse the next step's mapping into the update
  *                                  pass where possible (same results to round-off)
  *     report_steps: []             steps whose kinetic energy becomes a metric
@@ -431,7 +431,7 @@ int mpm_case_read(struct cfg_obj *root, const struct case_common *common, struct
         (rc = cfg_real(&mo, "timestep", 0.0, CFG_GE(0), &dt)) ||
         (rc = cfg_real(&mo, "cfl", 0.5, ((struct cfg_bound){0, 1, 1, 0}), &cfl)) ||
         (rc = cfg_bool(&mo, "adaptive", 1, &adaptive)) ||
-        (rc = cfg_int(&mo, "sort_every", 20, CFG_GE(0), &sort_every)) ||
+        (rc = cfg_int(&mo, "sort_every", 50, CFG_GE(0), &sort_every)) ||
         (rc = cfg_bool(&mo, "output_grid", 1, &output_grid)) ||
         (rc = cfg_bool(&mo, "fuse", 1, &fuse)) ||
         (rc = cfg_real(&mo, "max_energy_change", 1.0, CFG_GE(0), &max_de)))

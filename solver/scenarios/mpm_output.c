@@ -190,8 +190,11 @@ static int points_snapshot(struct mpm_output *o, struct run *run, struct mpm_cas
         rc = put(o, run, g, "velocity", p->v, n, 3, 1.0 / u->velocity, u->velocity_name, 0, e);
     if (!rc)
         rc = put(o, run, g, "stress", p->stress, n, 6, 1.0 / u->stress, u->stress_name, 0, e);
-    if (!rc)
-        rc = put(o, run, g, "strain", p->strain, n, 6, 1.0, "1", 0, e);
+    if (!rc) {   /* logarithmic strain from F */
+        for (long i = 0; i < n; i++)
+            mpm_points_strain(p, i, o->buf + 6 * i);
+        rc = h5out_write_doubles(&run->h5, g, "strain", o->buf, n, 6, "1", e);
+    }
     if (!rc)
         rc = put(o, run, g, "deformation_gradient", p->F, n, 9, 1.0, "1", 0, e);
     if (!rc)
