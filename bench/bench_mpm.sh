@@ -47,6 +47,7 @@ echo "BENCH mpm_ns_per_particle_step $(echo "$t1 * 1000000000 / ($steps * $point
 echo "BENCH mpm_peak_rss_mib $(printf '%.1f' "$rss") MiB"
 echo "BENCH mpm_bytes_per_point $(echo "$rss * 1048576 / $points" | bc -l | xargs printf '%.0f') B"
 echo "BENCH mpm_speedup_2_threads $(echo "$t1 / $t2" | bc -l | xargs printf '%.2f') x"
+echo "mpm bench: loop seconds, 1 thread: $(tr '\n' ' ' < "$WORK/mpm1.t")| 2 threads: $(tr '\n' ' ' < "$WORK/mpm2.t")" >&2
 echo "mpm bench: load average $(cut -d' ' -f1-3 /proc/loadavg 2>/dev/null) on $(nproc) cores" >&2
 # the physics of the last 1-thread run, for the record
 last="$WORK/mpm_1_$REPEAT"

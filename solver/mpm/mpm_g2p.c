@@ -252,7 +252,7 @@ static inline long next_block(const struct mpm_grid *g, const double *x)
         if (d == g->slab_axis)
             key = (long)u;
     }
-    return key >> g->slab_shift;
+    return g->key_block[key];
 }
 
 static inline __attribute__((always_inline)) void
@@ -469,8 +469,11 @@ void mpm_update_particles_and_map(struct mpm *m, double dt)
     }
     m->strain = se;
     b0->blk_step = m->step + 1;
-    g->node_next = g->node;
-    g->node = next;
+    if (!far) {   /* the new mapping becomes the grid */
+        g->node_next = g->node;
+        g->node = next;
+    }
+    /* else the partial mapping is dropped; the next step maps afresh */
     m->fused_ready = !far;
     m->grid_fresh = !far;
 }

@@ -29,12 +29,12 @@ static int make_blocks(struct mpm_grid *g, const long nkeys[3], long width, stru
     for (int d = 1; d < 3; d++)
         if (nkeys[d] > nkeys[axis])
             axis = d;
-    int shift = 0;
-    while ((1L << shift) < width)
-        shift++;
-    width = 1L << shift;   /* a power of two: the block is a shift of the key */
     g->slab_axis = axis;
-    g->slab_shift = shift;
+    g->key_block = malloc((size_t)nkeys[axis] * sizeof *g->key_block);
+    if (!g->key_block)
+        return err_nomem(e, "grid colouring");
+    for (long k = 0; k < nkeys[axis]; k++)
+        g->key_block[k] = (int32_t)(k / width);
     g->nblocks = 1;
     for (int d = 0; d < 3; d++) {
         g->bw[d] = d == axis ? width : nkeys[d];
@@ -90,10 +90,10 @@ int mpm_grid_init_uniform(struct mpm_grid *g, const double origin[3], double h,
     for (int d = 0; d < 3; d++)
         nkeys[d] = shape == MPM_SHAPE_GIMP ? ncell[d] + 1 : ncell[d];
     /* keys: linear, the cell (nodes key..key+1); GIMP, base node + 1 (nodes
-     * key-1..key+1).  Linear slabs are 4 cells wide so that a point may move
-     * by less than a cell within a step and still map into its slab's nodes
-     * (the fused update-and-map pass, mpm_step) */
-    return make_blocks(g, nkeys, shape == MPM_SHAPE_LINEAR ? 4 : 2, e);
+     * key-1..key+1).  Linear slabs are 3 cells wide so that a point may move
+     * by less than a cell within a step and still map into nodes no slab of
+     * its colour touches (the fused update-and-map pass, mpm_step) */
+    return make_blocks(g, nkeys, shape == MPM_SHAPE_LINEAR ? 3 : 2, e);
 }
 
 int mpm_grid_init_hier(struct mpm_grid *g, struct mpm_hgrid *hg, struct err *e)
@@ -127,6 +127,7 @@ void mpm_grid_free(struct mpm_grid *g)
     free(g->r);
     free(g->bc_node);
     free(g->bc_bits);
+    free(g->key_block);
     for (int c = 0; c < MPM_COLOURS; c++)
         free(g->colour_block[c]);
     mpm_hgrid_destroy(&g->hg);

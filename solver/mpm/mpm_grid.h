@@ -75,7 +75,8 @@ struct mpm_grid {
 
     /* colouring: key (integer cell coordinate) -> block (slabs, mpm_grid.c) */
     long bw[3];                  /* block width in keys                    */
-    int slab_axis, slab_shift;   /* block = key[slab_axis] >> slab_shift   */
+    int slab_axis;               /* blocks are slabs across this axis      */
+    int32_t *key_block;          /* block of each key along slab_axis      */
     long nb[3];                  /* blocks per direction                   */
     long nblocks;
     long ncolour[MPM_COLOURS];   /* blocks of each colour                  */

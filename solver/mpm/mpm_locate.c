@@ -77,7 +77,7 @@ static inline long particle_block(const struct mpm *m, const struct mpm_view *w,
                 key[d] = (long)u;
         }
     }
-    return key[g->slab_axis] >> g->slab_shift;   /* slabs: one block across the other axes */
+    return g->key_block[key[g->slab_axis]];   /* slabs: one block across the other axes */
 }
 
 static int locate_set(struct mpm *m, struct mpm_view *w, int kind, long *bad, struct err *e)
@@ -162,7 +162,7 @@ int mpm_locate_particles(struct mpm *m, struct err *e)
         moved = b->order[k] != k;
     if (moved && m->sort_every > 0 && m->step % m->sort_every == 0 && m->pts.n > 1 &&
         m->scratch_cap >= m->pts.n) {
-        mpm_points_permute(&m->pts, b->order, m->scratch);
+        mpm_points_permute(&m->pts, b->order, m->scratch, m->nthreads);
         if (kind == MPM_ST_HIER) {
             int32_t *t32 = (int32_t *)m->scratch;
             for (long k = 0; k < m->pts.n; k++)

@@ -109,33 +109,37 @@ int mpm_points_enable_fext(struct mpm_points *p, struct err *e)
     return 0;
 }
 
-/* a[k*nc + c] <- a[perm[k]*nc + c], one component at a time through tmp */
-static void permute_doubles(double *a, int nc, long n, const int32_t *perm, double *tmp)
+/* a[k*nc + c] <- a[perm[k]*nc + c], one component at a time through tmp
+ * (threads share each component's loops; called from outside a parallel
+ * region) */
+static void permute_doubles(double *a, int nc, long n, const int32_t *perm, double *tmp, int nt)
 {
     if (!a)
         return;
     for (int c = 0; c < nc; c++) {
+#pragma omp parallel for schedule(static) num_threads(nt)
         for (long k = 0; k < n; k++)
             tmp[k] = a[(long)perm[k] * nc + c];
+#pragma omp parallel for schedule(static) num_threads(nt)
         for (long k = 0; k < n; k++)
             a[k * nc + c] = tmp[k];
     }
 }
 
-void mpm_points_permute(struct mpm_points *p, const int32_t *perm, double *tmp)
+void mpm_points_permute(struct mpm_points *p, const int32_t *perm, double *tmp, int nthreads)
 {
     long n = p->n;
-    permute_doubles(p->x, 3, n, perm, tmp);
-    permute_doubles(p->x0, 3, n, perm, tmp);
-    permute_doubles(p->v, 3, n, perm, tmp);
-    permute_doubles(p->mass, 1, n, perm, tmp);
-    permute_doubles(p->vol0, 1, n, perm, tmp);
-    permute_doubles(p->vol, 1, n, perm, tmp);
-    permute_doubles(p->stress, 6, n, perm, tmp);
-    permute_doubles(p->F, 9, n, perm, tmp);
-    permute_doubles(p->eint, 1, n, perm, tmp);
-    permute_doubles(p->state, p->nstate, n, perm, tmp);
-    permute_doubles(p->fext, 3, n, perm, tmp);
+    permute_doubles(p->x, 3, n, perm, tmp, nthreads);
+    permute_doubles(p->x0, 3, n, perm, tmp, nthreads);
+    permute_doubles(p->v, 3, n, perm, tmp, nthreads);
+    permute_doubles(p->mass, 1, n, perm, tmp, nthreads);
+    permute_doubles(p->vol0, 1, n, perm, tmp, nthreads);
+    permute_doubles(p->vol, 1, n, perm, tmp, nthreads);
+    permute_doubles(p->stress, 6, n, perm, tmp, nthreads);
+    permute_doubles(p->F, 9, n, perm, tmp, nthreads);
+    permute_doubles(p->eint, 1, n, perm, tmp, nthreads);
+    permute_doubles(p->state, p->nstate, n, perm, tmp, nthreads);
+    permute_doubles(p->fext, 3, n, perm, tmp, nthreads);
     /* integer arrays: through the same scratch, as raw 8-byte words */
     int64_t *t64 = (int64_t *)tmp;
     for (long k = 0; k < n; k++)

@@ -59,7 +59,7 @@ int mpm_points_enable_fext(struct mpm_points *p, struct err *e);
 /* Reorder: new index k holds old index perm[k].  `tmp` is scratch of at
  * least n doubles (the reorder goes one component at a time so that its
  * memory overhead is one array, not a second copy of the set). */
-void mpm_points_permute(struct mpm_points *p, const int32_t *perm, double *tmp);
+void mpm_points_permute(struct mpm_points *p, const int32_t *perm, double *tmp, int nthreads);
 
 /* Logarithmic (Hencky) strain of point i, ln V with F = V R:
  * 1/2 ln(F F^T) as xx yy zz xy xz yz.  It is what summing the strain

@@ -11,6 +11,7 @@
 #define CASCADE_MPM_STRESS_H
 
 #include "mpm/mpm_material.h"
+#include "mpm/mpm_simd.h"
 
 /* L is row-major: L[3a + b] = d v_a / d x_b. */
 static inline __attribute__((always_inline)) void
@@ -33,18 +34,24 @@ mpm_point_stress(const struct mpm_material *mat, const double L[9], double dt, d
         double Q[9] = {1 + k * (a0 * a0 - aa), k * (-a2 + a0 * a1), k * (a1 + a0 * a2),
                        k * (a2 + a1 * a0), 1 + k * (a1 * a1 - aa), k * (-a0 + a1 * a2),
                        k * (-a1 + a2 * a0), k * (a0 + a2 * a1), 1 + k * (a2 * a2 - aa)};
-        double S[9] = {s[0], s[3], s[4], s[3], s[1], s[5], s[4], s[5], s[2]};
-        double T[9];   /* T = Q S */
-        for (int i = 0; i < 3; i++)
-            for (int j = 0; j < 3; j++)
-                T[3 * i + j] = Q[3 * i] * S[j] + Q[3 * i + 1] * S[3 + j] + Q[3 * i + 2] * S[6 + j];
-        /* sigma = T Q^T */
-        s[0] = T[0] * Q[0] + T[1] * Q[1] + T[2] * Q[2];
-        s[1] = T[3] * Q[3] + T[4] * Q[4] + T[5] * Q[5];
-        s[2] = T[6] * Q[6] + T[7] * Q[7] + T[8] * Q[8];
-        s[3] = T[0] * Q[3] + T[1] * Q[4] + T[2] * Q[5];
-        s[4] = T[0] * Q[6] + T[1] * Q[7] + T[2] * Q[8];
-        s[5] = T[3] * Q[6] + T[4] * Q[7] + T[5] * Q[8];
+        /* rows of S, Q; T = Q S row by row, then sigma = T Q^T: its row i is
+         * sum_k T_ik (column k of Q) */
+        const mpm_v4 S0 = mpm_v4_set(s[0], s[3], s[4], 0), S1 = mpm_v4_set(s[3], s[1], s[5], 0),
+                     S2 = mpm_v4_set(s[4], s[5], s[2], 0);
+        mpm_v4 T0 = Q[0] * S0 + Q[1] * S1 + Q[2] * S2;
+        mpm_v4 T1 = Q[3] * S0 + Q[4] * S1 + Q[5] * S2;
+        mpm_v4 T2 = Q[6] * S0 + Q[7] * S1 + Q[8] * S2;
+        const mpm_v4 C0 = mpm_v4_set(Q[0], Q[3], Q[6], 0), C1 = mpm_v4_set(Q[1], Q[4], Q[7], 0),
+                     C2 = mpm_v4_set(Q[2], Q[5], Q[8], 0);
+        mpm_v4 R0 = T0[0] * C0 + T0[1] * C1 + T0[2] * C2;
+        mpm_v4 R1 = T1[0] * C0 + T1[1] * C1 + T1[2] * C2;
+        mpm_v4 R2 = T2[0] * C0 + T2[1] * C1 + T2[2] * C2;
+        s[0] = R0[0];
+        s[1] = R1[1];
+        s[2] = R2[2];
+        s[3] = R0[1];
+        s[4] = R0[2];
+        s[5] = R1[2];
     }
     mat->ops->update(mat, s, de, state);   /* Eq. (s14) */
     /* stress work, midpoint rule: V (sigma_old + sigma_new) / 2 : de */
@@ -52,13 +59,15 @@ mpm_point_stress(const struct mpm_material *mat, const double L[9], double dt, d
                2 * ((s_old[3] + s[3]) * de[3] + (s_old[4] + s[4]) * de[4] + (s_old[5] + s[5]) * de[5]);
     *eint += 0.5 * *vol * w;
     /* F <- (I + L dt) F: first order, as the rest of the explicit step */
-    double Fn[9];
-    for (int a = 0; a < 3; a++)
-        for (int b = 0; b < 3; b++)
-            Fn[3 * a + b] = F[3 * a + b] + dt * (L[3 * a + 0] * F[0 + b] + L[3 * a + 1] * F[3 + b] +
-                                                 L[3 * a + 2] * F[6 + b]);
-    for (int k = 0; k < 9; k++)
-        F[k] = Fn[k];
+    /* rows: Fn_a = F_a + dt sum_b L_ab F_b */
+    const mpm_v4 F0 = mpm_v4_load3(F), F1 = mpm_v4_load3(F + 3), F2 = mpm_v4_load3(F + 6);
+    mpm_v4 N0 = F0 + dt * (L[0] * F0 + L[1] * F1 + L[2] * F2);
+    mpm_v4 N1 = F1 + dt * (L[3] * F0 + L[4] * F1 + L[5] * F2);
+    mpm_v4 N2 = F2 + dt * (L[6] * F0 + L[7] * F1 + L[8] * F2);
+    mpm_v4_store3(F, &N0);
+    mpm_v4_store3(F + 3, &N1);
+    mpm_v4_store3(F + 6, &N2);
+    const double *Fn = F;
     double J = Fn[0] * (Fn[4] * Fn[8] - Fn[5] * Fn[7]) - Fn[1] * (Fn[3] * Fn[8] - Fn[5] * Fn[6]) +
                Fn[2] * (Fn[3] * Fn[7] - Fn[4] * Fn[6]);
     *vol = vol0 * J;

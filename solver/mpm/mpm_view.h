@@ -8,14 +8,8 @@
 
 #include "mpm/mpm.h"
 #include "mpm/mpm_shape.h"
+#include "mpm/mpm_simd.h"
 
-/* Four doubles handled as one vector: a node record is two of them,
- * [m q0 q1 q2] and [f0 f1 f2 aux], and the remap array holds [r0 r1 r2 0],
- * so a point's contribution to a node is a few vector multiply-adds (GCC
- * vector extension; plain SSE2 pairs on machines without AVX). */
-typedef double mpm_v4 __attribute__((vector_size(32), aligned(32), may_alias));
-
-/* (a macro: a vector returned by value would change the ABI without AVX) */
 #define mpm_v4_set(a, b, c, d) ((mpm_v4){(a), (b), (c), (d)})
 
 struct mpm_view {
