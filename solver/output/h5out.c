@@ -290,7 +290,7 @@ static int write_xdmf(const struct h5out *h, struct err *e)
                 const struct h5out_field *fl = &s->fields[a];
                 if (strcmp(fl->name, geo) == 0)
                     continue;
-                const char *atype = fl->ncomp == 1 ? "Scalar" : fl->ncomp == 3 ? "Vector" : fl->ncomp == 6 ? "Tensor6" : "Matrix";
+                const char *atype = fl->ncomp == 1 ? "Scalar" : fl->ncomp == 3 ? "Vector" : fl->ncomp == 6 ? "Tensor6" : fl->ncomp == 9 ? "Tensor" : "Matrix";
                 char dims[96];
                 if (s->structured && fl->ncomp == 1)
                     snprintf(dims, sizeof dims, "%ld %ld %ld", s->dims[2], s->dims[1], s->dims[0]);
