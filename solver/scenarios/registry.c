@@ -9,6 +9,7 @@ extern const struct case_type dpd_case_type;
 extern const struct case_type dpd_impact_case_type;
 extern const struct case_type dpd_tensile_case_type;
 extern const struct case_type dpd_fit_case_type;
+extern const struct case_type mpm_case_type;
 
 const struct case_type *const case_types[] = {
     &md_case_type,
@@ -17,6 +18,7 @@ const struct case_type *const case_types[] = {
     &dpd_impact_case_type,
     &dpd_tensile_case_type,
     &dpd_fit_case_type,
+    &mpm_case_type,
     NULL,
 };
 
