@@ -46,7 +46,7 @@ ifeq ($(WERROR),1)
   WARN += -Werror
 endif
 
-CFLAGS   := -std=c11 -D_POSIX_C_SOURCE=200809L -D_DEFAULT_SOURCE $(OPT_$(VARIANT)) $(WARN) -Itests \
+CFLAGS   := -std=c11 -D_POSIX_C_SOURCE=200809L -D_DEFAULT_SOURCE $(OPT_$(VARIANT)) $(WARN) -I. -Itests \
             -fopenmp -Isolver -I$(OBJDIR)/gen $(PKG_CFLAGS) -MMD -MP
 SAN_LD_asan := -fsanitize=address,undefined
 LDFLAGS  := -fopenmp $(SAN_LD_$(VARIANT))
@@ -111,7 +111,7 @@ else
   Q := @
 endif
 
-$(OBJDIR)/%.o: %.c $(GEN_PROV)
+$(OBJDIR)/%.o: %.c | $(GEN_PROV)
 	@mkdir -p $(dir $@)
 	@$(if $(Q),echo "  CC      $<")
 	$(Q)$(CC) $(CFLAGS) -c $< -o $@
@@ -138,6 +138,14 @@ $(TEST_BIN): $(call obj,$(TEST_SRC) $(TEST_HELPERS)) $(SOLVER_LIB) $(CAMPAIGN_LI
 	@$(if $(Q),echo "  LD      $@")
 	$(Q)$(CC) $(LDFLAGS) -o $@ $^ $(LDLIBS) -lcriterion
 
+# The database schema and migrations are compiled into the campaign library.
+DB_SQL  := db/schema.sql $(sort $(wildcard db/migrations/*.sql))
+GEN_SQL := $(OBJDIR)/gen/db_sql.h
+$(GEN_SQL): $(DB_SQL) campaign/embed_sql.sh
+	@mkdir -p $(dir $@)
+	@sh campaign/embed_sql.sh $(DB_SQL) > $@.tmp && mv $@.tmp $@
+$(call obj,campaign/db_schema.c): $(GEN_SQL)
+
 $(STANDIN_BIN): $(call obj,tests/standin/fake_solver.c) $(UTIL_LIB)
 	@mkdir -p $(dir $@)
 	@$(if $(Q),echo "  LD      $@")
@@ -160,6 +168,18 @@ test: deps
 demo: deps
 	@$(MAKE) --no-print-directory $(SOLVER_BIN) $(CAMPAIGN_BIN)
 	CASCADE_SOLVER=$(abspath $(SOLVER_BIN)) sh bench/demo.sh $(abspath $(BINDIR))
+
+# The nightly convergence regression (docs/nightly.md): runs studies/nightly.yaml
+# (only the jobs this solver build has not run), compares every value and
+# observed order with studies/baselines/nightly.json, writes reports/nightly/
+# and exits non-zero when anything regressed.  NIGHTLY_ARGS=--update-baseline
+# rewrites the baseline instead (review and commit it).
+NIGHTLY_DIR ?= runs/nightly
+nightly: deps
+	@$(MAKE) --no-print-directory $(SOLVER_BIN) $(CAMPAIGN_BIN)
+	@mkdir -p $(NIGHTLY_DIR)
+	CASCADE_SOLVER=$(abspath $(SOLVER_BIN)) $(CAMPAIGN_BIN) regress studies/nightly.yaml \
+	    --db $(NIGHTLY_DIR)/cascade.db --runs $(NIGHTLY_DIR)/runs --out reports/nightly $(NIGHTLY_ARGS)
 
 bench: deps
 	@$(MAKE) --no-print-directory BUILD=release all

@@ -1,13 +1,53 @@
-/* cascade: the campaign runner (see campaign/README or `cascade --help`). */
+/*
+ * cascade: the campaign runner.  Expands studies into jobs, runs
+ * cascade-solver for each (locally, or on the ranks of `mpirun -np N cascade
+ * run`), and records the results in SQLite.
+ */
 #include <stdio.h>
 #include <string.h>
 
+#include "cli.h"
+
+static const char *usage =
+    "usage: cascade <command> [options]\n"
+    "\n"
+    "Runs parameter studies with cascade-solver and records the results in SQLite.\n"
+    "\n"
+    "commands:\n"
+    "  plan STUDY.yaml           print the jobs and their keys; runs nothing\n"
+    "  run STUDY.yaml            run the jobs not yet done (resumes; also under mpirun)\n"
+    "  status [STUDY]            jobs done / failed / running / pending per study\n"
+    "  query \"SQL\"               read-only SQL on the results database\n"
+    "  show KEY                  one job: parameters, attempts, metrics, files\n"
+    "  export STUDY --csv        one row per job: parameters and metrics\n"
+    "  retry STUDY [--failed]    run the study's jobs again (or only the failed ones)\n"
+    "  report STUDY              convergence report (Markdown + HTML with figures)\n"
+    "  regress STUDY.yaml        rerun a study and compare it with its baseline\n"
+    "\n"
+    "The database is ./" CASCADE_DB_DEFAULT " unless --db FILE is given; its tables are\n"
+    "described in db/README.md.  'cascade <command> --help' shows a command's options.\n"
+    "Exit codes: 0 ok, 1 a job failed or a runtime error, 2 bad input, 130 interrupted.\n";
+
 int main(int argc, char **argv)
 {
-    if (argc >= 2 && (strcmp(argv[1], "--help") == 0 || strcmp(argv[1], "-h") == 0)) {
-        printf("usage: cascade <command> ...\n\nThe campaign runner is being built; see README.md.\n");
+    if (argc < 2) {
+        fputs(usage, stderr);
+        return 2;
+    }
+    const char *cmd = argv[1];
+    if (strcmp(cmd, "--help") == 0 || strcmp(cmd, "-h") == 0 || strcmp(cmd, "help") == 0) {
+        fputs(usage, stdout);
         return 0;
     }
-    fprintf(stderr, "cascade: the campaign runner is not built yet (see README.md)\n");
+    static const struct {
+        const char *name;
+        int (*fn)(int, char **);
+    } cmds[] = {{"plan", cmd_plan},     {"run", cmd_run},       {"status", cmd_status},
+                {"query", cmd_query},   {"show", cmd_show},     {"export", cmd_export},
+                {"retry", cmd_retry},   {"report", cmd_report}, {"regress", cmd_regress}};
+    for (size_t i = 0; i < sizeof cmds / sizeof cmds[0]; i++)
+        if (strcmp(cmd, cmds[i].name) == 0)
+            return cmds[i].fn(argc - 2, argv + 2);
+    fprintf(stderr, "error: unknown command '%s'\n\n%s", cmd, usage);
     return 2;
 }

@@ -16,6 +16,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/parallel.h"
 #include "input/case.h"
 #include "md/potential.h"
 #include "output/provenance.h"
@@ -110,7 +111,7 @@ static int cmd_check(int argc, char **argv)
     struct case_resolved cr;
     int rc = case_load_file(&cd, argv[0], &e);
     if (!rc)
-        rc = case_resolve(&cd, 0, 1, &cr, &e);
+        rc = case_resolve(&cd, 0, 1, NULL, &cr, &e);
     if (!rc) {
         printf("ok: %s (%s, %ld particles)\n", argv[0], cr.type->name,
                cr.type->particles(cr.state));
@@ -126,7 +127,7 @@ static int resolve_one(struct case_doc *cd, json_t **line)
 {
     struct err e = {0};
     struct case_resolved cr;
-    int rc = case_resolve(cd, 1, 1, &cr, &e);
+    int rc = case_resolve(cd, 1, 1, NULL, &cr, &e);
     if (rc) {
         *line = json_pack("{s:b, s:s}", "ok", 0, "error", e.msg);
         return rc;
@@ -236,7 +237,23 @@ static int cmd_info(int argc, char **argv)
     return 0;
 }
 
-static int cmd_run(int argc, char **argv)
+static int cmd_run_inner(int argc, char **argv, const struct parallel *par);
+
+/* MPI (when launched by mpirun) brackets the whole run. */
+static int cmd_run(int *argc, char ***argv)
+{
+    struct parallel par;
+    struct err e = {0};
+    if (parallel_init(&par, argc, argv, &e) != 0) {
+        fprintf(stderr, "error: %s\n", e.msg);
+        return 1;
+    }
+    int rc = cmd_run_inner(*argc - 2, *argv + 2, &par);
+    parallel_finalize(&par);
+    return rc;
+}
+
+static int cmd_run_inner(int argc, char **argv, const struct parallel *par)
 {
     if (wants_help(argc, argv)) {
         fputs(usage_run, stdout);
@@ -291,13 +308,13 @@ static int cmd_run(int argc, char **argv)
     int rc = case_load_file(&cd, file, &e);
     double t0 = timers_now();
     if (!rc)
-        rc = case_resolve(&cd, 0, (int)threads, &cr, &e);
+        rc = case_resolve(&cd, 0, (int)threads, par, &cr, &e);
     if (rc) {
         fprintf(stderr, "error: %s\n", e.msg);
         case_doc_free(&cd);
         return exit_code(rc);
     }
-    struct run_options opt = {out, (int)threads, progress, quiet};
+    struct run_options opt = {out, (int)threads, progress, quiet, par->rank};
     struct run run;
     rc = run_open(&run, &opt, &cr.output, cd.doc, cr.common.seed, cr.common.title, &e);
     if (rc) {
@@ -308,22 +325,27 @@ static int cmd_run(int argc, char **argv)
     }
     run.timers.total[TIMER_SETUP] = timers_now() - t0;
     run.timers.calls[TIMER_SETUP] = 1;
-    run_log(&run, "cascade-solver %s (%s): %s case '%s', %ld particles, %d thread(s), out %s",
+    run_log(&run, "cascade-solver %s (%s): %s case '%s', %ld particles, %d rank(s) x %d thread(s), "
+                  "out %s",
             provenance_version(), provenance_git_hash(), cr.type->name, file,
-            cr.type->particles(cr.state), (int)threads, out);
+            cr.type->particles(cr.state), par->size, (int)threads, out);
     rc = cr.type->run(cr.state, &run, &e);
     long steps = 0;
-    json_t *st = json_object_get(json_object_get(cd.doc, "md"), "steps");
-    if (run.steps_run > 0)   /* cases that do not run md.steps say what they ran */
+    if (cr.type->steps) {
+        steps = cr.type->steps(cr.state);
+    } else if (run.steps_run > 0) {   /* cases that do not run md.steps say what they ran */
         steps = run.steps_run;
-    else if (json_is_integer(st))
-        steps = (long)json_integer_value(st);
+    } else {
+        json_t *st = json_object_get(json_object_get(cd.doc, "md"), "steps");
+        if (json_is_integer(st))
+            steps = (long)json_integer_value(st);
+    }
     const char *status = rc == 0 ? "ok" : rc == ERR_DIVERGED ? "diverged" : "failed";
     struct err e2 = {0};
     int rc2 = run_close(&run, status, rc ? e.msg : NULL, steps, cr.type->particles(cr.state), &e2);
-    if (rc)
+    if (rc && par->rank == 0)
         fprintf(stderr, "error: %s\n", e.msg);
-    else if (rc2)
+    else if (rc2 && par->rank == 0)
         fprintf(stderr, "error: %s\n", e2.msg);
     case_resolved_free(&cr);
     case_doc_free(&cd);
@@ -346,7 +368,7 @@ int main(int argc, char **argv)
         return 0;
     }
     if (strcmp(cmd, "run") == 0)
-        return cmd_run(argc - 2, argv + 2);
+        return cmd_run(&argc, &argv);
     if (strcmp(cmd, "check") == 0)
         return cmd_check(argc - 2, argv + 2);
     if (strcmp(cmd, "resolve") == 0)

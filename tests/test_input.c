@@ -19,7 +19,7 @@ static int resolve_text(const char *yaml, char *msg, size_t len, json_t **resolv
     struct err e = {0};
     int rc = case_load_file(&cd, path, &e);
     if (!rc)
-        rc = case_resolve(&cd, 1, 1, &cr, &e);
+        rc = case_resolve(&cd, 1, 1, NULL, &cr, &e);
     if (!rc)
         case_resolved_free(&cr);
     snprintf(msg, len, "%s", e.msg);

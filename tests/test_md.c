@@ -9,7 +9,7 @@
 #include "core/ghost.h"
 #include "core/units.h"
 #include "helpers/th.h"
-#include "md/velocity.h"
+#include "core/velocity.h"
 
 #define POT_MISHIN "style: eam/alloy\nfile: Cu_mishin1.eam.alloy\n"
 

@@ -28,7 +28,7 @@
 
 #include "analysis/structure.h"
 #include "helpers/th.h"
-#include "md/velocity.h"
+#include "core/velocity.h"
 
 static long classify(struct particles *p, const struct box *b, enum structure_ref ref,
                      enum cna_mode mode, double a, int nthreads, long counts[STRUCT_NCLASSES],

@@ -1,6 +1,8 @@
 /* ghost: creation and refresh of periodic-image ghost particles. */
 #include "core/ghost.h"
 
+#include "core/parallel.h"
+
 #include <math.h>
 #include <string.h>
 
@@ -63,6 +65,7 @@ void ghost_update_velocities(struct particles *p) { ghost_forward(p, p->v, 3); }
 void ghost_reverse_add(const struct particles *p, double *arr, int ncomp)
 {
     int n0 = p->n_owned, n1 = p->n_owned + p->n_ghost;
+    parallel_sum(p->par, arr, (size_t)ncomp * n1);
     for (int g = n0; g < n1; g++) {
         int o = p->origin[g];
         for (int c = 0; c < ncomp; c++)

@@ -26,7 +26,9 @@ void ghost_update_positions(struct particles *p, const struct box *b);
 /* Copy velocities to ghosts (needed by velocity-dependent pair forces). */
 void ghost_update_velocities(struct particles *p);
 
-/* arr[ncomp * origin[g] + c] += arr[ncomp * g + c] for every ghost g. */
+/* The array holds this rank's partial sums over owned and ghost entries
+ * (forces, densities, ...): sum them over ranks (parallel runs), then add
+ * each ghost's entry to its owner: arr[ncomp * origin[g] + c] += arr[ncomp * g + c]. */
 void ghost_reverse_add(const struct particles *p, double *arr, int ncomp);
 /* arr[ncomp * g + c] = arr[ncomp * origin[g] + c]. */
 void ghost_forward(const struct particles *p, double *arr, int ncomp);

@@ -19,6 +19,8 @@
 
 #include "util/err.h"
 
+struct parallel;
+
 #define PARTICLES_MAX_TYPES 8
 #define PARTICLES_MAX_FIELDS 16
 
@@ -50,6 +52,10 @@ struct particles {
 
     int nfields;
     struct particle_field fields[PARTICLES_MAX_FIELDS];
+
+    /* MPI ranks sharing this (replicated) particle set, or NULL: partial
+     * sums passed to ghost_reverse_add are summed over them */
+    const struct parallel *par;
 };
 
 struct particles *particles_create(int capacity);

@@ -36,8 +36,8 @@ void case_doc_free(struct case_doc *cd)
     cd->doc = NULL;
 }
 
-int case_resolve(struct case_doc *cd, int shallow, int nthreads, struct case_resolved *out,
-                 struct err *e)
+int case_resolve(struct case_doc *cd, int shallow, int nthreads, const struct parallel *par,
+                 struct case_resolved *out, struct err *e)
 {
     memset(out, 0, sizeof *out);
     struct cfg cfg = {cd->name, cd->locs, e, cd->dir, shallow};
@@ -60,6 +60,7 @@ int case_resolve(struct case_doc *cd, int shallow, int nthreads, struct case_res
     out->type = case_types[type];
     out->common.seed = (uint64_t)seed;
     out->common.nthreads = nthreads;
+    out->common.par = par;
     rc = out->type->read(&root, &out->common, &out->state);
     if (!rc)
         rc = cfg_close(&root);

@@ -38,8 +38,8 @@ struct case_resolved {
 /* Validate and resolve.  shallow: keys and values only (no files opened);
  * otherwise build the models too.  The cfg used stays valid for errors the
  * run reports later against the document. */
-int case_resolve(struct case_doc *cd, int shallow, int nthreads, struct case_resolved *out,
-                 struct err *e);
+int case_resolve(struct case_doc *cd, int shallow, int nthreads, const struct parallel *par,
+                 struct case_resolved *out, struct err *e);
 void case_resolved_free(struct case_resolved *r);
 
 #endif

@@ -35,12 +35,16 @@ struct eam {
     const struct eam_spline *rhor[NE][NE];   /* [a][b]: density at a b-atom from an a-atom */
     const struct eam_spline *z2r[NE][NE];    /* symmetric */
     int sel[NE];                             /* selected element -> file element */
-    /* one element: rho(r) and r phi(r) interleaved per knot (14 doubles),
-     * so a pair touches one contiguous row of the tables */
+    /* one element: the value cubics of rho(r) and r phi(r) per knot, 8
+     * doubles = one 64-byte cache line (derivatives follow from the value
+     * coefficients), so a pair touches one line and the table is half the
+     * size of two 7-coefficient tables */
     double *tab1;
     int nr1;
     double rdr1;
     double *rho, *fp;
+    int *ninner;     /* per owned atom: neighbours within the cutoff, moved to
+                      * the front of its list by the density pass */
     int cap;
     struct thread_accum rho_acc;
     struct pair_scratch scratch;
@@ -58,7 +62,10 @@ static int eam_reserve(struct eam *m, int n, struct err *e)
     double *f = realloc(m->fp, (size_t)cap * sizeof *f);
     if (f)
         m->fp = f;
-    if (!r || !f)
+    int *ni = realloc(m->ninner, (size_t)cap * sizeof *ni);
+    if (ni)
+        m->ninner = ni;
+    if (!r || !f || !ni)
         return err_nomem(e, "EAM densities");
     m->cap = cap;
     return 0;
@@ -66,7 +73,7 @@ static int eam_reserve(struct eam *m, int n, struct err *e)
 
 /* Embedding energies and F'(rho) of the owned atoms; beyond the table F
  * continues linearly (as LAMMPS), so a close approach conserves energy. */
-static double eam_embed(struct eam *m, struct particles *p, int flags)
+static double eam_embed(struct eam *m, struct particles *p, const struct nlist *nl, int flags)
 {
     const int *tmap = m->base.type_map;
     double embed = 0;
@@ -78,6 +85,9 @@ static double eam_embed(struct eam *m, struct particles *p, int flags)
         double phi = eam_spline_value(F, im, q);
         if (m->rho[i] > m->rhomax)
             phi += m->fp[i] * (m->rho[i] - m->rhomax);
+        /* every rank knows every F'(rho); the energy belongs to one slice */
+        if (i < nl->ilo || i >= nl->ihi)
+            continue;
         embed += phi;
         if (flags & POT_PERATOM)
             p->pe[i] = phi;
@@ -96,10 +106,17 @@ static int eam_compute_one(struct eam *m, struct particles *p, const struct nlis
     const int kmax = m->nr1 - 2;
     const double *restrict tab = m->tab1;
     const double *restrict x = p->x;
-    const int *restrict off = nl->offset, *restrict nb = nl->neigh;
+    const int *restrict off = nl->offset;
+    /* The density pass partitions each atom's neighbours: those within the
+     * cutoff first (a reordering, the set is unchanged), so the force pass
+     * visits only interacting pairs. */
+    int *restrict nb = nl->neigh;
+    int *restrict ninner = m->ninner;
     memset(m->rho, 0, (size_t)ntot * sizeof(double));
 
-#pragma omp parallel num_threads(nt)
+    /* firstprivate: loop constants become thread-locals the compiler keeps
+     * in registers (shared ones would be reloaded after every store) */
+#pragma omp parallel num_threads(nt) firstprivate(cutsq, rdr, kmax, tab, x, off, nb, ninner, ntot)
     {
         int tid = omp_get_thread_num();
         double *restrict rho = thread_accum_target(&m->rho_acc, tid, m->rho, (size_t)ntot);
@@ -107,58 +124,61 @@ static int eam_compute_one(struct eam *m, struct particles *p, const struct nlis
         for (int i = 0; i < p->n_owned; i++) {
             const double xi = x[3 * i], yi = x[3 * i + 1], zi = x[3 * i + 2];
             double rhoi = 0;
+            int inner = off[i];
             for (int k = off[i]; k < off[i + 1]; k++) {
                 int j = nb[k];
                 double dx = xi - x[3 * j], dy = yi - x[3 * j + 1], dz = zi - x[3 * j + 2];
                 double r2 = dx * dx + dy * dy + dz * dz;
                 if (r2 >= cutsq)
                     continue;
+                nb[k] = nb[inner];
+                nb[inner++] = j;
                 double q = sqrt(r2) * rdr;
                 int im = (int)q;
                 im = im > kmax ? kmax : im;
                 q -= im;
                 q = q > 1.0 ? 1.0 : q;
-                const double *c = tab + 14 * im;
-                double v = ((c[3] * q + c[4]) * q + c[5]) * q + c[6];
+                const double *c = tab + 8 * im;
+                double v = ((c[0] * q + c[1]) * q + c[2]) * q + c[3];
                 rhoi += v;
                 rho[j] += v;
             }
             rho[i] += rhoi;
+            ninner[i] = inner - off[i];
         }
     }
     thread_accum_reduce(&m->rho_acc, m->rho, (size_t)ntot);
     ghost_reverse_add(p, m->rho, 1);
-    double embed = eam_embed(m, p, flags);
+    double embed = eam_embed(m, p, nl, flags);
     ghost_forward(p, m->fp, 1);
 
     const double *restrict fp = m->fp;
-#pragma omp parallel num_threads(nt)
+#pragma omp parallel num_threads(nt) firstprivate(rdr, kmax, tab, x, off, nb, ninner, fp)
     {
         int tid = omp_get_thread_num();
         struct pair_target t = pair_scratch_target(&m->scratch, p, tid);
         double *restrict f = t.f;
-        double esum = 0, w0 = 0, w1 = 0, w2 = 0, w3 = 0, w4 = 0, w5 = 0;
+        double esum = 0;
 #pragma omp for schedule(static)
         for (int i = 0; i < p->n_owned; i++) {
             const double xi = x[3 * i], yi = x[3 * i + 1], zi = x[3 * i + 2];
             const double fpi = fp[i];
             double fxi = 0, fyi = 0, fzi = 0;
-            for (int k = off[i]; k < off[i + 1]; k++) {
+            const int kend = off[i] + ninner[i];
+            for (int k = off[i]; k < kend; k++) {
                 int j = nb[k];
                 double dx = xi - x[3 * j], dy = yi - x[3 * j + 1], dz = zi - x[3 * j + 2];
-                double r2 = dx * dx + dy * dy + dz * dz;
-                if (r2 >= cutsq)
-                    continue;
-                double r = sqrt(r2);
+                double r = sqrt(dx * dx + dy * dy + dz * dz);
                 double q = r * rdr;
                 int im = (int)q;
                 im = im > kmax ? kmax : im;
                 q -= im;
                 q = q > 1.0 ? 1.0 : q;
-                const double *c = tab + 14 * im;
-                double rhop = (c[0] * q + c[1]) * q + c[2];
-                double z2p = (c[7] * q + c[8]) * q + c[9];
-                double z2 = ((c[10] * q + c[11]) * q + c[12]) * q + c[13];
+                const double *c = tab + 8 * im;
+                /* d/dr of ((a q + b) q + c) q + d, q = r / dr */
+                double rhop = ((3.0 * c[0] * q + 2.0 * c[1]) * q + c[2]) * rdr;
+                double z2p = ((3.0 * c[4] * q + 2.0 * c[5]) * q + c[6]) * rdr;
+                double z2 = ((c[4] * q + c[5]) * q + c[6]) * q + c[7];
                 double recip = 1.0 / r;
                 double phi = z2 * recip;
                 double phip = z2p * recip - phi * recip;
@@ -170,12 +190,6 @@ static int eam_compute_one(struct eam *m, struct particles *p, const struct nlis
                 f[3 * j + 1] -= dy * fpair;
                 f[3 * j + 2] -= dz * fpair;
                 esum += phi;
-                w0 += dx * dx * fpair;
-                w1 += dy * dy * fpair;
-                w2 += dz * dz * fpair;
-                w3 += dx * dy * fpair;
-                w4 += dx * dz * fpair;
-                w5 += dy * dz * fpair;
                 if (t.pe)
                     pair_tally_peratom(&t, i, j, phi, dx, dy, dz, fpair);
             }
@@ -183,10 +197,13 @@ static int eam_compute_one(struct eam *m, struct particles *p, const struct nlis
             f[3 * i + 1] += fyi;
             f[3 * i + 2] += fzi;
         }
-        double w[6] = {w0, w1, w2, w3, w4, w5};
+        const double w[6] = {0, 0, 0, 0, 0, 0};
         pair_scratch_store_sums(&m->scratch, tid, esum, w);
     }
     pair_scratch_end(&m->scratch, p, out);
+    /* virial from the forces on owned and ghost atoms (before they are
+     * folded back): one pass over atoms instead of six products per pair */
+    pair_virial_fdotr(p, out->virial);
     out->energy += embed;
     (void)e;
     return 0;
@@ -239,7 +256,7 @@ static int eam_compute(struct potential *pot, struct particles *p, const struct 
     thread_accum_reduce(&m->rho_acc, m->rho, (size_t)ntot);
     ghost_reverse_add(p, m->rho, 1);
 
-    double embed = eam_embed(m, p, flags);
+    double embed = eam_embed(m, p, nl, flags);
     ghost_forward(p, m->fp, 1);
 
     /* pass 2: forces */
@@ -310,6 +327,7 @@ static void eam_destroy(struct potential *pot)
     thread_accum_free(&m->rho_acc);
     pair_scratch_free(&m->scratch);
     free(m->tab1);
+    free(m->ninner);
     free(m->rho);
     free(m->fp);
     free(m);
@@ -409,16 +427,16 @@ static int eam_create_format(struct cfg_obj *o, struct potential **out, enum eam
         const struct eam_spline *rs = m->rhor[0][0], *zs = m->z2r[0][0];
         m->nr1 = rs->n;
         m->rdr1 = rs->rdelta;
-        m->tab1 = malloc((size_t)14 * rs->n * sizeof(double));
+        m->tab1 = aligned_alloc(64, (size_t)64 * rs->n);
         if (!m->tab1) {
             eam_data_free(&d);
             eam_destroy(&m->base);
             return err_nomem(o->cfg->err, "EAM table");
         }
         for (int k = 0; k < rs->n; k++)
-            for (int c = 0; c < 7; c++) {
-                m->tab1[14 * k + c] = rs->c[7 * k + c];
-                m->tab1[14 * k + 7 + c] = zs->c[7 * k + c];
+            for (int c = 0; c < 4; c++) {
+                m->tab1[8 * k + c] = rs->c[7 * k + 3 + c];
+                m->tab1[8 * k + 4 + c] = zs->c[7 * k + 3 + c];
             }
     }
     snprintf(m->base.description, sizeof m->base.description, "EAM (%s) from %s, cutoff %g Å",

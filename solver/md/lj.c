@@ -14,7 +14,7 @@
 #include "core/units.h"
 #include "md/potential.h"
 #include "md/potential_common.h"
-#include "md/thread_accum.h"
+#include "core/thread_accum.h"
 
 struct lj {
     struct potential base;

@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "core/ghost.h"
+#include "core/parallel.h"
 #include "core/units.h"
 
 static void tstart(struct md *md, enum timer_id id)
@@ -44,6 +45,7 @@ static int rebuild(struct md *md, struct err *e)
     tstop(md, TIMER_COMM);
     if (rc)
         return rc;
+    parallel_range(p->par, p->n_owned, &md->nl->ilo, &md->nl->ihi);
     rc = nlist_build(md->nl, p, e);
     md->nrebuilds++;
     return rc;
@@ -77,6 +79,15 @@ int md_compute_forces(struct md *md, struct err *e)
     if (md->peratom) {
         ghost_reverse_add(p, p->pe, 1);
         ghost_reverse_add(p, p->virial, 6);
+    }
+    if (p->par) {   /* energy and virial of this rank's slice -> totals */
+        double ev[7] = {md->last.energy};
+        for (int c = 0; c < 6; c++)
+            ev[1 + c] = md->last.virial[c];
+        parallel_sum(p->par, ev, 7);
+        md->last.energy = ev[0];
+        for (int c = 0; c < 6; c++)
+            md->last.virial[c] = ev[1 + c];
     }
     tstop(md, TIMER_COMM);
     return 0;

@@ -15,9 +15,9 @@
 #include "core/box.h"
 #include "core/particles.h"
 #include "core/timers.h"
-#include "md/neighbor.h"
+#include "core/neighbor.h"
 #include "md/potential.h"
-#include "md/thermostat.h"
+#include "core/thermostat.h"
 #include "util/err.h"
 
 struct md {

@@ -32,6 +32,7 @@
 #include <string.h>
 
 #include "core/ghost.h"
+#include "core/parallel.h"
 #include "core/textfile.h"
 #include "md/potential.h"
 #include "md/potential_common.h"
@@ -205,6 +206,10 @@ static int meam_spline_compute(struct potential *pot, struct particles *p, const
         /* pass 1: densities, U', three-body forces */
 #pragma omp for schedule(static)
         for (int i = 0; i < p->n_owned; i++) {
+            if (i < nl->ilo || i >= nl->ihi) {   /* another MPI rank's slice: no list */
+                m->up[i] = 0;
+                continue;
+            }
             const double *xi = p->x + 3 * i;
             int nb = 0;
             double rho_i = 0, dummy;
@@ -272,7 +277,11 @@ static int meam_spline_compute(struct potential *pot, struct particles *p, const
             }
         }
 #pragma omp single
-        ghost_forward(p, m->up, 1);
+        {
+            /* every rank needs every U'(rho): each computed its own slice */
+            parallel_sum(p->par, m->up, (size_t)p->n_owned);
+            ghost_forward(p, m->up, 1);
+        }
         /* pass 2: pair terms */
 #pragma omp for schedule(static)
         for (int i = 0; i < p->n_owned; i++) {

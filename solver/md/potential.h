@@ -14,7 +14,7 @@
 
 #include "core/elements.h"
 #include "core/particles.h"
-#include "md/neighbor.h"
+#include "core/neighbor.h"
 #include "util/cfg.h"
 #include "util/err.h"
 

@@ -95,3 +95,20 @@ int potential_read_elements(struct cfg_obj *o, struct potential *base)
                                 base->element[k]);
     return 0;
 }
+
+void pair_virial_fdotr(const struct particles *p, double w[6])
+{
+    double s[6] = {0, 0, 0, 0, 0, 0};
+    int n = p->n_owned + p->n_ghost;
+    for (int i = 0; i < n; i++) {
+        const double *x = p->x + 3 * i, *f = p->f + 3 * i;
+        s[0] += x[0] * f[0];
+        s[1] += x[1] * f[1];
+        s[2] += x[2] * f[2];
+        s[3] += x[0] * f[1];
+        s[4] += x[0] * f[2];
+        s[5] += x[1] * f[2];
+    }
+    for (int c = 0; c < 6; c++)
+        w[c] = s[c];
+}

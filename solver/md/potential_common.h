@@ -6,7 +6,7 @@
 #define CASCADE_POTENTIAL_COMMON_H
 
 #include "md/potential.h"
-#include "md/thread_accum.h"
+#include "core/thread_accum.h"
 
 struct pair_scratch {
     struct thread_accum f, pe, vir;
@@ -39,6 +39,11 @@ static inline void pair_tally_virial(double w[6], double dx, double dy, double d
     w[4] += dx * dz * fpair;
     w[5] += dy * dz * fpair;
 }
+
+/* Virial W_ab = sum over owned and ghost particles of x_a f_b, valid when
+ * every force of a half-list ("newton on") kernel is still on the particle
+ * it acts on, i.e. before ghost forces are added to their owners. */
+void pair_virial_fdotr(const struct particles *p, double w[6]);
 
 /* Half of a pair's energy and virial to each particle. */
 static inline void pair_tally_peratom(struct pair_target *t, int i, int j, double epair, double dx,

@@ -80,6 +80,8 @@ static int sc_compute(struct potential *pot, struct particles *p, const struct n
     for (int i = 0; i < p->n_owned; i++) {
         double F;
         sc_embed(sc, s->rho[i], &F, &s->fp[i]);
+        if (i < nl->ilo || i >= nl->ihi)   /* energy of this rank's slice only */
+            continue;
         embed += F;
         if (flags & POT_PERATOM)
             p->pe[i] = F;

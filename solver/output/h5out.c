@@ -33,6 +33,7 @@ void h5out_attr_double(hid_t obj, const char *name, double value)
 int h5out_create(struct h5out *h, const char *path, const json_t *case_doc, struct err *e)
 {
     memset(h, 0, sizeof *h);
+    snprintf(h->time_unit, sizeof h->time_unit, "ps");
     snprintf(h->path, sizeof h->path, "%s", path);
     snprintf(h->xdmf_path, sizeof h->xdmf_path, "%s", path);
     char *dot = strrchr(h->xdmf_path, '.');
@@ -98,22 +99,63 @@ hid_t h5out_begin_snapshot(struct h5out *h, const char *collection, long step, d
         err_set(e, ERR_RUNTIME, "%s: cannot create group %s", h->path, s->group);
         return H5I_INVALID_HID;
     }
-    h5out_attr_double(g, "time_ps", time);
+    char tname[32];
+    snprintf(tname, sizeof tname, "time_%s", h->time_unit);
+    h5out_attr_double(g, tname, time);
     h5out_attr_double(g, "step", (double)step);
     h->nsnaps++;
     return g;
 }
 
-static int write_dataset(struct h5out *h, hid_t group, const char *name, hid_t memtype,
-                         const void *data, long n, int ncomp, const char *unit, int is_int,
-                         struct err *e)
+hid_t h5out_begin_grid_snapshot(struct h5out *h, const char *collection, long step, double time,
+                                const long dims[3], const double origin[3],
+                                const double spacing[3], struct err *e)
 {
-    hsize_t dims[2] = {(hsize_t)n, (hsize_t)ncomp};
-    hid_t space = H5Screate_simple(ncomp > 1 ? 2 : 1, dims, NULL);
+    long n = dims[0] * dims[1] * dims[2];
+    hid_t g = h5out_begin_snapshot(h, collection, step, time, n, e);
+    if (g < 0)
+        return g;
+    struct h5out_snap *s = &h->snaps[h->nsnaps - 1];
+    s->structured = 1;
+    for (int d = 0; d < 3; d++) {
+        s->dims[d] = dims[d];
+        s->origin[d] = origin[d];
+        s->spacing[d] = spacing[d];
+    }
+    return g;
+}
+
+void h5out_set_units(struct h5out *h, const char *description, const char *time_unit)
+{
+    if (h->file >= 0) {
+        if (H5Aexists(h->file, "units") > 0)
+            H5Adelete(h->file, "units");
+        h5out_attr_string(h->file, "units", description);
+    }
+    snprintf(h->time_unit, sizeof h->time_unit, "%s", time_unit);
+}
+
+/* Shape of a dataset: rank and dimensions (n x ncomp, or nz x ny x nx x ncomp). */
+struct shape {
+    int rank;
+    hsize_t dims[4];
+};
+
+static int write_dataset_shaped(struct h5out *h, hid_t group, const char *name, hid_t memtype,
+                                const void *data, long n, int ncomp, const struct shape *sh,
+                                const char *unit, int is_int, struct err *e)
+{
+    hid_t space = H5Screate_simple(sh->rank, sh->dims, NULL);
     hid_t dcpl = H5Pcreate(H5P_DATASET_CREATE);
     if (n > 4096) {   /* compress larger datasets */
-        hsize_t chunk[2] = {(hsize_t)(n < 65536 ? n : 65536), (hsize_t)ncomp};
-        H5Pset_chunk(dcpl, ncomp > 1 ? 2 : 1, chunk);
+        hsize_t chunk[4];
+        for (int k = 0; k < sh->rank; k++)
+            chunk[k] = sh->dims[k];
+        /* about 64k elements per chunk along the slowest dimension */
+        hsize_t per = (hsize_t)n / sh->dims[0];
+        hsize_t rows = per > 0 ? 65536 / per : 1;
+        chunk[0] = rows < 1 ? 1 : rows > sh->dims[0] ? sh->dims[0] : rows;
+        H5Pset_chunk(dcpl, sh->rank, chunk);
         H5Pset_shuffle(dcpl);
         H5Pset_deflate(dcpl, 1);
     }
@@ -138,6 +180,27 @@ static int write_dataset(struct h5out *h, hid_t group, const char *name, hid_t m
         }
     }
     return 0;
+}
+
+static int write_dataset(struct h5out *h, hid_t group, const char *name, hid_t memtype,
+                         const void *data, long n, int ncomp, const char *unit, int is_int,
+                         struct err *e)
+{
+    struct shape sh = {ncomp > 1 ? 2 : 1, {(hsize_t)n, (hsize_t)ncomp, 0, 0}};
+    return write_dataset_shaped(h, group, name, memtype, data, n, ncomp, &sh, unit, is_int, e);
+}
+
+int h5out_write_grid_doubles(struct h5out *h, hid_t group, const char *name, const double *data,
+                             int ncomp, const char *unit, struct err *e)
+{
+    if (h->nsnaps == 0 || !h->snaps[h->nsnaps - 1].structured)
+        return err_set(e, ERR_RUNTIME, "%s: %s: no structured snapshot open", h->path, name);
+    const struct h5out_snap *s = &h->snaps[h->nsnaps - 1];
+    struct shape sh = {ncomp > 1 ? 4 : 3,
+                       {(hsize_t)s->dims[2], (hsize_t)s->dims[1], (hsize_t)s->dims[0],
+                        (hsize_t)ncomp}};
+    return write_dataset_shaped(h, group, name, H5T_NATIVE_DOUBLE, data, s->n, ncomp, &sh, unit,
+                                0, e);
 }
 
 int h5out_write_doubles(struct h5out *h, hid_t group, const char *name, const double *data, long n,
@@ -186,6 +249,8 @@ static int write_xdmf(const struct h5out *h, struct err *e)
         return err_set(e, ERR_RUNTIME, "%s: cannot create", h->xdmf_path);
     const char *h5name = basename_of(h->path);
     fprintf(f, "<?xml version=\"1.0\" ?>\n<!DOCTYPE Xdmf SYSTEM \"Xdmf.dtd\" []>\n");
+    fprintf(f, "<!-- written by cascade-solver %s (git %s) -->\n", provenance_version(),
+            provenance_git_hash());
     fprintf(f, "<Xdmf Version=\"3.0\">\n <Domain>\n");
     const char *collections[] = {"particles", "points", "grid"};
     for (int c = 0; c < 3; c++) {
@@ -200,23 +265,41 @@ static int write_xdmf(const struct h5out *h, struct err *e)
             const struct h5out_snap *s = &h->snaps[k];
             if (strcmp(s->collection, collections[c]) != 0)
                 continue;
-            const char *geo = "position";
+            const char *geo = s->structured ? "" : "position";
             fprintf(f, "   <Grid Name=\"%s_%ld\" GridType=\"Uniform\">\n", collections[c], s->step);
             fprintf(f, "    <Time Value=\"%.10g\"/>\n", s->time);
-            fprintf(f, "    <Topology TopologyType=\"Polyvertex\" NumberOfElements=\"%ld\" "
-                       "NodesPerElement=\"1\"/>\n",
-                    s->n);
-            fprintf(f, "    <Geometry GeometryType=\"XYZ\">\n     <DataItem Dimensions=\"%ld 3\" "
-                       "NumberType=\"Float\" Precision=\"8\" Format=\"HDF\">%s:%s/%s</DataItem>\n"
-                       "    </Geometry>\n",
-                    s->n, h5name, s->group, geo);
+            if (s->structured) {
+                /* XDMF orders structured dimensions, origin and spacing z, y, x */
+                fprintf(f, "    <Topology TopologyType=\"3DCoRectMesh\" Dimensions=\"%ld %ld %ld\"/>\n",
+                        s->dims[2], s->dims[1], s->dims[0]);
+                fprintf(f, "    <Geometry GeometryType=\"ORIGIN_DXDYDZ\">\n"
+                           "     <DataItem Dimensions=\"3\" NumberType=\"Float\" Precision=\"8\" "
+                           "Format=\"XML\">%.17g %.17g %.17g</DataItem>\n"
+                           "     <DataItem Dimensions=\"3\" NumberType=\"Float\" Precision=\"8\" "
+                           "Format=\"XML\">%.17g %.17g %.17g</DataItem>\n    </Geometry>\n",
+                        s->origin[2], s->origin[1], s->origin[0], s->spacing[2], s->spacing[1],
+                        s->spacing[0]);
+            } else {
+                fprintf(f, "    <Topology TopologyType=\"Polyvertex\" NumberOfElements=\"%ld\" "
+                           "NodesPerElement=\"1\"/>\n",
+                        s->n);
+                fprintf(f, "    <Geometry GeometryType=\"XYZ\">\n     <DataItem Dimensions=\"%ld 3\" "
+                           "NumberType=\"Float\" Precision=\"8\" Format=\"HDF\">%s:%s/%s</DataItem>\n"
+                           "    </Geometry>\n",
+                        s->n, h5name, s->group, geo);
+            }
             for (int a = 0; a < s->nfields; a++) {
                 const struct h5out_field *fl = &s->fields[a];
                 if (strcmp(fl->name, geo) == 0)
                     continue;
-                const char *atype = fl->ncomp == 1 ? "Scalar" : fl->ncomp == 3 ? "Vector" : fl->ncomp == 6 ? "Tensor6" : "Matrix";
-                char dims[64];
-                if (fl->ncomp == 1)
+                const char *atype = fl->ncomp == 1 ? "Scalar" : fl->ncomp == 3 ? "Vector" : fl->ncomp == 6 ? "Tensor6" : fl->ncomp == 9 ? "Tensor" : "Matrix";
+                char dims[96];
+                if (s->structured && fl->ncomp == 1)
+                    snprintf(dims, sizeof dims, "%ld %ld %ld", s->dims[2], s->dims[1], s->dims[0]);
+                else if (s->structured)
+                    snprintf(dims, sizeof dims, "%ld %ld %ld %d", s->dims[2], s->dims[1],
+                             s->dims[0], fl->ncomp);
+                else if (fl->ncomp == 1)
                     snprintf(dims, sizeof dims, "%ld", s->n);
                 else
                     snprintf(dims, sizeof dims, "%ld %d", s->n, fl->ncomp);

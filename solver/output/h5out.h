@@ -8,10 +8,17 @@
  *        id, type, pe (eV), stress (N x 6: xx yy zz xy xz yz, GPa),
  *        and any extra per-particle fields (structure class, region, ...)
  *   /series/NAME              1-D time series (thermo columns)
- *   /grid/...                 MPM grid fields (added by the MPM writer)
+ *   /points/NNNNNNNN/         MPM material points (a point cloud like /particles)
+ *   /grid/NNNNNNNN/           MPM grid fields: on a uniform grid a structured
+ *                             snapshot (h5out_begin_grid_snapshot) whose node
+ *                             fields are (nz, ny, nx[, ncomp]) arrays; on other
+ *                             grids a point cloud of the nodes
  *
- * The XDMF file (same name, .xdmf) describes the snapshots as a temporal
- * collection of point clouds, so ParaView opens them directly.
+ * The XDMF file (same name, .xdmf) describes the snapshots as temporal
+ * collections -- point clouds (Polyvertex) and structured grids
+ * (3DCoRectMesh) -- so ParaView opens them directly.  Times and the root
+ * "units" attribute are in metal units (ps) unless h5out_set_units says
+ * otherwise (MPM cases written in SI).
  */
 #ifndef CASCADE_H5OUT_H
 #define CASCADE_H5OUT_H
@@ -39,6 +46,9 @@ struct h5out_snap {
     long step;
     double time;
     long n;
+    int structured;        /* 1: 3DCoRectMesh of dims nodes (origin, spacing) */
+    long dims[3];          /* x, y, z node counts */
+    double origin[3], spacing[3];
     int nfields;
     struct h5out_field fields[H5OUT_MAX_FIELDS];
 };
@@ -50,6 +60,7 @@ struct h5out {
     int nsnaps;
     struct h5out_snap *snaps;
     int cap_snaps;
+    char time_unit[16];    /* unit of snapshot times ("ps" unless set) */
 };
 
 int h5out_create(struct h5out *h, const char *path, const json_t *case_doc, struct err *e);
@@ -61,6 +72,22 @@ int h5out_write_doubles(struct h5out *h, hid_t group, const char *name, const do
 int h5out_write_ints(struct h5out *h, hid_t group, const char *name, const int64_t *data, long n,
                      const char *unit, struct err *e);
 void h5out_end_snapshot(struct h5out *h, hid_t group);
+
+/* A structured snapshot of a uniform grid of dims[0] x dims[1] x dims[2]
+ * nodes (x fastest) at origin with spacing; its node fields are written with
+ * h5out_write_grid_doubles. */
+hid_t h5out_begin_grid_snapshot(struct h5out *h, const char *collection, long step, double time,
+                                const long dims[3], const double origin[3],
+                                const double spacing[3], struct err *e);
+/* A node field of the current structured snapshot: data holds
+ * dims[0] dims[1] dims[2] x ncomp values, x fastest. */
+int h5out_write_grid_doubles(struct h5out *h, hid_t group, const char *name, const double *data,
+                             int ncomp, const char *unit, struct err *e);
+
+/* Replace the file's "units" description and the unit of snapshot times
+ * (attribute "time_<unit>" and the XDMF times), for runs whose outputs are
+ * not in metal units. */
+void h5out_set_units(struct h5out *h, const char *description, const char *time_unit);
 /* A named 1-D series under /series. */
 int h5out_write_series(struct h5out *h, const char *name, const double *data, long n,
                        const char *unit, struct err *e);

@@ -41,6 +41,16 @@ void result_series(struct result *r, const char *name, const double *values, int
     json_object_set_new(r->series, name, json_pack("{s:s, s:o}", "unit", unit, "values", arr));
 }
 
+void result_artifact(struct result *r, const char *name, const char *file)
+{
+    json_t *a = json_object_get(r->root, "artifacts");
+    if (!a) {
+        a = json_object();
+        json_object_set_new(r->root, "artifacts", a);
+    }
+    json_object_set_new(a, name, json_string(file));
+}
+
 void result_set_status(struct result *r, const char *status, const char *message)
 {
     json_object_set_new(r->root, "status", json_string(status));

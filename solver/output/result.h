@@ -6,6 +6,7 @@
  *    "message": "...",                       (when not ok)
  *    "metrics": {NAME: {"value": X, "unit": "U"}, ...},
  *    "series":  {NAME: {"unit": "U", "values": [...]}, ...},   (optional)
+ *    "artifacts": {NAME: "file name in the output directory", ...},   (optional)
  *    "timing":  {...}, "provenance": {...}, "case_key": "...", "case": {...}}
  *
  * Written atomically (temporary file + rename) so a reader never sees half
@@ -30,6 +31,9 @@ void result_metric(struct result *r, const char *name, double value, const char 
 /* A series of values (for example counts over time), copied. */
 void result_series(struct result *r, const char *name, const double *values, int n,
                    const char *unit);
+/* A file the run wrote that later jobs may read (for example the final
+ * state of a preparation run), by name relative to the output directory. */
+void result_artifact(struct result *r, const char *name, const char *file);
 void result_set_status(struct result *r, const char *status, const char *message);
 int result_write(const struct result *r, const char *path, struct err *e);
 

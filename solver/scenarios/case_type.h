@@ -17,10 +17,13 @@
 #include "scenarios/run.h"
 #include "util/cfg.h"
 
+struct parallel;
+
 struct case_common {
     uint64_t seed;
     const char *title;
-    int nthreads;          /* from the command line, for set-up that needs it */
+    int nthreads;                  /* from the command line, for set-up that needs it */
+    const struct parallel *par;    /* MPI ranks of this run (NULL: serial) */
 };
 
 struct case_type {
@@ -35,6 +38,8 @@ struct case_type {
     void (*destroy)(void *state);
     /* Particle count for timing reports. */
     long (*particles)(const void *state);
+    /* Time steps the run takes, for timing reports (NULL: md.steps). */
+    long (*steps)(const void *state);
 };
 
 extern const struct case_type *const case_types[];   /* NULL-terminated */

@@ -48,7 +48,7 @@
 
 #include "core/elements.h"
 #include "core/units.h"
-#include "md/velocity.h"
+#include "core/velocity.h"
 #include "scenarios/case_type.h"
 #include "scenarios/cluster_build.h"
 #include "scenarios/impact_boundary.h"
@@ -423,5 +423,5 @@ static long impact_particles(const void *state)
 
 const struct case_type impact_case_type = {
     "cluster_impact", "a cluster hitting a crystal surface: damage, sputtering, crater",
-    impact_read, impact_run, impact_destroy, impact_particles,
+    impact_read, impact_run, impact_destroy, impact_particles, NULL,
 };

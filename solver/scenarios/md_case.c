@@ -13,14 +13,20 @@
  *                            than this has diverged
  *
  * A run of 0 steps evaluates energies, forces and the pressure tensor.
+ *
+ * Besides the final values, result.json has the mean pressure over the
+ * second half of the run (the first half is taken as equilibration) with
+ * its block-averaged standard error, and the mass density: one point of an
+ * isotherm per run (the MD->DPD bridge, Chen 2014 Sec. 2.2).
  */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include "analysis/block_average.h"
 #include "core/units.h"
 #include "md/md.h"
-#include "md/velocity.h"
+#include "core/velocity.h"
 #include "scenarios/case_type.h"
 #include "scenarios/md_system.h"
 #include "scenarios/md_output.h"
@@ -86,6 +92,7 @@ static int md_case_read(struct cfg_obj *root, const struct case_common *common, 
             return rc;
         }
     }
+    p->par = common->par;
     rc = md_init(&c->md, p, &box, pot, dt, skin, common->nthreads, e);
     c->md.thermo = th;
     c->md.seed = common->seed;
@@ -115,6 +122,12 @@ static int md_case_run(void *state, struct run *run, struct err *e)
     long tcount = 0;
     int diverged = 0;
     char why[256] = "";
+    /* pressure samples of the second half of the run */
+    long nlate = c->steps - c->steps / 2;
+    double *plate = malloc((size_t)(nlate > 0 ? nlate : 1) * sizeof *plate);
+    long np = 0;
+    if (!plate)
+        return err_nomem(e, "pressure samples");
     md->peratom = run_due(0, c->steps, run->out.snapshot_every);
     rc = md_compute_forces(md, e);
     if (!rc)
@@ -142,6 +155,11 @@ static int md_case_run(void *state, struct run *run, struct err *e)
         if (diverged) {
             rc = err_set(e, ERR_DIVERGED, "diverged: %s", why);
             break;
+        }
+        if (s > c->steps / 2 && np < nlate) {
+            double Ps[6];
+            md_pressure_tensor(md, Ps);
+            plate[np++] = (Ps[0] + Ps[1] + Ps[2]) / 3.0 * UNITS_EVA3_TO_GPA;
         }
         rc = md_output_step(&mo, run, md, c->steps);
         progress_update(&run->progress, s);
@@ -176,8 +194,20 @@ static int md_case_run(void *state, struct run *run, struct err *e)
     result_metric(res, "momentum", sqrt(mom[0] * mom[0] + mom[1] * mom[1] + mom[2] * mom[2]),
                   "amu Å/ps");
     result_metric(res, "volume", box_volume(&md->box), "Å^3");
+    double mass = 0;
+    for (int i = 0; i < md->p->n_owned; i++)
+        mass += md->p->mass[md->p->type[i]];
+    result_metric(res, "density", mass / box_volume(&md->box) * UNITS_AMU_A3_TO_KG_M3 / 1000.0,
+                  "g/cm^3");
+    double psem;
+    double pmean = np ? block_average(plate, np, 10, &psem) : (P[0] + P[1] + P[2]) / 3.0 * UNITS_EVA3_TO_GPA;
+    result_metric(res, "pressure_mean", pmean, "GPa");
+    result_metric(res, "pressure_sem", np ? psem : NAN, "GPa");
+    free(plate);
     result_metric(res, "neighbor_rebuilds", (double)md->nrebuilds, "1");
     int rc2 = md_output_end(&mo, run, e);
+    if (!rc && !rc2)
+        rc2 = run_write_final_state(run, md->p, &md->box, md->step, md->time, e);
     return rc ? rc : rc2;
 }
 
@@ -196,7 +226,13 @@ static long md_case_particles(const void *state)
     return c->md.p ? c->md.p->n_owned : 0;
 }
 
+static long md_case_steps(const void *state)
+{
+    const struct md_case *c = state;
+    return c->steps;
+}
+
 const struct case_type md_case_type = {
     "md", "molecular dynamics of one crystal or configuration (NVE or thermostatted)",
-    md_case_read, md_case_run, md_case_destroy, md_case_particles,
+    md_case_read, md_case_run, md_case_destroy, md_case_particles, md_case_steps,
 };

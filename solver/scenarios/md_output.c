@@ -1,6 +1,7 @@
 /* md_output: the MD run's thermo, snapshots and frames. */
 #include "scenarios/md_output.h"
 
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -95,6 +96,27 @@ int md_output_snapshot(struct md_output *o, struct run *run, struct md *md)
     return rc;
 }
 
+/* With XYZ output on, the last configuration also goes to final.xyz, one
+ * frame that system.read_xyz reads back (positions and velocities), so a
+ * campaign's preparation job can hand an equilibrated state to later jobs.
+ * Written to a temporary name and renamed: never seen half-written. */
+static int write_final(struct run *run, struct md *md)
+{
+    char path[4096], tmp[4200];
+    run_path(run, "final.xyz", path, sizeof path);
+    snprintf(tmp, sizeof tmp, "%s.tmp", path);
+    FILE *f = fopen(tmp, "w");
+    if (!f)
+        return ERR_RUNTIME;
+    int bad = xyz_write_frame(f, md->p, &md->box, md->step, md->time, NULL, NULL);
+    bad |= fclose(f) != 0;
+    if (bad || rename(tmp, path) != 0) {
+        remove(tmp);
+        return ERR_RUNTIME;
+    }
+    return 0;
+}
+
 int md_output_step(struct md_output *o, struct run *run, struct md *md, long total)
 {
     long s = md->step;
@@ -121,6 +143,8 @@ int md_output_step(struct md_output *o, struct run *run, struct md *md, long tot
         }
         rc = xyz_write_frame(run->xyz, md->p, &md->box, s, md->time, name, extra) ? ERR_RUNTIME : 0;
     }
+    if (!rc && run->xyz && s == total)
+        rc = write_final(run, md);
     timer_stop(&run->timers, TIMER_OUTPUT);
     return rc;
 }

@@ -7,7 +7,9 @@
 #include <sys/resource.h>
 #include <sys/stat.h>
 
+#include "output/lammps_data_write.h"
 #include "output/provenance.h"
+#include "output/xyz_write.h"
 #include "util/canon.h"
 
 int output_settings_read(struct cfg_obj *root, struct output_settings *o)
@@ -21,6 +23,19 @@ int output_settings_read(struct cfg_obj *root, struct output_settings *o)
         (rc = cfg_int(&s, "xyz_every", 0, CFG_GE(0), &o->xyz_every)) ||
         (rc = cfg_bool(&s, "hdf5", 1, &o->hdf5)))
         return rc;
+    int has_final;
+    o->final_state = NULL;
+    if ((rc = cfg_string_opt(&s, "final_state", &o->final_state, &has_final)))
+        return rc;
+    if (has_final) {
+        const char *dot = strrchr(o->final_state, '.');
+        if (strchr(o->final_state, '/') || !dot ||
+            (strcmp(dot, ".data") != 0 && strcmp(dot, ".xyz") != 0))
+            return cfg_error_at(s.cfg, "output.final_state",
+                                "'%s' must be a file name (no directory) ending in .data (LAMMPS "
+                                "data) or .xyz (extended XYZ)",
+                                o->final_state);
+    }
     return cfg_close(&s);
 }
 
@@ -73,13 +88,16 @@ int run_open(struct run *r, const struct run_options *opt, const struct output_s
     r->case_doc = case_doc;
     r->seed = seed;
     snprintf(r->title, sizeof r->title, "%s", title ? title : "");
-    r->log = opt->quiet ? NULL : stderr;
+    r->log = opt->quiet || opt->rank != 0 ? NULL : stderr;
     canon_key(case_doc, r->case_key);
+    if (result_init(&r->result) != 0)
+        return err_nomem(e, "result");
+    timer_start(&r->timers, TIMER_TOTAL);
+    if (opt->rank != 0)
+        return 0;   /* replicated ranks compute; rank 0 writes */
     if (mkdir_p(opt->out_dir) != 0)
         return err_set(e, ERR_RUNTIME, "%s: cannot create output directory: %s", opt->out_dir,
                        strerror(errno));
-    if (result_init(&r->result) != 0)
-        return err_nomem(e, "result");
     char path[4096];
     if (out->hdf5) {
         run_path(r, "fields.h5", path, sizeof path);
@@ -94,17 +112,49 @@ int run_open(struct run *r, const struct run_options *opt, const struct output_s
         if (!r->xyz)
             return err_set(e, ERR_RUNTIME, "%s: cannot create: %s", path, strerror(errno));
     }
-    timer_start(&r->timers, TIMER_TOTAL);
     return 0;
+}
+
+int run_write_final_state(struct run *r, const struct particles *p, const struct box *b,
+                          long step, double time, struct err *e)
+{
+    const char *name = r->out.final_state;
+    if (!name)
+        return 0;
+    char path[4096];
+    run_path(r, name, path, sizeof path);
+    const char *dot = strrchr(name, '.');
+    int rc = 0;
+    if (dot && strcmp(dot, ".xyz") == 0) {
+        FILE *f = fopen(path, "w");
+        if (!f)
+            return err_set(e, ERR_RUNTIME, "%s: cannot create: %s", path, strerror(errno));
+        int bad = xyz_write_frame(f, p, b, step, time, NULL, NULL);
+        if (fclose(f) != 0 || bad)
+            return err_set(e, ERR_RUNTIME, "%s: write failed", path);
+    } else {
+        char title[512];
+        snprintf(title, sizeof title, "cascade-solver final state: case %s, step %ld, time %g ps",
+                 r->case_key, step, time);
+        rc = lammps_data_write(path, p, b, title, e);
+    }
+    if (!rc)
+        result_artifact(&r->result, "final_state", name);
+    return rc;
 }
 
 int run_thermo_header(struct run *r, const char *const *columns, int n)
 {
+    if (r->opt.rank != 0)
+        return 0;
     char path[4096];
     run_path(r, "thermo.csv", path, sizeof path);
     r->thermo_csv = fopen(path, "w");
     if (!r->thermo_csv)
         return -1;
+    /* provenance as a comment line (gnuplot, numpy and pandas skip '#') */
+    fprintf(r->thermo_csv, "# cascade-solver %s (git %s), case key %s\n", provenance_version(),
+            provenance_git_hash(), r->case_key);
     for (int k = 0; k < n; k++)
         fprintf(r->thermo_csv, "%s%s", k ? "," : "", columns[k]);
     fputc('\n', r->thermo_csv);
@@ -178,7 +228,7 @@ int run_close(struct run *r, const char *status, const char *message, long steps
     char path[4096];
     run_path(r, "result.json", path, sizeof path);
     struct err e3 = {0};
-    if (result_write(&r->result, path, &e3) != 0 && !rc)
+    if (r->opt.rank == 0 && result_write(&r->result, path, &e3) != 0 && !rc)
         rc = err_set(e, ERR_RUNTIME, "%s", e3.msg);
     result_free(&r->result);
     return rc;

@@ -11,6 +11,8 @@
 #include <stdint.h>
 #include <stdio.h>
 
+#include "core/box.h"
+#include "core/particles.h"
 #include "core/timers.h"
 #include "output/h5out.h"
 #include "output/progress.h"
@@ -24,6 +26,7 @@ struct run_options {
     int nthreads;
     int progress;       /* show progress (terminal or plain lines) */
     int quiet;          /* only errors on stderr */
+    int rank;           /* MPI rank: only rank 0 writes files and logs */
 };
 
 /* The `output` section of a case. */
@@ -32,6 +35,9 @@ struct output_settings {
     long snapshot_every;    /* steps between HDF5 snapshots (0: first and last only) */
     long xyz_every;         /* steps between extended XYZ frames (0: none) */
     int hdf5;               /* write fields.h5 + fields.xdmf */
+    const char *final_state;/* file name for the final particle state (NULL: none):
+                             * NAME.data = LAMMPS data, NAME.xyz = extended XYZ;
+                             * system.read_data / read_xyz of a later case reads it */
 };
 
 int output_settings_read(struct cfg_obj *root, struct output_settings *o);
@@ -61,6 +67,11 @@ int run_open(struct run *r, const struct run_options *opt, const struct output_s
  * "ok", "diverged" or "failed". */
 int run_close(struct run *r, const char *status, const char *message, long steps, long particles,
               struct err *e);
+
+/* Write the final particle state when the case asks for it
+ * (output.final_state) and list it under "artifacts" in result.json. */
+int run_write_final_state(struct run *r, const struct particles *p, const struct box *b,
+                          long step, double time, struct err *e);
 
 /* Path of a file inside the output directory. */
 void run_path(const struct run *r, const char *name, char *out, size_t len);

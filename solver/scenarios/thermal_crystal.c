@@ -5,7 +5,7 @@
 #include <string.h>
 
 #include "core/elements.h"
-#include "md/velocity.h"
+#include "core/velocity.h"
 
 int thermal_crystal_md(struct md *md, struct potential *pot, const struct thermal_spec *s, double a,
                        const double *scale, struct err *e)

@@ -1,0 +1,140 @@
+#!/bin/sh
+# Campaign runner speed (run by bench/bench.sh with BIN, ROOT, WORK, REPEAT):
+#   campaign_dispatch_ms        the runner's time per job with a no-op job (the
+#                               stand-in, action ok), 400 jobs one at a time:
+#                               claim, directory, fork/exec, reading and
+#                               recording the result (as the runner reports it)
+#   campaign_metric_rows_per_s  metric rows recorded per second (20 jobs of
+#                               5,000 metrics each)
+#   campaign_status_100k_ms     `cascade status STUDY` (the slower of its two
+#                               forms) on a database of 100,000 jobs
+# Medians of REPEAT runs.
+set -eu
+: "${BIN:?}" "${ROOT:?}" "${WORK:?}" "${REPEAT:=3}"
+D="$WORK/campaign"
+mkdir -p "$D"
+FAKE="$BIN/fake-solver"
+if [ ! -x "$FAKE" ]; then
+    variant=$(basename "$(dirname "$BIN")")
+    if [ "$BIN" = "$ROOT/bin" ]; then
+        make -s -C "$ROOT" bin/fake-solver >&2
+    else
+        make -s -C "$ROOT" BUILD="$variant" "build/$variant/bin/fake-solver" >&2
+    fi
+fi
+median() { sort -g | awk '{a[NR]=$1} END {if (NR%2) print a[(NR+1)/2]; else print (a[NR/2]+a[NR/2+1])/2}'; }
+now_ns() { date +%s%N; }
+# seconds taken by a cascade run in $D (fresh database each time)
+run_s() { # run_s STUDY.yaml [extra args]
+    rm -rf "$D/runs" "$D"/cascade.db*
+    t0=$(now_ns)
+    (cd "$D" && "$BIN/cascade" run "$@" --solver "$FAKE" --quiet >/dev/null 2>&1) || true
+    t1=$(now_ns)
+    echo "($t1 - $t0) / 1000000000" | bc -l
+}
+values() { # values N -> [1, 2, ..., N]
+    seq -s ', ' 1 "$1" | sed 's/^/[/; s/$/]/'
+}
+
+# --- dispatch --------------------------------------------------------------
+# The runner reports the time it spends per job between the jobs' own work
+# (claim in the database, run directory and case.yaml, fork/exec, reading
+# result.json and hashing the files, recording): that is the overhead.  For
+# scale, the wall-clock cost of one more job (slope from 100 to 400 jobs, one
+# at a time) and of the no-op run alone are printed too.
+for n in 100 400; do
+    printf 'name: noop%s\nbase: {fake: {action: ok}}\nsweep: {grid: {fake.x: %s}}\n' \
+        "$n" "$(values $n)" > "$D/noop$n.yaml"
+done
+bare_s() { # the no-op job run directly, 300 times
+    t0=$(now_ns)
+    n=0
+    while [ $n -lt 300 ]; do
+        n=$((n + 1))
+        "$FAKE" run "$D/solo/case.yaml" --out "$D/solo" --threads 1 --quiet --no-progress \
+            >"$D/solo/stdout" 2>"$D/solo/stderr"
+    done
+    t1=$(now_ns)
+    echo "($t1 - $t0) / 1000000000" | bc -l
+}
+: > "$D/dispatch"; : > "$D/perjob"; : > "$D/bare"
+i=0
+while [ $i -lt "$REPEAT" ]; do
+    i=$((i + 1))
+    a=$(run_s noop100.yaml --jobs 1)
+    rm -rf "$D/runs" "$D"/cascade.db*
+    t0=$(now_ns)
+    (cd "$D" && "$BIN/cascade" run noop400.yaml --solver "$FAKE" --jobs 1 2>&1) \
+        | sed -n 's/.*runner time per job: \([0-9.]*\) ms.*/\1/p' >> "$D/dispatch"
+    t1=$(now_ns)
+    b=$(echo "($t1 - $t0) / 1000000000" | bc -l)
+    if [ ! -f "$D/solo/case.yaml" ]; then
+        mkdir -p "$D/solo"
+        cp "$(ls -d "$D"/runs/noop400/* | head -n1)/case.yaml" "$D/solo/case.yaml"
+    fi
+    c=$(bare_s)
+    echo "($b - $a) * 1000 / 300" | bc -l >> "$D/perjob"
+    echo "$c * 1000 / 300" | bc -l >> "$D/bare"
+done
+echo "bench: wall clock: one more no-op job costs $(median < "$D/perjob" | xargs printf '%.2f') ms" \
+     "in a campaign; the no-op run alone $(median < "$D/bare" | xargs printf '%.2f') ms" >&2
+echo "BENCH campaign_dispatch_ms $(median < "$D/dispatch" | xargs printf '%.2f') ms"
+
+# --- metric rows -------------------------------------------------------------
+# 20 jobs writing 5,000 metrics each; the time is what the runner reports for
+# reading result.json, hashing the files and writing the database (the
+# stand-in's own time to write the metrics is not the runner's)
+printf 'name: rows\nbase: {fake: {action: ok, metrics: 5000}}\nsweep: {grid: {fake.x: %s}}\n' \
+    "$(values 20)" > "$D/rows.yaml"
+: > "$D/rows"
+i=0
+while [ $i -lt "$REPEAT" ]; do
+    i=$((i + 1))
+    rm -rf "$D/runs" "$D"/cascade.db*
+    (cd "$D" && "$BIN/cascade" run rows.yaml --solver "$FAKE" --jobs 1 2>&1) \
+        | sed -n 's/.* \([0-9]*\) metric rows recorded in \([0-9.]*\) s.*/\1 \2/p' \
+        | awk '{print $1 / $2}' >> "$D/rows"
+done
+echo "BENCH campaign_metric_rows_per_s $(median < "$D/rows" | xargs printf '%.0f') rows/s"
+
+# --- status on 100,000 jobs -------------------------------------------------------
+rm -rf "$D/runs" "$D"/cascade.db*
+printf 'name: big\nbase: {fake: {action: ok}}\nsweep: {grid: {fake.x: %s, fake.y: %s}}\nrepeats: 1\n' \
+    "$(values 100)" "$(values 1000)" > "$D/big.yaml"
+(cd "$D" && "$BIN/cascade" plan big.yaml --solver "$FAKE" --register >/dev/null 2>&1)
+# a realistic state: 90 % done with 3 metrics each, 5 % failed, 1 % running, the rest pending
+sqlite3 "$D/cascade.db" <<'SQL'
+PRAGMA foreign_keys = ON;
+BEGIN;
+INSERT INTO runs (job_id, attempt, status, exit_code, message, started, finished, wall_s,
+                  peak_rss_mib, host, runner, launcher, solver_version, solver_git, run_dir)
+SELECT id, 1,
+       CASE WHEN id % 100 < 90 THEN 'done' WHEN id % 100 < 95 THEN 'failed' ELSE 'running' END,
+       CASE WHEN id % 100 < 90 THEN 0 WHEN id % 100 < 95 THEN 3 END,
+       CASE WHEN id % 100 BETWEEN 90 AND 94 THEN 'exit 3: bench' END,
+       '2024-01-01T00:00:00.000Z', '2024-01-01T00:00:01.000Z', 1.0, 10.0, 'bench',
+       'bench:1:1', 'local', 'fake-1.0', 'standin', '/tmp/bench/' || key
+FROM jobs WHERE id % 100 < 96;
+INSERT INTO metrics (run_id, name, value, unit)
+SELECT r.id, n.name, r.id * 0.5, '1' FROM runs r,
+       (SELECT 'x_squared' AS name UNION ALL SELECT 'sum' UNION ALL SELECT 'seed') n
+WHERE r.status = 'done';
+COMMIT;
+SQL
+: > "$D/status"
+i=0
+while [ $i -lt "$REPEAT" ]; do
+    i=$((i + 1))
+    for args in "" "big"; do
+        t0=$(now_ns)
+        (cd "$D" && "$BIN/cascade" status $args >/dev/null)
+        t1=$(now_ns)
+        echo "$args $(( (t1 - t0) / 1000 ))" >> "$D/status"
+    done
+done
+s_all=$(grep -v '^big' "$D/status" | awk '{print $NF}' | median)
+s_big=$(grep '^big' "$D/status" | awk '{print $NF}' | median)
+worst=$(printf '%s\n%s\n' "$s_all" "$s_big" | sort -g | tail -n1)
+echo "bench: cascade status: $(echo "$s_all / 1000" | bc -l | xargs printf '%.1f') ms (all studies)," \
+     "$(echo "$s_big / 1000" | bc -l | xargs printf '%.1f') ms (cascade status big)" >&2
+echo "BENCH campaign_status_100k_ms $(echo "$worst / 1000" | bc -l | xargs printf '%.1f') ms"

@@ -1,0 +1,45 @@
+/*
+ * backend: where job attempts run.  The runner hands a backend launch specs
+ * for its slots and receives outcomes; it never learns whether the job ran
+ * as a child process here (backend_local) or on an MPI worker rank
+ * (backend_mpi).
+ */
+#ifndef CASCADE_CAMPAIGN_BACKEND_H
+#define CASCADE_CAMPAIGN_BACKEND_H
+
+#include "launch.h"
+#include "outcome.h"
+
+/* Called for each finished slot; the outcome is the callee's to keep or
+ * free (outcome_free). */
+typedef void (*backend_done_fn)(void *ctx, int slot, struct outcome *o);
+
+struct backend {
+    int nslots;
+    void *impl;
+    int (*start)(struct backend *b, int slot, const struct launch_spec *L, struct err *e);
+    /* Wait up to max_wait seconds for finished slots (calling done for each)
+     * or a signal; returns the signal caught (SIGINT, SIGTERM, SIGHUP) or 0. */
+    int (*wait)(struct backend *b, double max_wait, backend_done_fn done, void *ctx);
+    /* Stop the job in a slot; its outcome (cancelled) arrives through wait. */
+    void (*cancel)(struct backend *b, int slot);
+    void (*destroy)(struct backend *b);
+};
+
+/* The signals the runner handles are blocked from here on and taken with
+ * sigtimedwait; children get them unblocked. */
+void backend_block_signals(void);
+
+/* Child processes on this host; nslots at least 1. */
+int backend_local_create(struct backend *b, int nslots, struct err *e);
+
+/* The executor underneath backend_local, also used by MPI worker ranks. */
+struct exec_local;
+struct exec_local *exec_local_create(int nslots);
+void exec_local_destroy(struct exec_local **x);
+int exec_local_start(struct exec_local *x, int slot, const struct launch_spec *L, struct err *e);
+int exec_local_wait(struct exec_local *x, double max_wait, backend_done_fn done, void *ctx);
+void exec_local_cancel(struct exec_local *x, int slot);
+int exec_local_busy(const struct exec_local *x);
+
+#endif

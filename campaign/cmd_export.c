@@ -1,0 +1,181 @@
+/* cascade export: a study as one CSV row per job. */
+#include <stdlib.h>
+#include <string.h>
+
+#include "cli.h"
+#include "db.h"
+#include "table.h"
+
+static const char *usage =
+    "usage: cascade export STUDY --csv [--db FILE] [--out FILE]\n"
+    "\n"
+    "Writes one CSV row per job of the study: key, kind, name, state, attempt,\n"
+    "solver version and git hash, wall seconds, then one column per swept\n"
+    "parameter (in the study's order) and one per metric, named 'metric [unit]',\n"
+    "from each job's latest successful run (empty when it has none).\n";
+
+struct metric_col {
+    char *name;
+    char *unit;
+};
+
+int cmd_export(int argc, char **argv)
+{
+    if (cli_wants_help(argc, argv)) {
+        fputs(usage, stdout);
+        return 0;
+    }
+    const char *db_path = CASCADE_DB_DEFAULT, *study = NULL, *out_path = NULL;
+    int csv = 0;
+    for (int i = 0; i < argc; i++) {
+        int m;
+        if ((m = cli_opt(argc, argv, &i, "--db", &db_path)) ||
+            (m = cli_opt(argc, argv, &i, "--out", &out_path))) {
+            if (m < 0)
+                return 2;
+        } else if (strcmp(argv[i], "--csv") == 0) {
+            csv = 1;
+        } else if (argv[i][0] != '-' && !study) {
+            study = argv[i];
+        } else {
+            return cli_usage_error(usage, "unexpected argument '%s'", argv[i]);
+        }
+    }
+    if (!study)
+        return cli_usage_error(usage, "give a study name");
+    if (!csv)
+        return cli_usage_error(usage, "give the format: --csv");
+    struct err e = {0};
+    sqlite3 *db = NULL;
+    int rc = db_open_readonly(db_path, &db, &e);
+    sqlite3_stmt *st = NULL, *ps = NULL, *ms = NULL;
+    long long sid = 0;
+    char **axes = NULL;
+    int naxes = 0;
+    struct metric_col *mc = NULL;
+    int nm = 0;
+    FILE *out = stdout;
+    if (!rc)
+        rc = db_prepare(db, "SELECT id FROM studies WHERE name = ?1", &st, &e);
+    if (!rc) {
+        sqlite3_bind_text(st, 1, study, -1, SQLITE_STATIC);
+        if (sqlite3_step(st) == SQLITE_ROW)
+            sid = sqlite3_column_int64(st, 0);
+        else
+            rc = err_set(&e, ERR_INPUT, "no study named '%s' in %s", study, db_path);
+        sqlite3_finalize(st);
+    }
+    if (!rc)
+        rc = db_prepare(db, "SELECT name FROM study_axes WHERE study_id = ?1 ORDER BY position",
+                        &st, &e);
+    if (!rc) {
+        sqlite3_bind_int64(st, 1, sid);
+        while (sqlite3_step(st) == SQLITE_ROW) {
+            char **g = realloc(axes, (size_t)(naxes + 1) * sizeof *g);
+            if (!g)
+                break;
+            axes = g;
+            axes[naxes++] = strdup((const char *)sqlite3_column_text(st, 0));
+        }
+        sqlite3_finalize(st);
+        rc = db_prepare(db,
+                        "SELECT DISTINCT metric, unit FROM results WHERE study = ?1 "
+                        "ORDER BY metric",
+                        &st, &e);
+    }
+    if (!rc) {
+        sqlite3_bind_text(st, 1, study, -1, SQLITE_STATIC);
+        while (sqlite3_step(st) == SQLITE_ROW) {
+            struct metric_col *g = realloc(mc, (size_t)(nm + 1) * sizeof *g);
+            if (!g)
+                break;
+            mc = g;
+            mc[nm].name = strdup((const char *)sqlite3_column_text(st, 0));
+            mc[nm].unit = strdup((const char *)sqlite3_column_text(st, 1));
+            nm++;
+        }
+        sqlite3_finalize(st);
+    }
+    if (!rc && out_path && !(out = fopen(out_path, "w")))
+        rc = err_set(&e, ERR_INPUT, "cannot write %s", out_path);
+    if (!rc)
+        rc = db_prepare(db,
+                        "SELECT j.id, j.key, j.kind, coalesce(j.name, ''), j.state, d.id, "
+                        "d.attempt, d.solver_version, d.solver_git, d.wall_s FROM jobs j "
+                        "LEFT JOIN runs d ON d.job_id = j.id AND d.status = 'done' AND d.attempt = "
+                        "(SELECT max(x.attempt) FROM runs x WHERE x.job_id = j.id AND "
+                        "x.status = 'done') WHERE j.study_id = ?1 AND j.active = 1 ORDER BY j.seq",
+                        &st, &e);
+    if (!rc)
+        rc = db_prepare(db, "SELECT value FROM job_params WHERE job_id = ?1 AND name = ?2", &ps, &e);
+    if (!rc)
+        rc = db_prepare(db, "SELECT value FROM metrics WHERE run_id = ?1 AND name = ?2", &ms, &e);
+    if (!rc) {
+        fputs("key,kind,name,state,attempt,solver_version,solver_git,wall_s", out);
+        for (int a = 0; a < naxes; a++) {
+            fputc(',', out);
+            table_csv_field(out, axes[a]);
+        }
+        for (int m = 0; m < nm; m++) {
+            char h[512];
+            snprintf(h, sizeof h, "%s [%s]", mc[m].name, mc[m].unit);
+            fputc(',', out);
+            table_csv_field(out, h);
+        }
+        fputc('\n', out);
+        sqlite3_bind_int64(st, 1, sid);
+        char cell[4096];
+        while (sqlite3_step(st) == SQLITE_ROW) {
+            long long jid = sqlite3_column_int64(st, 0);
+            long long run = sqlite3_column_int64(st, 5);
+            for (int c = 1; c <= 9; c++) {
+                if (c == 5)
+                    continue;
+                table_cell(st, c, cell, sizeof cell);
+                if (c > 1)
+                    fputc(',', out);
+                table_csv_field(out, cell);
+            }
+            for (int a = 0; a < naxes; a++) {
+                sqlite3_reset(ps);
+                sqlite3_bind_int64(ps, 1, jid);
+                sqlite3_bind_text(ps, 2, axes[a], -1, SQLITE_STATIC);
+                cell[0] = '\0';
+                if (sqlite3_step(ps) == SQLITE_ROW)
+                    table_cell(ps, 0, cell, sizeof cell);
+                fputc(',', out);
+                table_csv_field(out, cell);
+            }
+            for (int m = 0; m < nm; m++) {
+                cell[0] = '\0';
+                if (run) {
+                    sqlite3_reset(ms);
+                    sqlite3_bind_int64(ms, 1, run);
+                    sqlite3_bind_text(ms, 2, mc[m].name, -1, SQLITE_STATIC);
+                    if (sqlite3_step(ms) == SQLITE_ROW)
+                        table_cell(ms, 0, cell, sizeof cell);
+                }
+                fputc(',', out);
+                table_csv_field(out, cell);
+            }
+            fputc('\n', out);
+        }
+    }
+    sqlite3_finalize(st);
+    sqlite3_finalize(ps);
+    sqlite3_finalize(ms);
+    if (out && out != stdout)
+        fclose(out);
+    for (int a = 0; a < naxes; a++)
+        free(axes[a]);
+    free(axes);
+    for (int m = 0; m < nm; m++) {
+        free(mc[m].name);
+        free(mc[m].unit);
+    }
+    free(mc);
+    db_close(&db);
+    if (rc)
+        fprintf(stderr, "error: %s\n", e.msg);
+    return cli_exit_code(rc);
+}

@@ -1,0 +1,186 @@
+/* cascade status: how far each study (or one) has come. */
+#include <string.h>
+
+#include "cli.h"
+#include "db.h"
+#include "sysinfo.h"
+#include "table.h"
+
+static const char *usage =
+    "usage: cascade status [STUDY] [--db FILE]\n"
+    "\n"
+    "Without STUDY: one line per study (jobs, done, failed, running, pending).\n"
+    "With STUDY: its counts by state, the jobs running now and the jobs not done\n"
+    "with their reasons (failed counts failed, crashed, timeout and diverged).\n"
+    "Jobs shown as running whose runner is gone will run again with the next\n"
+    "'cascade run'.  The database is opened read-only.\n";
+
+#define FAILED_STATES "('failed', 'crashed', 'timeout', 'diverged')"
+
+static int overview(sqlite3 *db, struct err *e)
+{
+    sqlite3_stmt *st;
+    int rc = db_prepare(
+        db,
+        "SELECT s.name AS study, count(j.id) AS jobs, "
+        "count(*) FILTER (WHERE j.state = 'done') AS done, "
+        "count(*) FILTER (WHERE j.state IN " FAILED_STATES ") AS failed, "
+        "count(*) FILTER (WHERE j.state = 'running') AS running, "
+        "count(*) FILTER (WHERE j.state = 'pending') AS pending, "
+        "count(*) FILTER (WHERE j.state = 'cancelled') AS cancelled, s.updated AS updated "
+        "FROM studies s LEFT JOIN jobs j ON j.study_id = s.id AND j.active = 1 "
+        "GROUP BY s.id ORDER BY s.name",
+        &st, e);
+    if (rc)
+        return rc;
+    long n;
+    rc = table_print(db, st, TABLE_TEXT, stdout, &n, e);
+    sqlite3_finalize(st);
+    if (!rc && n == 0)
+        printf("(no studies yet: cascade run STUDY.yaml)\n");
+    return rc;
+}
+
+static int stale_running(sqlite3 *db, long long study_id, long *stale, struct err *e)
+{
+    sqlite3_stmt *st;
+    *stale = 0;
+    int rc = db_prepare(db,
+                        "SELECT l.runner, l.expires FROM leases l JOIN jobs j ON j.id = l.job_id "
+                        "WHERE j.study_id = ?1",
+                        &st, e);
+    if (rc)
+        return rc;
+    sqlite3_bind_int64(st, 1, study_id);
+    double now = sys_now();
+    while (sqlite3_step(st) == SQLITE_ROW) {
+        const char *runner = (const char *)sqlite3_column_text(st, 0);
+        if (sys_runner_alive(runner) == 0 || sqlite3_column_double(st, 1) < now)
+            (*stale)++;
+    }
+    sqlite3_finalize(st);
+    return 0;
+}
+
+static int one_study(sqlite3 *db, const char *name, struct err *e)
+{
+    sqlite3_stmt *st;
+    int rc = db_prepare(db, "SELECT id, spec_path, description FROM studies WHERE name = ?1", &st, e);
+    if (rc)
+        return rc;
+    sqlite3_bind_text(st, 1, name, -1, SQLITE_STATIC);
+    if (sqlite3_step(st) != SQLITE_ROW) {
+        sqlite3_finalize(st);
+        return err_set(e, ERR_INPUT, "no study named '%s' in the database (cascade status lists them)",
+                       name);
+    }
+    long long id = sqlite3_column_int64(st, 0);
+    printf("study %s (%s)\n", name, (const char *)sqlite3_column_text(st, 1));
+    const char *desc = (const char *)sqlite3_column_text(st, 2);
+    if (desc && desc[0])
+        printf("  %s\n", desc);
+    sqlite3_finalize(st);
+
+    long total = 0, done = 0, failed = 0, running = 0;
+    char states[1024] = "";
+    if ((rc = db_prepare(db,
+                         "SELECT state, count(*) FROM jobs WHERE study_id = ?1 AND active = 1 "
+                         "GROUP BY state ORDER BY count(*) DESC",
+                         &st, e)))
+        return rc;
+    sqlite3_bind_int64(st, 1, id);
+    while (sqlite3_step(st) == SQLITE_ROW) {
+        const char *s = (const char *)sqlite3_column_text(st, 0);
+        long c = (long)sqlite3_column_int64(st, 1);
+        total += c;
+        if (strcmp(s, "done") == 0)
+            done += c;
+        else if (strcmp(s, "running") == 0)
+            running += c;
+        else if (strcmp(s, "failed") == 0 || strcmp(s, "crashed") == 0 ||
+                 strcmp(s, "timeout") == 0 || strcmp(s, "diverged") == 0)
+            failed += c;
+        size_t used = strlen(states);
+        snprintf(states + used, sizeof states - used, "%s%s %ld", used ? ", " : "", s, c);
+    }
+    sqlite3_finalize(st);
+    printf("  %ld jobs: %ld done, %ld failed, %ld running, %ld other (%s)\n", total, done, failed,
+           running, total - done - failed - running, states[0] ? states : "none");
+    long stale;
+    if ((rc = stale_running(db, id, &stale, e)))
+        return rc;
+    if (stale)
+        printf("  %ld running job%s belong to a runner that is gone; the next 'cascade run' "
+               "runs them again\n",
+               stale, stale == 1 ? "" : "s");
+    if ((rc = db_prepare(db,
+                         "SELECT solver, count(*) FROM jobs WHERE study_id = ?1 AND active = 1 "
+                         "AND state = 'done' GROUP BY solver ORDER BY 2 DESC",
+                         &st, e)))
+        return rc;
+    sqlite3_bind_int64(st, 1, id);
+    while (sqlite3_step(st) == SQLITE_ROW)
+        printf("  done with solver %s: %lld\n", (const char *)sqlite3_column_text(st, 0),
+               (long long)sqlite3_column_int64(st, 1));
+    sqlite3_finalize(st);
+    long n;
+    if (running) {
+        printf("\nrunning:\n");
+        if ((rc = db_prepare(db,
+                             "SELECT j.key AS key, j.params AS params, r.host AS host, r.attempt AS attempt, "
+                             "r.started AS started, r.runner AS runner FROM jobs j "
+                             "JOIN runs r ON r.id = j.last_run_id WHERE j.study_id = ?1 "
+                             "AND j.active = 1 AND j.state = 'running' ORDER BY j.seq LIMIT 20",
+                             &st, e)))
+            return rc;
+        sqlite3_bind_int64(st, 1, id);
+        rc = table_print(db, st, TABLE_TEXT, stdout, &n, e);
+        sqlite3_finalize(st);
+        if (rc)
+            return rc;
+    }
+    if (total - done - running > 0) {
+        printf("\nnot done (first 20 of %ld):\n", total - done - running);
+        if ((rc = db_prepare(db,
+                             "SELECT j.key AS key, j.state AS state, r.attempt AS attempt, "
+                             "j.params AS params, coalesce(r.message, '') AS reason FROM jobs j "
+                             "LEFT JOIN runs r ON r.id = j.last_run_id WHERE j.study_id = ?1 "
+                             "AND j.active = 1 AND j.state NOT IN ('done', 'running') "
+                             "ORDER BY j.seq LIMIT 20",
+                             &st, e)))
+            return rc;
+        sqlite3_bind_int64(st, 1, id);
+        rc = table_print(db, st, TABLE_TEXT, stdout, &n, e);
+        sqlite3_finalize(st);
+    }
+    return rc;
+}
+
+int cmd_status(int argc, char **argv)
+{
+    if (cli_wants_help(argc, argv)) {
+        fputs(usage, stdout);
+        return 0;
+    }
+    const char *db_path = CASCADE_DB_DEFAULT, *study = NULL;
+    for (int i = 0; i < argc; i++) {
+        int m;
+        if ((m = cli_opt(argc, argv, &i, "--db", &db_path))) {
+            if (m < 0)
+                return 2;
+        } else if (argv[i][0] != '-' && !study) {
+            study = argv[i];
+        } else {
+            return cli_usage_error(usage, "unexpected argument '%s'", argv[i]);
+        }
+    }
+    struct err e = {0};
+    sqlite3 *db = NULL;
+    int rc = db_open_readonly(db_path, &db, &e);
+    if (!rc)
+        rc = study ? one_study(db, study, &e) : overview(db, &e);
+    db_close(&db);
+    if (rc)
+        fprintf(stderr, "error: %s\n", e.msg);
+    return cli_exit_code(rc);
+}

@@ -1,0 +1,185 @@
+/* launch: run directory, case.yaml and command line of a job attempt. */
+#include "launch.h"
+
+#include <dirent.h>
+#include <errno.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include "docpath.h"
+#include "util/yamldoc.h"
+
+struct subst_dirs {
+    const char *study_dir;    /* runs/<study> (absolute) */
+    char buf[4200];
+};
+
+static const char *subst_dir(void *ctx, const char *name, int is_key)
+{
+    struct subst_dirs *d = ctx;
+    if (!is_key)
+        return NULL;
+    snprintf(d->buf, sizeof d->buf, "%s/%s", d->study_dir, name);
+    return d->buf;
+}
+
+static int add_arg(struct launch_spec *L, const char *a)
+{
+    char **g = realloc(L->argv, (size_t)(L->argc + 2) * sizeof *g);
+    if (!g)
+        return -1;
+    L->argv = g;
+    L->argv[L->argc] = strdup(a);
+    if (!L->argv[L->argc])
+        return -1;
+    L->argv[++L->argc] = NULL;
+    return 0;
+}
+
+int launch_build(struct launch_spec *L, const struct study *s, const struct solver *sv,
+                 const char *runs_root, const char *key, const char *case_json, struct err *e)
+{
+    memset(L, 0, sizeof *L);
+    char study_dir[4096 + 160];
+    snprintf(study_dir, sizeof study_dir, "%s/%s", runs_root, s->name);
+    snprintf(L->run_dir, sizeof L->run_dir, "%s/%s", study_dir, key);
+    snprintf(L->cwd, sizeof L->cwd, "%s", s->dir);
+    L->timeout = s->timeout;
+    json_error_t je;
+    json_t *doc = json_loads(case_json, 0, &je);
+    if (!doc)
+        return err_set(e, ERR_RUNTIME, "job %s: stored case is not JSON: %s", key, je.text);
+    struct subst_dirs d = {study_dir, ""};
+    docpath_refs_replace(doc, subst_dir, &d);
+    size_t len = 0;
+    FILE *f = open_memstream(&L->case_yaml, &len);
+    if (!f) {
+        json_decref(doc);
+        return err_nomem(e, "case.yaml");
+    }
+    fprintf(f, "# job %s of study %s (written by cascade; the key hashes the case with\n"
+               "# ${prep:KEY} in place of preparation-job directories)\n",
+            key, s->name);
+    yamldoc_write(f, doc);
+    fclose(f);
+    json_decref(doc);
+    int bad = 0;
+    if (s->mpirun_np) {
+        char buf[512];
+        snprintf(buf, sizeof buf, "%s", s->launcher);
+        char *save = NULL;
+        for (char *t = strtok_r(buf, " \t", &save); t && !bad; t = strtok_r(NULL, " \t", &save))
+            bad = add_arg(L, t);
+    }
+    char threads[32], case_path[4096 + 16];
+    snprintf(threads, sizeof threads, "%ld", s->threads);
+    snprintf(case_path, sizeof case_path, "%s/case.yaml", L->run_dir);
+    const char *rest[] = {sv->path, "run", case_path, "--out", L->run_dir, "--threads", threads,
+                          "--quiet", "--no-progress"};
+    for (size_t i = 0; i < sizeof rest / sizeof rest[0] && !bad; i++)
+        bad = add_arg(L, rest[i]);
+    if (bad || !L->case_yaml) {
+        launch_free(L);
+        return err_nomem(e, "command line");
+    }
+    return 0;
+}
+
+void launch_free(struct launch_spec *L)
+{
+    free(L->case_yaml);
+    for (int i = 0; L->argv && i < L->argc; i++)
+        free(L->argv[i]);
+    free(L->argv);
+    memset(L, 0, sizeof *L);
+}
+
+json_t *launch_to_json(const struct launch_spec *L)
+{
+    json_t *argv = json_array();
+    for (int i = 0; i < L->argc; i++)
+        json_array_append_new(argv, json_string(L->argv[i]));
+    return json_pack("{s:I, s:I, s:s, s:s, s:s, s:o, s:f}", "job_id", (json_int_t)L->job_id,
+                     "run_id", (json_int_t)L->run_id, "run_dir", L->run_dir, "cwd", L->cwd,
+                     "case_yaml", L->case_yaml, "argv", argv, "timeout", L->timeout);
+}
+
+int launch_from_json(struct launch_spec *L, const json_t *j, struct err *e)
+{
+    memset(L, 0, sizeof *L);
+    const char *rd = json_string_value(json_object_get(j, "run_dir"));
+    const char *cwd = json_string_value(json_object_get(j, "cwd"));
+    const char *cy = json_string_value(json_object_get(j, "case_yaml"));
+    json_t *argv = json_object_get(j, "argv");
+    if (!rd || !cwd || !cy || !json_is_array(argv) || json_array_size(argv) == 0)
+        return err_set(e, ERR_RUNTIME, "malformed job message");
+    L->job_id = (long long)json_integer_value(json_object_get(j, "job_id"));
+    L->run_id = (long long)json_integer_value(json_object_get(j, "run_id"));
+    snprintf(L->run_dir, sizeof L->run_dir, "%s", rd);
+    snprintf(L->cwd, sizeof L->cwd, "%s", cwd);
+    L->timeout = json_number_value(json_object_get(j, "timeout"));
+    L->case_yaml = strdup(cy);
+    int bad = !L->case_yaml;
+    size_t i;
+    json_t *a;
+    json_array_foreach(argv, i, a) if (!bad) bad = add_arg(L, json_string_value(a) ? json_string_value(a) : "");
+    if (bad) {
+        launch_free(L);
+        return err_nomem(e, "job message");
+    }
+    return 0;
+}
+
+int launch_mkdirs(const char *path, struct err *e)
+{
+    /* usually only the last component is missing: try that first */
+    if (mkdir(path, 0777) == 0 || errno == EEXIST)
+        return 0;
+    char buf[4096];
+    snprintf(buf, sizeof buf, "%s", path);
+    for (char *p = buf + 1; *p; p++) {
+        if (*p != '/')
+            continue;
+        *p = '\0';
+        if (mkdir(buf, 0777) != 0 && errno != EEXIST)
+            return err_set(e, ERR_RUNTIME, "cannot create directory %s: %s", buf, strerror(errno));
+        *p = '/';
+    }
+    if (mkdir(buf, 0777) != 0 && errno != EEXIST)
+        return err_set(e, ERR_RUNTIME, "cannot create directory %s: %s", buf, strerror(errno));
+    return 0;
+}
+
+int launch_setup_dir(const struct launch_spec *L, struct err *e)
+{
+    int rc = launch_mkdirs(L->run_dir, e);
+    if (rc)
+        return rc;
+    /* the directory holds the latest attempt only */
+    DIR *d = opendir(L->run_dir);
+    if (!d)
+        return err_set(e, ERR_RUNTIME, "%s: %s", L->run_dir, strerror(errno));
+    struct dirent *de;
+    while ((de = readdir(d))) {
+        if (strcmp(de->d_name, ".") == 0 || strcmp(de->d_name, "..") == 0)
+            continue;
+        char path[4096 + 256];
+        snprintf(path, sizeof path, "%s/%s", L->run_dir, de->d_name);
+        struct stat sb;
+        if (lstat(path, &sb) == 0 && !S_ISDIR(sb.st_mode))
+            unlink(path);
+    }
+    closedir(d);
+    char path[4096 + 16];
+    snprintf(path, sizeof path, "%s/case.yaml", L->run_dir);
+    FILE *f = fopen(path, "w");
+    if (!f)
+        return err_set(e, ERR_RUNTIME, "cannot write %s: %s", path, strerror(errno));
+    fputs(L->case_yaml, f);
+    if (fclose(f) != 0)
+        return err_set(e, ERR_RUNTIME, "cannot write %s", path);
+    return 0;
+}

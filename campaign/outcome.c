@@ -1,0 +1,296 @@
+/* outcome: classifying a finished job and reading what it left. */
+#include "outcome.h"
+
+#include <dirent.h>
+#include <errno.h>
+#include <signal.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+
+#include "sysinfo.h"
+#include "util/sha256.h"
+
+static const char *const status_names[] = {"running", "done",     "failed",   "crashed",
+                                           "timeout", "diverged", "cancelled"};
+
+const char *run_status_name(enum run_status s)
+{
+    return status_names[s];
+}
+
+int run_status_retryable(enum run_status s)
+{
+    return s == RS_FAILED || s == RS_CRASHED || s == RS_TIMEOUT;
+}
+
+void outcome_file_tail(const char *path, int maxlines, char *out, size_t len)
+{
+    out[0] = '\0';
+    FILE *f = fopen(path, "rb");
+    if (!f)
+        return;
+    char buf[16384];
+    fseek(f, 0, SEEK_END);
+    long size = ftell(f);
+    long from = size > (long)sizeof buf - 1 ? size - (long)sizeof buf + 1 : 0;
+    fseek(f, from, SEEK_SET);
+    size_t n = fread(buf, 1, sizeof buf - 1, f);
+    fclose(f);
+    buf[n] = '\0';
+    while (n > 0 && (buf[n - 1] == '\n' || buf[n - 1] == '\r'))
+        buf[--n] = '\0';
+    /* back up maxlines newlines */
+    size_t start = n;
+    int lines = 0;
+    while (start > 0) {
+        if (buf[start - 1] == '\n' && ++lines == maxlines)
+            break;
+        start--;
+    }
+    const char *tail = buf + start;
+    size_t tl = strlen(tail);
+    if (tl >= len)
+        tail += tl - (len - 1);
+    snprintf(out, len, "%s", tail);
+}
+
+static const char *last_line(const char *text)
+{
+    const char *nl = strrchr(text, '\n');
+    return nl ? nl + 1 : text;
+}
+
+static const char *kind_of(const char *name)
+{
+    size_t n = strlen(name);
+#define ENDS(s) (n >= strlen(s) && strcmp(name + n - strlen(s), s) == 0)
+    if (strcmp(name, "case.yaml") == 0)
+        return "case";
+    if (strcmp(name, "result.json") == 0)
+        return "result";
+    if (strcmp(name, "stdout") == 0)
+        return "stdout";
+    if (strcmp(name, "stderr") == 0)
+        return "stderr";
+    if (strcmp(name, "thermo.csv") == 0)
+        return "thermo";
+    if (ENDS(".h5"))
+        return "hdf5";
+    if (ENDS(".xdmf"))
+        return "xdmf";
+    if (ENDS(".xyz"))
+        return "xyz";
+#undef ENDS
+    return "other";
+}
+
+static int cmp_name(const void *a, const void *b)
+{
+    return strcmp(*(char *const *)a, *(char *const *)b);
+}
+
+static void collect_artifacts(struct outcome *o, const char *dir)
+{
+    DIR *d = opendir(dir);
+    if (!d)
+        return;
+    char **names = NULL;
+    int n = 0, cap = 0;
+    struct dirent *de;
+    while ((de = readdir(d))) {
+        if (de->d_name[0] == '.')
+            continue;
+        char path[4096 + 256];
+        snprintf(path, sizeof path, "%s/%s", dir, de->d_name);
+        struct stat sb;
+        if (stat(path, &sb) != 0 || !S_ISREG(sb.st_mode))
+            continue;
+        if (n == cap) {
+            cap = cap ? 2 * cap : 16;
+            char **g = realloc(names, (size_t)cap * sizeof *g);
+            if (!g)
+                break;
+            names = g;
+        }
+        names[n] = strdup(de->d_name);
+        if (names[n])
+            n++;
+    }
+    closedir(d);
+    qsort(names, (size_t)n, sizeof *names, cmp_name);
+    o->artifacts = calloc((size_t)(n ? n : 1), sizeof *o->artifacts);
+    for (int i = 0; i < n; i++) {
+        if (o->artifacts) {
+            struct artifact *a = &o->artifacts[o->nartifacts];
+            snprintf(a->path, sizeof a->path, "%s/%s", dir, names[i]);
+            snprintf(a->kind, sizeof a->kind, "%s", kind_of(names[i]));
+            uint64_t bytes = 0;
+            if (sha256_file_hex(a->path, a->sha256, &bytes) == 0) {
+                a->bytes = (long long)bytes;
+                o->nartifacts++;
+            }
+        }
+        free(names[i]);
+    }
+    free(names);
+}
+
+static json_t *read_result(const char *dir)
+{
+    char path[4096 + 32];
+    snprintf(path, sizeof path, "%s/result.json", dir);
+    json_error_t je;
+    json_t *r = json_load_file(path, 0, &je);
+    if (r && !json_is_object(r)) {
+        json_decref(r);
+        r = NULL;
+    }
+    return r;
+}
+
+void outcome_collect(struct outcome *o, const char *dir, const struct exit_info *x)
+{
+    double t0 = sys_mono();
+    char path[4096 + 32];
+    snprintf(path, sizeof path, "%s/stderr", dir);
+    outcome_file_tail(path, 20, o->stderr_tail, sizeof o->stderr_tail);
+    json_t *res = read_result(dir);
+    const char *rstatus = res ? json_string_value(json_object_get(res, "status")) : NULL;
+    const char *rmsg = res ? json_string_value(json_object_get(res, "message")) : NULL;
+    json_t *prov = res ? json_object_get(res, "provenance") : NULL;
+    if (prov) {
+        const char *v = json_string_value(json_object_get(prov, "version"));
+        const char *g = json_string_value(json_object_get(prov, "git_hash"));
+        snprintf(o->solver_version, sizeof o->solver_version, "%s", v ? v : "");
+        snprintf(o->solver_git, sizeof o->solver_git, "%s", g ? g : "");
+    }
+    json_t *metrics = res ? json_object_get(res, "metrics") : NULL;
+    if (json_is_object(metrics))
+        o->metrics = json_incref(metrics);
+    const char *tail_line = last_line(o->stderr_tail);
+    int st = x->wait_status;
+    o->exit_code = -1;
+    o->signal = 0;
+    if (WIFEXITED(st))
+        o->exit_code = WEXITSTATUS(st);
+    else if (WIFSIGNALED(st))
+        o->signal = WTERMSIG(st);
+    if (x->cancelled) {
+        o->status = RS_CANCELLED;
+        snprintf(o->message, sizeof o->message, "cancelled: the runner was asked to stop");
+    } else if (x->timed_out) {
+        o->status = RS_TIMEOUT;
+        snprintf(o->message, sizeof o->message,
+                 "timeout: killed (process group) after the limit of %g s", x->timeout);
+    } else if (x->exec_failed || o->exit_code == 127) {
+        o->status = RS_FAILED;
+        snprintf(o->message, sizeof o->message, "could not start the solver: %s", tail_line);
+    } else if (o->signal) {
+        o->status = RS_CRASHED;
+        snprintf(o->message, sizeof o->message, "crashed: killed by signal %d (%s)", o->signal,
+                 strsignal(o->signal));
+    } else if (o->exit_code == 4 || (rstatus && strcmp(rstatus, "diverged") == 0)) {
+        o->status = RS_DIVERGED;
+        snprintf(o->message, sizeof o->message, "%s", rmsg ? rmsg : tail_line);
+    } else if (o->exit_code != 0) {
+        o->status = RS_FAILED;
+        snprintf(o->message, sizeof o->message, "exit %d: %s", o->exit_code,
+                 rmsg ? rmsg : tail_line);
+    } else if (!res) {
+        o->status = RS_FAILED;
+        snprintf(o->message, sizeof o->message, "exit 0 but no readable result.json");
+    } else if (!rstatus || strcmp(rstatus, "ok") != 0) {
+        o->status = RS_FAILED;
+        snprintf(o->message, sizeof o->message, "result.json status '%s': %s",
+                 rstatus ? rstatus : "(none)", rmsg ? rmsg : "");
+    } else {
+        o->status = RS_DONE;
+        o->message[0] = '\0';
+    }
+    json_decref(res);
+    collect_artifacts(o, dir);
+    o->collect_s = sys_mono() - t0;
+}
+
+void outcome_free(struct outcome *o)
+{
+    json_decref(o->metrics);
+    free(o->artifacts);
+    o->metrics = NULL;
+    o->artifacts = NULL;
+    o->nartifacts = 0;
+}
+
+json_t *outcome_to_json(const struct outcome *o)
+{
+    json_t *arts = json_array();
+    for (int i = 0; i < o->nartifacts; i++) {
+        const struct artifact *a = &o->artifacts[i];
+        json_array_append_new(arts, json_pack("{s:s, s:s, s:I, s:s}", "path", a->path, "kind",
+                                              a->kind, "bytes", (json_int_t)a->bytes, "sha256",
+                                              a->sha256));
+    }
+    json_t *j = json_pack("{s:i, s:i, s:i, s:s, s:f, s:f, s:f, s:f, s:i, s:s, s:s, s:s, s:s, s:O?, s:o}",
+                     "status", (int)o->status, "exit_code", o->exit_code, "signal", o->signal,
+                     "message", o->message, "started", o->started, "finished", o->finished,
+                     "wall_s", o->wall_s, "peak_rss_mib", o->peak_rss_mib, "pid", o->pid, "host",
+                     o->host, "stderr_tail", o->stderr_tail, "solver_version", o->solver_version,
+                     "solver_git", o->solver_git, "metrics", o->metrics, "artifacts", arts);
+    if (j)
+        json_object_set_new(j, "collect_s", json_real(o->collect_s));
+    return j;
+}
+
+#define COPY_STR(dst, obj, key)                                                                   \
+    do {                                                                                          \
+        const char *v_ = json_string_value(json_object_get(obj, key));                            \
+        snprintf(dst, sizeof dst, "%s", v_ ? v_ : "");                                            \
+    } while (0)
+
+int outcome_from_json(struct outcome *o, const json_t *j, struct err *e)
+{
+    memset(o, 0, sizeof *o);
+    json_t *status = json_object_get(j, "status");
+    if (!json_is_integer(status) || json_integer_value(status) < RS_DONE ||
+        json_integer_value(status) > RS_CANCELLED)
+        return err_set(e, ERR_RUNTIME, "outcome message without a valid status");
+    o->status = (enum run_status)json_integer_value(status);
+    o->exit_code = (int)json_integer_value(json_object_get(j, "exit_code"));
+    o->signal = (int)json_integer_value(json_object_get(j, "signal"));
+    o->started = json_number_value(json_object_get(j, "started"));
+    o->finished = json_number_value(json_object_get(j, "finished"));
+    o->wall_s = json_number_value(json_object_get(j, "wall_s"));
+    o->peak_rss_mib = json_number_value(json_object_get(j, "peak_rss_mib"));
+    o->collect_s = json_number_value(json_object_get(j, "collect_s"));
+    o->pid = (int)json_integer_value(json_object_get(j, "pid"));
+    COPY_STR(o->message, j, "message");
+    COPY_STR(o->host, j, "host");
+    COPY_STR(o->stderr_tail, j, "stderr_tail");
+    COPY_STR(o->solver_version, j, "solver_version");
+    COPY_STR(o->solver_git, j, "solver_git");
+    json_t *m = json_object_get(j, "metrics");
+    if (json_is_object(m))
+        o->metrics = json_incref(m);
+    json_t *arts = json_object_get(j, "artifacts");
+    size_t n = json_array_size(arts);
+    if (n) {
+        o->artifacts = calloc(n, sizeof *o->artifacts);
+        if (!o->artifacts) {
+            outcome_free(o);
+            return err_nomem(e, "artifacts");
+        }
+        for (size_t i = 0; i < n; i++) {
+            json_t *a = json_array_get(arts, i);
+            struct artifact *x = &o->artifacts[i];
+            COPY_STR(x->path, a, "path");
+            COPY_STR(x->kind, a, "kind");
+            COPY_STR(x->sha256, a, "sha256");
+            x->bytes = (long long)json_integer_value(json_object_get(a, "bytes"));
+        }
+        o->nartifacts = (int)n;
+    }
+    return 0;
+}

@@ -1,0 +1,95 @@
+/* report_run: load, analyse and write a study report (see report_run.h). */
+#include "report_run.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "launch.h"
+#include "report_build.h"
+#include "sysinfo.h"
+#include "util/yamldoc.h"
+
+/* The study's own `metrics:` order, then the report's. */
+static void order_metrics(struct report_ctx *c)
+{
+    json_t *doc = NULL;
+    struct locmap *locs = NULL;
+    struct err e = {0};
+    const char *text = c->d.spec_text ? c->d.spec_text : "";
+    if (yamldoc_load_string(text, strlen(text), "study", &doc, &locs, &e) == 0) {
+        json_t *list = json_object_get(doc, "metrics");
+        size_t n = json_is_array(list) ? json_array_size(list) : 0;
+        const char **names = calloc(n + 1, sizeof *names);
+        int k = 0;
+        for (size_t i = 0; names && i < n; i++)
+            if (json_is_string(json_array_get(list, i)))
+                names[k++] = json_string_value(json_array_get(list, i));
+        if (names)
+            rdata_order_metrics(&c->d, names, k);
+        free(names);
+    }
+    json_decref(doc);
+    locmap_destroy(&locs);
+    if (c->rs->metrics)
+        rdata_order_metrics(&c->d, (const char *const *)c->rs->metrics, c->rs->nmetrics);
+}
+
+int report_load(struct report_ctx *c, sqlite3 *db, const char *name, const struct report_spec *rs,
+                struct err *e)
+{
+    memset(c, 0, sizeof *c);
+    report_spec_init(&c->own);
+    int rc = rdata_load(db, name, &c->d, e);
+    if (rc)
+        return rc;
+    c->loaded = 1;
+    if (rs) {
+        c->rs = rs;
+    } else {
+        const char *text = c->d.spec_text ? c->d.spec_text : "";
+        char shown[4200];
+        snprintf(shown, sizeof shown, "%s (as registered)", c->d.spec_path ? c->d.spec_path : name);
+        if ((rc = report_spec_from_text(text, strlen(text), shown, &c->own, e)))
+            return rc;
+        c->rs = &c->own;
+    }
+    order_metrics(c);
+    rc = sa_build(&c->a, &c->d, c->rs, e);
+    if (!rc)
+        c->analysed = 1;
+    return rc;
+}
+
+int report_emit(struct report_ctx *c, const char *dir, int md, int html, const char *db_path,
+                struct err *e)
+{
+    int rc = launch_mkdirs(dir, e);
+    if (rc)
+        return rc;
+    if (!c->doc) {
+        char title[256];
+        snprintf(title, sizeof title, "Study %s: results and convergence", c->d.name);
+        c->doc = rdoc_create(title);
+        if (!c->doc)
+            return err_nomem(e, "report");
+    }
+    char now[40];
+    sys_iso_time(sys_now(), now, sizeof now);
+    struct report_info ri = {db_path, now};
+    rc = report_build(c->doc, &c->a, &ri, dir, e);
+    if (!rc)
+        rc = report_write(c->doc, dir, md, html, e);
+    return rc;
+}
+
+void report_ctx_free(struct report_ctx *c)
+{
+    if (c->analysed)
+        sa_free(&c->a);
+    if (c->loaded)
+        rdata_free(&c->d);
+    report_spec_free(&c->own);
+    rdoc_destroy(&c->doc);
+    memset(c, 0, sizeof *c);
+}

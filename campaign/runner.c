@@ -1,0 +1,421 @@
+/* runner: the scheduling loop -- claim, start, wait, record, retry. */
+#include "runner.h"
+
+#include <signal.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "progress_view.h"
+#include "store.h"
+#include "sysinfo.h"
+
+enum mem_state { M_QUEUED, M_RUNNING, M_DONE, M_FAILED, M_ELSEWHERE, M_CANCELLED };
+
+struct queue_entry {
+    long j;              /* plan index, -1 when taken */
+    double retry_at;     /* monotonic: not before */
+};
+
+struct slot {
+    int busy;
+    long j;
+    long long run_id;
+    int attempt;
+};
+
+struct run_state {
+    const struct study *s;
+    const struct plan *p;
+    const struct solver *sv;
+    const struct runner_options *o;
+    struct store store;
+    struct backend *b;
+    long long study_id;
+    long long *job_ids;
+    enum mem_state *mem;
+    double *dep_check;   /* monotonic time to look at a preparation job held elsewhere */
+    signed char *dep_verdict;   /* what that look said: 1 done, -1 failed for good, 0 not yet */
+    struct queue_entry *q;
+    long qn, qcap, head;
+    struct slot *slots;
+    int running;
+    int stopping, cancelling;
+    struct progress_view view;
+    struct runner_summary *sum;
+    struct err *e;
+    int fatal;           /* a database error during recording */
+};
+
+static int push(struct run_state *r, long j, double at)
+{
+    if (r->qn == r->qcap) {
+        long cap = r->qcap ? 2 * r->qcap : 1024;
+        struct queue_entry *g = realloc(r->q, (size_t)cap * sizeof *g);
+        if (!g)
+            return -1;
+        r->q = g;
+        r->qcap = cap;
+    }
+    r->q[r->qn++] = (struct queue_entry){j, at};
+    return 0;
+}
+
+static void label(struct run_state *r, long j, char *buf, size_t len)
+{
+    plan_job_label(r->p, j, buf, len);
+}
+
+/* A look at the preparation jobs of j: 1 ready (ask the database), 0 wait,
+ * -1 blocked.  A preparation job another runner holds is looked up in the
+ * database at most once per poll interval, however many jobs wait for it. */
+static int deps_ready(struct run_state *r, long j)
+{
+    const struct plan_job *pj = &r->p->jobs[j];
+    int ready = 1;
+    for (int d = 0; d < pj->ndeps; d++) {
+        long dj = pj->deps[d];
+        enum mem_state m = r->mem[dj];
+        if (m == M_ELSEWHERE) {
+            double now = sys_mono();
+            if (now >= r->dep_check[dj]) {
+                r->dep_check[dj] = now + r->o->poll_s;
+                enum claim_result v;
+                struct err e = {0};
+                if (store_job_verdict(&r->store, r->job_ids[dj], &v, &e) == 0)
+                    r->dep_verdict[dj] = v == CLAIM_DONE                                   ? 1
+                                         : v == CLAIM_EXHAUSTED || v == CLAIM_BLOCKED ? -1
+                                                                                      : 0;
+            }
+            if (r->dep_verdict[dj] < 0)
+                return -1;
+            if (r->dep_verdict[dj] == 0)
+                ready = 0;
+            continue;
+        }
+        if (m == M_FAILED)
+            return -1;
+        if (m != M_DONE)
+            ready = 0;
+    }
+    return ready;
+}
+
+static void final_failure(struct run_state *r, long j, const char *why)
+{
+    char lab[512];
+    label(r, j, lab, sizeof lab);
+    r->mem[j] = M_FAILED;
+    r->sum->failed++;
+    r->view.failed++;
+    progress_view_job(&r->view, "failed", r->p->jobs[j].key, lab, 0, why);
+}
+
+/* Try to start queue entry k; returns 1 when a slot was used. */
+static int try_start(struct run_state *r, long k, int slot)
+{
+    struct queue_entry *qe = &r->q[k];
+    long j = qe->j;
+    const struct plan_job *pj = &r->p->jobs[j];
+    double now = sys_mono();
+    int dr = deps_ready(r, j);
+    if (dr < 0) {
+        qe->j = -1;
+        final_failure(r, j, "blocked: a preparation job it reads failed");
+        return 0;
+    }
+    if (dr == 0) {
+        qe->retry_at = now + 0.05;
+        return 0;
+    }
+    char run_dir[4096 + 300];
+    snprintf(run_dir, sizeof run_dir, "%s/%s/%s", r->o->runs_root, r->s->name, pj->key);
+    double t0 = sys_mono();
+    enum claim_result res;
+    long long run_id = 0;
+    int attempt = 0;
+    if (store_claim(&r->store, r->job_ids[j], run_dir, &res, &run_id, &attempt, r->e) != 0) {
+        r->fatal = 1;
+        return 0;
+    }
+    switch (res) {
+    case CLAIM_DONE:
+        qe->j = -1;
+        if (r->mem[j] != M_DONE) {
+            r->sum->done_before += r->mem[j] == M_QUEUED;
+            r->sum->done++;
+            r->view.done++;
+            if (r->mem[j] == M_ELSEWHERE)
+                progress_view_tick(&r->view, 1);
+        }
+        r->mem[j] = M_DONE;
+        return 0;
+    case CLAIM_LEASED:
+    case CLAIM_WAIT:
+        if (res == CLAIM_LEASED)
+            r->mem[j] = M_ELSEWHERE;
+        qe->retry_at = now + r->o->poll_s;
+        return 0;
+    case CLAIM_BLOCKED:
+        qe->j = -1;
+        final_failure(r, j, "blocked: a preparation job it reads failed");
+        return 0;
+    case CLAIM_EXHAUSTED:
+        qe->j = -1;
+        final_failure(r, j, "not run again: it diverged or failed as often as the study allows "
+                            "(cascade retry STUDY to run it anyway)");
+        return 0;
+    case CLAIM_OK:
+        break;
+    }
+    struct launch_spec L;
+    int rc = launch_build(&L, r->s, r->sv, r->o->runs_root, pj->key, pj->case_json, r->e);
+    if (!rc) {
+        L.job_id = r->job_ids[j];
+        L.run_id = run_id;
+        rc = r->b->start(r->b, slot, &L, r->e);
+        launch_free(&L);
+    }
+    if (rc) {
+        /* record the failure to start as the attempt's outcome */
+        struct outcome o;
+        memset(&o, 0, sizeof o);
+        o.status = RS_FAILED;
+        o.exit_code = -1;
+        o.started = o.finished = sys_now();
+        sys_hostname(o.host, sizeof o.host);
+        snprintf(o.message, sizeof o.message, "could not start: %s", r->e->msg);
+        int lost;
+        if (store_finish(&r->store, r->job_ids[j], run_id, &o, &lost, r->e) != 0)
+            r->fatal = 1;
+        qe->j = -1;
+        final_failure(r, j, o.message);
+        return 0;
+    }
+    qe->j = -1;
+    r->sum->start_s += sys_mono() - t0;
+    r->sum->started++;
+    r->mem[j] = M_RUNNING;
+    r->slots[slot] = (struct slot){1, j, run_id, attempt};
+    r->running++;
+    r->view.running = r->running;
+    progress_view_tick(&r->view, 1);
+    return 1;
+}
+
+static void fill_slots(struct run_state *r)
+{
+    if (r->stopping || r->fatal)
+        return;
+    double now = sys_mono();
+    while (r->head < r->qn && r->q[r->head].j < 0)
+        r->head++;
+    for (long k = r->head; k < r->qn && r->running < r->b->nslots && !r->fatal; k++) {
+        if (r->q[k].j < 0 || r->q[k].retry_at > now)
+            continue;
+        int slot = 0;
+        while (r->slots[slot].busy)
+            slot++;
+        try_start(r, k, slot);
+    }
+}
+
+static int queue_empty(struct run_state *r)
+{
+    while (r->head < r->qn && r->q[r->head].j < 0)
+        r->head++;
+    return r->head >= r->qn;
+}
+
+static double next_retry(struct run_state *r)
+{
+    double t = -1;
+    for (long k = r->head; k < r->qn; k++)
+        if (r->q[k].j >= 0 && (t < 0 || r->q[k].retry_at < t))
+            t = r->q[k].retry_at;
+    return t;
+}
+
+/* Whether the study allows another attempt after a failure just recorded. */
+static int retry_allowed(struct run_state *r, long j)
+{
+    enum claim_result v;
+    struct err e = {0};
+    if (store_job_verdict(&r->store, r->job_ids[j], &v, &e) != 0)
+        return 0;
+    return v == CLAIM_OK || v == CLAIM_WAIT;
+}
+
+static void on_done(void *ctx, int slot, struct outcome *o)
+{
+    struct run_state *r = ctx;
+    struct slot *sl = &r->slots[slot];
+    long j = sl->j;
+    int lost = 0;
+    double t0 = sys_mono();
+    if (store_finish(&r->store, r->job_ids[j], sl->run_id, o, &lost, r->e) != 0)
+        r->fatal = 1;
+    r->sum->record_s += sys_mono() - t0 + o->collect_s;
+    if (!lost)
+        r->sum->metric_rows += r->store.last_metric_rows;
+    sl->busy = 0;
+    r->running--;
+    r->view.running = r->running;
+    r->view.finished_here++;
+    char lab[512];
+    label(r, j, lab, sizeof lab);
+    const char *status = run_status_name(o->status);
+    if (lost) {
+        r->mem[j] = M_ELSEWHERE;
+        progress_view_note(&r->view, "%s: our lease expired and another runner took the job; "
+                                     "this result is not recorded", r->p->jobs[j].key);
+        push(r, j, sys_mono() + r->o->poll_s);
+    } else if (o->status == RS_DONE) {
+        r->mem[j] = M_DONE;
+        r->sum->done++;
+        r->view.done++;
+        progress_view_job(&r->view, status, r->p->jobs[j].key, lab, o->wall_s, NULL);
+    } else if (o->status == RS_CANCELLED) {
+        r->mem[j] = M_CANCELLED;
+        r->sum->cancelled++;
+        progress_view_job(&r->view, status, r->p->jobs[j].key, lab, o->wall_s, o->message);
+    } else if (run_status_retryable(o->status) && !r->stopping && retry_allowed(r, j)) {
+        r->mem[j] = M_QUEUED;
+        progress_view_note(&r->view, "%s %s (%s), attempt %d: %s; trying again", status,
+                           r->p->jobs[j].key, lab, sl->attempt, o->message);
+        push(r, j, sys_mono());
+    } else {
+        r->mem[j] = M_FAILED;
+        r->sum->failed++;
+        r->view.failed++;
+        progress_view_job(&r->view, status, r->p->jobs[j].key, lab, o->wall_s, o->message);
+    }
+    outcome_free(o);
+}
+
+static void cancel_all(struct run_state *r)
+{
+    if (r->cancelling)
+        return;
+    r->cancelling = 1;
+    r->stopping = 1;
+    progress_view_note(&r->view, "cancelling %d running job%s", r->running,
+                       r->running == 1 ? "" : "s");
+    for (int i = 0; i < r->b->nslots; i++)
+        if (r->slots[i].busy)
+            r->b->cancel(r->b, i);
+}
+
+static void handle_signal(struct run_state *r, int sig)
+{
+    if (sig == SIGINT && !r->stopping) {
+        r->stopping = 1;
+        r->sum->interrupted = sig;
+        progress_view_note(&r->view, "interrupted: no new jobs; waiting for %d running job%s "
+                                     "(Ctrl-C again cancels them)",
+                           r->running, r->running == 1 ? "" : "s");
+        return;
+    }
+    r->sum->interrupted = sig;
+    cancel_all(r);
+}
+
+int runner_run(const struct study *s, const struct plan *p, const struct solver *sv, sqlite3 *db,
+               struct backend *b, const struct runner_options *o, struct runner_summary *sum,
+               struct err *e)
+{
+    memset(sum, 0, sizeof *sum);
+    sum->total = p->njobs;
+    struct run_state r;
+    memset(&r, 0, sizeof r);
+    r.s = s;
+    r.p = p;
+    r.sv = sv;
+    r.o = o;
+    r.b = b;
+    r.sum = sum;
+    r.e = e;
+    int rc = store_init(&r.store, db, s, sv, o->lease_s, e);
+    if (rc)
+        return rc;
+    r.job_ids = calloc((size_t)p->njobs, sizeof *r.job_ids);
+    r.mem = calloc((size_t)p->njobs, sizeof *r.mem);
+    r.dep_check = calloc((size_t)p->njobs, sizeof *r.dep_check);
+    r.dep_verdict = calloc((size_t)p->njobs, sizeof *r.dep_verdict);
+    r.slots = calloc((size_t)b->nslots, sizeof *r.slots);
+    if (!r.job_ids || !r.mem || !r.dep_check || !r.dep_verdict || !r.slots)
+        rc = err_nomem(e, "runner");
+    if (!rc)
+        rc = store_register(&r.store, s, p, &r.study_id, r.job_ids, e);
+    int reaped = 0;
+    if (!rc)
+        rc = store_reap(&r.store, &reaped, e);
+    for (long j = 0; j < p->njobs && !rc; j++)
+        if (push(&r, j, 0) != 0)
+            rc = err_nomem(e, "queue");
+    if (rc) {
+        store_fini(&r.store);
+        free(r.job_ids);
+        free(r.mem);
+        free(r.dep_check);
+        free(r.dep_verdict);
+        free(r.slots);
+        free(r.q);
+        return rc;
+    }
+    progress_view_init(&r.view, o->log, o->quiet, p->njobs);
+    if (reaped)
+        progress_view_note(&r.view, "%d job%s left running by a runner that is gone will run again",
+                           reaped, reaped == 1 ? "" : "s");
+    progress_view_note(&r.view, "study %s: %ld job%s, %d slot%s, solver %s (%s)", s->name,
+                       p->njobs, p->njobs == 1 ? "" : "s", b->nslots, b->nslots == 1 ? "" : "s",
+                       sv->version, sv->git);
+    double next_beat = sys_mono() + o->lease_s / 3.0;
+    for (;;) {
+        fill_slots(&r);
+        if (r.fatal && r.running == 0)
+            break;
+        if (r.running == 0 && (r.stopping || queue_empty(&r)))
+            break;
+        double now = sys_mono(), wait = 0.5;
+        if (r.running == 0) {
+            double t = next_retry(&r);
+            wait = t < 0 ? 0.1 : t - now;
+            if (wait > 1.0)
+                wait = 1.0;
+        }
+        if (next_beat - now < wait)
+            wait = next_beat - now;
+        if (wait < 0)
+            wait = 0;
+        int sig = b->wait(b, wait, on_done, &r);
+        if (sig)
+            handle_signal(&r, sig);
+        if (r.fatal)
+            cancel_all(&r);
+        if (sys_mono() >= next_beat) {
+            struct err he = {0};
+            if (store_heartbeat(&r.store, &he) != 0)
+                progress_view_note(&r.view, "heartbeat failed: %s", he.msg);
+            next_beat = sys_mono() + o->lease_s / 3.0;
+        }
+        progress_view_tick(&r.view, 0);
+    }
+    progress_view_finish(&r.view);
+    if (sum->started)
+        progress_view_note(&r.view,
+                           "runner time per job: %.2f ms (claim and start %.2f ms, read and "
+                           "record %.2f ms); %ld metric rows recorded in %.3f s",
+                           1e3 * (sum->start_s + sum->record_s) / (double)sum->started,
+                           1e3 * sum->start_s / (double)sum->started,
+                           1e3 * sum->record_s / (double)sum->started, sum->metric_rows,
+                           sum->record_s);
+    sum->not_run = sum->total - sum->done - sum->failed;
+    store_fini(&r.store);
+    free(r.job_ids);
+    free(r.mem);
+    free(r.dep_check);
+    free(r.dep_verdict);
+    free(r.slots);
+    free(r.q);
+    return r.fatal ? ERR_RUNTIME : 0;
+}

@@ -1,0 +1,46 @@
+/*
+ * runner: runs a registered plan to completion on a backend.
+ *
+ * Jobs are claimed in plan order (preparation jobs first); a job waits while
+ * a preparation job it reads is not done, and is given up when that job
+ * failed for good.  Failed, crashed and timed-out attempts are retried as
+ * the study allows; diverged runs are not (the same case diverges again).
+ * A job leased by another live runner is left to it and looked at again
+ * later, so every runner of a study returns when the study is complete.
+ *
+ * Signals: the first SIGINT stops claiming and lets running jobs finish; a
+ * second SIGINT, or SIGTERM/SIGHUP, cancels them (recorded 'cancelled').
+ */
+#ifndef CASCADE_CAMPAIGN_RUNNER_H
+#define CASCADE_CAMPAIGN_RUNNER_H
+
+#include <sqlite3.h>
+#include <stdio.h>
+
+#include "backend.h"
+#include "plan.h"
+#include "solver.h"
+#include "study.h"
+
+struct runner_options {
+    const char *runs_root;   /* absolute */
+    double lease_s;          /* lease length; heartbeats every third of it */
+    double poll_s;           /* how often to look at jobs other runners hold */
+    int quiet;
+    FILE *log;               /* progress and notes (stderr) */
+};
+
+struct runner_summary {
+    long total, done, done_before, failed, cancelled, not_run;
+    int interrupted;         /* the signal that stopped the run, or 0 */
+    long started;            /* attempts started here */
+    double start_s;          /* time spent claiming and starting them */
+    long metric_rows;        /* metric rows recorded */
+    double record_s;         /* time spent reading results and writing them to the database */
+};
+
+int runner_run(const struct study *s, const struct plan *p, const struct solver *sv, sqlite3 *db,
+               struct backend *b, const struct runner_options *o, struct runner_summary *sum,
+               struct err *e);
+
+#endif

@@ -1,0 +1,71 @@
+/*
+ * store: what the runner writes to the results database.
+ *
+ * Registering a study writes the study, its axes and its jobs in one
+ * transaction.  Claiming a job takes a lease inside BEGIN IMMEDIATE: the
+ * check that it is not done for this solver, not leased by a live runner and
+ * has its preparation jobs done, the new 'running' run row and the lease are
+ * one atomic step, so two runners never run a job twice.  Heartbeats extend
+ * the leases; a lease that expired, or whose runner process is gone from
+ * this host, is reaped: its run becomes 'cancelled' and the job runs again.
+ */
+#ifndef CASCADE_CAMPAIGN_STORE_H
+#define CASCADE_CAMPAIGN_STORE_H
+
+#include <sqlite3.h>
+
+#include "outcome.h"
+#include "plan.h"
+#include "solver.h"
+#include "study.h"
+
+struct store {
+    sqlite3 *db;                  /* borrowed */
+    char runner[320];
+    char host[256];
+    int pid;
+    char solver_version[128];
+    char solver_git[128];
+    char launcher[512];
+    double lease_s;
+    long retries;
+    const char *const *metrics;   /* record only these (NULL: all) */
+    int nmetrics;
+    sqlite3_stmt *st[16];
+    long last_metric_rows;        /* metric rows the last store_finish wrote */
+};
+
+int store_init(struct store *st, sqlite3 *db, const struct study *s, const struct solver *sv,
+               double lease_s, struct err *e);
+void store_fini(struct store *st);
+
+/* Write the study and its jobs; job_ids[j] receives the id of plan job j. */
+int store_register(struct store *st, const struct study *s, const struct plan *p,
+                   long long *study_id, long long *job_ids, struct err *e);
+
+enum claim_result {
+    CLAIM_OK,         /* leased: run it */
+    CLAIM_DONE,       /* done for this solver already */
+    CLAIM_LEASED,     /* a live runner has it */
+    CLAIM_WAIT,       /* a preparation job it needs is not done yet */
+    CLAIM_BLOCKED,    /* a preparation job it needs failed for good */
+    CLAIM_EXHAUSTED,  /* failed as often as the study allows, or diverged */
+};
+
+int store_claim(struct store *st, long long job_id, const char *run_dir, enum claim_result *res,
+                long long *run_id, int *attempt, struct err *e);
+
+/* Record an outcome.  *lost is set when the lease was no longer ours (the
+ * job was taken over after our lease expired): nothing is recorded then. */
+int store_finish(struct store *st, long long job_id, long long run_id, const struct outcome *o,
+                 int *lost, struct err *e);
+
+/* Extend this runner's leases. */
+int store_heartbeat(struct store *st, struct err *e);
+/* Reap expired and orphaned leases; *n the number reaped. */
+int store_reap(struct store *st, int *n, struct err *e);
+
+/* The verdict on a job for this solver, without changing anything. */
+int store_job_verdict(struct store *st, long long job_id, enum claim_result *res, struct err *e);
+
+#endif

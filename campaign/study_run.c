@@ -1,0 +1,58 @@
+/* study_run: plan, register and run a study (see study_run.h). */
+#include "study_run.h"
+
+#include <errno.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "backend_mpi.h"
+#include "db.h"
+#include "launch.h"
+#include "plan.h"
+#include "sysinfo.h"
+
+int study_run(const struct study *s, const struct study_run_opts *o, struct runner_summary *sum,
+              struct err *e)
+{
+    struct solver sv;
+    struct plan p;
+    memset(sum, 0, sizeof *sum);
+    int rc = solver_open(&sv, o->solver, e);
+    if (!rc)
+        rc = plan_build(&p, s, &sv, e);
+    if (rc)
+        return rc;
+    /* every check has passed: from here on the database and runs/ are written */
+    char runs_abs[4096];
+    sqlite3 *db = NULL;
+    rc = launch_mkdirs(o->runs, e);
+    if (!rc && !realpath(o->runs, runs_abs))
+        rc = err_set(e, ERR_RUNTIME, "%s: %s", o->runs, strerror(errno));
+    if (!rc)
+        rc = db_open(o->db_path, &db, e);
+    struct backend b;
+    memset(&b, 0, sizeof b);
+    if (!rc) {
+        if (o->mpi_size > 1) {
+            rc = backend_mpi_create(&b, o->mpi_size - 1, e);
+        } else {
+            long slots = o->jobs;
+            if (!slots) {
+                long per_job = s->threads * (s->mpirun_np ? s->mpirun_np : 1);
+                slots = sys_ncpu() / per_job;
+                if (slots < 1)
+                    slots = 1;
+            }
+            rc = backend_local_create(&b, (int)slots, e);
+        }
+    }
+    if (!rc) {
+        struct runner_options ro = {runs_abs, o->lease, 1.0, o->quiet, stderr};
+        rc = runner_run(s, &p, &sv, db, &b, &ro, sum, e);
+    }
+    if (b.destroy)
+        b.destroy(&b);
+    db_close(&db);
+    plan_free(&p);
+    return rc;
+}

@@ -1,0 +1,372 @@
+/* dpd: set-up, neighbour management, the split step and observables. */
+#include "dpd/dpd.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "core/ghost.h"
+#include "core/units.h"
+#include "dpd/cg_lattice.h"
+#include "dpd/dpd_pair.h"
+
+const char *const dpd_variant_names[] = {"dpd", "dpde", NULL};
+
+static void tstart(struct dpd *d, enum timer_id id)
+{
+    if (d->timers)
+        timer_start(d->timers, id);
+}
+static void tstop(struct dpd *d, enum timer_id id)
+{
+    if (d->timers)
+        timer_stop(d->timers, id);
+}
+
+static double list_cutoff(const struct dpd *d)
+{
+    return fmax(d->prm.sc.rc, d->set.cutoff);
+}
+
+/* Order every particle's neighbours by (id, periodic image counted on
+ * unwrapped positions): the sweep's order of a particle's pairs then
+ * depends on who its neighbours are, not on storage or ghost indices or on
+ * when particles were wrapped (insertion sort: lists are short). */
+static void neighbour_key(const struct particles *p, int i, int j, int64_t key[4])
+{
+    int o = p->origin[j];
+    key[0] = p->id[o];
+    for (int k = 0; k < 3; k++)
+        key[1 + k] = p->gshift[3 * j + k] - p->image[3 * o + k] + p->image[3 * i + k];
+}
+
+static int key_less(const int64_t a[4], const int64_t b[4])
+{
+    for (int k = 0; k < 4; k++)
+        if (a[k] != b[k])
+            return a[k] < b[k];
+    return 0;
+}
+
+static void canonical_order(const struct particles *p, struct nlist *nl)
+{
+    for (int i = 0; i < nl->n; i++) {
+        int *a = nl->neigh + nl->offset[i], n = nl->offset[i + 1] - nl->offset[i];
+        for (int k = 1; k < n; k++) {
+            int j = a[k], q = k;
+            int64_t kj[4], km[4];
+            neighbour_key(p, i, j, kj);
+            while (q > 0) {
+                neighbour_key(p, i, a[q - 1], km);
+                if (!key_less(kj, km))
+                    break;
+                a[q] = a[q - 1];
+                q--;
+            }
+            a[q] = j;
+        }
+    }
+}
+
+/* Wrap, (sort), ghosts, list. */
+static int rebuild(struct dpd *d, struct err *e)
+{
+    struct particles *p = d->p;
+    double range = list_cutoff(d) + d->skin;
+    particles_clear_ghosts(p);
+    int rc = box_remap(&d->box, p, 0.0, e);
+    if (rc)
+        return rc;
+    if (d->sort_every > 0 && d->nrebuilds % d->sort_every == 0 && p->n_owned > 1) {
+        int *perm = malloc((size_t)p->n_owned * sizeof *perm);
+        if (!perm)
+            return err_nomem(e, "spatial sort");
+        rc = nlist_spatial_order(p, 0.5 * range, perm, e);
+        if (!rc)
+            rc = particles_permute(p, perm, e);
+        free(perm);
+        if (rc)
+            return rc;
+    }
+    tstart(d, TIMER_COMM);
+    rc = ghost_build(p, &d->box, range, e);
+    tstop(d, TIMER_COMM);
+    if (!rc)
+        rc = nlist_build(d->nl, p, e);
+    if (!rc && d->canonical_lists)
+        canonical_order(p, d->nl);
+    d->nrebuilds++;
+    return rc;
+}
+
+/* Bring ghosts and the list up to date with the current positions. */
+static int refresh_neighbours(struct dpd *d, struct err *e)
+{
+    tstart(d, TIMER_NEIGHBOR);
+    int rc = 0;
+    if (nlist_needs_rebuild(d->nl, d->p)) {
+        rc = rebuild(d, e);
+        tstop(d, TIMER_NEIGHBOR);
+    } else {
+        tstop(d, TIMER_NEIGHBOR);
+        tstart(d, TIMER_COMM);
+        ghost_update_positions(d->p, &d->box);
+        tstop(d, TIMER_COMM);
+    }
+    return rc;
+}
+
+int dpd_compute_forces(struct dpd *d, struct err *e)
+{
+    int rc = refresh_neighbours(d, e);
+    if (rc)
+        return rc;
+    tstart(d, TIMER_FORCE);
+    rc = dpd_conservative(d, e);
+    tstop(d, TIMER_FORCE);
+    return rc;
+}
+
+int dpd_init(struct dpd *d, struct particles *p, const struct box *box,
+             const struct cg_params *prm, const struct dpd_settings *set, double dt, double skin,
+             int nthreads, uint64_t seed, struct err *e)
+{
+    memset(d, 0, sizeof *d);
+    d->p = p;
+    d->box = *box;
+    d->prm = *prm;
+    d->set = *set;
+    d->dt = dt;
+    d->skin = skin;
+    d->nthreads = nthreads < 1 ? 1 : nthreads;
+    d->seed = seed;
+    d->sort_every = 20;
+    d->ufield = -1;
+    d->thermo.style = THERMOSTAT_NONE;
+    d->thermo.group_mask = 1u;
+    for (int t = 0; t < p->ntypes; t++)
+        p->mass[t] = prm->mass;
+    for (int dim = 0; dim < 3; dim++)
+        if (box->bc[dim] == BOUNDARY_PERIODIC && box_length(box, dim) <= 0)
+            return err_set(e, ERR_INPUT, "periodic box length along %c must be positive",
+                           "xyz"[dim]);
+    if (set->variant == DPD_ENERGY) {
+        d->ufield = particles_add_field(p, "u_internal", 1, 0, e);
+        if (d->ufield < 0)
+            return ERR_RUNTIME;
+        /* u_i = C_v kB T0: every particle starts at the reference temperature */
+        double *u = particles_field(p, d->ufield);
+        for (int i = 0; i < p->n_owned; i++)
+            u[i] = set->heat_capacity * UNITS_KB * set->temperature;
+    }
+    d->nl = nlist_create(NLIST_HALF, list_cutoff(d), skin);
+    if (!d->nl)
+        return err_nomem(e, "neighbor list");
+    return dpd_compute_forces(d, e);
+}
+
+void dpd_free(struct dpd *d)
+{
+    particles_destroy(&d->p);
+    nlist_destroy(&d->nl);
+    free(d->rho);
+    free(d->fp);
+    thread_accum_free(&d->acc_rho);
+    thread_accum_free(&d->acc_f);
+    thread_accum_free(&d->acc_pe);
+    thread_accum_free(&d->acc_vir);
+    memset(d, 0, sizeof *d);
+}
+
+int dpd_add_body(struct dpd *d, uint32_t mask, enum dpd_body_kind kind, const double v[3],
+                 struct err *e)
+{
+    if (d->nbodies >= DPD_MAX_BODIES)
+        return err_set(e, ERR_INPUT, "at most %d rigid bodies", DPD_MAX_BODIES);
+    for (int b = 0; b < d->nbodies; b++)
+        if (d->body[b].mask & mask)
+            return err_set(e, ERR_INPUT, "rigid bodies %d and %d share group bits", b,
+                           d->nbodies);
+    struct dpd_body *body = &d->body[d->nbodies];
+    memset(body, 0, sizeof *body);
+    body->mask = mask;
+    body->kind = kind;
+    memcpy(body->v, v, sizeof body->v);
+    struct particles *p = d->p;
+    for (int i = 0; i < p->n_owned; i++)
+        if (p->mask[i] & mask) {
+            body->n++;
+            body->mass += p->mass[p->type[i]];
+            memcpy(p->v + 3 * i, v, 3 * sizeof(double));
+        }
+    if (body->n == 0)
+        return err_set(e, ERR_INPUT, "rigid body %d has no particles", d->nbodies);
+    d->nbodies++;
+    return 0;
+}
+
+/* Sum of the conservative forces on each body (owned particles). */
+static void body_forces(struct dpd *d, double F[DPD_MAX_BODIES][3])
+{
+    memset(F, 0, sizeof(double) * 3 * DPD_MAX_BODIES);
+    if (d->nbodies == 0)
+        return;
+    const struct particles *p = d->p;
+    for (int i = 0; i < p->n_owned; i++) {
+        int b = dpd_body_of(d, i);
+        if (b >= 0)
+            for (int c = 0; c < 3; c++)
+                F[b][c] += p->f[3 * i + c];
+    }
+}
+
+/* Velocity-Verlet half kick of free particles and free bodies. */
+static void half_kick(struct dpd *d, const double F[DPD_MAX_BODIES][3])
+{
+    struct particles *p = d->p;
+    const double h = 0.5 * d->dt * UNITS_FTM2V;
+    for (int i = 0; i < p->n_owned; i++) {
+        if (d->nbodies && dpd_body_of(d, i) >= 0)
+            continue;
+        double s = h / p->mass[p->type[i]];
+        for (int c = 0; c < 3; c++)
+            p->v[3 * i + c] += s * p->f[3 * i + c];
+    }
+    for (int b = 0; b < d->nbodies; b++)
+        if (d->body[b].kind == DPD_BODY_FREE)
+            for (int c = 0; c < 3; c++)
+                d->body[b].v[c] += h * F[b][c] / d->body[b].mass;
+}
+
+/* Body particles take their body's velocity. */
+static void sync_bodies(struct dpd *d)
+{
+    if (d->nbodies == 0)
+        return;
+    struct particles *p = d->p;
+    for (int i = 0; i < p->n_owned; i++) {
+        int b = dpd_body_of(d, i);
+        if (b >= 0)
+            memcpy(p->v + 3 * i, d->body[b].v, 3 * sizeof(double));
+    }
+}
+
+int dpd_step(struct dpd *d, struct err *e)
+{
+    struct particles *p = d->p;
+    int rc = 0;
+    /* 1. dissipative + random, pair by pair (positions at t, forces f(t) kept) */
+    memset(d->body_impulse, 0, sizeof d->body_impulse);
+    if (d->set.gamma > 0) {
+        tstart(d, TIMER_INTEGRATE);
+        rc = dpd_sweep(d, e);
+        sync_bodies(d);
+        tstop(d, TIMER_INTEGRATE);
+        if (rc)
+            return rc;
+    }
+    double impulse[DPD_MAX_BODIES][3];
+    memcpy(impulse, d->body_impulse, sizeof impulse);
+    /* 2. velocity Verlet with the conservative forces */
+    double F[DPD_MAX_BODIES][3];
+    tstart(d, TIMER_INTEGRATE);
+    body_forces(d, F);
+    half_kick(d, F);
+    sync_bodies(d);
+    for (int i = 0; i < p->n_owned; i++)
+        for (int c = 0; c < 3; c++)
+            p->x[3 * i + c] += d->dt * p->v[3 * i + c];
+    tstop(d, TIMER_INTEGRATE);
+    rc = dpd_compute_forces(d, e);
+    if (rc)
+        return rc;
+    tstart(d, TIMER_INTEGRATE);
+    body_forces(d, F);
+    half_kick(d, F);
+    /* 3. optional Berendsen rescaling of the free particles */
+    if (d->thermo.style == THERMOSTAT_BERENDSEN)
+        thermostat_berendsen_rescale(&d->thermo, p, d->dt, dpd_temperature(d));
+    sync_bodies(d);
+    for (int b = 0; b < d->nbodies; b++)
+        for (int c = 0; c < 3; c++)
+            d->body[b].force[c] = F[b][c] + impulse[b][c] * UNITS_MVV2E / d->dt;
+    tstop(d, TIMER_INTEGRATE);
+    d->step++;
+    d->time += d->dt;
+    return 0;
+}
+
+double dpd_kinetic_energy(const struct dpd *d)
+{
+    const struct particles *p = d->p;
+    double ke = 0;
+    for (int i = 0; i < p->n_owned; i++) {
+        const double *v = p->v + 3 * i;
+        ke += p->mass[p->type[i]] * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+    }
+    return 0.5 * ke * UNITS_MVV2E;
+}
+
+double dpd_temperature(const struct dpd *d)
+{
+    const struct particles *p = d->p;
+    double ke = 0;
+    long n = 0;
+    for (int i = 0; i < p->n_owned; i++) {
+        if (d->nbodies && dpd_body_of(d, i) >= 0)
+            continue;
+        const double *v = p->v + 3 * i;
+        ke += p->mass[p->type[i]] * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+        n++;
+    }
+    double dof = n > 1 ? 3.0 * n - 3.0 : 3.0 * n;
+    return dof > 0 ? ke * UNITS_MVV2E / (dof * UNITS_KB) : 0.0;
+}
+
+double dpd_internal_energy(const struct dpd *d)
+{
+    if (d->ufield < 0)
+        return 0;
+    const double *u = d->p->fields[d->ufield].data;
+    double s = 0;
+    for (int i = 0; i < d->p->n_owned; i++)
+        s += u[i];
+    return s;
+}
+
+void dpd_momentum(const struct dpd *d, double P[3])
+{
+    const struct particles *p = d->p;
+    P[0] = P[1] = P[2] = 0;
+    for (int i = 0; i < p->n_owned; i++)
+        for (int c = 0; c < 3; c++)
+            P[c] += p->mass[p->type[i]] * p->v[3 * i + c];
+}
+
+void dpd_pressure_tensor(const struct dpd *d, double P[6])
+{
+    const struct particles *p = d->p;
+    double k[6] = {0};
+    for (int i = 0; i < p->n_owned; i++) {
+        double m = p->mass[p->type[i]] * UNITS_MVV2E;
+        const double *v = p->v + 3 * i;
+        k[0] += m * v[0] * v[0];
+        k[1] += m * v[1] * v[1];
+        k[2] += m * v[2] * v[2];
+        k[3] += m * v[0] * v[1];
+        k[4] += m * v[0] * v[2];
+        k[5] += m * v[1] * v[2];
+    }
+    double V = box_volume(&d->box);
+    for (int c = 0; c < 6; c++)
+        P[c] = (k[c] + d->virial[c]) / V;
+}
+
+double dpd_timestep_limit(const struct cg_params *prm)
+{
+    double k = cg_lattice_einstein_k(&prm->sc, prm->lattice_constant);
+    if (!(k > 0))
+        return INFINITY;
+    double wE = sqrt(k * UNITS_FTM2V / prm->mass);
+    return sqrt(2.0) / wE;
+}

@@ -1,0 +1,158 @@
+/*
+ * dpd: dissipative particle dynamics of coarse-grained metal particles, in
+ * the isothermal (DPD) and energy-conserving (DPDE) forms of Chen et al.
+ * 2014, Eqs. (2.2)-(2.5).
+ *
+ * Forces on particle i, summed over neighbours j (r_ij = r_i - r_j,
+ * e_ij = r_ij / |r_ij|, v_ij = v_i - v_j):
+ *   conservative  the coarse-grained Sutton-Chen form (core/sc_form.h) with
+ *                 its many-body density term, parameters from cg_params.h
+ *   dissipative   f^D = -gamma_ij w^D(r) (e_ij . v_ij) e_ij
+ *   random        f^R =  sigma_ij w^R(r) theta_ij e_ij / sqrt(dt)
+ * with w^R(r) = 1 - r / r_d for r < r_d (Groot & Warren, J. Chem. Phys.
+ * 107, 4423 (1997)), w^D = (w^R)^2 and sigma^2 = 2 gamma kB T (Espanol &
+ * Warren, Europhys. Lett. 30, 191 (1995)).  Chen's Eq. (2.5) writes e_i;
+ * the pair vector e_ij is used (and, in Eq. (2.4), the projection of v_ij
+ * on it), which makes both forces central and antisymmetric: total momentum
+ * (and angular momentum) is conserved exactly.
+ *
+ * DPDE (Espanol, Europhys. Lett. 40, 631 (1997); Avalos & Mackie,
+ * Europhys. Lett. 40, 141 (1997)): every particle carries an internal
+ * energy u_i with internal temperature theta_i = u_i / (C_v kB); pairs use
+ * 1/Theta_ij = (1/theta_i + 1/theta_j) / 2, sigma fixed by the reference
+ * temperature T0 and gamma_ij = sigma^2 / (2 kB Theta_ij); the mechanical
+ * energy a pair's dissipative and random forces add or remove goes in
+ * equal halves out of (or into) the two internal energies, so
+ * kinetic + potential + internal energy is conserved.
+ *
+ * Time integration: Shardlow's splitting (SIAM J. Sci. Comput. 24, 1267
+ * (2003)) as used for DPDE by Lisal, Brennan & Bonet Avalos (J. Chem. Phys.
+ * 135, 204105 (2011)): each step first sweeps the pairs in a fixed order,
+ * integrating each pair's dissipative + random interaction over dt on its
+ * own -- here exactly, as the Ornstein-Uhlenbeck process it is for the
+ * relative velocity along e_ij (no time-step limit from gamma) -- and then
+ * integrates the conservative forces with velocity Verlet.
+ *
+ * Random numbers come from the counter-based stream of core/rng.h keyed on
+ * (seed, step, the pair's two ids, the periodic image between them): a pair
+ * draws the same number whatever the thread count or storage order.
+ *
+ * Rigid bodies (flyers, grips, fixed layers) are groups of particles that
+ * move together: `prescribed` bodies keep their velocity (pistons, grips,
+ * v = 0 for fixed layers), `free` bodies translate under the sum of the
+ * forces on them.  In the pair sweep a body acts as one particle of its
+ * total mass (infinite for prescribed bodies).
+ */
+#ifndef CASCADE_DPD_H
+#define CASCADE_DPD_H
+
+#include <stdint.h>
+
+#include "core/box.h"
+#include "core/neighbor.h"
+#include "core/particles.h"
+#include "core/thermostat.h"
+#include "core/thread_accum.h"
+#include "core/timers.h"
+#include "dpd/cg_params.h"
+#include "util/err.h"
+
+enum dpd_variant { DPD_ISOTHERMAL = 0, DPD_ENERGY = 1 };   /* "dpd", "dpde" */
+extern const char *const dpd_variant_names[];              /* NULL-terminated */
+
+struct dpd_settings {
+    enum dpd_variant variant;
+    double gamma;          /* amu/ps: dissipation strength (sigma^2 = 2 gamma kB T0) */
+    double temperature;    /* K: T0, the bath (DPD) or reference (DPDE) temperature */
+    double cutoff;         /* Å: r_d of the weight functions */
+    double heat_capacity;  /* kB per particle: internal heat capacity C_v (DPDE) */
+};
+
+#define DPD_MAX_BODIES 4
+
+enum dpd_body_kind { DPD_BODY_PRESCRIBED, DPD_BODY_FREE };
+
+struct dpd_body {
+    uint32_t mask;         /* particles with any of these group bits */
+    enum dpd_body_kind kind;
+    double v[3];           /* Å/ps: common velocity */
+    double mass;           /* amu: total */
+    int n;                 /* particles */
+    double force[3];       /* eV/Å: on the body from everything else, last step
+                            * (conservative + dissipative + random) */
+};
+
+struct dpd {
+    struct particles *p;        /* owned */
+    struct box box;
+    struct cg_params prm;       /* conservative force, mass */
+    struct dpd_settings set;
+    struct nlist *nl;           /* owned: half list, cutoff max(rc, r_d) */
+    struct thermostat thermo;   /* optional Berendsen / Langevin on free particles */
+    double dt, skin;            /* ps, Å */
+    int nthreads;
+    long step;
+    double time;                /* ps */
+    uint64_t seed;
+    int sort_every;             /* spatial sort every this many rebuilds (0: never) */
+    int canonical_lists;        /* order each neighbour list by (id, image) so that the
+                                 * pair sweep visits a particle's pairs in the same
+                                 * order whatever else is in the system (reference runs) */
+    int peratom;                /* keep per-particle energy and virial current */
+    struct dpd_body body[DPD_MAX_BODIES];
+    int nbodies;
+    int ufield;                 /* index of the internal-energy field (DPDE), else -1 */
+    double epot;                /* eV: conservative energy, last force call */
+    double virial[6];           /* eV: conservative virial, last force call */
+    double body_impulse[DPD_MAX_BODIES][3];   /* amu Å/ps from the last pair sweep */
+    long nrebuilds;
+    struct timers *timers;      /* borrowed, may be NULL */
+    /* scratch */
+    double *rho, *fp;
+    int cap;
+    struct thread_accum acc_rho, acc_f, acc_pe, acc_vir;
+};
+
+/* Take ownership of p; set every particle's type mass to the parameter
+ * file's mass, add the internal-energy field for DPDE (initialised to
+ * C_v kB T0), build ghosts and lists, compute forces. */
+int dpd_init(struct dpd *d, struct particles *p, const struct box *box,
+             const struct cg_params *prm, const struct dpd_settings *set, double dt, double skin,
+             int nthreads, uint64_t seed, struct err *e);
+void dpd_free(struct dpd *d);
+
+/* Declare particles carrying any bit of `mask` a rigid body; its velocity
+ * becomes v (prescribed) or v as the start value (free).  Call before
+ * stepping; the body gets index d->nbodies - 1.  Returns 0 or an error. */
+int dpd_add_body(struct dpd *d, uint32_t mask, enum dpd_body_kind kind, const double v[3],
+                 struct err *e);
+
+/* Conservative forces into p->f (owned particles), d->epot, d->virial (and
+ * per-particle pe/virial when d->peratom), rebuilding ghosts and lists when
+ * particles have moved too far. */
+int dpd_compute_forces(struct dpd *d, struct err *e);
+
+/* Chen 2014, Eq. (s3b) input: the total DPD pair force on every owned
+ * particle, f_i = sum_j (f^C_ij + f^D_ij + f^R_ij), at the current positions
+ * and velocities, written to f (3 per owned particle, eV/Å) without moving
+ * anything.  The random force is that of a step of length dt (Euler-
+ * Maruyama: sigma w^R theta / sqrt(dt)), keyed on d->step.  Pairs inside one
+ * rigid body are skipped.  Also leaves the conservative part in p->f. */
+int dpd_pair_forces(struct dpd *d, double dt, double *f, struct err *e);
+
+/* One step: pair sweep (dissipative + random, exact per pair), velocity
+ * Verlet with the conservative forces, rigid bodies, optional thermostat. */
+int dpd_step(struct dpd *d, struct err *e);
+
+/* Observables of the owned particles (rigid-body particles included). */
+double dpd_kinetic_energy(const struct dpd *d);        /* eV */
+double dpd_temperature(const struct dpd *d);           /* K: free particles, 3N - 3 dof */
+double dpd_internal_energy(const struct dpd *d);       /* eV: sum of u_i (0 for DPD) */
+void dpd_momentum(const struct dpd *d, double P[3]);   /* amu Å/ps */
+void dpd_pressure_tensor(const struct dpd *d, double P[6]);   /* eV/Å^3, box volume */
+
+/* Largest stable time step estimate: sqrt(2) / omega_E of the perfect
+ * crystal at the parameters' lattice constant (ps). */
+double dpd_timestep_limit(const struct cg_params *prm);
+
+#endif

@@ -1,0 +1,165 @@
+/*
+ * dpd_conservative: the coarse-grained Sutton-Chen force (Chen 2014,
+ * Eq. (2.3)) with its many-body density term, on a half list with ghosts:
+ *   pass 1  rho_i = sum_j rho(r_ij) (both ends of each pair; ghost parts
+ *           added to their owners), F'(rho_i) sent back out to the ghosts;
+ *   pass 2  f_i = -sum_j [eps V'(r) + (F'(rho_i) + F'(rho_j)) rho'(r)] e_ij.
+ * Threads accumulate into private buffers summed in thread order
+ * (core/thread_accum.h), so a thread count always gives the same sums.
+ */
+#include <math.h>
+#include <omp.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "core/ghost.h"
+#include "dpd/dpd_pair.h"
+
+static int reserve(struct dpd *d, int ntot, int nt, struct err *e)
+{
+    if (ntot > d->cap) {
+        int cap = ntot + ntot / 4 + 64;
+        double *r = realloc(d->rho, (size_t)cap * sizeof *r);
+        if (r)
+            d->rho = r;
+        double *f = realloc(d->fp, (size_t)cap * sizeof *f);
+        if (f)
+            d->fp = f;
+        if (!r || !f)
+            return err_nomem(e, "DPD densities");
+        d->cap = cap;
+    }
+    int rc = thread_accum_reserve(&d->acc_rho, nt, (size_t)ntot, e);
+    if (!rc)
+        rc = thread_accum_reserve(&d->acc_f, nt, (size_t)3 * ntot, e);
+    if (!rc && d->peratom)
+        rc = thread_accum_reserve(&d->acc_pe, nt, (size_t)ntot, e);
+    if (!rc && d->peratom)
+        rc = thread_accum_reserve(&d->acc_vir, nt, (size_t)6 * ntot, e);
+    return rc;
+}
+
+int dpd_conservative(struct dpd *d, struct err *e)
+{
+    struct particles *p = d->p;
+    const struct nlist *nl = d->nl;
+    const struct sc_params *sc = &d->prm.sc;
+    const int nt = d->nthreads < 1 ? 1 : d->nthreads;
+    const int ntot = p->n_owned + p->n_ghost;
+    const int peratom = d->peratom;
+    int rc = reserve(d, ntot, nt, e);
+    if (rc)
+        return rc;
+    const double rc2 = sc->rc * sc->rc;
+    memset(d->rho, 0, (size_t)ntot * sizeof(double));
+    memset(p->f, 0, (size_t)3 * ntot * sizeof(double));
+    if (peratom) {
+        memset(p->pe, 0, (size_t)ntot * sizeof(double));
+        memset(p->virial, 0, (size_t)6 * ntot * sizeof(double));
+    }
+
+#pragma omp parallel num_threads(nt)
+    {
+        int tid = omp_get_thread_num();
+        double *rho = thread_accum_target(&d->acc_rho, tid, d->rho, (size_t)ntot);
+#pragma omp for schedule(static)
+        for (int i = 0; i < p->n_owned; i++) {
+            const double xi = p->x[3 * i], yi = p->x[3 * i + 1], zi = p->x[3 * i + 2];
+            double rhoi = 0;
+            for (int k = nl->offset[i]; k < nl->offset[i + 1]; k++) {
+                int j = nl->neigh[k];
+                double dx = xi - p->x[3 * j], dy = yi - p->x[3 * j + 1], dz = zi - p->x[3 * j + 2];
+                double r2 = dx * dx + dy * dy + dz * dz;
+                if (r2 >= rc2)
+                    continue;
+                double v, dv, rr, drr;
+                sc_pair_terms(sc, sqrt(r2), &v, &dv, &rr, &drr);
+                rhoi += rr;
+                rho[j] += rr;
+            }
+            rho[i] += rhoi;
+        }
+    }
+    thread_accum_reduce(&d->acc_rho, d->rho, (size_t)ntot);
+    ghost_reverse_add(p, d->rho, 1);
+
+    double embed = 0;
+    for (int i = 0; i < p->n_owned; i++) {
+        double F;
+        sc_embed(sc, d->rho[i], &F, &d->fp[i]);
+        embed += F;
+        if (peratom)
+            p->pe[i] = F;
+    }
+    ghost_forward(p, d->fp, 1);
+
+    double esum[THREAD_ACCUM_MAX] = {0}, wsum[THREAD_ACCUM_MAX][6];
+    memset(wsum, 0, sizeof wsum);
+    const double *fp = d->fp;
+#pragma omp parallel num_threads(nt)
+    {
+        int tid = omp_get_thread_num();
+        double *f = thread_accum_target(&d->acc_f, tid, p->f, (size_t)3 * ntot);
+        double *pe = peratom ? thread_accum_target(&d->acc_pe, tid, p->pe, (size_t)ntot) : NULL;
+        double *vir = peratom ? thread_accum_target(&d->acc_vir, tid, p->virial, (size_t)6 * ntot)
+                              : NULL;
+        double es = 0, w[6] = {0};
+#pragma omp for schedule(static)
+        for (int i = 0; i < p->n_owned; i++) {
+            const double xi = p->x[3 * i], yi = p->x[3 * i + 1], zi = p->x[3 * i + 2];
+            double fxi = 0, fyi = 0, fzi = 0;
+            for (int k = nl->offset[i]; k < nl->offset[i + 1]; k++) {
+                int j = nl->neigh[k];
+                double dx = xi - p->x[3 * j], dy = yi - p->x[3 * j + 1], dz = zi - p->x[3 * j + 2];
+                double r2 = dx * dx + dy * dy + dz * dz;
+                if (r2 >= rc2)
+                    continue;
+                double r = sqrt(r2), v, dv, rr, drr;
+                sc_pair_terms(sc, r, &v, &dv, &rr, &drr);
+                double epair = sc->eps * v;
+                double fpair = -(sc->eps * dv + (fp[i] + fp[j]) * drr) / r;
+                fxi += dx * fpair;
+                fyi += dy * fpair;
+                fzi += dz * fpair;
+                f[3 * j] -= dx * fpair;
+                f[3 * j + 1] -= dy * fpair;
+                f[3 * j + 2] -= dz * fpair;
+                es += epair;
+                double pv[6] = {dx * dx * fpair, dy * dy * fpair, dz * dz * fpair,
+                                dx * dy * fpair, dx * dz * fpair, dy * dz * fpair};
+                for (int c = 0; c < 6; c++)
+                    w[c] += pv[c];
+                if (peratom) {
+                    pe[i] += 0.5 * epair;
+                    pe[j] += 0.5 * epair;
+                    for (int c = 0; c < 6; c++) {
+                        vir[6 * i + c] += 0.5 * pv[c];
+                        vir[6 * j + c] += 0.5 * pv[c];
+                    }
+                }
+            }
+            f[3 * i] += fxi;
+            f[3 * i + 1] += fyi;
+            f[3 * i + 2] += fzi;
+        }
+        esum[tid] = es;
+        for (int c = 0; c < 6; c++)
+            wsum[tid][c] = w[c];
+    }
+    thread_accum_reduce(&d->acc_f, p->f, (size_t)3 * ntot);
+    ghost_reverse_add(p, p->f, 3);
+    if (peratom) {
+        thread_accum_reduce(&d->acc_pe, p->pe, (size_t)ntot);
+        thread_accum_reduce(&d->acc_vir, p->virial, (size_t)6 * ntot);
+        ghost_reverse_add(p, p->pe, 1);
+        ghost_reverse_add(p, p->virial, 6);
+    }
+    d->epot = embed;
+    memset(d->virial, 0, sizeof d->virial);
+    for (int t = 0; t < nt; t++) {
+        d->epot += esum[t];
+        for (int c = 0; c < 6; c++)
+            d->virial[c] += wsum[t][c];
+    }
+    return 0;
+}

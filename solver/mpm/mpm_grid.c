@@ -1,0 +1,246 @@
+/* mpm_grid: node store, boundary node lists and colouring blocks. */
+#include "mpm/mpm_grid.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "mpm/mpm_hgrid.h"
+
+static int alloc_nodes(struct mpm_grid *g, struct err *e)
+{
+    g->node = aligned_alloc(64, ((size_t)g->nnodes * sizeof *g->node + 63) / 64 * 64);
+    g->r = aligned_alloc(64, ((size_t)g->nnodes * 4 * sizeof *g->r + 63) / 64 * 64);
+    if (!g->node || !g->r)
+        return err_nomem(e, "grid nodes");
+    memset(g->node, 0, (size_t)g->nnodes * sizeof *g->node);
+    memset(g->r, 0, (size_t)g->nnodes * 4 * sizeof *g->r);
+    return 0;
+}
+
+/* Colouring blocks: slabs of `width` keys across the axis with the most
+ * keys (one block across the others).  A slab touches nodes of its keys only
+ * up to `span` keys beyond, so with width >= span slabs two apart never
+ * share a node: even slabs run in parallel, then odd ones -- two barriers
+ * per particle-to-grid pass. */
+static int make_blocks(struct mpm_grid *g, const long nkeys[3], long width, struct err *e)
+{
+    int axis = 0;
+    for (int d = 1; d < 3; d++)
+        if (nkeys[d] > nkeys[axis])
+            axis = d;
+    g->slab_axis = axis;
+    g->key_block = malloc((size_t)nkeys[axis] * sizeof *g->key_block);
+    if (!g->key_block)
+        return err_nomem(e, "grid colouring");
+    for (long k = 0; k < nkeys[axis]; k++)
+        g->key_block[k] = (int32_t)(k / width);
+    g->nblocks = 1;
+    for (int d = 0; d < 3; d++) {
+        g->bw[d] = d == axis ? width : nkeys[d];
+        g->nb[d] = (nkeys[d] + g->bw[d] - 1) / g->bw[d];
+        g->nblocks *= g->nb[d];
+    }
+    for (int c = 0; c < MPM_COLOURS; c++) {
+        g->ncolour[c] = 0;
+        long most = ((g->nb[0] + 1) / 2) * ((g->nb[1] + 1) / 2) * ((g->nb[2] + 1) / 2);
+        g->colour_block[c] = malloc((size_t)most * sizeof(int32_t));
+        if (!g->colour_block[c])
+            return err_nomem(e, "grid colouring");
+    }
+    for (long bz = 0; bz < g->nb[2]; bz++)
+        for (long by = 0; by < g->nb[1]; by++)
+            for (long bx = 0; bx < g->nb[0]; bx++) {
+                int c = (int)((bx & 1) | ((by & 1) << 1) | ((bz & 1) << 2));
+                long b = (bz * g->nb[1] + by) * g->nb[0] + bx;
+                g->colour_block[c][g->ncolour[c]++] = (int32_t)b;
+            }
+    return 0;
+}
+
+int mpm_grid_init_uniform(struct mpm_grid *g, const double origin[3], double h,
+                          const long ncell[3], enum mpm_shape_kind shape, struct err *e)
+{
+    memset(g, 0, sizeof *g);
+    g->kind = MPM_GRID_UNIFORM;
+    g->shape = shape;
+    g->h = h;
+    g->inv_h = 1.0 / h;
+    g->halo = 1;   /* GIMP reaches one node beyond the cell of a point near a face */
+    g->nnodes = 1;
+    for (int d = 0; d < 3; d++) {
+        if (ncell[d] < 1)
+            return err_set(e, ERR_INPUT, "grid needs at least one cell per direction");
+        g->origin[d] = origin[d];
+        g->ncell[d] = ncell[d];
+        g->lo[d] = 0;
+        g->nn[d] = ncell[d] + 1;
+        g->dim[d] = g->nn[d] + 2 * g->halo;
+        g->nnodes *= g->dim[d];
+    }
+    if (g->nnodes > INT32_MAX)
+        return err_set(e, ERR_INPUT, "grid of %ld nodes is too large", g->nnodes);
+    g->stride[0] = 1;
+    g->stride[1] = g->dim[0];
+    g->stride[2] = g->dim[0] * g->dim[1];
+    int rc = alloc_nodes(g, e);
+    if (rc)
+        return rc;
+    long nkeys[3];
+    for (int d = 0; d < 3; d++)
+        nkeys[d] = shape == MPM_SHAPE_GIMP ? ncell[d] + 1 : ncell[d];
+    /* keys: linear, the cell (nodes key..key+1); GIMP, base node + 1 (nodes
+     * key-1..key+1).  Linear slabs are 3 cells wide so that a point may move
+     * by less than a cell within a step and still map into nodes no slab of
+     * its colour touches (the fused update-and-map pass, mpm_step) */
+    return make_blocks(g, nkeys, shape == MPM_SHAPE_LINEAR ? 3 : 2, e);
+}
+
+int mpm_grid_init_hier(struct mpm_grid *g, struct mpm_hgrid *hg, struct err *e)
+{
+    memset(g, 0, sizeof *g);
+    g->kind = MPM_GRID_HIER;
+    g->shape = MPM_SHAPE_LINEAR;
+    g->hg = hg;
+    g->h = hg->h;
+    g->inv_h = 1.0 / hg->h;
+    g->nnodes = hg->nnodes;
+    long nkeys[3], width = 2;
+    for (int d = 0; d < 3; d++) {
+        g->origin[d] = hg->origin[d];
+        g->ncell[d] = hg->ncell_fine[d];
+        nkeys[d] = hg->ncell_fine[d];
+        long smax = 1L << hg->lg[hg->nlevels][d];   /* keys: cell corners, aligned */
+        if (smax > width)
+            width = smax;
+    }
+    int rc = alloc_nodes(g, e);
+    if (!rc)
+        rc = make_blocks(g, nkeys, width, e);
+    return rc;
+}
+
+void mpm_grid_free(struct mpm_grid *g)
+{
+    free(g->node);
+    free(g->node_next);
+    free(g->r);
+    free(g->bc_node);
+    free(g->bc_bits);
+    free(g->key_block);
+    for (int c = 0; c < MPM_COLOURS; c++)
+        free(g->colour_block[c]);
+    mpm_hgrid_destroy(&g->hg);
+    memset(g, 0, sizeof *g);
+}
+
+/* Global lattice coordinates of node i (finest lattice for hierarchical). */
+static void node_ijk(const struct mpm_grid *g, long i, long ijk[3])
+{
+    if (g->kind == MPM_GRID_HIER) {
+        for (int d = 0; d < 3; d++)
+            ijk[d] = g->hg->node_ijk[3 * i + d];
+        return;
+    }
+    ijk[0] = i % g->dim[0] - g->halo + g->lo[0];
+    ijk[1] = (i / g->dim[0]) % g->dim[1] - g->halo + g->lo[1];
+    ijk[2] = i / (g->dim[0] * g->dim[1]) - g->halo + g->lo[2];
+}
+
+void mpm_grid_node_position(const struct mpm_grid *g, long i, double x[3])
+{
+    long ijk[3];
+    node_ijk(g, i, ijk);
+    for (int d = 0; d < 3; d++)
+        x[d] = g->origin[d] + (double)ijk[d] * g->h;
+}
+
+int mpm_grid_set_faces(struct mpm_grid *g, const enum mpm_face_bc face[6], struct err *e)
+{
+    for (int f = 0; f < 6; f++)
+        g->face[f] = face[f];
+    free(g->bc_node);
+    free(g->bc_bits);
+    g->bc_node = NULL;
+    g->bc_bits = NULL;
+    g->nbc = 0;
+    long cap = 0;
+    for (long i = 0; i < g->nnodes; i++) {
+        long ijk[3];
+        node_ijk(g, i, ijk);
+        unsigned bits = 0;
+        for (int d = 0; d < 3; d++) {
+            for (int side = 0; side < 2; side++) {
+                enum mpm_face_bc bc = face[2 * d + side];
+                if (bc == MPM_FACE_FREE)
+                    continue;
+                int on = side == 0 ? ijk[d] <= 0 : ijk[d] >= g->ncell[d];
+                if (!on)
+                    continue;
+                bits |= bc == MPM_FACE_FIXED ? 7u : (1u << d);
+            }
+        }
+        if (!bits)
+            continue;
+        if (g->nbc >= cap) {
+            cap = cap ? 2 * cap : 1024;
+            int32_t *bn = realloc(g->bc_node, (size_t)cap * sizeof *bn);
+            if (bn)
+                g->bc_node = bn;
+            uint8_t *bb = realloc(g->bc_bits, (size_t)cap * sizeof *bb);
+            if (bb)
+                g->bc_bits = bb;
+            if (!bn || !bb)
+                return err_nomem(e, "grid boundary nodes");
+        }
+        g->bc_node[g->nbc] = (int32_t)i;
+        g->bc_bits[g->nbc] = (uint8_t)bits;
+        g->nbc++;
+    }
+    return 0;
+}
+
+double mpm_grid_min_cell(const struct mpm_grid *g)
+{
+    return g->h;
+}
+
+void mpm_grid_bounds(const struct mpm_grid *g, double lo[3], double hi[3])
+{
+    for (int d = 0; d < 3; d++) {
+        lo[d] = g->origin[d];
+        hi[d] = g->origin[d] + (double)g->ncell[d] * g->h;
+    }
+}
+
+int mpm_grid_contains(const struct mpm_grid *g, const double x[3])
+{
+    if (g->kind == MPM_GRID_HIER)
+        return mpm_hgrid_find(g->hg, x) >= 0;
+    for (int d = 0; d < 3; d++) {
+        double u = (x[d] - g->origin[d]) * g->inv_h;
+        if (!(u >= 0) || u >= (double)g->ncell[d])
+            return 0;
+    }
+    return 1;
+}
+
+void mpm_grid_clear(struct mpm_grid *g, int nthreads)
+{
+    struct mpm_node *nd = g->node;
+    long n = g->nnodes;
+#pragma omp parallel for schedule(static) num_threads(nthreads)
+    for (long i = 0; i < n; i++)
+        memset(&nd[i], 0, sizeof nd[i]);
+}
+
+double mpm_grid_bytes(const struct mpm_grid *g)
+{
+    double b = (double)g->nnodes * ((g->node_next ? 2 : 1) * sizeof(struct mpm_node) +
+                                    4 * sizeof(double));
+    b += (double)g->nbc * (sizeof(int32_t) + 1);
+    if (g->hg)
+        b += (double)g->hg->ncell * sizeof(struct mpm_hcell) +
+             (double)g->hg->nnodes * 3 * sizeof(int32_t) + (double)g->hg->ntree * 4;
+    return b;
+}

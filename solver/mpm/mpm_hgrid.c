@@ -1,0 +1,440 @@
+/* mpm_hgrid: building the hierarchical grid (levels, 2:1 balance, hanging nodes). */
+#include "mpm/mpm_hgrid.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+struct builder {
+    struct mpm_hgrid *hg;
+    const struct mpm_hlevel *lv;
+    struct err *e;
+    int failed;
+};
+
+/* Highest level l whose regions 1..l all contain x. */
+static int wanted_level(const struct builder *b, const double x[3])
+{
+    int l = 0;
+    while (l < b->hg->nlevels && region_contains(&b->lv[l].region, x))
+        l++;
+    return l;
+}
+
+/* Whether every finest cell of the block [lo, lo + size) wants level >= l. */
+static int block_wants(const struct builder *b, const long lo[3], const long size[3], int l)
+{
+    const struct mpm_hgrid *hg = b->hg;
+    for (long k = lo[2]; k < lo[2] + size[2]; k++)
+        for (long j = lo[1]; j < lo[1] + size[1]; j++)
+            for (long i = lo[0]; i < lo[0] + size[0]; i++) {
+                double x[3] = {hg->origin[0] + (i + 0.5) * hg->h, hg->origin[1] + (j + 0.5) * hg->h,
+                               hg->origin[2] + (k + 0.5) * hg->h};
+                if (wanted_level(b, x) < l)
+                    return 0;
+            }
+    return 1;
+}
+
+static long tree_alloc(struct builder *b, long n)
+{
+    struct mpm_hgrid *hg = b->hg;
+    if (hg->ntree + n > hg->cap_tree) {
+        long cap = hg->cap_tree ? 2 * hg->cap_tree : 1024;
+        while (cap < hg->ntree + n)
+            cap *= 2;
+        int32_t *t = realloc(hg->tree, (size_t)cap * sizeof *t);
+        if (!t) {
+            b->failed = err_nomem(b->e, "hierarchical grid");
+            return -1;
+        }
+        hg->tree = t;
+        hg->cap_tree = cap;
+    }
+    long base = hg->ntree;
+    hg->ntree += n;
+    return base;
+}
+
+static int32_t cell_new(struct builder *b, const long lo[3], int level)
+{
+    struct mpm_hgrid *hg = b->hg;
+    if (hg->ncell >= hg->cap_cell) {
+        long cap = hg->cap_cell ? 2 * hg->cap_cell : 1024;
+        struct mpm_hcell *c = realloc(hg->cell, (size_t)cap * sizeof *c);
+        if (!c) {
+            b->failed = err_nomem(b->e, "hierarchical grid cells");
+            return HG_EMPTY;
+        }
+        hg->cell = c;
+        hg->cap_cell = cap;
+    }
+    struct mpm_hcell *c = &hg->cell[hg->ncell];
+    memset(c, 0, sizeof *c);
+    for (int d = 0; d < 3; d++) {
+        c->lo[d] = (int32_t)lo[d];
+        c->lg[d] = (uint8_t)hg->lg[level][d];
+    }
+    c->level = (uint8_t)level;
+    return (int32_t)hg->ncell++;
+}
+
+/* `slot` >= 0: tree[slot]; < 0: root[-slot - 1] -- where a cell is referenced. */
+static void set_slot(struct mpm_hgrid *hg, long slot, int32_t v)
+{
+    if (slot >= 0)
+        hg->tree[slot] = v;
+    else
+        hg->root[-slot - 1] = v;
+}
+
+/* Fill the tree entry at `slot` for the block of level l at lo. */
+static void make(struct builder *b, const long lo[3], int l, long slot)
+{
+    struct mpm_hgrid *hg = b->hg;
+    if (b->failed)
+        return;
+    long size[3];
+    int inside = 1;
+    for (int d = 0; d < 3; d++) {
+        size[d] = 1L << hg->lg[l][d];
+        if (lo[d] >= hg->ncell_fine[d]) {
+            set_slot(hg, slot, HG_EMPTY);
+            return;
+        }
+        if (lo[d] + size[d] > hg->ncell_fine[d])
+            inside = 0;
+    }
+    if (l == 0 || (inside && block_wants(b, lo, size, l))) {
+        set_slot(hg, slot, cell_new(b, lo, l));
+        return;
+    }
+    unsigned mask = hg->coarsen[l];
+    int nch = 1 << __builtin_popcount(mask);
+    long base = tree_alloc(b, nch);
+    if (base < 0)
+        return;
+    set_slot(hg, slot, (int32_t)(HG_SPLIT_BASE - base));
+    for (int c = 0; c < nch; c++) {
+        long clo[3] = {lo[0], lo[1], lo[2]};
+        int bit = 0;
+        for (int d = 0; d < 3; d++)
+            if (mask & (1u << d))
+                clo[d] += (long)((c >> bit++) & 1) << hg->lg[l - 1][d];
+        make(b, clo, l - 1, base + c);
+    }
+}
+
+/* --- node set: sorted unique keys of all cell corners --------------------- */
+
+static int64_t node_key(const struct mpm_hgrid *hg, long i, long j, long k)
+{
+    return (int64_t)i + (int64_t)(hg->ncell_fine[0] + 1) *
+                            ((int64_t)j + (int64_t)(hg->ncell_fine[1] + 1) * (int64_t)k);
+}
+
+static int cmp_i64(const void *a, const void *b)
+{
+    int64_t x = *(const int64_t *)a, y = *(const int64_t *)b;
+    return (x > y) - (x < y);
+}
+
+static long key_find(const int64_t *keys, long n, int64_t k)
+{
+    long lo = 0, hi = n - 1;
+    while (lo <= hi) {
+        long mid = (lo + hi) / 2;
+        if (keys[mid] < k)
+            lo = mid + 1;
+        else if (keys[mid] > k)
+            hi = mid - 1;
+        else
+            return mid;
+    }
+    return -1;
+}
+
+static int node_set(struct mpm_hgrid *hg, int64_t **keys_out, long *n_out, struct err *e)
+{
+    int64_t *keys = malloc((size_t)hg->ncell * 8 * sizeof *keys);
+    if (!keys)
+        return err_nomem(e, "hierarchical grid nodes");
+    long n = 0;
+    for (long c = 0; c < hg->ncell; c++) {
+        const struct mpm_hcell *cl = &hg->cell[c];
+        for (int q = 0; q < 8; q++) {
+            long ijk[3];
+            for (int d = 0; d < 3; d++)
+                ijk[d] = cl->lo[d] + (((q >> d) & 1) ? (1L << cl->lg[d]) : 0);
+            keys[n++] = node_key(hg, ijk[0], ijk[1], ijk[2]);
+        }
+    }
+    qsort(keys, (size_t)n, sizeof *keys, cmp_i64);
+    long u = 0;
+    for (long k = 0; k < n; k++)
+        if (u == 0 || keys[k] != keys[u - 1])
+            keys[u++] = keys[k];
+    *keys_out = keys;
+    *n_out = u;
+    return 0;
+}
+
+/* Whether some node lies on the boundary of cell c at a position that is not
+ * a corner, edge midpoint or face centre of c (the 2:1 rule is broken). */
+static int cell_unbalanced(const struct mpm_hgrid *hg, const struct mpm_hcell *c,
+                           const int64_t *keys, long nkeys)
+{
+    long s[3];
+    int big = 0;
+    for (int d = 0; d < 3; d++) {
+        s[d] = 1L << c->lg[d];
+        big |= s[d] > 2;
+    }
+    if (!big)
+        return 0;   /* every boundary lattice point is a candidate */
+    for (int fd = 0; fd < 3; fd++) {
+        int a = (fd + 1) % 3, b = (fd + 2) % 3;
+        for (int side = 0; side < 2; side++) {
+            long ijk[3];
+            ijk[fd] = c->lo[fd] + side * s[fd];
+            for (long u = 0; u <= s[a]; u++)
+                for (long v = 0; v <= s[b]; v++) {
+                    int cand_a = u == 0 || u == s[a] || 2 * u == s[a];
+                    int cand_b = v == 0 || v == s[b] || 2 * v == s[b];
+                    if (cand_a && cand_b)
+                        continue;
+                    ijk[a] = c->lo[a] + u;
+                    ijk[b] = c->lo[b] + v;
+                    if (key_find(keys, nkeys, node_key(hg, ijk[0], ijk[1], ijk[2])) >= 0)
+                        return 1;
+                }
+        }
+    }
+    return 0;
+}
+
+/* Where cell c is referenced in the tree (found by descending from its root). */
+static long cell_slot(const struct mpm_hgrid *hg, long c)
+{
+    const struct mpm_hcell *cl = &hg->cell[c];
+    int L = hg->nlevels;
+    long i[3] = {cl->lo[0], cl->lo[1], cl->lo[2]};
+    long r = ((i[2] >> hg->lg[L][2]) * hg->nroot[1] + (i[1] >> hg->lg[L][1])) * hg->nroot[0] +
+             (i[0] >> hg->lg[L][0]);
+    long slot = -r - 1;
+    int32_t t = hg->root[r];
+    int lev = L;
+    while (t <= HG_SPLIT_BASE) {
+        long base = HG_SPLIT_BASE - t;
+        unsigned mask = hg->coarsen[lev];
+        int child = 0, bit = 0;
+        for (int d = 0; d < 3; d++)
+            if (mask & (1u << d))
+                child |= (int)((i[d] >> hg->lg[lev - 1][d]) & 1) << bit++;
+        slot = base + child;
+        t = hg->tree[slot];
+        lev--;
+    }
+    return t == c ? slot : HG_EMPTY - 1;
+}
+
+/* Rebuild the tree without cells marked dead (level 0xff), renumbering. */
+static void cells_compact(struct mpm_hgrid *hg)
+{
+    long u = 0;
+    for (long c = 0; c < hg->ncell; c++) {
+        if (hg->cell[c].level == 0xff)
+            continue;
+        if (u != c) {
+            long slot = cell_slot(hg, c);
+            hg->cell[u] = hg->cell[c];
+            if (slot != HG_EMPTY - 1)
+                set_slot(hg, slot, (int32_t)u);
+        }
+        u++;
+    }
+    hg->ncell = u;
+}
+
+static int hgrid_balance(struct builder *b)
+{
+    struct mpm_hgrid *hg = b->hg;
+    for (int pass = 0; pass < 64; pass++) {
+        int64_t *keys;
+        long nkeys;
+        int rc = node_set(hg, &keys, &nkeys, b->e);
+        if (rc)
+            return rc;
+        long nsplit = 0, n0 = hg->ncell;
+        for (long c = 0; c < n0 && !b->failed; c++) {
+            if (hg->cell[c].level == 0 || !cell_unbalanced(hg, &hg->cell[c], keys, nkeys))
+                continue;
+            /* split c into its children of the level below */
+            long slot = cell_slot(hg, c);
+            int l = hg->cell[c].level;
+            long lo[3] = {hg->cell[c].lo[0], hg->cell[c].lo[1], hg->cell[c].lo[2]};
+            hg->cell[c].level = 0xff;
+            unsigned mask = hg->coarsen[l];
+            int nch = 1 << __builtin_popcount(mask);
+            long base = tree_alloc(b, nch);
+            if (base < 0)
+                break;
+            set_slot(hg, slot, (int32_t)(HG_SPLIT_BASE - base));
+            for (int ch = 0; ch < nch; ch++) {
+                long clo[3] = {lo[0], lo[1], lo[2]};
+                int bit = 0;
+                for (int d = 0; d < 3; d++)
+                    if (mask & (1u << d))
+                        clo[d] += (long)((ch >> bit++) & 1) << hg->lg[l - 1][d];
+                hg->tree[base + ch] = cell_new(b, clo, l - 1);
+            }
+            nsplit++;
+        }
+        free(keys);
+        if (b->failed)
+            return b->failed;
+        cells_compact(hg);
+        if (nsplit == 0)
+            return 0;
+    }
+    return err_set(b->e, ERR_INPUT, "hierarchical grid: 2:1 balance did not converge");
+}
+
+/* Assign node indices and each cell's candidate nodes. */
+static int hgrid_nodes(struct builder *b)
+{
+    struct mpm_hgrid *hg = b->hg;
+    int64_t *keys;
+    long nkeys;
+    int rc = node_set(hg, &keys, &nkeys, b->e);
+    if (rc)
+        return rc;
+    hg->node_ijk = malloc((size_t)nkeys * 3 * sizeof *hg->node_ijk);
+    if (!hg->node_ijk) {
+        free(keys);
+        return err_nomem(b->e, "hierarchical grid nodes");
+    }
+    hg->nnodes = nkeys;
+    long nx = hg->ncell_fine[0] + 1, ny = hg->ncell_fine[1] + 1;
+    for (long n = 0; n < nkeys; n++) {
+        hg->node_ijk[3 * n + 0] = (int32_t)(keys[n] % nx);
+        hg->node_ijk[3 * n + 1] = (int32_t)((keys[n] / nx) % ny);
+        hg->node_ijk[3 * n + 2] = (int32_t)(keys[n] / nx / ny);
+    }
+    for (int l = 0; l <= MPM_MAX_LEVELS; l++)
+        hg->ncell_level[l] = 0;
+    for (long c = 0; c < hg->ncell; c++) {
+        struct mpm_hcell *cl = &hg->cell[c];
+        hg->ncell_level[cl->level]++;
+        for (int q = 0; q < 27; q++) {
+            int ab[3] = {q % 3, (q / 3) % 3, q / 9};
+            long ijk[3];
+            int ok = !(ab[0] == 1 && ab[1] == 1 && ab[2] == 1);
+            for (int d = 0; d < 3 && ok; d++) {
+                long s = 1L << cl->lg[d];
+                if (ab[d] == 1 && s < 2)
+                    ok = 0;
+                ijk[d] = cl->lo[d] + (ab[d] == 0 ? 0 : ab[d] == 1 ? s / 2 : s);
+            }
+            cl->node[q] = ok ? (int32_t)key_find(keys, nkeys, node_key(hg, ijk[0], ijk[1], ijk[2]))
+                             : -1;
+        }
+        /* corners always exist; a face centre implies its four edge midpoints
+         * (the construction of the shape functions relies on it) */
+        for (int q = 0; q < 27; q++) {
+            int ab[3] = {q % 3, (q / 3) % 3, q / 9};
+            int nmid = (ab[0] == 1) + (ab[1] == 1) + (ab[2] == 1);
+            if ((nmid == 0 && cl->node[q] < 0))
+                rc = err_set(b->e, ERR_RUNTIME, "hierarchical grid: cell %ld lacks a corner", c);
+            if (nmid == 2 && cl->node[q] >= 0) {
+                for (int d = 0; d < 3; d++) {
+                    if (ab[d] != 1)
+                        continue;
+                    for (int end = 0; end <= 2; end += 2) {
+                        int e2[3] = {ab[0], ab[1], ab[2]};
+                        e2[d] = end;
+                        if (cl->node[e2[0] + 3 * e2[1] + 9 * e2[2]] < 0)
+                            rc = err_set(b->e, ERR_RUNTIME,
+                                         "hierarchical grid: cell %ld has a face centre node "
+                                         "without its edge midpoints",
+                                         c);
+                    }
+                }
+            }
+        }
+    }
+    free(keys);
+    return rc;
+}
+
+int mpm_hgrid_build(struct mpm_hgrid **out, const double origin[3], double h,
+                    const long ncell[3], const struct mpm_hlevel *levels, int nlevels,
+                    enum mpm_hanging hanging, struct err *e)
+{
+    *out = NULL;
+    if (nlevels < 0 || nlevels > MPM_MAX_LEVELS)
+        return err_set(e, ERR_INPUT, "hierarchical grid: %d levels (at most %d)", nlevels,
+                       MPM_MAX_LEVELS);
+    struct mpm_hgrid *hg = calloc(1, sizeof *hg);
+    if (!hg)
+        return err_nomem(e, "hierarchical grid");
+    hg->nlevels = nlevels;
+    hg->h = h;
+    hg->hanging = hanging;
+    for (int d = 0; d < 3; d++) {
+        hg->origin[d] = origin[d];
+        hg->ncell_fine[d] = ncell[d];
+        hg->lg[0][d] = 0;
+    }
+    for (int l = 1; l <= nlevels; l++) {
+        hg->coarsen[l] = levels[l - 1].coarsen;
+        if ((hg->coarsen[l] & 7u) == 0 || (hg->coarsen[l] & ~7u)) {
+            free(hg);
+            return err_set(e, ERR_INPUT, "hierarchical grid: level %d coarsens no direction", l);
+        }
+        for (int d = 0; d < 3; d++)
+            hg->lg[l][d] = hg->lg[l - 1][d] + ((hg->coarsen[l] >> d) & 1);
+    }
+    int L = nlevels;
+    long nroot = 1;
+    for (int d = 0; d < 3; d++) {
+        long s = 1L << hg->lg[L][d];
+        hg->nroot[d] = (ncell[d] + s - 1) / s;
+        nroot *= hg->nroot[d];
+    }
+    hg->root = malloc((size_t)nroot * sizeof *hg->root);
+    if (!hg->root) {
+        free(hg);
+        return err_nomem(e, "hierarchical grid");
+    }
+    struct builder b = {hg, levels, e, 0};
+    for (long k = 0; k < hg->nroot[2] && !b.failed; k++)
+        for (long j = 0; j < hg->nroot[1] && !b.failed; j++)
+            for (long i = 0; i < hg->nroot[0] && !b.failed; i++) {
+                long lo[3] = {i << hg->lg[L][0], j << hg->lg[L][1], k << hg->lg[L][2]};
+                long r = (k * hg->nroot[1] + j) * hg->nroot[0] + i;
+                make(&b, lo, L, -r - 1);
+            }
+    int rc = b.failed;
+    if (!rc)
+        rc = hgrid_balance(&b);
+    if (!rc)
+        rc = hgrid_nodes(&b);
+    if (rc) {
+        mpm_hgrid_destroy(&hg);
+        return rc;
+    }
+    *out = hg;
+    return 0;
+}
+
+void mpm_hgrid_destroy(struct mpm_hgrid **hg)
+{
+    if (!hg || !*hg)
+        return;
+    free((*hg)->root);
+    free((*hg)->tree);
+    free((*hg)->cell);
+    free((*hg)->node_ijk);
+    free(*hg);
+    *hg = NULL;
+}

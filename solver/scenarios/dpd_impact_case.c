@@ -1,0 +1,583 @@
+/*
+ * dpd_impact_case: a rigid flyer hits a DPD target bar (`type:
+ * dpd_impact`), Chen et al. 2014 Sec. 4.1.1, DPD-only model: target 216 x
+ * 72.3 x 72.3 Å (30a x 10a x 10a, a = 7.23 Å), non-periodic, a rigid 15 Å
+ * flyer at 5 Å/ps, reference regions 6 Å thick centred 100 Å and 150 Å
+ * from the impact face; the wave speed from the difference of the times at
+ * which the two regions first move (analysis/wave_arrival.h).
+ *
+ *   system:   the target (md_system.h): read_data of the equilibrated bar
+ *             (a `dpd` case with output.final_state), or a lattice
+ *   dpd:      dpd_setup.h (default variant dpde, the paper's DPD-only model)
+ *   impact:
+ *     axis: x                   propagation axis; the flyer comes from below
+ *     flyer_thickness: 15.0     Å: (100) planes of the flyer, round(15 / (a/2)) = 4
+ *     flyer_velocity: 5.0       Å/ps toward the target
+ *     flyer_motion: free        free: a rigid body that the target slows down;
+ *                               prescribed: a piston at constant velocity
+ *     lattice_constant: 0       Å of the flyer (0: the parameter file's)
+ *     gap: 0.0                  Å added to one plane spacing between flyer and target
+ *     regions: [100.0, 150.0]   Å: centres of the reference regions from the impact face
+ *     region_thickness: 6.0     Å
+ *     arrival_threshold: 0.01   Å: the wave has arrived at a region when the mean
+ *                               displacement of its particles along the axis that
+ *                               the impact caused first reaches this (linear
+ *                               interpolation between samples); without a reference
+ *                               run use about 0.2 Å, above the thermal wander
+ *     reference: true           also run the target without the flyer from the same
+ *                               state with the same random numbers, and measure the
+ *                               displacement the impact causes as the difference
+ *                               between the two runs (see below)
+ *     sample_every: 1           steps between displacement samples
+ *     profile_times: []         ps: displacement profiles along the bar at these times
+ *     profile_bin: 0            Å: profile bin width (0: the plane spacing a/2)
+ *
+ * The impact face is the mean position of the target's first (100) plane at
+ * the start; regions and profile bins are Lagrangian (selected by where the
+ * material was then).
+ *
+ * Why a reference run: at 298 K the mean displacement of a 6 Å slab of a
+ * 72 Å bar wanders by a few hundredths of an Å (its centre-of-mass velocity
+ * alone is sqrt(kB T / M_slab), about 0.04 Å/ps), and the front of the wave
+ * rises over a picosecond, so the time a raw signal crosses a threshold
+ * depends on the noise.  The unperturbed run sees the same forces and --
+ * the random numbers being keyed on pair ids and step -- the same random
+ * kicks, so ahead of the wave both runs agree (to round-off amplified by
+ * the dynamics, 1e-6 Å over ten picoseconds here) and their difference is
+ * the disturbance the impact alone has caused.  The arrival then marks
+ * where that disturbance first becomes significant, at any threshold.
+ * The threshold scan (series arrival_thresholds, wave_speed_scan) shows
+ * how the speed depends on it: small thresholds follow the leading edge,
+ * large ones the main pulse.
+ *
+ * Metrics: wave_speed (m/s), arrival_time_1/2 (ps), region_particles_1/2,
+ * displacement_max_1/2 (Å), flyer_velocity_final (Å/ps), target_particles,
+ * flyer_particles, energy_drift and energy_deviation_max (relative change
+ * of pe + ke + internal energy: conserved by DPDE with a free flyer),
+ * momentum_change (amu Å/ps: zero with a free flyer).
+ * Series: time_ps, displacement_region_1/2 (Å; differences to the reference
+ * run when there is one, raw_displacement_region_1/2 the flyer run's own),
+ * etotal (eV), arrival_thresholds (Å) and wave_speed_scan (m/s), and per
+ * profile time T: profile_x (Å from the face, bin centres), profile_tT (Å).
+ */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "analysis/displacement.h"
+#include "analysis/wave_arrival.h"
+#include "core/lattice.h"
+#include "core/units.h"
+#include "scenarios/dpd_bar.h"
+#include "scenarios/dpd_output.h"
+#include "scenarios/dpd_setup.h"
+#include "scenarios/md_system.h"
+
+#define FLYER_BIT (1u << 1)
+
+struct impact_case {
+    struct dpd d;
+    struct dpd ref;            /* the target without the flyer (has_ref) */
+    int has_ref, xref_ref;
+    long steps;
+    int axis;
+    double regions[2], half;   /* Å from the face; half thickness */
+    double threshold;          /* Å */
+    long sample_every;
+    double *profile_times;     /* ps */
+    size_t nprofiles;
+    double profile_bin;        /* Å */
+    double face, length;       /* Å */
+    int xref;                  /* displacement reference field */
+    long n_target, n_flyer;
+};
+
+struct impact_keys {
+    int axis, motion, reference;
+    double thickness, velocity, a, gap, regions[2], half, threshold, bin;
+    long sample_every;
+    double *ptimes;
+    size_t nptimes;
+};
+
+static int read_impact(struct cfg_obj *root, struct impact_keys *k)
+{
+    static const char *const axes[] = {"x", "y", "z", NULL};
+    static const char *const motions[] = {"free", "prescribed", NULL};
+    static const double regions[2] = {100.0, 150.0};
+    struct cfg_obj o;
+    double thick;
+    int rc;
+    memset(k, 0, sizeof *k);
+    if ((rc = cfg_section(root, "impact", &o)) ||
+        (rc = cfg_enum(&o, "axis", "x", axes, &k->axis)) ||
+        (rc = cfg_real(&o, "flyer_thickness", 15.0, CFG_GT(0), &k->thickness)) ||
+        (rc = cfg_real(&o, "flyer_velocity", 5.0, CFG_ANY, &k->velocity)) ||
+        (rc = cfg_enum(&o, "flyer_motion", "free", motions, &k->motion)) ||
+        (rc = cfg_real(&o, "lattice_constant", 0.0, CFG_GE(0), &k->a)) ||
+        (rc = cfg_real(&o, "gap", 0.0, CFG_GE(0), &k->gap)) ||
+        (rc = cfg_reals(&o, "regions", 2, regions, CFG_GT(0), k->regions)) ||
+        (rc = cfg_real(&o, "region_thickness", 6.0, CFG_GT(0), &thick)) ||
+        (rc = cfg_real(&o, "arrival_threshold", 0.01, CFG_GT(0), &k->threshold)) ||
+        (rc = cfg_bool(&o, "reference", 1, &k->reference)) ||
+        (rc = cfg_int(&o, "sample_every", 1, CFG_GE(1), &k->sample_every)) ||
+        (rc = cfg_real_list(&o, "profile_times", 0, CFG_GE(0), &k->ptimes, &k->nptimes)) ||
+        (rc = cfg_real(&o, "profile_bin", 0.0, CFG_GE(0), &k->bin)) || (rc = cfg_close(&o)))
+        return rc;
+    k->half = 0.5 * thick;
+    if (!(k->regions[1] > k->regions[0]))
+        return cfg_error_at(o.cfg, "impact.regions",
+                            "the second region (%g Å) must lie beyond the first (%g Å)",
+                            k->regions[1], k->regions[0]);
+    return 0;
+}
+
+/* Append the flyer: (100) planes of an fcc lattice continuing the target's
+ * stacking below its impact face, across the target's cross-section. */
+static int add_flyer(struct particles *p, const struct dpd_bar *bar, const struct impact_keys *k,
+                     double a, long *nadded, struct err *e)
+{
+    const int ax = k->axis, t1 = (ax + 1) % 3, t2 = (ax + 2) % 3;
+    const double dpl = 0.5 * a, tol = 0.25 * dpl;
+    long nplanes = lround(k->thickness / dpl);
+    if (nplanes < 1)
+        nplanes = 1;
+    long ncell = (nplanes + 1) / 2 + 1;
+    struct lattice lat = {LATTICE_FCC, a, {0, 0, 0}, {{0}}};
+    long cells[3];
+    lat.origin[ax] = bar->face_lo[ax] - ncell * a;
+    cells[ax] = ncell;
+    struct region box;
+    memset(&box, 0, sizeof box);
+    box.shape = REGION_BOX;
+    box.lo[ax] = bar->face_lo[ax] - nplanes * dpl - tol;
+    box.hi[ax] = bar->face_lo[ax] - dpl + tol;
+    /* Stacking: a (100) plane holds the sites whose two transverse
+     * coordinates, in half cells from the lattice origin, add up to an even
+     * (A) or odd (B) number.  The flyer's plane next to the face must be of
+     * the other kind, so find the face plane's kind from its particle
+     * nearest the transverse corner. */
+    int best = -1;
+    double bestd = INFINITY;
+    for (int i = 0; i < p->n_owned; i++) {
+        if (p->x[3 * i + ax] > bar->face_lo[ax] + 0.5 * dpl)
+            continue;
+        double dd = p->x[3 * i + t1] - bar->face_lo[t1] + p->x[3 * i + t2] - bar->face_lo[t2];
+        if (dd < bestd) {
+            bestd = dd;
+            best = i;
+        }
+    }
+    long parity = 0;
+    if (best >= 0)
+        parity = lround((p->x[3 * best + t1] - bar->face_lo[t1]) / dpl) +
+                 lround((p->x[3 * best + t2] - bar->face_lo[t2]) / dpl);
+    for (int q = 0; q < 2; q++) {
+        int t = q ? t2 : t1;
+        /* one spare cell on each side; the region keeps the cross-section */
+        lat.origin[t] = bar->face_lo[t] - a + (q == 0 && (parity & 1) ? dpl : 0.0);
+        cells[t] = lround((bar->face_hi[t] - bar->face_lo[t]) / a) + 3;
+        box.lo[t] = bar->face_lo[t] - tol;
+        box.hi[t] = bar->face_hi[t] + tol;
+    }
+    int64_t next_id = 1;
+    for (int i = 0; i < p->n_owned; i++)
+        if (p->id[i] >= next_id)
+            next_id = p->id[i] + 1;
+    int n0 = p->n_owned;
+    long added = lattice_fill(&lat, cells, &box, p, 0, &next_id, e);
+    if (added < 0)
+        return ERR_RUNTIME;
+    for (int i = n0; i < p->n_owned; i++) {
+        p->mask[i] |= FLYER_BIT;
+        p->x[3 * i + ax] -= k->gap;
+    }
+    *nadded = added;
+    return 0;
+}
+
+/* A copy of the owned particles (positions, velocities, types, ids, masks). */
+static struct particles *clone_particles(const struct particles *p, struct err *e)
+{
+    struct particles *q = particles_create(p->n_owned > 0 ? p->n_owned : 1);
+    if (!q) {
+        err_nomem(e, "reference particles");
+        return NULL;
+    }
+    for (int t = 0; t < p->ntypes; t++)
+        particles_type_index(q, p->type_name[t], p->mass[t]);
+    for (int i = 0; i < p->n_owned; i++) {
+        int k = particles_add(q, p->x + 3 * i, p->v + 3 * i, p->type[i], p->id[i]);
+        if (k < 0) {
+            particles_destroy(&q);
+            err_nomem(e, "reference particles");
+            return NULL;
+        }
+        q->mask[k] = p->mask[i];
+        for (int c = 0; c < 3; c++)
+            q->image[3 * k + c] = p->image[3 * i + c];
+    }
+    return q;
+}
+
+static int cmp_id_index(const void *a, const void *b)
+{
+    int64_t x = ((const int64_t *)a)[0], y = ((const int64_t *)b)[0];
+    return (x > y) - (x < y);
+}
+
+/* Store the particles in id order for good, with canonical neighbour lists,
+ * and recompute the forces. */
+static int order_by_id(struct dpd *d, struct err *e)
+{
+    struct particles *p = d->p;
+    int n = p->n_owned;
+    int64_t (*key)[2] = malloc((size_t)(n ? n : 1) * sizeof *key);
+    int *perm = malloc((size_t)(n ? n : 1) * sizeof *perm);
+    int rc = 0;
+    if (!key || !perm) {
+        rc = err_nomem(e, "id order");
+    } else {
+        for (int i = 0; i < n; i++) {
+            key[i][0] = p->id[i];
+            key[i][1] = i;
+        }
+        qsort(key, (size_t)n, sizeof *key, cmp_id_index);
+        for (int i = 0; i < n; i++)
+            perm[i] = (int)key[i][1];
+        particles_clear_ghosts(p);
+        rc = particles_permute(p, perm, e);
+    }
+    free(key);
+    free(perm);
+    if (rc)
+        return rc;
+    d->sort_every = 0;
+    d->canonical_lists = 1;
+    d->nl->nbuilds = 0;   /* rebuild ghosts and list from the new order */
+    return dpd_compute_forces(d, e);
+}
+
+static int impact_read(struct cfg_obj *root, const struct case_common *common, void **state)
+{
+    struct particles *p = NULL;
+    struct box box;
+    struct md_system_info info;
+    struct dpd_input in;
+    struct impact_keys k;
+    int rc = md_system_read(root, common->seed, &p, &box, &info);
+    if (!rc)
+        rc = dpd_section_read(root, DPD_ENERGY, &in);
+    memset(&k, 0, sizeof k);
+    if (!rc)
+        rc = read_impact(root, &k);
+    if (!rc && box.bc[k.axis] == BOUNDARY_PERIODIC)
+        rc = cfg_error_at(root->cfg, "system.boundary",
+                          "the impact axis %c must not be periodic (the flyer comes from outside)",
+                          "xyz"[k.axis]);
+    if (rc || root->cfg->shallow) {
+        particles_destroy(&p);
+        free(k.ptimes);
+        return rc;
+    }
+    struct err *e = root->cfg->err;
+    struct impact_case *c = calloc(1, sizeof *c);
+    if (!c) {
+        particles_destroy(&p);
+        free(k.ptimes);
+        return err_nomem(e, "impact case");
+    }
+    double a = k.a > 0 ? k.a : in.prm.lattice_constant;
+    struct dpd_bar bar;
+    long nflyer = 0;
+    c->n_target = p->n_owned;
+    struct particles *pref = NULL;
+    rc = dpd_init_velocities(&in, p, common, e);
+    if (!rc && k.reference && !(pref = clone_particles(p, e)))
+        rc = ERR_RUNTIME;
+    if (!rc) {
+        dpd_bar_measure(p, 0, 0.5 * a, &bar);
+        rc = add_flyer(p, &bar, &k, a, &nflyer, e);
+    }
+    if (rc) {
+        particles_destroy(&p);
+        particles_destroy(&pref);
+        free(k.ptimes);
+        free(c);
+        return rc;
+    }
+    c->n_flyer = nflyer;
+    rc = dpd_build(&in, p, &box, common, e, &c->d);
+    double v[3] = {0, 0, 0};
+    v[k.axis] = k.velocity;
+    if (!rc)
+        rc = dpd_add_body(&c->d, FLYER_BIT, k.motion == 0 ? DPD_BODY_FREE : DPD_BODY_PRESCRIBED,
+                          v, e);
+    if (!rc) {
+        c->xref = displacement_begin(c->d.p, &c->d.box, e);
+        if (c->xref < 0)
+            rc = ERR_RUNTIME;
+    }
+    if (pref) {
+        /* Same seed: the same random kick for every target pair.  Same
+         * storage order (no spatial sorting: the target particles keep their
+         * indices, the flyer's come after them) and canonical neighbour
+         * lists: the pair sweep meets every target particle's pairs in the
+         * same order in both runs, so ahead of the wave they stay equal. */
+        if (!rc) {
+            c->has_ref = 1;
+            rc = dpd_build(&in, pref, &box, common, e, &c->ref);
+        } else {
+            particles_destroy(&pref);
+        }
+        for (int r = 0; !rc && r < 2; r++)
+            rc = order_by_id(r ? &c->ref : &c->d, e);
+        if (!rc) {
+            c->xref_ref = displacement_begin(c->ref.p, &c->ref.box, e);
+            if (c->xref_ref < 0)
+                rc = ERR_RUNTIME;
+        }
+    }
+    if (rc) {
+        dpd_free(&c->d);
+        if (c->has_ref)
+            dpd_free(&c->ref);
+        free(k.ptimes);
+        free(c);
+        return rc;
+    }
+    c->steps = in.steps;
+    c->axis = k.axis;
+    c->regions[0] = k.regions[0];
+    c->regions[1] = k.regions[1];
+    c->half = k.half;
+    c->threshold = k.threshold;
+    c->sample_every = k.sample_every;
+    c->profile_times = k.ptimes;
+    c->nprofiles = k.nptimes;
+    c->profile_bin = k.bin > 0 ? k.bin : 0.5 * a;
+    c->face = bar.face_lo[k.axis];
+    c->length = bar.extent[k.axis];
+    for (int r = 0; r < 2; r++)
+        if (c->regions[r] + c->half > c->length)
+            rc = cfg_error_at(root->cfg, "impact.regions",
+                              "region %d (%g +- %g Å from the face) reaches past the target's "
+                              "far face at %g Å",
+                              r + 1, c->regions[r], c->half, c->length);
+    if (rc) {
+        dpd_free(&c->d);
+        if (c->has_ref)
+            dpd_free(&c->ref);
+        free(c->profile_times);
+        free(c);
+        return rc;
+    }
+    *state = c;
+    return 0;
+}
+
+/* Mean displacement of reference region r in the flyer run (*raw) and, with
+ * a reference run, less that of the same material without the flyer. */
+static double region_disp(const struct impact_case *c, int r, long *count, double *raw)
+{
+    double lo = c->face + c->regions[r] - c->half, hi = c->face + c->regions[r] + c->half;
+    *raw = displacement_slab_mean(c->d.p, &c->d.box, c->xref, c->axis, lo, hi, FLYER_BIT, count);
+    if (!c->has_ref)
+        return *raw;
+    return *raw - displacement_slab_mean(c->ref.p, &c->ref.box, c->xref_ref, c->axis, lo, hi, 0,
+                                         NULL);
+}
+
+static int impact_run(void *state, struct run *run, struct err *e)
+{
+    struct impact_case *c = state;
+    struct dpd *d = &c->d;
+    d->timers = &run->timers;
+    struct dpd_output out;
+    int rc = dpd_output_begin(&out, run, e);
+    if (rc)
+        return rc;
+    long nsamp = c->steps / c->sample_every + 2;
+    int nbins = (int)ceil(c->length / c->profile_bin);
+    double *ts = malloc((size_t)nsamp * sizeof *ts), *s1 = malloc((size_t)nsamp * sizeof *s1),
+           *s2 = malloc((size_t)nsamp * sizeof *s2), *es = malloc((size_t)nsamp * sizeof *es);
+    double *r1 = malloc((size_t)nsamp * sizeof *r1), *r2 = malloc((size_t)nsamp * sizeof *r2);
+    double *prof = calloc((c->nprofiles ? c->nprofiles : 1) * (size_t)nbins, sizeof *prof);
+    double *pref = calloc((size_t)nbins, sizeof *pref);
+    long *pstep = malloc((c->nprofiles ? c->nprofiles : 1) * sizeof *pstep);
+    if (!ts || !s1 || !s2 || !es || !r1 || !r2 || !prof || !pref || !pstep) {
+        rc = err_nomem(e, "impact samples");
+        goto done;
+    }
+    for (size_t q = 0; q < c->nprofiles; q++) {
+        pstep[q] = lround(c->profile_times[q] / d->dt);
+        for (int b = 0; b < nbins; b++)
+            prof[q * nbins + b] = NAN;
+    }
+    long ns = 0, count[2] = {0, 0};
+    double P0[3], e0, demax = 0;
+    d->peratom = run_due(0, c->steps, run->out.snapshot_every);
+    if ((rc = dpd_compute_forces(d, e)))
+        goto done;
+    if (c->has_ref) {
+        c->ref.timers = NULL;
+        if ((rc = dpd_compute_forces(&c->ref, e)))
+            goto done;
+    }
+    dpd_momentum(d, P0);
+    e0 = dpd_total_energy(d);
+    rc = dpd_output_step(&out, run, d, c->steps);
+    progress_start(&run->progress, stderr, c->steps, d->dt, run->opt.progress && !run->opt.quiet);
+    timer_start(&run->timers, TIMER_LOOP);
+    for (long s = 0; s <= c->steps && !rc; s++) {
+        if (s > 0) {
+            d->peratom = run_due(s, c->steps, run->out.snapshot_every);
+            if ((rc = dpd_step(d, e)) || (c->has_ref && (rc = dpd_step(&c->ref, e))))
+                break;
+            double et = dpd_total_energy(d);
+            if (!isfinite(et)) {
+                rc = err_set(e, ERR_DIVERGED, "diverged: non-finite energy at step %ld", s);
+                break;
+            }
+            demax = fmax(demax, fabs(et - e0));
+            rc = dpd_output_step(&out, run, d, c->steps);
+            progress_update(&run->progress, s);
+        }
+        timer_start(&run->timers, TIMER_ANALYSIS);
+        if (s % c->sample_every == 0 || s == c->steps) {
+            ts[ns] = d->time;
+            s1[ns] = region_disp(c, 0, &count[0], &r1[ns]);
+            s2[ns] = region_disp(c, 1, &count[1], &r2[ns]);
+            es[ns] = dpd_total_energy(d);
+            ns++;
+        }
+        for (size_t q = 0; q < c->nprofiles; q++) {
+            if (pstep[q] != s)
+                continue;
+            double *pq = prof + q * nbins;
+            displacement_profile(d->p, &d->box, c->xref, c->axis, c->face, c->profile_bin, nbins,
+                                 FLYER_BIT, pq);
+            if (c->has_ref) {
+                displacement_profile(c->ref.p, &c->ref.box, c->xref_ref, c->axis, c->face,
+                                     c->profile_bin, nbins, 0, pref);
+                for (int b = 0; b < nbins; b++)
+                    pq[b] -= pref[b];
+            }
+        }
+        timer_stop(&run->timers, TIMER_ANALYSIS);
+    }
+    timer_stop(&run->timers, TIMER_LOOP);
+    progress_finish(&run->progress, d->step);
+
+    struct result *res = &run->result;
+    double t1 = wave_arrival_time(ts, s1, ns, c->threshold);
+    double t2 = wave_arrival_time(ts, s2, ns, c->threshold);
+    double speed = wave_speed(c->regions[1] - c->regions[0], t1, t2);   /* Å/ps */
+    double m1 = -INFINITY, m2 = -INFINITY;
+    for (long q = 0; q < ns; q++) {
+        m1 = fmax(m1, s1[q]);
+        m2 = fmax(m2, s2[q]);
+    }
+    double P1[3], et = dpd_total_energy(d);
+    dpd_momentum(d, P1);
+    double dP = sqrt((P1[0] - P0[0]) * (P1[0] - P0[0]) + (P1[1] - P0[1]) * (P1[1] - P0[1]) +
+                     (P1[2] - P0[2]) * (P1[2] - P0[2]));
+    result_metric(res, "wave_speed", speed * UNITS_APS_TO_MS, "m/s");
+    result_metric(res, "arrival_time_1", t1, "ps");
+    result_metric(res, "arrival_time_2", t2, "ps");
+    result_metric(res, "region_particles_1", (double)count[0], "1");
+    result_metric(res, "region_particles_2", (double)count[1], "1");
+    result_metric(res, "displacement_max_1", m1, "Å");
+    result_metric(res, "displacement_max_2", m2, "Å");
+    result_metric(res, "flyer_velocity_final", d->body[0].v[c->axis], "Å/ps");
+    result_metric(res, "target_particles", (double)c->n_target, "1");
+    result_metric(res, "flyer_particles", (double)c->n_flyer, "1");
+    result_metric(res, "target_length", c->length, "Å");
+    result_metric(res, "energy_drift", (et - e0) / fabs(e0), "1");
+    result_metric(res, "energy_deviation_max", demax / fabs(e0), "1");
+    result_metric(res, "momentum_change", dP, "amu Å/ps");
+    result_metric(res, "temperature", dpd_temperature(d), "K");
+    result_series(res, "time_ps", ts, (int)ns, "ps");
+    result_series(res, "displacement_region_1", s1, (int)ns, "Å");
+    result_series(res, "displacement_region_2", s2, (int)ns, "Å");
+    if (c->has_ref) {
+        result_series(res, "raw_displacement_region_1", r1, (int)ns, "Å");
+        result_series(res, "raw_displacement_region_2", r2, (int)ns, "Å");
+    }
+    {
+        /* how the speed depends on the arrival threshold */
+        static const double th[] = {0.005, 0.01, 0.02, 0.05, 0.1, 0.2, 0.5, 1.0};
+        const int nth = (int)(sizeof th / sizeof th[0]);
+        double vs[sizeof th / sizeof th[0]];
+        for (int q = 0; q < nth; q++)
+            vs[q] = wave_speed(c->regions[1] - c->regions[0], wave_arrival_time(ts, s1, ns, th[q]),
+                               wave_arrival_time(ts, s2, ns, th[q])) *
+                    UNITS_APS_TO_MS;
+        result_series(res, "arrival_thresholds", th, nth, "Å");
+        result_series(res, "wave_speed_scan", vs, nth, "m/s");
+    }
+    result_series(res, "etotal", es, (int)ns, "eV");
+    if (c->nprofiles) {
+        double *xc = malloc((size_t)nbins * sizeof *xc);
+        if (xc) {
+            for (int b = 0; b < nbins; b++)
+                xc[b] = (b + 0.5) * c->profile_bin;
+            result_series(res, "profile_x", xc, nbins, "Å");
+            free(xc);
+        }
+        for (size_t q = 0; q < c->nprofiles; q++) {
+            char name[64];
+            snprintf(name, sizeof name, "profile_t%gps", c->profile_times[q]);
+            result_series(res, name, prof + q * nbins, nbins, "Å");
+        }
+    }
+    run_log(run, "wave arrival: region 1 at %.4f ps, region 2 at %.4f ps -> %.0f m/s", t1, t2,
+            speed * UNITS_APS_TO_MS);
+done:
+    free(ts);
+    free(s1);
+    free(s2);
+    free(es);
+    free(r1);
+    free(r2);
+    free(pref);
+    free(prof);
+    free(pstep);
+    int rc2 = dpd_output_end(&out, run, e);
+    if (!rc && !rc2)
+        rc2 = run_write_final_state(run, d->p, &d->box, d->step, d->time, e);
+    return rc ? rc : rc2;
+}
+
+static void impact_destroy(void *state)
+{
+    struct impact_case *c = state;
+    if (!c)
+        return;
+    dpd_free(&c->d);
+    if (c->has_ref)
+        dpd_free(&c->ref);
+    free(c->profile_times);
+    free(c);
+}
+
+/* Particles integrated per step: the flyer run and the reference run. */
+static long impact_particles(const void *state)
+{
+    const struct impact_case *c = state;
+    long n = c->d.p ? c->d.p->n_owned : 0;
+    if (c->has_ref && c->ref.p)
+        n += c->ref.p->n_owned;
+    return n;
+}
+
+static long impact_steps(const void *state)
+{
+    const struct impact_case *c = state;
+    return c->steps;
+}
+
+const struct case_type dpd_impact_case_type = {
+    "dpd_impact", "DPD flyer/target impact: wave arrival at reference regions, wave speed",
+    impact_read, impact_run, impact_destroy, impact_particles, impact_steps,
+};

@@ -1,0 +1,131 @@
+/* dpd_output: the DPD run's thermo, snapshots and frames. */
+#include "scenarios/dpd_output.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+#include "core/units.h"
+#include "output/xyz_write.h"
+
+static const char *const cols[DPD_THERMO_COLS] = {"step",      "time_ps", "pe_eV",
+                                                  "ke_eV",     "uint_eV", "etotal_eV",
+                                                  "temp_K",    "press_GPa"};
+static const char *const units[DPD_THERMO_COLS] = {"1", "ps", "eV", "eV", "eV", "eV", "K", "GPa"};
+
+double dpd_total_energy(const struct dpd *d)
+{
+    return d->epot + dpd_kinetic_energy(d) + dpd_internal_energy(d);
+}
+
+int dpd_output_begin(struct dpd_output *o, struct run *run, struct err *e)
+{
+    memset(o, 0, sizeof *o);
+    if (run_thermo_header(run, cols, DPD_THERMO_COLS) != 0)
+        return err_set(e, ERR_RUNTIME, "%s: cannot write thermo.csv", run->opt.out_dir);
+    return 0;
+}
+
+static int thermo_row(struct dpd_output *o, struct run *run, struct dpd *d)
+{
+    double P[6];
+    dpd_pressure_tensor(d, P);
+    double ke = dpd_kinetic_energy(d), u = dpd_internal_energy(d);
+    double row[DPD_THERMO_COLS] = {(double)d->step, d->time,          d->epot,
+                                   ke,              u,                d->epot + ke + u,
+                                   dpd_temperature(d), (P[0] + P[1] + P[2]) / 3.0 * UNITS_EVA3_TO_GPA};
+    run_thermo_row(run, row, DPD_THERMO_COLS);
+    if (o->nrows >= o->cap) {
+        long cap = o->cap ? 2 * o->cap : 256;
+        double *s = realloc(o->series, (size_t)cap * DPD_THERMO_COLS * sizeof *s);
+        if (!s)
+            return ERR_RUNTIME;
+        o->series = s;
+        o->cap = cap;
+    }
+    memcpy(o->series + o->nrows * DPD_THERMO_COLS, row, sizeof row);
+    o->nrows++;
+    return 0;
+}
+
+static const char *field_unit(const char *name)
+{
+    if (strcmp(name, "u_internal") == 0)
+        return "eV";
+    if (strcmp(name, "x_ref") == 0)
+        return "Å";
+    return "1";
+}
+
+int dpd_output_snapshot(struct dpd_output *o, struct run *run, struct dpd *d)
+{
+    if (!run->h5_open)
+        return 0;
+    struct particles *p = d->p;
+    long n = p->n_owned;
+    struct err e = {0};
+    if (n > o->cap_atoms) {
+        int64_t *ib = realloc(o->ibuf, (size_t)(n ? n : 1) * sizeof *ib);
+        if (!ib)
+            return ERR_RUNTIME;
+        o->ibuf = ib;
+        o->cap_atoms = n;
+    }
+    hid_t g = h5out_begin_snapshot(&run->h5, "particles", d->step, d->time, n, &e);
+    if (g < 0)
+        return ERR_RUNTIME;
+    int rc = h5out_write_doubles(&run->h5, g, "position", p->x, n, 3, "Å", &e);
+    if (!rc)
+        rc = h5out_write_doubles(&run->h5, g, "velocity", p->v, n, 3, "Å/ps", &e);
+    if (!rc)
+        rc = h5out_write_doubles(&run->h5, g, "force", p->f, n, 3, "eV/Å", &e);
+    for (long i = 0; i < n; i++)
+        o->ibuf[i] = p->id[i];
+    if (!rc)
+        rc = h5out_write_ints(&run->h5, g, "id", o->ibuf, n, "1", &e);
+    for (long i = 0; i < n; i++)
+        o->ibuf[i] = p->type[i];
+    if (!rc)
+        rc = h5out_write_ints(&run->h5, g, "type", o->ibuf, n, "1", &e);
+    if (!rc && d->peratom)
+        rc = h5out_write_doubles(&run->h5, g, "pe", p->pe, n, 1, "eV", &e);
+    for (int k = 0; !rc && k < p->nfields; k++)
+        rc = h5out_write_doubles(&run->h5, g, p->fields[k].name, p->fields[k].data, n,
+                                 p->fields[k].ncomp, field_unit(p->fields[k].name), &e);
+    h5out_end_snapshot(&run->h5, g);
+    return rc;
+}
+
+int dpd_output_step(struct dpd_output *o, struct run *run, struct dpd *d, long total)
+{
+    long s = d->step;
+    int rc = 0;
+    timer_start(&run->timers, TIMER_OUTPUT);
+    if (run_due(s, total, run->out.thermo_every))
+        rc = thermo_row(o, run, d);
+    if (!rc && run_due(s, total, run->out.snapshot_every))
+        rc = dpd_output_snapshot(o, run, d);
+    if (!rc && run->xyz && run->out.xyz_every > 0 && s % run->out.xyz_every == 0)
+        rc = xyz_write_frame(run->xyz, d->p, &d->box, s, d->time, NULL, NULL) ? ERR_RUNTIME : 0;
+    timer_stop(&run->timers, TIMER_OUTPUT);
+    return rc;
+}
+
+int dpd_output_end(struct dpd_output *o, struct run *run, struct err *e)
+{
+    int rc = 0;
+    if (run->h5_open && o->nrows > 0) {
+        double *col = malloc((size_t)o->nrows * sizeof *col);
+        if (!col)
+            rc = err_nomem(e, "thermo series");
+        for (int k = 0; k < DPD_THERMO_COLS && !rc; k++) {
+            for (long r = 0; r < o->nrows; r++)
+                col[r] = o->series[r * DPD_THERMO_COLS + k];
+            rc = h5out_write_series(&run->h5, cols[k], col, o->nrows, units[k], e);
+        }
+        free(col);
+    }
+    free(o->series);
+    free(o->ibuf);
+    memset(o, 0, sizeof *o);
+    return rc;
+}

@@ -1,0 +1,59 @@
+/*
+ * dpd_setup: the `dpd` section shared by the DPD case types, and building
+ * the DPD model from it.
+ *
+ *   dpd:
+ *     parameters: cu_cg_298K.yaml  coarse-grained parameter file (dpd/cg_params.h),
+ *                                  relative to the case file; required
+ *     variant: dpd                 dpd (isothermal) | dpde (energy-conserving)
+ *     gamma: 0.2                   amu/ps, dissipation strength (Chen 2014)
+ *     temperature: 298             K: bath temperature (dpd) or the reference
+ *                                  temperature fixing sigma^2 = 2 gamma kB T and the
+ *                                  initial internal temperature (dpde)
+ *     cutoff: 0                    Å: r_d of w^R = 1 - r/r_d (0: the conservative cutoff)
+ *     heat_capacity: 21            kB per particle, internal heat capacity (dpde);
+ *                                  21 = 3 (8 - 1): the vibrations of 8 atoms less the
+ *                                  particle's own 3 translational degrees of freedom
+ *     timestep: 0.005              ps
+ *     steps: 1000
+ *     skin: 1.0                    Å, neighbour-list skin
+ *     initial_temperature: 0       K: Maxwell-Boltzmann velocities (0: keep the input's)
+ *     thermostat: {style: none | berendsen, temperature, tau}
+ *                                  Berendsen rescaling on top of the DPD forces
+ *                                  (the equilibration of Chen 2014, Sec. 4.1.1)
+ *
+ * The time step is refused when it exceeds the stability bound
+ * sqrt(2) / omega_E of the coarse-grained crystal (dpd_timestep_limit).
+ */
+#ifndef CASCADE_DPD_SETUP_H
+#define CASCADE_DPD_SETUP_H
+
+#include "core/thermostat.h"
+#include "dpd/dpd.h"
+#include "scenarios/case_type.h"
+#include "util/cfg.h"
+
+struct dpd_input {
+    struct cg_params prm;       /* loaded unless shallow */
+    struct dpd_settings set;
+    double dt, skin, t_init;
+    long steps;
+    struct thermostat thermo;
+};
+
+/* Read the `dpd` section (loading the parameter file unless shallow). */
+int dpd_section_read(struct cfg_obj *root, enum dpd_variant default_variant,
+                     struct dpd_input *in);
+
+/* Give p the parameter file's mass and, when dpd.initial_temperature asks
+ * for it, Maxwell-Boltzmann velocities (to the particles present: call
+ * before adding flyers or other bodies). */
+int dpd_init_velocities(const struct dpd_input *in, struct particles *p,
+                        const struct case_common *common, struct err *e);
+
+/* dpd_init (which takes p, also on failure: dpd_free(d) then) and the
+ * thermostat. */
+int dpd_build(const struct dpd_input *in, struct particles *p, const struct box *box,
+              const struct case_common *common, struct err *e, struct dpd *d);
+
+#endif

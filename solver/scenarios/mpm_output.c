@@ -1,0 +1,345 @@
+/*
+ * mpm_output: thermo rows and HDF5 snapshots of an MPM run, in the case's
+ * units (mpm_units.h): material points as a point cloud (/points), grid
+ * nodes as a structured grid (/grid, uniform grids) or a point cloud of the
+ * nodes (hierarchical grids), both described in the XDMF sidecar.
+ */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "core/units.h"
+#include "mpm/mpm_hgrid.h"
+#include "scenarios/mpm_case.h"
+
+#define MAX_COLS MPM_OUTPUT_MAX_COLS
+
+long mpm_probe_means(const struct mpm_case *c, int k, double stress[6], double disp[3])
+{
+    const struct mpm_points *p = &c->m.pts;
+    const struct region *r = &c->probe[k].region;
+    long cnt = 0;
+    double s[6] = {0}, u[3] = {0};
+    for (long i = 0; i < p->n; i++) {
+        if (!region_contains(r, p->x0 + 3 * i))
+            continue;
+        for (int a = 0; a < 6; a++)
+            s[a] += p->stress[6 * i + a];
+        for (int a = 0; a < 3; a++)
+            u[a] += p->x[3 * i + a] - p->x0[3 * i + a];
+        cnt++;
+    }
+    for (int a = 0; a < 6; a++)
+        stress[a] = cnt ? s[a] / cnt : 0.0;
+    for (int a = 0; a < 3; a++)
+        disp[a] = cnt ? u[a] / cnt : 0.0;
+    return cnt;
+}
+
+static void col(struct mpm_output *o, const char *name, const char *unit)
+{
+    int k = o->ncols++;
+    snprintf(o->col_name[k], sizeof o->col_name[k], "%s", name);
+    snprintf(o->col_unit[k], sizeof o->col_unit[k], "%s", unit);
+    if (strcmp(unit, "1") == 0)
+        snprintf(o->col_head[k], sizeof o->col_head[k], "%s", name);
+    else
+        snprintf(o->col_head[k], sizeof o->col_head[k], "%s_%s", name, unit);
+}
+
+int mpm_output_begin(struct mpm_output *o, struct run *run, struct mpm_case *c, struct err *e)
+{
+    memset(o, 0, sizeof *o);
+    const struct mpm_units *u = &c->u;
+    char name[48];
+    col(o, "step", "1");
+    col(o, "time", u->time_name);
+    col(o, "dt", u->time_name);
+    col(o, "ke", u->energy_name);
+    col(o, "strain_energy", u->energy_name);
+    col(o, "etotal", u->energy_name);
+    /* time-centred total energy of the previous step (mpm.h) */
+    col(o, "etotal_centred", u->energy_name);
+    col(o, "px", u->momentum_name);
+    col(o, "py", u->momentum_name);
+    col(o, "pz", u->momentum_name);
+    col(o, "vmax", u->velocity_name);
+    for (int b = 0; b < c->m.nbody; b++)
+        if (c->m.body[b].rigid)
+            for (int d = 0; d < 3; d++) {
+                snprintf(name, sizeof name, "%s_f%c", c->m.body[b].name, "xyz"[d]);
+                col(o, name, u->force_name);
+            }
+    static const char *const probe_cols[4] = {"sxx", "syy", "szz", "ux"};
+    for (int k = 0; k < c->nprobes; k++)
+        for (int q = 0; q < 4; q++) {
+            snprintf(name, sizeof name, "%s_%s", c->probe[k].name, probe_cols[q]);
+            col(o, name, q < 3 ? u->stress_name : u->length_name);
+        }
+    const char *heads[MAX_COLS];
+    for (int k = 0; k < o->ncols; k++)
+        heads[k] = o->col_head[k];
+    if (run_thermo_header(run, heads, o->ncols) != 0)
+        return err_set(e, ERR_RUNTIME, "%s: cannot write thermo.csv", run->opt.out_dir);
+    if (run->h5_open) {
+        char desc[256];
+        snprintf(desc, sizeof desc,
+                 "MPM case in %s units: length %s, time %s, velocity %s, mass %s, energy %s, "
+                 "force %s, stress %s",
+                 u->name, u->length_name, u->time_name, u->velocity_name, u->mass_name,
+                 u->energy_name, u->force_name, u->stress_name);
+        h5out_set_units(&run->h5, desc, u->time_name);
+    }
+    return 0;
+}
+
+int mpm_output_thermo(struct mpm_output *o, struct run *run, struct mpm_case *c, double dt,
+                      const struct mpm_totals *t, struct err *e)
+{
+    const struct mpm_units *u = &c->u;
+    const struct mpm *m = &c->m;
+    double row[MAX_COLS];
+    int n = 0;
+    row[n++] = (double)m->step;
+    row[n++] = m->time / u->time;
+    row[n++] = dt / u->time;
+    row[n++] = t->kinetic / u->energy;
+    row[n++] = t->strain / u->energy;
+    row[n++] = (t->kinetic + t->strain) / u->energy;
+    row[n++] = (m->step > 0 ? mpm_energy_centred(m) : t->kinetic + t->strain) / u->energy;
+    for (int d = 0; d < 3; d++)
+        row[n++] = t->momentum[d] / u->momentum;
+    row[n++] = t->vmax / u->velocity;
+    for (int b = 0; b < m->nbody; b++)
+        if (m->body[b].rigid)
+            for (int d = 0; d < 3; d++)
+                row[n++] = m->body[b].reaction[d] / u->force;
+    for (int k = 0; k < c->nprobes; k++) {
+        double s[6], disp[3];
+        mpm_probe_means(c, k, s, disp);
+        row[n++] = s[0] / u->stress;
+        row[n++] = s[1] / u->stress;
+        row[n++] = s[2] / u->stress;
+        row[n++] = disp[0] / u->length;
+    }
+    run_thermo_row(run, row, n);
+    if (o->nrows >= o->rcap) {
+        long cap = o->rcap ? 2 * o->rcap : 256;
+        double *s = realloc(o->series, (size_t)cap * o->ncols * sizeof *s);
+        if (!s)
+            return err_nomem(e, "thermo series");
+        o->series = s;
+        o->rcap = cap;
+    }
+    memcpy(o->series + o->nrows * o->ncols, row, (size_t)n * sizeof *row);
+    o->nrows++;
+    return 0;
+}
+
+static int reserve(struct mpm_output *o, long n, struct err *e)
+{
+    if (n > o->cap) {
+        double *b = realloc(o->buf, (size_t)n * sizeof *b);
+        if (!b)
+            return err_nomem(e, "output buffer");
+        o->buf = b;
+        o->cap = n;
+    }
+    if (n > o->icap) {
+        int64_t *ib = realloc(o->ibuf, (size_t)n * sizeof *ib);
+        if (!ib)
+            return err_nomem(e, "output buffer");
+        o->ibuf = ib;
+        o->icap = n;
+    }
+    return 0;
+}
+
+/* Write n x nc values of src times `scale` under name. */
+static int put(struct mpm_output *o, struct run *run, hid_t g, const char *name, const double *src,
+               long n, int nc, double scale, const char *unit, int grid, struct err *e)
+{
+    for (long k = 0; k < n * nc; k++)
+        o->buf[k] = src[k] * scale;
+    if (grid)
+        return h5out_write_grid_doubles(&run->h5, g, name, o->buf, nc, unit, e);
+    return h5out_write_doubles(&run->h5, g, name, o->buf, n, nc, unit, e);
+}
+
+static int points_snapshot(struct mpm_output *o, struct run *run, struct mpm_case *c,
+                           struct err *e)
+{
+    const struct mpm_units *u = &c->u;
+    struct mpm *m = &c->m;
+    struct mpm_points *p = &m->pts;
+    long n = p->n;
+    int rc = reserve(o, 9 * n, e);
+    if (rc)
+        return rc;
+    hid_t g = h5out_begin_snapshot(&run->h5, "points", m->step, m->time / u->time, n, e);
+    if (g < 0)
+        return ERR_RUNTIME;
+    rc = put(o, run, g, "position", p->x, n, 3, 1.0 / u->length, u->length_name, 0, e);
+    if (!rc) {
+        for (long k = 0; k < 3 * n; k++)
+            o->buf[k] = (p->x[k] - p->x0[k]) / u->length;
+        rc = h5out_write_doubles(&run->h5, g, "displacement", o->buf, n, 3, u->length_name, e);
+    }
+    if (!rc)
+        rc = put(o, run, g, "velocity", p->v, n, 3, 1.0 / u->velocity, u->velocity_name, 0, e);
+    if (!rc)
+        rc = put(o, run, g, "stress", p->stress, n, 6, 1.0 / u->stress, u->stress_name, 0, e);
+    if (!rc) {   /* logarithmic strain from F */
+        for (long i = 0; i < n; i++)
+            mpm_points_strain(p, i, o->buf + 6 * i);
+        rc = h5out_write_doubles(&run->h5, g, "strain", o->buf, n, 6, "1", e);
+    }
+    if (!rc)
+        rc = put(o, run, g, "deformation_gradient", p->F, n, 9, 1.0, "1", 0, e);
+    if (!rc)
+        rc = put(o, run, g, "volume", p->vol, n, 1, 1.0 / (u->length * u->length * u->length),
+                 u->volume_name, 0, e);
+    if (!rc)
+        rc = put(o, run, g, "mass", p->mass, n, 1, 1.0 / u->mass, u->mass_name, 0, e);
+    if (!rc)
+        rc = put(o, run, g, "strain_energy", p->eint, n, 1, 1.0 / u->energy, u->energy_name, 0, e);
+    for (int k = 0; !rc && k < p->nstate; k++) {
+        for (long i = 0; i < n; i++)
+            o->buf[i] = p->state[(long)p->nstate * i + k];
+        char name[32];
+        snprintf(name, sizeof name, k == 0 ? "plastic_strain" : "state_%d", k);
+        rc = h5out_write_doubles(&run->h5, g, name, o->buf, n, 1, "1", e);
+    }
+    for (long i = 0; !rc && i < n; i++)
+        o->ibuf[i] = p->body[i];
+    if (!rc)
+        rc = h5out_write_ints(&run->h5, g, "body", o->ibuf, n, "1", e);
+    for (long i = 0; !rc && i < n; i++)
+        o->ibuf[i] = p->id[i];
+    if (!rc)
+        rc = h5out_write_ints(&run->h5, g, "id", o->ibuf, n, "1", e);
+    h5out_end_snapshot(&run->h5, g);
+    return rc;
+}
+
+/* Node mass, velocity and force into buf (3 arrays of the owned nodes). */
+static long grid_fields(struct mpm_case *c, double *mass, double *vel, double *force, int fresh)
+{
+    struct mpm *m = &c->m;
+    const struct mpm_grid *g = &m->grid;
+    int musl = m->algorithm == MPM_MUSL;
+    long k = 0;
+    for (long i = 0; i < g->nnodes; i++) {
+        if (g->kind == MPM_GRID_UNIFORM) {
+            long ix = i % g->dim[0] - g->halo, iy = (i / g->dim[0]) % g->dim[1] - g->halo,
+                 iz = i / (g->dim[0] * g->dim[1]) - g->halo;
+            if (ix < 0 || iy < 0 || iz < 0 || ix >= g->nn[0] || iy >= g->nn[1] || iz >= g->nn[2])
+                continue;
+        }
+        const struct mpm_node *nd = &g->node[i];
+        double mi = nd->m;
+        mass[k] = mi;
+        for (int d = 0; d < 3; d++) {
+            if (fresh) {   /* just mapped: momentum and force */
+                vel[3 * k + d] = mi > m->small_mass ? nd->q[d] / mi : 0.0;
+                force[3 * k + d] = nd->f[d];
+            } else {       /* after a step: velocity and acceleration */
+                vel[3 * k + d] = musl ? g->r[4 * i + d] : nd->q[d];
+                force[3 * k + d] = mi * nd->f[d] * UNITS_MVV2E;
+            }
+        }
+        k++;
+    }
+    return k;
+}
+
+static int grid_snapshot(struct mpm_output *o, struct run *run, struct mpm_case *c, struct err *e)
+{
+    const struct mpm_units *u = &c->u;
+    struct mpm *m = &c->m;
+    const struct mpm_grid *g = &m->grid;
+    /* after a step the nodes hold the updated velocities and accelerations
+     * (s5), or, when mpm_step fused them, the fresh mapping of the next step */
+    int fresh = m->step == 0 || m->grid_fresh;
+    if (m->step == 0) {   /* nothing mapped yet: map the initial state (s1-s3) */
+        int rc = mpm_locate_particles(m, e);
+        if (rc)
+            return rc;
+        mpm_clear_grid(m);
+        mpm_map_to_grid(m, MPM_MAP_ALL);
+    }
+    long nn = g->nnodes;
+    double *tmp = malloc((size_t)nn * 7 * sizeof *tmp);
+    if (!tmp)
+        return err_nomem(e, "grid output");
+    double *mass = tmp, *vel = tmp + nn, *force = tmp + 4 * nn;
+    long n = grid_fields(c, mass, vel, force, fresh);
+    int rc = reserve(o, 3 * n, e);
+    hid_t gr = -1;
+    int structured = g->kind == MPM_GRID_UNIFORM;
+    if (!rc && structured) {
+        double origin[3], spacing[3];
+        long dims[3];
+        for (int d = 0; d < 3; d++) {
+            dims[d] = g->nn[d];
+            origin[d] = (g->origin[d] + g->lo[d] * g->h) / u->length;
+            spacing[d] = g->h / u->length;
+        }
+        gr = h5out_begin_grid_snapshot(&run->h5, "grid", m->step, m->time / u->time, dims, origin,
+                                       spacing, e);
+    } else if (!rc) {
+        gr = h5out_begin_snapshot(&run->h5, "grid", m->step, m->time / u->time, n, e);
+        if (gr >= 0) {
+            for (long i = 0; i < n; i++)
+                mpm_grid_node_position(g, i, o->buf + 3 * i);
+            for (long k = 0; k < 3 * n; k++)
+                o->buf[k] /= u->length;
+            rc = h5out_write_doubles(&run->h5, gr, "position", o->buf, n, 3, u->length_name, e);
+        }
+    }
+    if (gr < 0 && !rc)
+        rc = ERR_RUNTIME;
+    if (!rc)
+        rc = put(o, run, gr, "mass", mass, n, 1, 1.0 / u->mass, u->mass_name, structured, e);
+    if (!rc)
+        rc = put(o, run, gr, "velocity", vel, n, 3, 1.0 / u->velocity, u->velocity_name,
+                 structured, e);
+    if (!rc)
+        rc = put(o, run, gr, "force", force, n, 3, 1.0 / u->force, u->force_name, structured, e);
+    if (gr >= 0)
+        h5out_end_snapshot(&run->h5, gr);
+    free(tmp);
+    return rc;
+}
+
+int mpm_output_snapshot(struct mpm_output *o, struct run *run, struct mpm_case *c, struct err *e)
+{
+    if (!run->h5_open)
+        return 0;
+    int rc = points_snapshot(o, run, c, e);
+    if (!rc && c->output_grid)
+        rc = grid_snapshot(o, run, c, e);
+    return rc;
+}
+
+int mpm_output_end(struct mpm_output *o, struct run *run, struct err *e)
+{
+    int rc = 0;
+    if (run->h5_open && o->nrows > 0) {
+        double *vals = malloc((size_t)o->nrows * sizeof *vals);
+        if (!vals)
+            rc = err_nomem(e, "thermo series");
+        for (int k = 0; k < o->ncols && !rc; k++) {
+            for (long r = 0; r < o->nrows; r++)
+                vals[r] = o->series[r * o->ncols + k];
+            rc = h5out_write_series(&run->h5, o->col_name[k], vals, o->nrows, o->col_unit[k], e);
+        }
+        free(vals);
+    }
+    free(o->buf);
+    free(o->ibuf);
+    free(o->series);
+    memset(o, 0, sizeof *o);
+    return rc;
+}

@@ -1,0 +1,279 @@
+/*
+ * fake-solver: a stand-in for cascade-solver that the campaign tests drive
+ * to fail on request.  It speaks the same contract: `info`, `resolve
+ * --batch` (keys from util/canon.h, unknown keys rejected with the same
+ * messages through util/cfg.h) and `run CASE.yaml --out DIR` writing
+ * DIR/result.json, with exit codes 0 ok, 1 failure, 2 bad input, 4 diverged.
+ *
+ * Case schema (every key optional):
+ *   type: fake   seed: 1   title: ""
+ *   fake:
+ *     action: ok | sleep | crash | hang | exit | diverge | fail_once | env
+ *     seconds: 0        # sleep first (every action)
+ *     code: 3           # exit code for 'exit'
+ *     x: 0.0, y: 0.0    # inputs of the metrics x_squared = x^2, sum = x + y
+ *     metrics: 0        # extra metrics m0..m{n-1} (for the speed test)
+ *     flag: ""          # fail_once: exit 3 unless this file exists (then create it... see below)
+ *     ignore_term: false  # hang: ignore SIGTERM too (the runner must escalate)
+ *     read: ""          # a file that must exist; its size becomes metric read_bytes
+ *     write: ""         # a file to write into the output directory
+ * CASCADE_FAKE_VERSION overrides the version `info` reports.
+ */
+#include <errno.h>
+#include <signal.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <time.h>
+#include <unistd.h>
+
+#include "util/canon.h"
+#include "util/cfg.h"
+#include "util/yamldoc.h"
+
+extern char **environ;
+
+static const char *const actions[] = {"ok",      "sleep",     "crash", "hang", "exit",
+                                      "diverge", "fail_once", "env",   NULL};
+enum { A_OK, A_SLEEP, A_CRASH, A_HANG, A_EXIT, A_DIVERGE, A_FAIL_ONCE, A_ENV };
+
+struct fake_case {
+    long seed;
+    int action;
+    double seconds, x, y;
+    long code, metrics;
+    int ignore_term;
+    const char *flag, *read, *write;
+};
+
+static int fake_read(struct cfg *c, json_t *doc, struct fake_case *fc)
+{
+    struct cfg_obj root, f;
+    const char *type, *title;
+    int rc;
+    if ((rc = cfg_root(c, doc, &root)) || (rc = cfg_string(&root, "type", "fake", &type)) ||
+        (rc = cfg_string(&root, "title", "", &title)) ||
+        (rc = cfg_int(&root, "seed", 1, CFG_GE(0), &fc->seed)) ||
+        (rc = cfg_section(&root, "fake", &f)) ||
+        (rc = cfg_enum(&f, "action", "ok", actions, &fc->action)) ||
+        (rc = cfg_real(&f, "seconds", 0.0, CFG_GE(0), &fc->seconds)) ||
+        (rc = cfg_int(&f, "code", 3, CFG_RANGE(0, 255), &fc->code)) ||
+        (rc = cfg_real(&f, "x", 0.0, CFG_ANY, &fc->x)) ||
+        (rc = cfg_real(&f, "y", 0.0, CFG_ANY, &fc->y)) ||
+        (rc = cfg_int(&f, "metrics", 0, CFG_RANGE(0, 1000000), &fc->metrics)) ||
+        (rc = cfg_bool(&f, "ignore_term", 0, &fc->ignore_term)) ||
+        (rc = cfg_string(&f, "flag", "", &fc->flag)) ||
+        (rc = cfg_string(&f, "read", "", &fc->read)) ||
+        (rc = cfg_string(&f, "write", "", &fc->write)) || (rc = cfg_close(&f)) ||
+        (rc = cfg_close(&root)))
+        return rc;
+    if (strcmp(type, "fake") != 0)
+        return cfg_error_at(c, "type", "the stand-in solver knows only type 'fake'");
+    return 0;
+}
+
+static int cmd_resolve(void)
+{
+    char *line = NULL;
+    size_t cap = 0;
+    long n = 0;
+    while (getline(&line, &cap, stdin) >= 0) {
+        n++;
+        char name[64];
+        snprintf(name, sizeof name, "<stdin line %ld>", n);
+        struct err e = {0};
+        json_error_t je;
+        json_t *doc = json_loads(line, 0, &je), *out;
+        struct fake_case fc;
+        struct cfg c = {name, NULL, &e, ".", 1};
+        if (!doc) {
+            out = json_pack("{s:b, s:s}", "ok", 0, "error", "invalid JSON");
+        } else if (fake_read(&c, doc, &fc) != 0) {
+            out = json_pack("{s:b, s:s}", "ok", 0, "error", e.msg);
+        } else {
+            char key[CANON_KEY_LEN + 1];
+            canon_key(doc, key);
+            out = json_pack("{s:b, s:s, s:O}", "ok", 1, "key", key, "case", doc);
+        }
+        char *text = canon_json(out);
+        printf("%s\n", text);
+        free(text);
+        json_decref(out);
+        json_decref(doc);
+    }
+    free(line);
+    return 0;
+}
+
+static const char *version(void)
+{
+    const char *v = getenv("CASCADE_FAKE_VERSION");
+    return v && v[0] ? v : "fake-1.0";
+}
+
+static int write_result(const char *dir, json_t *doc, const char *status, const char *message,
+                        const struct fake_case *fc)
+{
+    json_t *metrics = json_object();
+    json_object_set_new(metrics, "x_squared", json_pack("{s:f, s:s}", "value", fc->x * fc->x, "unit", "1"));
+    json_object_set_new(metrics, "sum", json_pack("{s:f, s:s}", "value", fc->x + fc->y, "unit", "1"));
+    json_object_set_new(metrics, "seed", json_pack("{s:f, s:s}", "value", (double)fc->seed, "unit", "1"));
+    for (long i = 0; i < fc->metrics; i++) {
+        char name[32];
+        snprintf(name, sizeof name, "m%ld", i);
+        json_object_set_new(metrics, name, json_pack("{s:f, s:s}", "value", (double)i * 0.5, "unit", "eV"));
+    }
+    if (fc->action == A_ENV) {
+        int n = 0;
+        for (char **e = environ; *e; e++)
+            if ((strncmp(*e, "OMPI_", 5) == 0 || strncmp(*e, "PMIX_", 5) == 0) &&
+                strncmp(*e, "OMPI_ALLOW_RUN_AS_ROOT", 22) != 0)
+                n++;
+        json_object_set_new(metrics, "mpi_env", json_pack("{s:f, s:s}", "value", (double)n, "unit", "1"));
+    }
+    if (fc->read[0]) {
+        struct stat sb;
+        if (stat(fc->read, &sb) == 0)
+            json_object_set_new(metrics, "read_bytes",
+                                json_pack("{s:f, s:s}", "value", (double)sb.st_size, "unit", "B"));
+    }
+    char key[CANON_KEY_LEN + 1];
+    canon_key(doc, key);
+    json_t *r = json_pack("{s:s, s:o, s:{s:s, s:s}, s:s, s:{s:f}}", "status", status, "metrics",
+                          metrics, "provenance", "version", version(), "git_hash", "standin",
+                          "case_key", key, "timing", "peak_rss_mib", 1.0);
+    if (message)
+        json_object_set_new(r, "message", json_string(message));
+    char path[4096], tmp[4200];
+    snprintf(path, sizeof path, "%s/result.json", dir);
+    snprintf(tmp, sizeof tmp, "%s.tmp%d", path, (int)getpid());
+    int rc = json_dump_file(r, tmp, JSON_INDENT(1) | JSON_SORT_KEYS);
+    json_decref(r);
+    if (rc == 0)
+        rc = rename(tmp, path);
+    return rc;
+}
+
+static void nap(double s)
+{
+    struct timespec ts = {(time_t)s, (long)((s - (double)(time_t)s) * 1e9)};
+    while (nanosleep(&ts, &ts) != 0 && errno == EINTR) {
+    }
+}
+
+static int cmd_run(int argc, char **argv)
+{
+    const char *file = NULL, *out = ".";
+    for (int i = 0; i < argc; i++) {
+        if (strcmp(argv[i], "--out") == 0 && i + 1 < argc)
+            out = argv[++i];
+        else if (strcmp(argv[i], "--threads") == 0 && i + 1 < argc)
+            i++;
+        else if (argv[i][0] != '-')
+            file = argv[i];
+    }
+    if (!file) {
+        fprintf(stderr, "usage: fake-solver run CASE.yaml --out DIR\n");
+        return 2;
+    }
+    struct err e = {0};
+    json_t *doc;
+    struct locmap *locs;
+    if (yamldoc_load_file(file, &doc, &locs, &e) != 0) {
+        fprintf(stderr, "error: %s\n", e.msg);
+        return 2;
+    }
+    struct fake_case fc;
+    struct cfg c = {file, locs, &e, ".", 0};
+    if (fake_read(&c, doc, &fc) != 0) {
+        fprintf(stderr, "error: %s\n", e.msg);
+        return 2;
+    }
+    mkdir(out, 0777);
+    fprintf(stderr, "fake-solver: %s action %s\n", file, actions[fc.action]);
+    if (fc.seconds > 0)
+        nap(fc.seconds);
+    int code = 0;
+    if (fc.read[0] && access(fc.read, R_OK) != 0) {
+        fprintf(stderr, "error: %s: cannot read '%s'\n", file, fc.read);
+        code = 1;
+    }
+    if (!code && fc.write[0]) {
+        char path[4096 + 256];
+        snprintf(path, sizeof path, "%s/%s", out, fc.write);
+        FILE *f = fopen(path, "w");
+        if (f) {
+            fprintf(f, "x %.17g\n", fc.x);
+            fclose(f);
+        }
+    }
+    if (!code) {
+        switch (fc.action) {
+        case A_CRASH:
+            fprintf(stderr, "fake-solver: crashing now\n");
+            signal(SIGSEGV, SIG_DFL);
+            kill(getpid(), SIGSEGV);
+            break;
+        case A_HANG: {
+            if (fc.ignore_term)
+                signal(SIGTERM, SIG_IGN);
+            pid_t child = fork();
+            if (child == 0) {
+                for (;;)
+                    pause();
+            }
+            char path[4096 + 32];
+            snprintf(path, sizeof path, "%s/grandchild.pid", out);
+            FILE *f = fopen(path, "w");
+            if (f) {
+                fprintf(f, "%d\n", (int)child);
+                fclose(f);
+            }
+            fprintf(stderr, "fake-solver: hanging (child %d)\n", (int)child);
+            for (;;)
+                pause();
+        }
+        case A_EXIT:
+            fprintf(stderr, "fake-solver: exiting with code %ld as asked\n", fc.code);
+            code = (int)fc.code;
+            break;
+        case A_DIVERGE:
+            write_result(out, doc, "diverged", "diverged: non-finite energy at step 7 (fake)", &fc);
+            fprintf(stderr, "error: diverged: non-finite energy at step 7 (fake)\n");
+            code = 4;
+            break;
+        case A_FAIL_ONCE:
+            if (access(fc.flag, F_OK) != 0) {
+                FILE *f = fopen(fc.flag, "w");
+                if (f)
+                    fclose(f);
+                fprintf(stderr, "fake-solver: failing the first time\n");
+                code = 3;
+                break;
+            }
+            /* fall through */
+        default:
+            code = write_result(out, doc, "ok", NULL, &fc) == 0 ? 0 : 1;
+        }
+    }
+    json_decref(doc);
+    locmap_destroy(&locs);
+    return code;
+}
+
+int main(int argc, char **argv)
+{
+    if (argc >= 2 && strcmp(argv[1], "info") == 0) {
+        printf("{\"version\": \"%s\", \"git_hash\": \"standin\", \"case_types\": {\"fake\": "
+               "\"stand-in for tests\"}}\n",
+               version());
+        return 0;
+    }
+    if (argc >= 3 && strcmp(argv[1], "resolve") == 0 && strcmp(argv[2], "--batch") == 0)
+        return cmd_resolve();
+    if (argc >= 2 && strcmp(argv[1], "run") == 0)
+        return cmd_run(argc - 2, argv + 2);
+    fprintf(stderr, "usage: fake-solver info | resolve --batch | run CASE.yaml --out DIR\n");
+    return 2;
+}

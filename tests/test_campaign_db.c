@@ -1,0 +1,150 @@
+/*
+ * The results database: a new file gets the newest schema (PRAGMA
+ * user_version = number of migrations) in WAL mode with foreign keys on;
+ * opening again migrates nothing; migrations apply in order inside one
+ * transaction (a failing one leaves the file as it was); a database newer
+ * than the program is refused; the migration files are numbered as their
+ * versions; jobs.state follows the latest run through the triggers; the
+ * read-only connection refuses writes; schema constraints hold.
+ */
+#include <criterion/criterion.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "../campaign/db.h"
+#include "helpers/ct.h"
+
+static sqlite3 *fresh(const char *dir, char *path, size_t len)
+{
+    snprintf(path, len, "%s/cascade.db", dir);
+    sqlite3 *db = NULL;
+    struct err e = {0};
+    cr_assert_eq(db_open(path, &db, &e), 0, "%s", e.msg);
+    return db;
+}
+
+Test(campaign_db, new_database_has_newest_schema)
+{
+    char dir[64], path[128];
+    ct_mkdir(dir, sizeof dir);
+    sqlite3 *db = fresh(dir, path, sizeof path);
+    int n;
+    db_migrations(&n);
+    cr_assert_geq(n, 1);
+    cr_assert_eq(ct_int(db, "PRAGMA user_version"), n);
+    char mode[32];
+    ct_text(db, "PRAGMA journal_mode", mode, sizeof mode);
+    cr_assert_str_eq(mode, "wal");
+    cr_assert_eq(ct_int(db, "PRAGMA foreign_keys"), 1);
+    const char *tables[] = {"studies", "study_axes", "jobs", "job_params", "job_deps", "runs",
+                            "metrics", "artifacts", "leases", NULL};
+    for (int i = 0; tables[i]; i++) {
+        char sql[160];
+        snprintf(sql, sizeof sql, "SELECT count(*) FROM sqlite_master WHERE type = 'table' AND "
+                                  "name = '%s'", tables[i]);
+        cr_assert_eq(ct_int(db, sql), 1, "table %s missing", tables[i]);
+    }
+    cr_assert_eq(ct_int(db, "SELECT count(*) FROM sqlite_master WHERE type = 'view' AND name IN "
+                            "('results', 'run_metrics', 'job_status')"),
+                 3);
+    db_close(&db);
+    /* opening again changes nothing */
+    struct err e = {0};
+    cr_assert_eq(db_open(path, &db, &e), 0, "%s", e.msg);
+    cr_assert_eq(ct_int(db, "PRAGMA user_version"), n);
+    db_close(&db);
+    ct_rmrf(dir);
+}
+
+Test(campaign_db, migration_files_are_numbered)
+{
+    int n;
+    const struct db_migration *m = db_migrations(&n);
+    cr_assert_str_eq(m[0].name, "schema.sql");
+    for (int i = 1; i < n; i++) {
+        char want[8];
+        snprintf(want, sizeof want, "%04d_", i + 1);
+        cr_assert(strncmp(m[i].name, want, 5) == 0, "migration %d is %s; want %s*", i + 1,
+                  m[i].name, want);
+    }
+}
+
+Test(campaign_db, migrations_apply_in_order_or_not_at_all)
+{
+    char dir[64], path[128];
+    ct_mkdir(dir, sizeof dir);
+    snprintf(path, sizeof path, "%s/m.db", dir);
+    sqlite3 *db;
+    cr_assert_eq(sqlite3_open(path, &db), SQLITE_OK);
+    const struct db_migration list[] = {
+        {"schema.sql", "CREATE TABLE a (x INTEGER);"},
+        {"0002_b.sql", "CREATE TABLE b (y INTEGER); INSERT INTO a VALUES (1);"},
+        {"0003_bad.sql", "CREATE TABLE c (z INTEGER); INSERT INTO nowhere VALUES (1);"},
+    };
+    struct err e = {0};
+    cr_assert_eq(db_migrate(db, list, 2, &e), 0, "%s", e.msg);
+    cr_assert_eq(ct_int(db, "PRAGMA user_version"), 2);
+    cr_assert_eq(ct_int(db, "SELECT count(*) FROM a"), 1);
+    /* version 3 fails half-way: table c must not exist, the version stays 2 */
+    cr_assert_eq(db_migrate(db, list, 3, &e), ERR_RUNTIME);
+    cr_assert_not_null(strstr(e.msg, "0003_bad.sql"), "%s", e.msg);
+    cr_assert_eq(ct_int(db, "PRAGMA user_version"), 2);
+    cr_assert_eq(ct_int(db, "SELECT count(*) FROM sqlite_master WHERE name = 'c'"), 0);
+    /* a database newer than the program is refused */
+    cr_assert_eq(db_migrate(db, list, 1, &e), ERR_INPUT);
+    cr_assert_not_null(strstr(e.msg, "newer"), "%s", e.msg);
+    sqlite3_close(db);
+    ct_rmrf(dir);
+}
+
+Test(campaign_db, state_follows_latest_run_and_constraints_hold)
+{
+    char dir[64], path[128];
+    ct_mkdir(dir, sizeof dir);
+    sqlite3 *db = fresh(dir, path, sizeof path);
+    struct err e = {0};
+    cr_assert_eq(db_exec(db,
+                         "INSERT INTO studies (id, name, spec_path, spec_text, spec_hash, created, "
+                         "updated) VALUES (1, 's', '/s.yaml', 'x', 'h', 't', 't');"
+                         "INSERT INTO jobs (id, study_id, key, kind, seq, params, case_json) "
+                         "VALUES (1, 1, 'k', 'sweep', 0, '{}', '{}');"
+                         "INSERT INTO runs (job_id, attempt, status, started, host, runner, "
+                         "launcher, solver_version, solver_git, run_dir) VALUES "
+                         "(1, 1, 'running', 't', 'h', 'r', 'local', 'v', 'g', '/d');",
+                         &e),
+                 0, "%s", e.msg);
+    cr_assert_eq(ct_int(db, "SELECT state = 'running' FROM jobs WHERE id = 1"), 1);
+    cr_assert_eq(db_exec(db, "UPDATE runs SET status = 'timeout' WHERE id = 1", &e), 0, "%s", e.msg);
+    cr_assert_eq(ct_int(db, "SELECT state = 'timeout' FROM jobs WHERE id = 1"), 1);
+    cr_assert_eq(db_exec(db,
+                         "INSERT INTO runs (job_id, attempt, status, started, host, runner, "
+                         "launcher, solver_version, solver_git, run_dir) VALUES "
+                         "(1, 2, 'done', 't', 'h', 'r', 'local', 'v', 'g', '/d');"
+                         "UPDATE runs SET status = 'cancelled' WHERE id = 1;",
+                         &e),
+                 0, "%s", e.msg);
+    /* an update of an older attempt does not touch the job's state */
+    cr_assert_eq(ct_int(db, "SELECT state = 'done' FROM jobs WHERE id = 1"), 1);
+    /* foreign keys, status classes and one attempt number per job are enforced */
+    cr_assert_neq(db_exec(db, "INSERT INTO metrics VALUES (99, 'x', 1.0, '1')", &e), 0);
+    cr_assert_neq(db_exec(db, "UPDATE runs SET status = 'weird' WHERE id = 2", &e), 0);
+    cr_assert_neq(db_exec(db,
+                          "INSERT INTO runs (job_id, attempt, status, started, host, runner, "
+                          "launcher, solver_version, solver_git, run_dir) VALUES "
+                          "(1, 2, 'done', 't', 'h', 'r', 'local', 'v', 'g', '/d')",
+                          &e),
+                  0);
+    db_close(&db);
+    /* the read-only connection (cascade query) cannot write */
+    cr_assert_eq(db_open_readonly(path, &db, &e), 0, "%s", e.msg);
+    cr_assert_neq(db_exec(db, "DELETE FROM runs", &e), 0);
+    db_close(&db);
+    char out[4096];
+    cr_assert_eq(ct_cascade(dir, NULL, out, sizeof out, "query", "DELETE FROM runs", NULL), 2,
+                 "%s", out);
+    cr_assert_eq(ct_cascade(dir, NULL, out, sizeof out, "query", "SELECT count(*) AS n FROM runs",
+                            "--csv", NULL),
+                 0, "%s", out);
+    cr_assert_str_eq(out, "n\n2\n");
+    ct_rmrf(dir);
+}
