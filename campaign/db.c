@@ -2,6 +2,7 @@
 #include "db.h"
 
 #include <jansson.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
@@ -96,12 +97,53 @@ int db_migrate(sqlite3 *db, const struct db_migration *list, int n, struct err *
     return db_commit(db, e);
 }
 
+/* The journal mode of the file ("wal", "delete", ...) into mode, or "" when
+ * the pragma could not run (locked). */
+static void journal_mode(sqlite3 *db, const char *sql, char *mode, size_t len)
+{
+    sqlite3_stmt *st = NULL;
+    mode[0] = '\0';
+    if (sqlite3_prepare_v2(db, sql, -1, &st, NULL) == SQLITE_OK && sqlite3_step(st) == SQLITE_ROW) {
+        const unsigned char *m = sqlite3_column_text(st, 0);
+        snprintf(mode, len, "%s", m ? (const char *)m : "");
+    }
+    sqlite3_finalize(st);
+}
+
+/* WAL is a property of the file: after the first runner converted it there
+ * is nothing to do.  The conversion itself needs exclusive access and
+ * SQLite does not call the busy handler for it, so two runners opening a
+ * fresh database at once make one of them fail at once with "database is
+ * locked": retry with a growing pause within the busy timeout. */
+static int db_use_wal(sqlite3 *db, struct err *e)
+{
+    char mode[16];
+    long waited_us = 0, pause_us = 1000;
+    for (;;) {
+        journal_mode(db, "PRAGMA journal_mode", mode, sizeof mode);
+        if (strcmp(mode, "wal") == 0)
+            return 0;
+        journal_mode(db, "PRAGMA journal_mode = WAL", mode, sizeof mode);
+        if (strcmp(mode, "wal") == 0)
+            return 0;
+        if (waited_us >= (long)DB_BUSY_MS * 1000)
+            return err_set(e, ERR_RUNTIME, "database: cannot switch to WAL journal mode: %s",
+                           sqlite3_errmsg(db));
+        usleep((useconds_t)pause_us);
+        waited_us += pause_us;
+        if (pause_us < 100000)
+            pause_us *= 2;
+    }
+}
+
 static int db_configure(sqlite3 *db, int readonly, struct err *e)
 {
     sqlite3_busy_timeout(db, DB_BUSY_MS);
     int rc = db_exec(db, "PRAGMA foreign_keys = ON", e);
     if (!rc && !readonly)
-        rc = db_exec(db, "PRAGMA journal_mode = WAL; PRAGMA synchronous = NORMAL", e);
+        rc = db_use_wal(db, e);
+    if (!rc && !readonly)
+        rc = db_exec(db, "PRAGMA synchronous = NORMAL", e);
     if (!rc && readonly)
         rc = db_exec(db, "PRAGMA query_only = ON", e);
     return rc;

@@ -5,11 +5,15 @@
  * transaction (a failing one leaves the file as it was); a database newer
  * than the program is refused; the migration files are numbered as their
  * versions; jobs.state follows the latest run through the triggers; the
- * read-only connection refuses writes; schema constraints hold.
+ * read-only connection refuses writes; schema constraints hold; many
+ * processes opening one fresh file at once all succeed (the WAL switch
+ * takes no busy handler).
  */
 #include <criterion/criterion.h>
 #include <stdio.h>
 #include <string.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include "../campaign/db.h"
 #include "helpers/ct.h"
@@ -147,4 +151,46 @@ Test(campaign_db, state_follows_latest_run_and_constraints_hold)
                  0, "%s", out);
     cr_assert_str_eq(out, "n\n2\n");
     ct_rmrf(dir);
+}
+
+/* Runners started together race to create and convert the same file. */
+Test(campaign_db, concurrent_first_opens_all_succeed, .timeout = 120)
+{
+    enum { NPROC = 12, ROUNDS = 10 };
+    for (int round = 0; round < ROUNDS; round++) {
+        char dir[64], path[128];
+        ct_mkdir(dir, sizeof dir);
+        snprintf(path, sizeof path, "%s/cascade.db", dir);
+        pid_t pids[NPROC];
+        int gate[2];   /* the children wait until the parent closes it */
+        cr_assert_eq(pipe(gate), 0);
+        for (int k = 0; k < NPROC; k++) {
+            pids[k] = fork();
+            cr_assert_geq(pids[k], 0);
+            if (pids[k] == 0) {
+                char c;
+                close(gate[1]);
+                while (read(gate[0], &c, 1) > 0)
+                    ;
+                sqlite3 *db = NULL;
+                struct err e = {0};
+                int rc = db_open(path, &db, &e);
+                if (rc)
+                    fprintf(stderr, "open %d: %s\n", k, e.msg);
+                db_close(&db);
+                _exit(rc ? 1 : 0);
+            }
+        }
+        close(gate[0]);
+        close(gate[1]);
+        int failed = 0;
+        for (int k = 0; k < NPROC; k++) {
+            int status = 0;
+            waitpid(pids[k], &status, 0);
+            if (!WIFEXITED(status) || WEXITSTATUS(status) != 0)
+                failed++;
+        }
+        cr_assert_eq(failed, 0, "round %d: %d of %d concurrent opens failed", round, failed, NPROC);
+        ct_rmrf(dir);
+    }
 }
