@@ -19,12 +19,14 @@
  *
  * Each width is at least one potential cutoff.  Faces of B on the boundary
  * of D are MD boundaries (periodic, as the lateral faces of the bar, or
- * free, as the top of an impact target).  Beyond region III the MPM points
- * sit on lattice sites while the grid is at its finest (mass = atomic mass,
- * volume = atomic volume) and eight per cell at the reduced coordinates
- * (+-1/2, +-1/2, +-1/2) in coarse cells, with mass in proportion to the
- * cell volume (section 2.2, last paragraph).  The MPM material is cubic
- * elastic with C11, C12, C44 of the same potential.
+ * free, as the top of an impact target).  In cells of the finest level the
+ * MPM points sit on the lattice sites (cells of one lattice constant: four
+ * sites each, atomic mass and volume) or at the cell centres (cells of half
+ * a lattice constant: every other centre is a site; each point has half an
+ * atomic mass and volume); in coarse cells eight points sit at the reduced
+ * coordinates (+-1/2, +-1/2, +-1/2) with mass in proportion to the cell
+ * volume (section 2.2, last paragraph).  The MPM material is cubic elastic
+ * with C11, C12, C44 of the same potential.
  *
  * One step of common length dt (section 2.2, "one concurrent time step"):
  *   1. region I's positions, velocities and virial stresses at t go to the
@@ -54,6 +56,8 @@ enum {
     HS_MASK_II = 1u << 9,
     HS_MASK_III = 1u << 10,
     HS_MASK_FIXED = 1u << 11,   /* MD atoms held at their sites (e.g. a far end) */
+    HS_MASK_SITE = 1u << 12,    /* a material point on a lattice site (has an MD copy
+                                   when in region II or III) */
 };
 
 /* Region codes of the "region" output field. */
@@ -130,6 +134,7 @@ struct handshake {
     long seen_builds;          /* md->nrebuilds when the index lists were made */
     long natoms;               /* MD atoms (core, I and fixed) */
     long counts[6];            /* per enum hs_region: atoms (0, 1, 5) or points */
+    long ncopies;              /* MD copies of the lattice-site points of II, III */
     double md_damping;         /* 1/ps: velocity damping of the MD atoms (quasi-static) */
     double ramp;               /* ps: external point forces reach full value after this */
     long step;

@@ -3,17 +3,21 @@
  * elastic material, material points) and the MD particles (atoms of the MD
  * box with their regions, and the copies of regions II and III).
  *
- * Points: in cells of the finest level one point per lattice site outside
- * the MD box, with the atomic mass and volume (Guo & Yang 2005, section
- * 2.2: "in regions II and III, material points are initially located at
- * the ideal lattice sites"); in coarse cells eight points at the reduced
- * coordinates (+-1/2, +-1/2, +-1/2) with mass density x cell volume / 8
- * ("material points are enlarged in proportion to the background mesh",
- * Fig. 1(c)).  With the lattice a quarter lattice constant off the grid
- * planes, a cell of one lattice constant holds four sites at four of those
- * eight positions and a cell of half a lattice constant one site at its
- * centre (every other cell): both integrate the gradients of the trilinear
- * shape functions exactly, so a uniform stress puts no force on any node.
+ * Points: in cells of the finest level on the lattice sites outside the MD
+ * box (Guo & Yang 2005, section 2.2: "in regions II and III, material
+ * points are initially located at the ideal lattice sites"); in coarse
+ * cells eight points at the reduced coordinates (+-1/2, +-1/2, +-1/2) with
+ * mass density x cell volume / 8 ("material points are enlarged in
+ * proportion to the background mesh", Fig. 1(c)).  The lattice lies a
+ * quarter lattice constant off the grid planes, so a cell of one lattice
+ * constant holds four sites at four of those eight positions (atomic mass
+ * and volume each), which integrate the gradients of the trilinear shape
+ * functions over the cell exactly: a uniform stress puts no force on any
+ * node, also on the bar's sliding faces.  A cell of half a lattice
+ * constant has one site at its centre in every other cell; sites alone
+ * would be exact only in pairs of cells and leave forces on the nodes of a
+ * sliding face, so such cells get a point at every centre (half an atomic
+ * mass and volume), and the ones on sites carry the MD copies.
  */
 #include <math.h>
 #include <stdlib.h>
@@ -80,6 +84,11 @@ static int add_point(struct fill_ctx *c, const double x[3], double mass, double 
     return 0;
 }
 
+static uint32_t region_mask(enum hs_region r)
+{
+    return r == HS_II ? HS_MASK_II : r == HS_III ? HS_MASK_III : 0;
+}
+
 static int site_point(void *ctx, const double x[3])
 {
     struct fill_ctx *c = ctx;
@@ -87,17 +96,39 @@ static int site_point(void *ctx, const double x[3])
     enum hs_region r = handshake_classify(&hs->lay, x);
     if (r == HS_CORE || r == HS_I)
         return 0;   /* an atom */
-    uint32_t mask = r == HS_II ? HS_MASK_II : r == HS_III ? HS_MASK_III : 0;
-    return add_point(c, x, hs->cr.mass, hs->omega0, mask);
+    return add_point(c, x, hs->cr.mass, hs->omega0, region_mask(r) | HS_MASK_SITE);
+}
+
+/* Whether x is an fcc lattice site. */
+static int on_site(const struct handshake_layout *L, const double x[3])
+{
+    long n = 0;
+    for (int d = 0; d < 3; d++) {
+        double u = 2 * (x[d] - L->lat_origin[d]) / L->a;
+        long k = lround(u);
+        if (fabs(u - k) > 1e-6)
+            return 0;
+        n += k;
+    }
+    return (n & 1) == 0;
 }
 
 /* Points of one cell [lo, lo + size) of level `level`. */
 static int fill_cell(struct fill_ctx *c, const double lo[3], const double size[3], int level)
 {
     const struct handshake *hs = c->hs;
-    if (level == 0) {
+    if (level == 0 && fabs(size[0] - hs->lay.a) < 1e-9 * hs->lay.a) {
         double hi[3] = {lo[0] + size[0], lo[1] + size[1], lo[2] + size[2]};
         return for_sites(&hs->lay, lo, hi, site_point, c);
+    }
+    if (level == 0) {   /* half a lattice constant: the centre */
+        double x[3] = {lo[0] + 0.5 * size[0], lo[1] + 0.5 * size[1], lo[2] + 0.5 * size[2]};
+        enum hs_region r = handshake_classify(&hs->lay, x);
+        if (r == HS_CORE || r == HS_I)
+            return 0;
+        double vol = size[0] * size[1] * size[2];
+        return add_point(c, x, hs->rho * vol, vol,
+                         region_mask(r) | (on_site(&hs->lay, x) ? HS_MASK_SITE : 0));
     }
     double vol = size[0] * size[1] * size[2] / 8.0;
     for (int k = 0; k < 8; k++) {
@@ -261,8 +292,9 @@ static int add_md_particles(struct handshake *hs, struct particles **pp, struct 
     const struct mpm_points *pt = &hs->mpm.pts;
     for (long q = 0; q < pt->n; q++) {
         uint32_t m = pt->mask[q] & (HS_MASK_II | HS_MASK_III);
-        if (!m)
+        if (!m || !(pt->mask[q] & HS_MASK_SITE))
             continue;
+        hs->ncopies++;
         int i = particles_add(p, pt->x + 3 * q, NULL, hs->cr.type, hs->id_base + q);
         if (i < 0)
             return err_nomem(e, "handshake particles");
