@@ -83,7 +83,9 @@ struct handshake_layout {
 
 /* Which layout key a refusal is about (for file/line/key messages). */
 enum hs_layout_key {
-    HS_KEY_REGIONS, HS_KEY_CELL, HS_KEY_FINE, HS_KEY_LEVELS, HS_KEY_LAYER, HS_KEY_GEOMETRY,
+    HS_KEY_REGIONS, HS_KEY_CELL, HS_KEY_FINE, HS_KEY_LEVELS, HS_KEY_LAYER,
+    HS_KEY_GEOMETRY,   /* the MPM domain and material */
+    HS_KEY_MD,         /* the MD region */
     HS_KEY_COUNT
 };
 

@@ -129,7 +129,7 @@ int hs_case_build(struct hs_case *c, enum mpm_face_bc x_hi_face, int end_margin,
     char why[512];
     static const char *const key_path[HS_KEY_COUNT] = {
         "handshake.regions", "handshake.cell", "handshake.fine",
-        "handshake.levels",  "handshake.layer", "bar"};
+        "handshake.levels",  "handshake.layer", "bar.mpm",       "bar.md"};
     if (handshake_layout_check(&L, c->pot->cutoff, &key, why, sizeof why))
         return cfg_error_at(cfg, key_path[key], "%s", why);
     struct potential *pot = c->pot;

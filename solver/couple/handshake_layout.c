@@ -125,7 +125,7 @@ int handshake_layout_check(const struct handshake_layout *L, double cutoff,
                    L->lat_origin[d], "xyz"[d]);
         if (!multiple_of(L->md_lo[d] - L->dom_lo[d], 0.5 * a) ||
             !multiple_of(L->md_hi[d] - L->dom_lo[d], 0.5 * a))
-            REFUSE(HS_KEY_GEOMETRY,
+            REFUSE(HS_KEY_MD,
                    "the MD region's faces along %c must lie between (100) planes (multiples of "
                    "0.5 lattice constants from the domain's corner)",
                    "xyz"[d]);
@@ -140,7 +140,7 @@ int handshake_layout_check(const struct handshake_layout *L, double cutoff,
                        "less than regions II and III (%.4g Å)",
                        s ? "upper" : "lower", "xyz"[d], room, shell);
             if (L->md_periodic[d])
-                REFUSE(HS_KEY_GEOMETRY,
+                REFUSE(HS_KEY_MD,
                        "the MD region cannot be periodic along %c: it has an interface there",
                        "xyz"[d]);
         }
@@ -148,13 +148,13 @@ int handshake_layout_check(const struct handshake_layout *L, double cutoff,
         int both = handshake_face_coupled(L, 2 * d) && handshake_face_coupled(L, 2 * d + 1);
         if (span < (both ? 2 : 1) * L->w[0] * (1 - 1e-12) &&
             (handshake_face_coupled(L, 2 * d) || handshake_face_coupled(L, 2 * d + 1)))
-            REFUSE(HS_KEY_GEOMETRY,
+            REFUSE(HS_KEY_MD,
                    "the MD region along %c (%g Å) is too short for its region I layers (%g Å "
                    "each)",
                    "xyz"[d], span, L->w[0]);
     }
     if (ncoupled == 0)
-        REFUSE(HS_KEY_GEOMETRY, "the MD region has no face inside the MPM domain: no interface");
+        REFUSE(HS_KEY_MD, "the MD region has no face inside the MPM material: no interface");
 #undef REFUSE
     return 0;
 }

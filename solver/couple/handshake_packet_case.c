@@ -63,7 +63,7 @@ static int packet_read(struct cfg_obj *root, const struct case_common *common, v
     c->profile_every = 200;
     c->bar_mpm[0] = 40;
     c->bar_mpm[1] = 0;
-    c->bar_md = 60;
+    c->bar_md = 64;
     c->bar_width = 3;
     struct cfg_obj o;
     int rc = hs_case_read(root, c);
@@ -83,6 +83,30 @@ static int packet_read(struct cfg_obj *root, const struct case_common *common, v
                           "the packet (centre %g, 4 sigma = %g lattice constants) must fit in the "
                           "MD region of %g lattice constants without its fixed end (%g)",
                           w->center, 4 * w->sigma, c->bar_md, w->fixed);
+    /* with the automatic measure time the reflected packet must be back
+     * left of X0 and the reference packet short of the held end, both 5
+     * sigma clear (the lattice's dispersion spreads them), and the
+     * transmitted one inside the MPM */
+    double travel = w->center + c->regions[1] + c->regions[2] + 5 * w->sigma;
+    if (!rc && w->measure_time <= 0 &&
+        !(w->center >= c->regions[1] + c->regions[2] + 10 * w->sigma))
+        rc = cfg_error_at(root->cfg, "packet.center",
+                          "the centre must lie at least regions II + III + 10 sigma = %g lattice "
+                          "constants from the interface, so that the reflected packet is back "
+                          "left of it when the energies are measured",
+                          c->regions[1] + c->regions[2] + 10 * w->sigma);
+    if (!rc && w->measure_time <= 0 &&
+        !(w->center + travel + 5 * w->sigma <= c->bar_md - w->fixed))
+        rc = cfg_error_at(root->cfg, "bar.md",
+                          "the reference packet would reach the held end before the energies are "
+                          "measured: the MD region needs %g lattice constants",
+                          w->center + travel + 5 * w->sigma + w->fixed);
+    if (!rc && w->measure_time <= 0 &&
+        !(c->bar_mpm[0] >= travel - w->center + 3 * w->sigma))
+        rc = cfg_error_at(root->cfg, "bar.mpm",
+                          "the MPM part must hold the transmitted packet: at least %g lattice "
+                          "constants",
+                          travel - w->center + 3 * w->sigma);
     if (!rc && !(w->center - 6 * w->sigma >= c->regions[0]))
         rc = cfg_error_at(root->cfg, "packet.center",
                           "the packet's centre (%g lattice constants from the interface) must lie "
