@@ -5,6 +5,7 @@
 
 extern const struct case_type md_case_type;
 extern const struct case_type crystal_case_type;
+extern const struct case_type elastic_case_type;
 extern const struct case_type dpd_case_type;
 extern const struct case_type dpd_impact_case_type;
 extern const struct case_type dpd_tensile_case_type;
@@ -17,6 +18,7 @@ extern const struct case_type handshake_packet_case_type;
 const struct case_type *const case_types[] = {
     &md_case_type,
     &crystal_case_type,
+    &elastic_case_type,
     &dpd_case_type,
     &dpd_impact_case_type,
     &dpd_tensile_case_type,
