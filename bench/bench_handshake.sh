@@ -45,4 +45,4 @@ echo "BENCH handshake_md_us_per_step $(echo "$f * 1000000 / $steps" | bc -l | xa
 echo "BENCH handshake_atoms_replaced $(printf '%.0f' "$replaced") atoms"
 echo "BENCH handshake_mpm_points $(printf '%.0f' "$points") points"
 echo "handshake bench: the MPM part replaces $(printf '%.0f' "$replaced") atoms by $(printf '%.0f' "$points") material points ($(echo "$replaced / $points" | bc -l | xargs printf '%.2f') atoms per point); MD atoms $(printf '%.0f' "$atoms")" >&2
-echo "handshake bench: loop seconds $(tr '\n' ' ' < "$WORK/hs.t"); load average $(cut -d' ' -f1-3 /proc/loadavg 2>/dev/null) on $(nproc) cores" >&2
+echo "handshake bench: loop seconds $(tr '\n' ' ' < "$WORK/hs.t"); load average $(cut -d' ' -f1-3 /proc/loadavg 2>/dev/null) on $(nproc --all) cores" >&2
