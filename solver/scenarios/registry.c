@@ -14,6 +14,10 @@ extern const struct case_type mpm_case_type;
 extern const struct case_type handshake_wave_case_type;
 extern const struct case_type handshake_static_case_type;
 extern const struct case_type handshake_packet_case_type;
+extern const struct case_type impact_case_type;
+extern const struct case_type hugoniot_case_type;
+extern const struct case_type isotherm_case_type;
+extern const struct case_type structure_case_type;
 
 const struct case_type *const case_types[] = {
     &md_case_type,
@@ -27,6 +31,10 @@ const struct case_type *const case_types[] = {
     &handshake_wave_case_type,
     &handshake_static_case_type,
     &handshake_packet_case_type,
+    &impact_case_type,
+    &hugoniot_case_type,
+    &isotherm_case_type,
+    &structure_case_type,
     NULL,
 };
 

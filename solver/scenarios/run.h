@@ -57,6 +57,8 @@ struct run {
     FILE *log;                 /* stderr unless quiet */
     struct timers timers;
     struct progress progress;
+    long steps_run;            /* steps for the timing report, set by cases that
+                                * do not run md.steps (0: md.steps) */
 };
 
 int run_open(struct run *r, const struct run_options *opt, const struct output_settings *out,
@@ -77,6 +79,12 @@ void run_path(const struct run *r, const char *name, char *out, size_t len);
 /* Thermo CSV: header once, then rows (same number of values). */
 int run_thermo_header(struct run *r, const char *const *columns, int n);
 void run_thermo_row(struct run *r, const double *values, int n);
+
+/* A thermo table kept in memory (nrows rows of ncols values) written as
+ * one series per column under /series of the HDF5 file; nothing without
+ * an HDF5 file. */
+int run_write_series_table(struct run *r, const double *rows, long nrows, int ncols,
+                           const char *const *names, const char *const *units, struct err *e);
 
 /* Log line (printf style) unless quiet. */
 void run_log(struct run *r, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
