@@ -147,7 +147,9 @@ struct handshake {
  * MD particles to *p (created when NULL): when it is empty, the atoms of B
  * with their regions, then the copies of regions II and III.  When *p already holds
  * the atoms of B (a case that built its own crystal on the same lattice),
- * only the copies are appended and the atoms' regions marked.  After
+ * only the copies are appended and the atoms' regions marked; atoms beyond
+ * the MPM material (a projectile above a free face) are plain MD atoms
+ * (HS_CORE), atoms inside it but outside B are refused.  After
  * md_init(md, *p, ...) call handshake_connect. */
 int handshake_create(struct handshake *hs, const struct handshake_layout *L,
                      const struct handshake_crystal *cr, struct particles **p, int nthreads,

@@ -277,7 +277,13 @@ static int add_md_particles(struct handshake *hs, struct particles **pp, struct 
         for (int i = 0; i < n; i++) {
             if (p->id[i] >= next_id)
                 next_id = p->id[i] + 1;
-            enum hs_region r = handshake_classify(L, p->x + 3 * i);
+            const double *x = p->x + 3 * i;
+            int in_material = 1;
+            for (int d = 0; d < 3; d++)
+                in_material &= x[d] >= L->mat_lo[d] && x[d] < L->mat_hi[d];
+            /* atoms beyond the material (a projectile above a free face)
+             * are plain MD atoms */
+            enum hs_region r = in_material ? handshake_classify(L, x) : HS_CORE;
             if (r != HS_CORE && r != HS_I)
                 return err_set(e, ERR_INPUT,
                                "atom %lld at (%g, %g, %g) Å lies outside the MD region of the "
