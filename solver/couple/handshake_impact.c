@@ -128,9 +128,10 @@ int handshake_impact_prepare(struct impact_boundary *b, struct particles *p, str
     char why[512];
     if (handshake_layout_check(&L, pot->cutoff, &key, why, sizeof why))
         return cfg_error_at(cfg, key_path[key], "%s", why);
-    if ((rc = handshake_create(&h->hs, &L, &cr, &p, nthreads, e)))
+    rc = handshake_create(&h->hs, &L, &cr, &p, nthreads, e);
+    h->built = 1;   /* handshake_free also undoes a partial build */
+    if (rc)
         return rc;
-    h->built = 1;
     /* room for the copies of regions II and III below and beside the target */
     double shell = L.w[1] + L.w[2];
     for (int d = 0; d < 3; d++) {
