@@ -8,7 +8,7 @@
  *   - bad input refused with file:line and key: a cluster wider than the
  *     target's free top face, an impact speed that moves atoms more than
  *     0.1 nearest-neighbour distances per step, a fixed layer thinner than
- *     the cutoff, the not-yet-built handshake boundary, a Hugoniot piston
+ *     the cutoff, the handshake boundary at a temperature, a Hugoniot piston
  *     velocity too fast for the time step;
  *   - a short Cu14 impact through cascade-solver: the displaced-atom count
  *     rises from zero, the per-atom structure field is in the snapshots and
@@ -120,8 +120,9 @@ Test(impact, bad_input_is_refused, .timeout = 60)
                    impact_case("cells: [12, 12, 10], fixed_thickness: 3", "atoms: 14", "steps: 10"),
                    "target.fixed_thickness", "thinner than the potential cutoff");
     expect_refused("handshake.yaml",
-                   impact_case("cells: [12, 12, 10], boundary: handshake", "atoms: 14", "steps: 10"),
-                   "target.boundary", "use 'fixed_damped'");
+                   impact_case("cells: [12, 12, 10], boundary: handshake, temperature: 300",
+                               "atoms: 14", "steps: 10"),
+                   "target.temperature", "runs at 0 K only");
     expect_refused("odd.yaml", impact_case("cells: [12, 12, 10]", "atoms: 33", "steps: 10"),
                    "cluster.atoms", "nearest possible counts");
     expect_refused("piston.yaml",

@@ -1,7 +1,9 @@
-/* impact_boundary: fixed and damped layers (pure MD); the handshake slot. */
+/* impact_boundary: fixed and damped layers (pure MD); the MPM/MD handshake. */
 #include "scenarios/impact_boundary.h"
 
 #include <string.h>
+
+#include "couple/handshake_impact.h"
 
 static int fixed_damped_read(struct cfg_obj *t, struct impact_boundary *b)
 {
@@ -61,21 +63,13 @@ static uint32_t fixed_damped_exclude(const struct impact_boundary *b)
     return IMPACT_GROUP_FIXED | IMPACT_GROUP_DAMPED;
 }
 
-static int handshake_read(struct cfg_obj *t, struct impact_boundary *b)
-{
-    (void)b;
-    char kp[CFG_PATH_MAX];
-    snprintf(kp, sizeof kp, "%s.boundary", t->path);
-    return cfg_error_at(t->cfg, kp,
-                        "boundary 'handshake' (the MD target embedded in hierarchical MPM layers "
-                        "through the MPM/MD handshake) needs the MPM solver and the handshake, "
-                        "which this build does not have yet; use 'fixed_damped'");
-}
-
 const struct impact_boundary_ops impact_boundaries[] = {
-    {"fixed_damped", fixed_damped_read, fixed_damped_setup, NULL, fixed_damped_exclude, NULL},
-    {"handshake", handshake_read, NULL, NULL, NULL, NULL},
-    {NULL, NULL, NULL, NULL, NULL, NULL},
+    {"fixed_damped", fixed_damped_read, fixed_damped_setup, NULL, fixed_damped_exclude, NULL,
+     NULL, NULL, NULL},
+    {"handshake", handshake_impact_read, handshake_impact_setup, NULL, handshake_impact_exclude,
+     handshake_impact_destroy, handshake_impact_prepare, handshake_impact_pre_step,
+     handshake_impact_report},
+    {NULL, NULL, NULL, NULL, NULL, NULL, NULL, NULL, NULL},
 };
 
 int impact_boundary_read(struct cfg_obj *target, struct impact_boundary *b)
@@ -91,4 +85,11 @@ int impact_boundary_read(struct cfg_obj *target, struct impact_boundary *b)
     memset(b, 0, sizeof *b);
     b->ops = &impact_boundaries[k];
     return b->ops->read(target, b);
+}
+
+void impact_boundary_free(struct impact_boundary *b)
+{
+    if (b->ops && b->ops->destroy)
+        b->ops->destroy(b);
+    b->data = NULL;
 }

@@ -11,24 +11,28 @@
  *                 atoms back into the crater region.
  *   handshake     the MD target embedded in hierarchical MPM layers through
  *                 the MPM/MD handshake (Guo & Yang 2005, section 2.2 and
- *                 Fig. 12).  Not available yet: it needs the MPM solver
- *                 (solver/mpm) and the handshake (solver/couple).  The case
- *                 accepts the name and refuses it with a clear message.
+ *                 Fig. 12): solver/couple/handshake_impact.h.
  *
  * Extension point.  A treatment is a row of impact_boundaries[] with
- *   read(target, b)        its keys in the `target` section;
+ *   read(target, b)        its keys in the `target` section (state it
+ *                          allocates goes to b->data: destroy frees it,
+ *                          also when reading or building fails);
+ *   prepare(b, p, box, pot, nthreads, cfg)
+ *                          before md_init, with the target and cluster
+ *                          built: may append particles (the handshake: the
+ *                          MD copies of the material points of regions II
+ *                          and III) and widen the box for them (optional);
  *   setup(b, md, lo, hi)   after md_init: mark groups in p->mask, set
- *                          md->frozen_mask and the thermostat, and build
- *                          whatever it owns (the handshake: the MPM layers
- *                          around [lo, hi], regions I-III of Fig. 3, their
- *                          material points on lattice sites);
- *   step(b, md)            after every md_step (the handshake: move the
- *                          region II/III atoms with their material points
- *                          and advance the MPM layers by the same dt);
+ *                          md->frozen_mask and the thermostat, and tie
+ *                          whatever it owns to the md;
+ *   pre_step(b, md)        before every md_step (the handshake: region I to
+ *                          the MPM, the MPM layers one dt on, the region
+ *                          II/III atoms to their material points) (optional);
+ *   step(b, md)            after every md_step (optional);
  *   exclude_mask(b)        the groups the damage counts leave out;
+ *   report(b, result)      the treatment's own metrics (optional);
  *   destroy(b).
- * `handshake` then replaces its read() by a real one and fills in the
- * rest; the case type does not change.
+ * b->peratom asks for per-atom energies and virials at every step.
  */
 #ifndef CASCADE_IMPACT_BOUNDARY_H
 #define CASCADE_IMPACT_BOUNDARY_H
@@ -52,8 +56,11 @@ struct impact_boundary {
     double damping_time;      /* ps */
     double temperature;       /* K */
     long nfixed, ndamped;
+    int peratom;              /* per-atom virials every step (not just at snapshots) */
     void *data;               /* the treatment's own state */
 };
+
+struct result;
 
 struct impact_boundary_ops {
     const char *name;
@@ -63,11 +70,18 @@ struct impact_boundary_ops {
     int (*step)(struct impact_boundary *b, struct md *md, struct err *e);
     uint32_t (*exclude_mask)(const struct impact_boundary *b);
     void (*destroy)(struct impact_boundary *b);
+    int (*prepare)(struct impact_boundary *b, struct particles *p, struct box *box,
+                   struct potential *pot, int nthreads, struct cfg *cfg);
+    int (*pre_step)(struct impact_boundary *b, struct md *md, struct err *e);
+    void (*report)(const struct impact_boundary *b, struct result *r);
 };
 
 extern const struct impact_boundary_ops impact_boundaries[];   /* NULL-name terminated */
 
 /* Read `boundary` and the chosen treatment's keys from `target`. */
 int impact_boundary_read(struct cfg_obj *target, struct impact_boundary *b);
+
+/* The treatment's destroy, when it has one and was read. */
+void impact_boundary_free(struct impact_boundary *b);
 
 #endif

@@ -10,7 +10,8 @@
  *     cells: [20, 20, 15]     cubic cells along x [100], y [010], z [001]
  *     temperature: 0          K (Maxwell-Boltzmann velocities, and the bath
  *                             of the damped layer)
- *     boundary: fixed_damped  fixed_damped | handshake (impact_boundary.h)
+ *     boundary: fixed_damped  fixed_damped | handshake (impact_boundary.h;
+ *                             handshake: solver/couple/handshake_impact.h)
  *     fixed_thickness: 6.0    Å, at least the potential cutoff
  *     damped_thickness: 10.0  Å
  *     damping_time: 0.05      ps
@@ -167,7 +168,7 @@ static int build(struct impact *c, const struct impact_spec *s, struct potential
     double layer = b->fixed_thickness + b->damped_thickness;
     double wx = c->hi[0] - c->lo[0] - 2 * layer, wy = c->hi[1] - c->lo[1] - 2 * layer;
     double wz = c->hi[2] - c->lo[2] - layer;
-    if (b->fixed_thickness < pot->cutoff) {
+    if (!b->ops->prepare && b->fixed_thickness < pot->cutoff) {
         rc = cfg_error_at(cfg, "target.fixed_thickness",
                           "%g Å is thinner than the potential cutoff %g Å: the damped atoms would "
                           "not see a complete crystal", b->fixed_thickness, pot->cutoff);
@@ -234,6 +235,12 @@ static int build(struct impact *c, const struct impact_spec *s, struct potential
         box.hi[d] = d == 2 ? cz + 2 * c->cluster_radius : c->hi[d];
         box.bc[d] = BOUNDARY_FREE;
     }
+    /* the boundary's own particles (the handshake: copies of regions II
+     * and III) and the room they need */
+    if (b->ops->prepare && (rc = b->ops->prepare(b, p, &box, pot, nthreads, cfg))) {
+        particles_destroy(&p);
+        return rc;
+    }
     *potp = NULL;   /* the md owns particles and potential from here on */
     rc = md_init(&c->md, p, &box, pot, s->dt, s->skin, nthreads, e);
     if (rc) {
@@ -258,6 +265,7 @@ static int impact_read(struct cfg_obj *root, const struct case_common *common, v
     struct impact_spec s;
     memset(&s, 0, sizeof s);
     struct impact_boundary bnd;
+    memset(&bnd, 0, sizeof bnd);
     struct cfg_obj po;
     struct potential *pot = NULL;
     int rc = read_spec(root, &s, &bnd);
@@ -265,21 +273,26 @@ static int impact_read(struct cfg_obj *root, const struct case_common *common, v
         rc = cfg_section_required(root, "potential", &po);
     if (!rc)
         rc = potential_create(&po, &pot);
-    if (rc)
+    if (rc) {
+        impact_boundary_free(&bnd);
         return rc;
+    }
     struct structure_params def = {impact_refs[s.tlat], CNA_FIXED, s.ta, 0, 0, 0, 0.15, 1};
     struct impact *c = calloc(1, sizeof *c);
     if (!c) {
         potential_destroy(&pot);
+        impact_boundary_free(&bnd);
         return err_nomem(root->cfg->err, "impact case");
     }
     if ((rc = md_analysis_read(root, &def, 100, &c->an))) {
         potential_destroy(&pot);
+        impact_boundary_free(&bnd);
         free(c);
         return rc;
     }
     if (root->cfg->shallow) {
         potential_destroy(&pot);
+        impact_boundary_free(&bnd);
         md_analysis_free(&c->an);
         free(c);
         return 0;
@@ -304,6 +317,7 @@ static int impact_read(struct cfg_obj *root, const struct case_common *common, v
         if (c->md.p)
             md_free(&c->md);
         potential_destroy(&pot);
+        impact_boundary_free(&c->bnd);
         md_analysis_free(&c->an);
         free(c);
         return rc;
@@ -326,7 +340,7 @@ static int impact_run(void *state, struct run *run, struct err *e)
                  "%.2f keV at %.2f km/s",
             c->ntarget, c->bnd.nfixed, c->bnd.ndamped, c->ncluster, c->cluster_radius,
             c->impact_energy * 1e-3, c->speed / 10.0);
-    md->peratom = run_due(0, c->steps, run->out.snapshot_every);
+    md->peratom = run_due(0, c->steps, run->out.snapshot_every) || c->bnd.peratom;
     rc = md_compute_forces(md, e);
     double e0 = md->last.energy + md_kinetic_energy(md);
     if (!rc)
@@ -338,7 +352,9 @@ static int impact_run(void *state, struct run *run, struct err *e)
     progress_start(&run->progress, stderr, c->steps, md->dt, run->opt.progress && !run->opt.quiet);
     timer_start(&run->timers, TIMER_LOOP);
     for (long s = 1; s <= c->steps && !rc; s++) {
-        md->peratom = run_due(s, c->steps, run->out.snapshot_every);
+        md->peratom = run_due(s, c->steps, run->out.snapshot_every) || c->bnd.peratom;
+        if (c->bnd.ops->pre_step && (rc = c->bnd.ops->pre_step(&c->bnd, md, e)))
+            break;
         if ((rc = md_step(md, e)))
             break;
         if (c->bnd.ops->step && (rc = c->bnd.ops->step(&c->bnd, md, e)))
@@ -394,6 +410,8 @@ static int impact_run(void *state, struct run *run, struct err *e)
     result_metric(r, "rim_height", cs->rim, "Å");
     result_metric(r, "energy_absorbed", e0 - etot, "eV");
     result_metric(r, "temperature", md_temperature(md), "K");
+    if (c->bnd.ops->report)
+        c->bnd.ops->report(&c->bnd, r);
     run_log(run, "displaced atoms: peak %ld at %.2f ps, final %ld; sputtered %ld atoms in %ld "
                  "groups; crater %.1f Å deep, %.1f x %.1f Å ([100] x [110])",
             peak, peak_t, c->an.displaced, c->an.sputter.atoms, c->an.sputter.clusters, cs->depth,
@@ -408,8 +426,7 @@ static void impact_destroy(void *state)
     struct impact *c = state;
     if (!c)
         return;
-    if (c->bnd.ops && c->bnd.ops->destroy)
-        c->bnd.ops->destroy(&c->bnd);
+    impact_boundary_free(&c->bnd);
     md_free(&c->md);
     md_analysis_free(&c->an);
     free(c);

@@ -5,11 +5,15 @@
 
 extern const struct case_type md_case_type;
 extern const struct case_type crystal_case_type;
+extern const struct case_type elastic_case_type;
 extern const struct case_type dpd_case_type;
 extern const struct case_type dpd_impact_case_type;
 extern const struct case_type dpd_tensile_case_type;
 extern const struct case_type dpd_fit_case_type;
 extern const struct case_type mpm_case_type;
+extern const struct case_type handshake_wave_case_type;
+extern const struct case_type handshake_static_case_type;
+extern const struct case_type handshake_packet_case_type;
 extern const struct case_type impact_case_type;
 extern const struct case_type hugoniot_case_type;
 extern const struct case_type isotherm_case_type;
@@ -18,11 +22,15 @@ extern const struct case_type structure_case_type;
 const struct case_type *const case_types[] = {
     &md_case_type,
     &crystal_case_type,
+    &elastic_case_type,
     &dpd_case_type,
     &dpd_impact_case_type,
     &dpd_tensile_case_type,
     &dpd_fit_case_type,
     &mpm_case_type,
+    &handshake_wave_case_type,
+    &handshake_static_case_type,
+    &handshake_packet_case_type,
     &impact_case_type,
     &hugoniot_case_type,
     &isotherm_case_type,

@@ -1,0 +1,218 @@
+/*
+ * handshake: the MPM/MD handshake of Guo & Yang 2005, section 2.2 (Fig. 3).
+ *
+ * An axis-aligned box B of fcc crystal is molecular dynamics; the material
+ * point method covers a larger box D around it on a background grid that
+ * coarsens hierarchically away from B (Fig. 1(c), section 2.1).  Every face
+ * of B strictly inside D is an interface, and along it lie
+ *
+ *   region I    atoms inside B within w_I of the interface: integrated by
+ *               MD, and in the MPM step also material points that give the
+ *               grid their mass, momentum and virial stress (Chen 2014 step
+ *               s3a) without following the grid;
+ *   region II   material points on the lattice sites within w_II outside B,
+ *               moved by the grid, and atoms for the MD forces: they are
+ *               the neighbours of region I and give it its EAM electron
+ *               density atmosphere (Eq. (13));
+ *   region III  the next w_III of lattice-site material points: the
+ *               atmosphere of region II.
+ *
+ * Each width is at least one potential cutoff.  Faces of B on the boundary
+ * of D are MD boundaries (periodic, as the lateral faces of the bar, or
+ * free, as the top of an impact target).  In cells of the finest level the
+ * MPM points sit on the lattice sites (cells of one lattice constant: four
+ * sites each, atomic mass and volume) or at the cell centres (cells of half
+ * a lattice constant: every other centre is a site; each point has half an
+ * atomic mass and volume); in coarse cells eight points sit at the reduced
+ * coordinates (+-1/2, +-1/2, +-1/2) with mass in proportion to the cell
+ * volume (section 2.2, last paragraph).  The MPM material is cubic elastic
+ * with C11, C12, C44 of the same potential.
+ *
+ * One step of common length dt (section 2.2, "one concurrent time step"):
+ *   1. region I's positions, velocities and virial stresses at t go to the
+ *      MPM as an extra particle set;
+ *   2. one MUSL step of the MPM moves regions II, III and the rest to t+dt;
+ *   3. the MD copies of regions II and III take the positions at t+dt
+ *      (displacement coupling; they are frozen in the MD integrator);
+ *   4. one velocity-Verlet step of the MD: forces at t+dt see regions II
+ *      and III where the MPM put them.
+ *
+ * Groups: atoms carry HS_MASK_I (region I) and the MD copies of regions II
+ * and III HS_MASK_II / HS_MASK_III; MPM points carry the same bits.  Every
+ * MD particle has a per-particle field "region" (enum hs_region), written to
+ * the HDF5 snapshots, so ParaView can colour the regions.
+ */
+#ifndef CASCADE_HANDSHAKE_H
+#define CASCADE_HANDSHAKE_H
+
+#include <stdint.h>
+
+#include "md/md.h"
+#include "mpm/mpm.h"
+#include "util/err.h"
+
+enum {
+    HS_MASK_I = 1u << 8,
+    HS_MASK_II = 1u << 9,
+    HS_MASK_III = 1u << 10,
+    HS_MASK_FIXED = 1u << 11,   /* MD atoms held at their sites (e.g. a far end) */
+    HS_MASK_SITE = 1u << 12,    /* a material point on a lattice site (has an MD copy
+                                   when in region II or III) */
+};
+
+/* Region codes of the "region" output field. */
+enum hs_region { HS_CORE = 0, HS_I = 1, HS_II = 2, HS_III = 3, HS_MPM = 4, HS_FIXED = 5 };
+
+/* Where things are (all lengths in Å). */
+struct handshake_layout {
+    double a;                  /* fcc lattice constant                          */
+    double lat_origin[3];      /* one lattice site                              */
+    double dom_lo[3], dom_hi[3];   /* MPM domain D (the grid)                   */
+    double mat_lo[3], mat_hi[3];   /* the material inside D (points only there;
+                                      empty cells beyond a free end give it room) */
+    double md_lo[3], md_hi[3];     /* MD box B                                  */
+    int md_periodic[3];        /* MD periodic along an axis where B spans D     */
+    double w[3];               /* widths of regions I, II, III                  */
+    double h;                  /* finest cell edge                              */
+    double fine;               /* distance from B to the first coarse cell      */
+    int nlevels;               /* coarsening levels (0: uniform grid)           */
+    unsigned coarsen;          /* directions halved per level (x 1, y 2, z 4)   */
+    double layer;              /* width of each coarse level before the next    */
+    enum mpm_face_bc face[6];  /* grid faces x_lo x_hi y_lo y_hi z_lo z_hi      */
+};
+
+/* Which layout key a refusal is about (for file/line/key messages). */
+enum hs_layout_key {
+    HS_KEY_REGIONS, HS_KEY_CELL, HS_KEY_FINE, HS_KEY_LEVELS, HS_KEY_LAYER,
+    HS_KEY_GEOMETRY,   /* the MPM domain and material */
+    HS_KEY_MD,         /* the MD region */
+    HS_KEY_COUNT
+};
+
+/* Check a layout against the potential cutoff (Å): each region at least one
+ * cutoff wide, region I at least two cells (so that no node that moves a
+ * region II point sees the inner edge of region I), the MD region and its
+ * regions II and III on the finest grid, cells and faces aligned.  On
+ * refusal fills *key and `why`. */
+int handshake_layout_check(const struct handshake_layout *L, double cutoff,
+                           enum hs_layout_key *key, char *why, size_t len);
+
+/* Whether face f (0..5) of B is an interface (strictly inside the material). */
+int handshake_face_coupled(const struct handshake_layout *L, int f);
+
+/* Region of a lattice site at x: HS_CORE / HS_I inside B, HS_II / HS_III in
+ * the shells outside the coupled faces (Chebyshev distance), HS_MPM
+ * beyond. */
+enum hs_region handshake_classify(const struct handshake_layout *L, const double x[3]);
+
+/* The MPM material constants (eV/Å^3) and the crystal (amu, eV). */
+struct handshake_crystal {
+    char element[16];
+    double mass;          /* atomic mass */
+    int type;             /* particle type of the atoms */
+    double pe_ref;        /* per-atom energy of the perfect crystal (-E_coh) */
+    double c11, c12, c44; /* of the MPM material */
+};
+
+struct handshake {
+    struct handshake_layout lay;
+    struct handshake_crystal cr;
+    struct md *md;             /* borrowed (see handshake_create) */
+    struct mpm mpm;
+    double omega0;             /* atomic volume a^3/4 */
+    double rho;                /* amu/Å^3 */
+    int body;                  /* MPM body of all points */
+    int f_region, f_x0;        /* MD particle fields "region", "reference_position" */
+    int64_t id_base;           /* MD id of the copy of point q: id_base + q */
+    /* region I as an MPM extra set (compact copies refreshed every step) */
+    struct mpm_extra extra;
+    long nI;
+    int *idxI;
+    double *xI, *vI, *mI, *sI, *volI;
+    /* MD copies of regions II and III: MD particle -> MPM point */
+    long nlink;
+    int *link_md;
+    long *link_pt;
+    long seen_builds;          /* md->nrebuilds when the index lists were made */
+    long natoms;               /* MD atoms (core, I and fixed) */
+    long counts[6];            /* per enum hs_region: atoms (0, 1, 5) or points */
+    long ncopies;              /* MD copies of the lattice-site points of II, III */
+    double md_damping;         /* 1/ps: velocity damping of the MD atoms (quasi-static) */
+    double ramp;               /* ps: external point forces reach full value after this */
+    long step;
+    double time;               /* ps */
+};
+
+/* Build the MPM side (grid, material, points) of layout L and append the
+ * MD particles to *p (created when NULL): when it is empty, the atoms of B
+ * with their regions, then the copies of regions II and III.  When *p already holds
+ * the atoms of B (a case that built its own crystal on the same lattice),
+ * only the copies are appended and the atoms' regions marked; atoms beyond
+ * the MPM material (a projectile above a free face) are plain MD atoms
+ * (HS_CORE), atoms inside it but outside B are refused.  After
+ * md_init(md, *p, ...) call handshake_connect. */
+int handshake_create(struct handshake *hs, const struct handshake_layout *L,
+                     const struct handshake_crystal *cr, struct particles **p, int nthreads,
+                     struct err *e);
+
+/* Everything in one call for cases that own the MD: handshake_create with
+ * a new particle set, md_init over it (md takes ownership of pot; the box
+ * is periodic where L says so and free elsewhere), handshake_connect. */
+int handshake_setup(struct handshake *hs, struct md *md, const struct handshake_layout *L,
+                    const struct handshake_crystal *cr, struct potential *pot, double dt,
+                    double skin, int nthreads, struct err *e);
+
+/* The crystal of a potential for the handshake: 0 K lattice constant in
+ * [a_min, a_max] (*a0), cohesive energy, cubic elastic constants and the
+ * atomic mass of `element` (from the potential file, else the standard
+ * mass).  The type is left 0. */
+int handshake_crystal_from_potential(struct potential *pot, const char *element, double a_min,
+                                     double a_max, struct handshake_crystal *cr, double *a0,
+                                     struct err *e);
+
+/* Tie the handshake to the md that now owns the particles: freeze the
+ * copies, switch on per-atom virials, keep the particle order, find the
+ * index lists and attach region I to the MPM; recomputes the forces. */
+int handshake_connect(struct handshake *hs, struct md *md, struct err *e);
+
+/* One coupled step (see the top of this file): MPM from t to t+dt, regions
+ * II/III to the MD, one MD step.  md->dt is the common step. */
+int handshake_step(struct handshake *hs, struct err *e);
+
+/* The MPM half of a step: region I -> MPM, MPM step, II/III -> MD.  For
+ * callers that run md_step themselves (call it before each md_step). */
+int handshake_advance_mpm(struct handshake *hs, struct err *e);
+
+void handshake_free(struct handshake *hs);
+
+/* Energies (eV): MD atoms of B (kinetic, potential relative to the perfect
+ * crystal, fixed atoms left out) and MPM points (kinetic, strain). */
+struct handshake_energy {
+    double md_kinetic, md_potential, mpm_kinetic, mpm_strain, total;
+};
+void handshake_energy(const struct handshake *hs, struct handshake_energy *out);
+
+/* Potential part of the virial stress of MD particle i (eV/Å^3, xx yy zz
+ * xy xz yz) over the atomic volume: what region I gives the MPM. */
+static inline void handshake_atom_stress(const struct handshake *hs, int i, double s[6])
+{
+    const double *w = hs->md->p->virial + 6 * i;
+    for (int c = 0; c < 6; c++)
+        s[c] = -w[c] / hs->omega0;
+}
+
+/* Impose the homogeneous strain x = X + diag(eps) (X - origin) on every
+ * atom and material point (MD box lengths of periodic axes included), with
+ * F, volume and stress of the points from their material law, then
+ * recompute the MD forces.  For tests of the coupling's consistency. */
+int handshake_apply_strain(struct handshake *hs, const double eps[3], const double origin[3],
+                           struct err *e);
+
+/* Map the current state to the grid (s1-s3 with region I), without moving
+ * anything: the nodal forces of that state are then in mpm.grid.node[].f. */
+int handshake_map_forces(struct handshake *hs, struct err *e);
+
+/* Wrap x into the MD box along periodic axes. */
+void handshake_wrap(const struct handshake *hs, double x[3]);
+
+#endif

@@ -1,0 +1,385 @@
+/*
+ * handshake_build: the MPM side of the handshake (hierarchical grid, cubic
+ * elastic material, material points) and the MD particles (atoms of the MD
+ * box with their regions, and the copies of regions II and III).
+ *
+ * Points: in cells of the finest level on the lattice sites outside the MD
+ * box (Guo & Yang 2005, section 2.2: "in regions II and III, material
+ * points are initially located at the ideal lattice sites"); in coarse
+ * cells eight points at the reduced coordinates (+-1/2, +-1/2, +-1/2) with
+ * mass density x cell volume / 8 ("material points are enlarged in
+ * proportion to the background mesh", Fig. 1(c)).  The lattice lies a
+ * quarter lattice constant off the grid planes, so a cell of one lattice
+ * constant holds four sites at four of those eight positions (atomic mass
+ * and volume each), which integrate the gradients of the trilinear shape
+ * functions over the cell exactly: a uniform stress puts no force on any
+ * node, also on the bar's sliding faces.  A cell of half a lattice
+ * constant has one site at its centre in every other cell; sites alone
+ * would be exact only in pairs of cells and leave forces on the nodes of a
+ * sliding face, so such cells get a point at every centre (half an atomic
+ * mass and volume), and the ones on sites carry the MD copies.
+ */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "couple/handshake.h"
+#include "mpm/mpm_hgrid.h"
+
+/* fcc basis (fractions of a) */
+static const double fcc_basis[4][3] = {{0, 0, 0}, {0.5, 0.5, 0}, {0.5, 0, 0.5}, {0, 0.5, 0.5}};
+
+/* Call fn for every lattice site in [lo, hi). */
+typedef int (*site_fn)(void *ctx, const double x[3]);
+static int for_sites(const struct handshake_layout *L, const double lo[3], const double hi[3],
+                     site_fn fn, void *ctx)
+{
+    long n0[3], n1[3];
+    for (int d = 0; d < 3; d++) {
+        n0[d] = (long)floor((lo[d] - L->lat_origin[d]) / L->a) - 1;
+        n1[d] = (long)ceil((hi[d] - L->lat_origin[d]) / L->a) + 1;
+    }
+    /* x fastest within a (100) plane pair, so neighbours stay close in memory */
+    for (long k = n0[2]; k < n1[2]; k++)
+        for (long j = n0[1]; j < n1[1]; j++)
+            for (long i = n0[0]; i < n1[0]; i++)
+                for (int b = 0; b < 4; b++) {
+                    double x[3] = {L->lat_origin[0] + (i + fcc_basis[b][0]) * L->a,
+                                   L->lat_origin[1] + (j + fcc_basis[b][1]) * L->a,
+                                   L->lat_origin[2] + (k + fcc_basis[b][2]) * L->a};
+                    int in = 1;
+                    for (int d = 0; d < 3; d++)
+                        in &= x[d] >= lo[d] && x[d] < hi[d];
+                    if (in) {
+                        int rc = fn(ctx, x);
+                        if (rc)
+                            return rc;
+                    }
+                }
+    return 0;
+}
+
+struct fill_ctx {
+    struct handshake *hs;
+    int count_only;
+    long n;
+    struct err *e;
+};
+
+static int add_point(struct fill_ctx *c, const double x[3], double mass, double vol, uint32_t mask)
+{
+    const struct handshake_layout *L = &c->hs->lay;
+    for (int d = 0; d < 3; d++)
+        if (x[d] < L->mat_lo[d] || x[d] >= L->mat_hi[d])
+            return 0;
+    c->n++;
+    if (c->count_only)
+        return 0;
+    struct mpm_points *p = &c->hs->mpm.pts;
+    static const double zero[3] = {0, 0, 0};
+    long i = mpm_points_add(p, x, zero, mass, vol, c->hs->body, (int64_t)p->n + 1, c->e);
+    if (i < 0)
+        return ERR_RUNTIME;
+    p->mask[i] = mask;
+    return 0;
+}
+
+static uint32_t region_mask(enum hs_region r)
+{
+    return r == HS_II ? HS_MASK_II : r == HS_III ? HS_MASK_III : 0;
+}
+
+static int site_point(void *ctx, const double x[3])
+{
+    struct fill_ctx *c = ctx;
+    const struct handshake *hs = c->hs;
+    enum hs_region r = handshake_classify(&hs->lay, x);
+    if (r == HS_CORE || r == HS_I)
+        return 0;   /* an atom */
+    return add_point(c, x, hs->cr.mass, hs->omega0, region_mask(r) | HS_MASK_SITE);
+}
+
+/* Whether x is an fcc lattice site. */
+static int on_site(const struct handshake_layout *L, const double x[3])
+{
+    long n = 0;
+    for (int d = 0; d < 3; d++) {
+        double u = 2 * (x[d] - L->lat_origin[d]) / L->a;
+        long k = lround(u);
+        if (fabs(u - k) > 1e-6)
+            return 0;
+        n += k;
+    }
+    return (n & 1) == 0;
+}
+
+/* Points of one cell [lo, lo + size) of level `level`. */
+static int fill_cell(struct fill_ctx *c, const double lo[3], const double size[3], int level)
+{
+    const struct handshake *hs = c->hs;
+    if (level == 0 && fabs(size[0] - hs->lay.a) < 1e-9 * hs->lay.a) {
+        double hi[3] = {lo[0] + size[0], lo[1] + size[1], lo[2] + size[2]};
+        return for_sites(&hs->lay, lo, hi, site_point, c);
+    }
+    if (level == 0) {   /* half a lattice constant: the centre */
+        double x[3] = {lo[0] + 0.5 * size[0], lo[1] + 0.5 * size[1], lo[2] + 0.5 * size[2]};
+        enum hs_region r = handshake_classify(&hs->lay, x);
+        if (r == HS_CORE || r == HS_I)
+            return 0;
+        double vol = size[0] * size[1] * size[2];
+        return add_point(c, x, hs->rho * vol, vol,
+                         region_mask(r) | (on_site(&hs->lay, x) ? HS_MASK_SITE : 0));
+    }
+    double vol = size[0] * size[1] * size[2] / 8.0;
+    for (int k = 0; k < 8; k++) {
+        double x[3];
+        for (int d = 0; d < 3; d++)
+            x[d] = lo[d] + (((k >> d) & 1) ? 0.75 : 0.25) * size[d];
+        enum hs_region r = handshake_classify(&hs->lay, x);
+        if (r != HS_MPM)
+            return err_set(c->e, ERR_INPUT,
+                           "a coarse cell at (%g, %g, %g) Å reaches into the MD region or its "
+                           "regions II and III",
+                           lo[0], lo[1], lo[2]);
+        int rc = add_point(c, x, hs->rho * vol, vol, 0);
+        if (rc)
+            return rc;
+    }
+    return 0;
+}
+
+static int fill_points(struct fill_ctx *c)
+{
+    const struct mpm_grid *g = &c->hs->mpm.grid;
+    if (g->kind == MPM_GRID_HIER) {
+        const struct mpm_hgrid *hg = g->hg;
+        for (long k = 0; k < hg->ncell; k++) {
+            const struct mpm_hcell *cl = &hg->cell[k];
+            double lo[3], size[3];
+            for (int d = 0; d < 3; d++) {
+                lo[d] = g->origin[d] + cl->lo[d] * g->h;
+                size[d] = (double)(1L << cl->lg[d]) * g->h;
+            }
+            int rc = fill_cell(c, lo, size, cl->level);
+            if (rc)
+                return rc;
+        }
+        return 0;
+    }
+    double size[3] = {g->h, g->h, g->h};
+    for (long kz = 0; kz < g->ncell[2]; kz++)
+        for (long ky = 0; ky < g->ncell[1]; ky++)
+            for (long kx = 0; kx < g->ncell[0]; kx++) {
+                double lo[3] = {g->origin[0] + kx * g->h, g->origin[1] + ky * g->h,
+                                g->origin[2] + kz * g->h};
+                int rc = fill_cell(c, lo, size, 0);
+                if (rc)
+                    return rc;
+            }
+    return 0;
+}
+
+static int build_grid(struct handshake *hs, int nthreads, struct err *e)
+{
+    const struct handshake_layout *L = &hs->lay;
+    long ncell[3];
+    for (int d = 0; d < 3; d++)
+        ncell[d] = lround((L->dom_hi[d] - L->dom_lo[d]) / L->h);
+    struct mpm_grid grid;
+    int rc;
+    if (L->nlevels > 0) {
+        /* level l wherever the Chebyshev distance from the MD box (across
+         * its interfaces) exceeds fine + (l - 1) layer */
+        struct mpm_hlevel lv[MPM_MAX_LEVELS];
+        for (int l = 0; l < L->nlevels; l++) {
+            double dist = L->fine + l * L->layer;
+            lv[l].coarsen = L->coarsen;
+            memset(&lv[l].region, 0, sizeof lv[l].region);
+            lv[l].region.shape = REGION_BOX;
+            lv[l].region.outside = 1;
+            for (int d = 0; d < 3; d++) {
+                lv[l].region.lo[d] = handshake_face_coupled(L, 2 * d) ? L->md_lo[d] - dist : -1e30;
+                lv[l].region.hi[d] =
+                    handshake_face_coupled(L, 2 * d + 1) ? L->md_hi[d] + dist : 1e30;
+            }
+        }
+        struct mpm_hgrid *hg;
+        rc = mpm_hgrid_build(&hg, L->dom_lo, L->h, ncell, lv, L->nlevels, MPM_HANGING_MODIFIED, e);
+        if (rc)
+            return rc;
+        rc = mpm_grid_init_hier(&grid, hg, e);
+    } else {
+        rc = mpm_grid_init_uniform(&grid, L->dom_lo, L->h, ncell, MPM_SHAPE_LINEAR, e);
+    }
+    if (!rc)
+        rc = mpm_grid_set_faces(&grid, L->face, e);
+    if (!rc)
+        rc = mpm_init(&hs->mpm, &grid, 0, nthreads, e);
+    else
+        mpm_grid_free(&grid);
+    return rc;
+}
+
+/* --- MD particles --------------------------------------------------------- */
+
+struct atom_ctx {
+    struct handshake *hs;
+    struct particles *p;
+    int64_t next_id;
+    struct err *e;
+};
+
+static int set_region(struct handshake *hs, struct particles *p, int i, enum hs_region r)
+{
+    p->fields[hs->f_region].data[i] = (double)r;
+    for (int d = 0; d < 3; d++)
+        p->fields[hs->f_x0].data[3 * i + d] = p->x[3 * i + d];
+    if (r == HS_I)
+        p->mask[i] |= HS_MASK_I;
+    hs->counts[r]++;
+    return 0;
+}
+
+static int site_atom(void *ctx, const double x[3])
+{
+    struct atom_ctx *c = ctx;
+    enum hs_region r = handshake_classify(&c->hs->lay, x);
+    if (r != HS_CORE && r != HS_I)
+        return 0;
+    int i = particles_add(c->p, x, NULL, c->hs->cr.type, c->next_id++);
+    if (i < 0)
+        return err_nomem(c->e, "handshake atoms");
+    return set_region(c->hs, c->p, i, r);
+}
+
+static int add_md_particles(struct handshake *hs, struct particles **pp, struct err *e)
+{
+    const struct handshake_layout *L = &hs->lay;
+    struct particles *p = *pp ? *pp : particles_create(1024);
+    int fresh = p && p->n_owned == 0;
+    if (!p)
+        return err_nomem(e, "handshake particles");
+    *pp = p;
+    particles_clear_ghosts(p);
+    if ((hs->f_region = particles_add_field(p, "region", 1, 0, e)) < 0 ||
+        (hs->f_x0 = particles_add_field(p, "reference_position", 3, 0, e)) < 0)
+        return ERR_RUNTIME;
+    int64_t next_id = 1;
+    if (fresh) {
+        struct atom_ctx c = {hs, p, 1, e};
+        int rc = for_sites(L, L->md_lo, L->md_hi, site_atom, &c);
+        if (rc)
+            return rc;
+        next_id = c.next_id;
+    } else {
+        /* the case's own atoms: their regions from where they sit now */
+        int n = p->n_owned;
+        for (int i = 0; i < n; i++) {
+            if (p->id[i] >= next_id)
+                next_id = p->id[i] + 1;
+            const double *x = p->x + 3 * i;
+            int in_material = 1;
+            for (int d = 0; d < 3; d++)
+                in_material &= x[d] >= L->mat_lo[d] && x[d] < L->mat_hi[d];
+            /* atoms beyond the material (a projectile above a free face)
+             * are plain MD atoms */
+            enum hs_region r = in_material ? handshake_classify(L, x) : HS_CORE;
+            if (r != HS_CORE && r != HS_I)
+                return err_set(e, ERR_INPUT,
+                               "atom %lld at (%g, %g, %g) Å lies outside the MD region of the "
+                               "handshake",
+                               (long long)p->id[i], p->x[3 * i], p->x[3 * i + 1], p->x[3 * i + 2]);
+            set_region(hs, p, i, r);
+        }
+    }
+    hs->natoms = p->n_owned;
+    /* copies of regions II and III: ids id_base + point index */
+    hs->id_base = next_id;
+    const struct mpm_points *pt = &hs->mpm.pts;
+    for (long q = 0; q < pt->n; q++) {
+        uint32_t m = pt->mask[q] & (HS_MASK_II | HS_MASK_III);
+        if (!m || !(pt->mask[q] & HS_MASK_SITE))
+            continue;
+        hs->ncopies++;
+        int i = particles_add(p, pt->x + 3 * q, NULL, hs->cr.type, hs->id_base + q);
+        if (i < 0)
+            return err_nomem(e, "handshake particles");
+        p->mask[i] = m;   /* not in group "all": thermostats and velocities skip them */
+        p->fields[hs->f_region].data[i] = m == HS_MASK_II ? HS_II : HS_III;
+        for (int d = 0; d < 3; d++)
+            p->fields[hs->f_x0].data[3 * i + d] = p->x[3 * i + d];
+    }
+    return 0;
+}
+
+int handshake_create(struct handshake *hs, const struct handshake_layout *L,
+                     const struct handshake_crystal *cr, struct particles **p, int nthreads,
+                     struct err *e)
+{
+    memset(hs, 0, sizeof *hs);
+    hs->lay = *L;
+    hs->cr = *cr;
+    hs->omega0 = L->a * L->a * L->a / 4.0;
+    hs->rho = cr->mass / hs->omega0;
+    int rc = build_grid(hs, nthreads, e);
+    if (rc)
+        return rc;
+    struct mpm *m = &hs->mpm;
+    m->sort_every = 0;   /* point indices are the links of the MD copies */
+    struct mpm_material *mat = mpm_material_cubic_elastic("crystal", hs->rho, cr->c11, cr->c12,
+                                                          cr->c44);
+    if (!mat)
+        return err_nomem(e, "handshake material");
+    if (mpm_add_material(m, mat, e) < 0)
+        return ERR_RUNTIME;
+    struct mpm_body b;
+    memset(&b, 0, sizeof b);
+    snprintf(b.name, sizeof b.name, "crystal");
+    for (int d = 0; d < 3; d++)
+        b.lp[d] = 0.25;
+    if ((hs->body = mpm_add_body(m, &b, e)) < 0)
+        return ERR_RUNTIME;
+    struct fill_ctx c = {hs, 1, 0, e};
+    if ((rc = fill_points(&c)))
+        return rc;
+    if ((rc = mpm_points_reserve(&m->pts, c.n, e)))
+        return rc;
+    c.count_only = 0;
+    c.n = 0;
+    if ((rc = fill_points(&c)))
+        return rc;
+    for (long q = 0; q < m->pts.n; q++) {
+        uint32_t mk = m->pts.mask[q];
+        hs->counts[mk & HS_MASK_II ? HS_II : mk & HS_MASK_III ? HS_III : HS_MPM]++;
+    }
+    return add_md_particles(hs, p, e);
+}
+
+int handshake_setup(struct handshake *hs, struct md *md, const struct handshake_layout *L,
+                    const struct handshake_crystal *cr, struct potential *pot, double dt,
+                    double skin, int nthreads, struct err *e)
+{
+    struct particles *p = particles_create(1024);
+    if (!p) {
+        potential_destroy(&pot);
+        return err_nomem(e, "handshake particles");
+    }
+    struct handshake_crystal c = *cr;
+    c.type = particles_type_index(p, cr->element, cr->mass);
+    int rc = handshake_create(hs, L, &c, &p, nthreads, e);
+    if (rc) {
+        particles_destroy(&p);
+        potential_destroy(&pot);
+        return rc;
+    }
+    struct box box;
+    for (int d = 0; d < 3; d++) {
+        box.bc[d] = L->md_periodic[d] ? BOUNDARY_PERIODIC : BOUNDARY_FREE;
+        box.lo[d] = L->md_periodic[d] ? L->md_lo[d] : L->md_lo[d] - L->w[1] - L->w[2];
+        box.hi[d] = L->md_periodic[d] ? L->md_hi[d] : L->md_hi[d] + L->w[1] + L->w[2];
+    }
+    rc = md_init(md, p, &box, pot, dt, skin, nthreads, e);
+    if (!rc)
+        rc = handshake_connect(hs, md, e);
+    return rc;
+}

@@ -1,0 +1,486 @@
+/* handshake_case: common sections, the bar model and the outputs of the
+ * MPM/MD handshake case types (see handshake_case.h). */
+#include "couple/handshake_case.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "core/units.h"
+#include "mpm/mpm_hgrid.h"
+#include "scenarios/md_timestep.h"
+
+static const char *const coarsen_names[] = {"x", "y", "xy", "z", "xz", "yz", "xyz", NULL};
+
+int hs_case_read(struct cfg_obj *root, struct hs_case *c)
+{
+    struct cfg_obj o;
+    int rc;
+    const char *element;
+    c->cfg = root->cfg;
+    if ((rc = cfg_section_required(root, "crystal", &o)) ||
+        (rc = cfg_string(&o, "element", "Cu", &element)) ||
+        (rc = cfg_real(&o, "a_min", CFG_REQUIRED, CFG_GT(0), &c->a_min)) ||
+        (rc = cfg_real(&o, "a_max", CFG_REQUIRED, CFG_GT(0), &c->a_max)) || (rc = cfg_close(&o)))
+        return rc;
+    snprintf(c->element, sizeof c->element, "%s", element);
+    if (!(c->a_max > c->a_min))
+        return cfg_error_at(root->cfg, "crystal.a_max", "a_max = %g must exceed a_min = %g",
+                            c->a_max, c->a_min);
+    if ((rc = cfg_section_required(root, "potential", &o)) || (rc = potential_create(&o, &c->pot)))
+        return rc;
+    if ((rc = cfg_section(root, "elastic", &o)) ||
+        (rc = cfg_real(&o, "c11", 0, CFG_GE(0), &c->c_user[0])) ||
+        (rc = cfg_real(&o, "c12", 0, CFG_GE(0), &c->c_user[1])) ||
+        (rc = cfg_real(&o, "c44", 0, CFG_GE(0), &c->c_user[2])) ||
+        (rc = cfg_real(&o, "c11_scale", 1, CFG_GT(0), &c->c11_scale)) || (rc = cfg_close(&o)))
+        return rc;
+    int given = (c->c_user[0] > 0) + (c->c_user[1] > 0) + (c->c_user[2] > 0);
+    if (given != 0 && given != 3)
+        return cfg_error_at(root->cfg, "elastic",
+                            "give all of c11, c12, c44 or none (none: from the potential at 0 K)");
+    double regions_def[3] = {c->regions[0], c->regions[1], c->regions[2]};
+    int ci = 6;
+    for (int k = 0; coarsen_names[k]; k++)
+        if ((unsigned)(k + 1) == (unsigned)c->coarsen)
+            ci = k;
+    if ((rc = cfg_section(root, "handshake", &o)) ||
+        (rc = cfg_reals(&o, "regions", 3, regions_def, CFG_GT(0), c->regions)) ||
+        (rc = cfg_real(&o, "cell", c->cell, CFG_GT(0), &c->cell)) ||
+        (rc = cfg_real(&o, "fine", c->fine, CFG_GE(0), &c->fine)) ||
+        (rc = cfg_int(&o, "levels", c->levels, CFG_RANGE(0, MPM_MAX_LEVELS), &c->levels)) ||
+        (rc = cfg_enum(&o, "coarsen", coarsen_names[ci], coarsen_names, &ci)) ||
+        (rc = cfg_real(&o, "layer", c->layer, CFG_GT(0), &c->layer)) || (rc = cfg_close(&o)))
+        return rc;
+    c->coarsen = ci + 1;
+    if ((rc = cfg_section(root, "md", &o)) ||
+        (rc = cfg_real(&o, "timestep", c->dt, CFG_GT(0), &c->dt)) ||
+        (rc = cfg_int(&o, "steps", c->steps, CFG_GE(0), &c->steps)) ||
+        (rc = cfg_real(&o, "skin", c->skin, CFG_GT(0), &c->skin)) || (rc = cfg_close(&o)))
+        return rc;
+    if ((rc = cfg_section(root, "profile", &o)) ||
+        (rc = cfg_real(&o, "slab", c->slab, CFG_GT(0), &c->slab)) ||
+        (rc = cfg_int(&o, "every", c->profile_every, CFG_GE(1), &c->profile_every)) ||
+        (rc = cfg_close(&o)))
+        return rc;
+    double mpm_def[2] = {c->bar_mpm[0], c->bar_mpm[1]};
+    if ((rc = cfg_section(root, "bar", &o)) ||
+        (rc = cfg_reals(&o, "mpm", 2, mpm_def, CFG_GE(0), c->bar_mpm)) ||
+        (rc = cfg_real(&o, "md", c->bar_md, CFG_GT(0), &c->bar_md)) ||
+        (rc = cfg_real(&o, "width", c->bar_width, CFG_GT(0), &c->bar_width)) ||
+        (rc = cfg_close(&o)))
+        return rc;
+    return 0;
+}
+
+double hs_case_wave_speed(const struct hs_case *c, double c11)
+{
+    return sqrt(c11 / c->hs.rho * UNITS_FTM2V);
+}
+
+int hs_case_build(struct hs_case *c, enum mpm_face_bc x_hi_face, int end_margin, int nthreads)
+{
+    struct cfg *cfg = c->cfg;
+    struct err *e = cfg->err;
+    double a;
+    int rc = handshake_crystal_from_potential(c->pot, c->element, c->a_min, c->a_max, &c->md_cr,
+                                              &a, e);
+    if (rc)
+        return cfg_error_at(cfg, "crystal", "%s", e->msg);
+    c->a = a;
+    struct handshake_crystal cr = c->md_cr;
+    if (c->c_user[0] > 0) {
+        cr.c11 = c->c_user[0] / UNITS_EVA3_TO_GPA;
+        cr.c12 = c->c_user[1] / UNITS_EVA3_TO_GPA;
+        cr.c44 = c->c_user[2] / UNITS_EVA3_TO_GPA;
+    }
+    cr.c11 *= c->c11_scale;   /* Guo & Yang Fig. 5: C11 of the MPM doubled */
+    struct handshake_layout L;
+    memset(&L, 0, sizeof L);
+    L.a = a;
+    double len = c->bar_mpm[0] + c->bar_md + c->bar_mpm[1];
+    /* empty cells beyond a loaded end, room to stretch: one coarsest cell */
+    double margin = 0;
+    if (end_margin) {
+        margin = c->cell;
+        if (c->coarsen & 1)
+            for (long l = 0; l < c->levels; l++)
+                margin *= 2;
+    }
+    for (int d = 0; d < 3; d++) {
+        L.lat_origin[d] = 0.25 * a;
+        L.dom_lo[d] = L.mat_lo[d] = 0;
+        L.mat_hi[d] = (d == 0 ? len : c->bar_width) * a;
+        L.dom_hi[d] = (d == 0 ? len + margin : c->bar_width) * a;
+        L.md_lo[d] = d == 0 ? c->bar_mpm[0] * a : 0;
+        L.md_hi[d] = d == 0 ? (c->bar_mpm[0] + c->bar_md) * a : c->bar_width * a;
+        L.md_periodic[d] = d != 0;
+        L.w[d] = c->regions[d] * a;
+    }
+    L.h = c->cell * a;
+    L.fine = c->fine * a;
+    L.nlevels = (int)c->levels;
+    L.coarsen = (unsigned)c->coarsen;
+    L.layer = c->layer * a;
+    for (int f = 0; f < 6; f++)
+        L.face[f] = MPM_FACE_SLIDING;
+    L.face[1] = x_hi_face;
+    enum hs_layout_key key;
+    char why[512];
+    static const char *const key_path[HS_KEY_COUNT] = {
+        "handshake.regions", "handshake.cell", "handshake.fine",
+        "handshake.levels",  "handshake.layer", "bar.mpm",       "bar.md"};
+    if (handshake_layout_check(&L, c->pot->cutoff, &key, why, sizeof why))
+        return cfg_error_at(cfg, key_path[key], "%s", why);
+    struct potential *pot = c->pot;
+    c->pot = NULL;   /* the md owns it from here, even on failure */
+    rc = handshake_setup(&c->hs, &c->md, &L, &cr, pot, c->dt, c->skin, nthreads, e);
+    c->built = 1;
+    if (rc)
+        return rc;
+    if ((rc = md_check_timestep(&c->md, cfg, "md.timestep")))
+        return rc;
+    return hs_profile_init(&c->prof, &c->hs, 0, c->slab * a, e);
+}
+
+void hs_case_free(struct hs_case *c)
+{
+    if (c->built) {
+        handshake_free(&c->hs);
+        md_free(&c->md);
+    }
+    potential_destroy(&c->pot);
+    hs_profile_free(&c->prof);
+    if (c->profile_csv)
+        fclose(c->profile_csv);
+    free(c->ibuf);
+    free(c->dbuf);
+}
+
+/* --- loads ------------------------------------------------------------------ */
+
+/* A traction t (eV/Å^3, along +x) on the points of the last cell layer at
+ * the x_hi end: f_p = t V_p / l with l the layer's thickness, so that the
+ * layer carries t x cross-section (Guo & Yang: "forces on boundary are
+ * applied on material points along [100]"). */
+int hs_apply_end_traction(struct handshake *hs, double t, struct err *e)
+{
+    struct mpm *m = &hs->mpm;
+    struct mpm_points *pt = &m->pts;
+    const double xe = hs->lay.mat_hi[0];
+    /* the thickness of the end layer: x extent of the cell holding a point
+     * next to the end */
+    double lo[3], hi[3], thick = 0;
+    mpm_grid_bounds(&m->grid, lo, hi);
+    double xmax = -INFINITY;
+    for (long q = 0; q < pt->n; q++)
+        xmax = fmax(xmax, pt->x0[3 * q]);
+    double cell = m->grid.h;
+    if (m->grid.kind == MPM_GRID_HIER) {
+        double probe[3] = {xmax, 0.5 * (lo[1] + hi[1]), 0.5 * (lo[2] + hi[2])};
+        long k = mpm_hgrid_find(m->grid.hg, probe);
+        if (k >= 0)
+            cell = (double)(1L << m->grid.hg->cell[k].lg[0]) * m->grid.h;
+    }
+    thick = cell;
+    int rc = mpm_points_enable_fext(pt, e);
+    if (rc)
+        return rc;
+    long n = 0;
+    for (long q = 0; q < pt->n; q++) {
+        if (pt->x0[3 * q] < xe - thick)
+            continue;
+        pt->fext[3 * q] = t * pt->vol0[q] / thick;
+        n++;
+    }
+    if (n == 0)
+        return err_set(e, ERR_RUNTIME, "no material point at the loaded end");
+    mpm_points_moved(m);
+    return 0;
+}
+
+/* --- outputs ---------------------------------------------------------------- */
+
+#define HS_BASE_COLS 7
+#define HS_MAX_COLS 24
+static const char *const base_cols[HS_BASE_COLS] = {
+    "step", "time_ps", "md_ke_eV", "md_pe_eV", "mpm_ke_eV", "mpm_strain_eV", "etotal_eV"};
+
+int hs_case_output_begin(struct hs_case *c, struct run *run, const char *const *extra, int nextra,
+                         struct err *e)
+{
+    const char *cols[HS_MAX_COLS];
+    int n = 0;
+    for (int k = 0; k < HS_BASE_COLS; k++)
+        cols[n++] = base_cols[k];
+    for (int k = 0; k < nextra && n < HS_MAX_COLS; k++)
+        cols[n++] = extra[k];
+    if (run_thermo_header(run, cols, n) != 0)
+        return err_set(e, ERR_RUNTIME, "%s: cannot write thermo.csv", run->opt.out_dir);
+    if (run->opt.rank == 0) {
+        char path[4096];
+        run_path(run, "profile.csv", path, sizeof path);
+        c->profile_csv = fopen(path, "w");
+        if (!c->profile_csv)
+            return err_set(e, ERR_RUNTIME, "%s: cannot create", path);
+        fprintf(c->profile_csv,
+                "# stress along the bar: MD slabs (source 0: per-atom virial stress) and MPM "
+                "slabs (source 1: material point stress), slab %g Å\n"
+                "step,time_ps,x_A,source,count,sxx_GPa,syy_GPa,szz_GPa,sxy_GPa,sxz_GPa,syz_GPa,"
+                "ux_A,vx_A_ps,sxx_analytic_GPa\n",
+                c->prof.width);
+    }
+    return 0;
+}
+
+void hs_case_thermo(struct hs_case *c, struct run *run, const double *extra, int nextra)
+{
+    struct handshake_energy en;
+    handshake_energy(&c->hs, &en);
+    double row[HS_MAX_COLS] = {(double)c->hs.step, c->hs.time, en.md_kinetic, en.md_potential,
+                               en.mpm_kinetic, en.mpm_strain, en.total};
+    int n = HS_BASE_COLS;
+    for (int k = 0; k < nextra && n < HS_MAX_COLS; k++)
+        row[n++] = extra[k];
+    run_thermo_row(run, row, n);
+}
+
+static int grow(struct hs_case *c, long n, struct err *e)
+{
+    if (n <= c->cap)
+        return 0;
+    int64_t *ib = realloc(c->ibuf, (size_t)n * sizeof *ib);
+    if (ib)
+        c->ibuf = ib;
+    double *db = realloc(c->dbuf, (size_t)6 * n * sizeof *db);
+    if (db)
+        c->dbuf = db;
+    if (!ib || !db)
+        return err_nomem(e, "handshake output");
+    c->cap = n;
+    return 0;
+}
+
+/* Level of the grid cell a point started in (0 on a uniform grid). */
+static int point_level(const struct handshake *hs, long q)
+{
+    const struct mpm_grid *g = &hs->mpm.grid;
+    if (g->kind != MPM_GRID_HIER)
+        return 0;
+    long cell = mpm_hgrid_find(g->hg, hs->mpm.pts.x0 + 3 * q);
+    return cell >= 0 ? g->hg->cell[cell].level : -1;
+}
+
+int hs_case_snapshot(struct hs_case *c, struct run *run, struct err *e)
+{
+    if (!run->h5_open)
+        return 0;
+    struct handshake *hs = &c->hs;
+    struct particles *p = c->md.p;
+    long n = p->n_owned;
+    const struct mpm_points *pt = &hs->mpm.pts;
+    int rc = grow(c, n > pt->n ? n : pt->n, e);
+    if (rc)
+        return rc;
+    struct h5out *h = &run->h5;
+    hid_t g = h5out_begin_snapshot(h, "particles", hs->step, hs->time, n, e);
+    if (g < 0)
+        return ERR_RUNTIME;
+    rc = h5out_write_doubles(h, g, "position", p->x, n, 3, "Å", e);
+    if (!rc)
+        rc = h5out_write_doubles(h, g, "velocity", p->v, n, 3, "Å/ps", e);
+    if (!rc)
+        rc = h5out_write_doubles(h, g, "force", p->f, n, 3, "eV/Å", e);
+    if (!rc)
+        rc = h5out_write_doubles(h, g, "pe", p->pe, n, 1, "eV", e);
+    for (long i = 0; i < n; i++) {   /* virial stress over the atomic volume */
+        const double *v = p->v + 3 * i, *w = p->virial + 6 * i;
+        double m = p->mass[p->type[i]] * UNITS_MVV2E;
+        double kv[6] = {v[0] * v[0], v[1] * v[1], v[2] * v[2], v[0] * v[1], v[0] * v[2], v[1] * v[2]};
+        for (int k = 0; k < 6; k++)
+            c->dbuf[6 * i + k] = -(w[k] + m * kv[k]) / hs->omega0 * UNITS_EVA3_TO_GPA;
+    }
+    if (!rc)
+        rc = h5out_write_doubles(h, g, "stress", c->dbuf, n, 6, "GPa", e);
+    for (long i = 0; i < n; i++)
+        c->ibuf[i] = p->id[i];
+    if (!rc)
+        rc = h5out_write_ints(h, g, "id", c->ibuf, n, "1", e);
+    for (long i = 0; i < n; i++)
+        c->ibuf[i] = (int64_t)p->fields[hs->f_region].data[i];
+    if (!rc)
+        rc = h5out_write_ints(h, g, "region", c->ibuf, n, "1", e);
+    h5out_end_snapshot(h, g);
+    if (rc)
+        return rc;
+    long np = pt->n;
+    g = h5out_begin_snapshot(h, "points", hs->step, hs->time, np, e);
+    if (g < 0)
+        return ERR_RUNTIME;
+    rc = h5out_write_doubles(h, g, "position", pt->x, np, 3, "Å", e);
+    for (long q = 0; q < np; q++)
+        for (int d = 0; d < 3; d++)
+            c->dbuf[3 * q + d] = pt->x[3 * q + d] - pt->x0[3 * q + d];
+    if (!rc)
+        rc = h5out_write_doubles(h, g, "displacement", c->dbuf, np, 3, "Å", e);
+    if (!rc)
+        rc = h5out_write_doubles(h, g, "velocity", pt->v, np, 3, "Å/ps", e);
+    for (long k = 0; k < 6 * np; k++)
+        c->dbuf[k] = pt->stress[k] * UNITS_EVA3_TO_GPA;
+    if (!rc)
+        rc = h5out_write_doubles(h, g, "stress", c->dbuf, np, 6, "GPa", e);
+    if (!rc)
+        rc = h5out_write_doubles(h, g, "mass", pt->mass, np, 1, "amu", e);
+    if (!rc)
+        rc = h5out_write_doubles(h, g, "volume", pt->vol, np, 1, "Å^3", e);
+    for (long q = 0; q < np; q++)
+        c->ibuf[q] = pt->mask[q] & HS_MASK_II ? HS_II : pt->mask[q] & HS_MASK_III ? HS_III : HS_MPM;
+    if (!rc)
+        rc = h5out_write_ints(h, g, "region", c->ibuf, np, "1", e);
+    for (long q = 0; q < np; q++)
+        c->ibuf[q] = point_level(hs, q);
+    if (!rc)
+        rc = h5out_write_ints(h, g, "level", c->ibuf, np, "1", e);
+    h5out_end_snapshot(h, g);
+    return rc;
+}
+
+int hs_case_profile(struct hs_case *c, struct run *run, double (*analytic)(const void *, double),
+                    const void *ctx, struct err *e)
+{
+    struct hs_profile *pr = &c->prof;
+    hs_profile_compute(pr, &c->hs);
+    const double G = UNITS_EVA3_TO_GPA;
+    long nrow = 0;
+    for (long k = 0; k < pr->nbins; k++)
+        nrow += (pr->md[k].n > 0) + (pr->mpm[k].n > 0);
+    int rc = grow(c, nrow, e);
+    if (rc)
+        return rc;
+    double *x = malloc((size_t)(nrow ? nrow : 1) * 10 * sizeof *x);
+    if (!x)
+        return err_nomem(e, "profile");
+    double *s6 = x + nrow, *u = s6 + 6 * nrow, *v = u + nrow, *an = v + nrow;
+    long r = 0;
+    for (long k = 0; k < pr->nbins; k++)
+        for (int src = 0; src < 2; src++) {
+            const struct hs_slab *s = src == HS_SRC_MD ? &pr->md[k] : &pr->mpm[k];
+            if (s->n == 0)
+                continue;
+            x[r] = hs_profile_x(pr, k);
+            c->ibuf[r] = src;
+            for (int q = 0; q < 6; q++)
+                s6[6 * r + q] = s->stress[q] * G;
+            u[r] = s->u;
+            v[r] = s->v;
+            an[r] = analytic ? analytic(ctx, x[r]) * G : NAN;
+            if (c->profile_csv)
+                fprintf(c->profile_csv,
+                        "%ld,%.6g,%.6g,%d,%ld,%.8g,%.8g,%.8g,%.8g,%.8g,%.8g,%.8g,%.8g,%.8g\n",
+                        c->hs.step, c->hs.time, x[r], src, s->n, s6[6 * r], s6[6 * r + 1],
+                        s6[6 * r + 2], s6[6 * r + 3], s6[6 * r + 4], s6[6 * r + 5], u[r], v[r],
+                        an[r]);
+            r++;
+        }
+    if (run->h5_open) {
+        hid_t g = h5out_begin_snapshot(&run->h5, "profiles", c->hs.step, c->hs.time, nrow, e);
+        if (g < 0)
+            rc = ERR_RUNTIME;
+        if (!rc)
+            rc = h5out_write_doubles(&run->h5, g, "x", x, nrow, 1, "Å", e);
+        if (!rc)
+            rc = h5out_write_ints(&run->h5, g, "source", c->ibuf, nrow, "0 MD, 1 MPM", e);
+        if (!rc)
+            rc = h5out_write_doubles(&run->h5, g, "stress", s6, nrow, 6, "GPa", e);
+        if (!rc)
+            rc = h5out_write_doubles(&run->h5, g, "displacement_x", u, nrow, 1, "Å", e);
+        if (!rc)
+            rc = h5out_write_doubles(&run->h5, g, "velocity_x", v, nrow, 1, "Å/ps", e);
+        if (!rc && analytic)
+            rc = h5out_write_doubles(&run->h5, g, "sxx_analytic", an, nrow, 1, "GPa", e);
+        if (g >= 0)
+            h5out_end_snapshot(&run->h5, g);
+    }
+    free(x);
+    if (c->profile_csv)
+        fflush(c->profile_csv);
+    return rc;
+}
+
+int hs_case_output_end(struct hs_case *c, struct run *run, struct err *e)
+{
+    struct handshake *hs = &c->hs;
+    struct result *res = &run->result;
+    const struct handshake_layout *L = &hs->lay;
+    const double G = UNITS_EVA3_TO_GPA;
+    result_metric(res, "atoms", (double)(hs->counts[HS_CORE] + hs->counts[HS_I] +
+                                         hs->counts[HS_FIXED]), "1");
+    result_metric(res, "atoms_region_I", (double)hs->counts[HS_I], "1");
+    result_metric(res, "points", (double)hs->mpm.pts.n, "1");
+    result_metric(res, "points_region_II", (double)hs->counts[HS_II], "1");
+    result_metric(res, "points_region_III", (double)hs->counts[HS_III], "1");
+    result_metric(res, "nodes", (double)hs->mpm.grid.nnodes, "1");
+    /* lattice sites the MPM domain holds outside the MD region: the atoms a
+     * full MD model would need there */
+    double vd = 1, vb = 1;
+    for (int d = 0; d < 3; d++) {
+        vd *= L->mat_hi[d] - L->mat_lo[d];
+        vb *= L->md_hi[d] - L->md_lo[d];
+    }
+    double replaced = (vd - vb) / hs->omega0;
+    result_metric(res, "atoms_replaced", replaced, "1");
+    result_metric(res, "atoms_per_point", hs->mpm.pts.n ? replaced / hs->mpm.pts.n : 0, "1");
+    double coarse = L->h;
+    for (int l = 0; l < L->nlevels; l++)
+        coarse *= 2;
+    result_metric(res, "finest_cell", L->h, "Å");
+    result_metric(res, "coarse_cell", L->nlevels > 0 ? coarse : L->h, "Å");
+    result_metric(res, "lattice_constant", c->a, "Å");
+    result_metric(res, "c11_md", c->md_cr.c11 * G, "GPa");
+    result_metric(res, "c12_md", c->md_cr.c12 * G, "GPa");
+    result_metric(res, "c44_md", c->md_cr.c44 * G, "GPa");
+    result_metric(res, "c11_mpm", hs->cr.c11 * G, "GPa");
+    result_metric(res, "c12_mpm", hs->cr.c12 * G, "GPa");
+    result_metric(res, "c44_mpm", hs->cr.c44 * G, "GPa");
+    result_metric(res, "steps_done", (double)hs->step, "1");
+    result_metric(res, "time", hs->time, "ps");
+    result_metric(res, "timestep", c->md.dt, "ps");
+    struct handshake_energy en;
+    handshake_energy(hs, &en);
+    result_metric(res, "md_ke", en.md_kinetic, "eV");
+    result_metric(res, "md_pe", en.md_potential, "eV");
+    result_metric(res, "mpm_ke", en.mpm_kinetic, "eV");
+    result_metric(res, "mpm_strain_energy", en.mpm_strain, "eV");
+    result_metric(res, "etotal", en.total, "eV");
+    /* the last profile as series (x, source, sxx, szz) */
+    struct hs_profile *pr = &c->prof;
+    hs_profile_compute(pr, hs);
+    long nrow = 0;
+    for (long k = 0; k < pr->nbins; k++)
+        nrow += (pr->md[k].n > 0) + (pr->mpm[k].n > 0);
+    double *buf = malloc((size_t)(nrow ? nrow : 1) * 4 * sizeof *buf);
+    if (!buf)
+        return err_nomem(e, "profile series");
+    long r = 0;
+    for (long k = 0; k < pr->nbins; k++)
+        for (int src = 0; src < 2; src++) {
+            const struct hs_slab *s = src == HS_SRC_MD ? &pr->md[k] : &pr->mpm[k];
+            if (s->n == 0)
+                continue;
+            buf[r] = hs_profile_x(pr, k);
+            buf[nrow + r] = src;
+            buf[2 * nrow + r] = s->stress[0] * G;
+            buf[3 * nrow + r] = s->stress[2] * G;
+            r++;
+        }
+    result_series(res, "profile_x", buf, (int)nrow, "Å");
+    result_series(res, "profile_source", buf + nrow, (int)nrow, "0 MD, 1 MPM");
+    result_series(res, "profile_sxx", buf + 2 * nrow, (int)nrow, "GPa");
+    result_series(res, "profile_szz", buf + 3 * nrow, (int)nrow, "GPa");
+    free(buf);
+    if (c->profile_csv) {
+        fclose(c->profile_csv);
+        c->profile_csv = NULL;
+    }
+    return 0;
+}

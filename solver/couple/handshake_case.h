@@ -1,0 +1,106 @@
+/*
+ * handshake_case: what the MPM/MD handshake case types share -- the common
+ * sections of their case files, the bar geometry, building the model, and
+ * the outputs (thermo, snapshots with the region of every atom and point,
+ * stress profiles along the bar from both sides).
+ *
+ *   crystal:   {element: Cu, a_min: 3.5, a_max: 3.7}
+ *              fcc; the lattice constant is the potential's 0 K minimum in
+ *              [a_min, a_max] (so the crystal starts stress-free)
+ *   potential: {style: eam/alloy, file: Cu_mishin1.eam.alloy}
+ *   elastic:   {c11: 0, c12: 0, c44: 0, c11_scale: 1}
+ *              GPa, the MPM's cubic constants; 0 = from the potential at
+ *              0 K (type: crystal), or give the values of type: elastic at
+ *              a temperature; c11_scale multiplies C11 (Guo & Yang Fig. 5)
+ *   handshake:
+ *     regions: [2, 2, 2]   widths of regions I, II, III (lattice constants)
+ *     cell: 1              finest cell (1 or 0.5 lattice constants)
+ *     fine: 8              the coarse grid starts this far from the MD region
+ *     levels: 2            coarsening levels (0: uniform grid)
+ *     coarsen: xyz         directions halved per level
+ *     layer: 8             width of each coarse level before the next
+ *   md:        {timestep: 0.001, steps: 2000, skin: 1.0}   (ps, Å)
+ *   profile:   {slab: 1, every: 100}   slab width (lattice constants) and
+ *              steps between the stress profiles along the bar
+ *   bar:       {mpm: [48, 48], md: 32, width: 8}   lattice constants: the
+ *              MPM parts left and right of the MD region (0 on the right:
+ *              the MD reaches the end of the bar), the MD length, the
+ *              square cross-section (periodic in MD, sliding in MPM)
+ */
+#ifndef CASCADE_HANDSHAKE_CASE_H
+#define CASCADE_HANDSHAKE_CASE_H
+
+#include <stdio.h>
+
+#include "couple/handshake.h"
+#include "couple/handshake_profile.h"
+#include "scenarios/case_type.h"
+
+struct hs_case {
+    /* read */
+    struct potential *pot;        /* until the md owns it */
+    char element[16];
+    double a_min, a_max;
+    double c_user[3];             /* GPa, 0: from the potential */
+    double c11_scale;
+    double regions[3], cell, fine, layer;   /* lattice constants */
+    long levels;
+    int coarsen;                  /* direction bits */
+    double dt, skin;              /* ps, Å */
+    long steps;
+    double slab;                  /* lattice constants */
+    long profile_every;
+    double bar_mpm[2], bar_md, bar_width;   /* lattice constants */
+    struct cfg *cfg;              /* for errors found while building */
+    /* built */
+    int built;
+    double a;                     /* Å */
+    struct handshake_crystal md_cr;   /* the MD crystal's own constants */
+    struct md md;
+    struct handshake hs;
+    struct hs_profile prof;
+    /* output */
+    FILE *profile_csv;
+    int64_t *ibuf;
+    double *dbuf;
+    long cap;
+};
+
+/* Read crystal, potential, elastic, handshake, md, profile and bar. */
+int hs_case_read(struct cfg_obj *root, struct hs_case *c);
+
+/* Build the bar: material [0, mpm_left + md + mpm_right) x [0, width)^2
+ * with the MD region after mpm_left; x faces sliding (x_lo) and
+ * `x_hi_face`; with end_margin the grid goes one coarsest cell beyond the
+ * x_hi end, so that a loaded free end can move out without its points
+ * leaving the grid.  Layout refusals name the case key. */
+int hs_case_build(struct hs_case *c, enum mpm_face_bc x_hi_face, int end_margin, int nthreads);
+
+void hs_case_free(struct hs_case *c);
+
+/* Bar coordinates (Å): the interfaces and the ends. */
+static inline double hs_case_x_left(const struct hs_case *c) { return c->hs.lay.md_lo[0]; }
+static inline double hs_case_x_right(const struct hs_case *c) { return c->hs.lay.md_hi[0]; }
+static inline double hs_case_length(const struct hs_case *c) { return c->hs.lay.mat_hi[0]; }
+
+/* Longitudinal wave speed along [100] (Å/ps) of constants c11 (eV/Å^3). */
+double hs_case_wave_speed(const struct hs_case *c, double c11);
+
+/* A traction t (eV/Å^3, +x) on the last cell layer at the x_hi end, as
+ * point forces (scaled by the handshake's ramp). */
+int hs_apply_end_traction(struct handshake *hs, double t, struct err *e);
+
+/* Outputs.  `extra` names further thermo columns (with units in the name). */
+int hs_case_output_begin(struct hs_case *c, struct run *run, const char *const *extra, int nextra,
+                         struct err *e);
+void hs_case_thermo(struct hs_case *c, struct run *run, const double *extra, int nextra);
+int hs_case_snapshot(struct hs_case *c, struct run *run, struct err *e);
+/* Profile at the current step to profile.csv and the HDF5 file; analytic
+ * (may be NULL) gives the analytical sigma_xx (eV/Å^3) at x (Å). */
+int hs_case_profile(struct hs_case *c, struct run *run, double (*analytic)(const void *, double),
+                    const void *ctx, struct err *e);
+/* Metrics every handshake case reports (sizes, constants, energies), the
+ * final profile as result series, and closing the outputs. */
+int hs_case_output_end(struct hs_case *c, struct run *run, struct err *e);
+
+#endif

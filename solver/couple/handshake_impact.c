@@ -1,0 +1,213 @@
+/* handshake_impact: the MPM/MD handshake around a cluster-impact target
+ * (Guo & Yang 2005, section 3.2, Fig. 12; see handshake_impact.h). */
+#include "couple/handshake_impact.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "core/units.h"
+#include "couple/handshake.h"
+#include "output/result.h"
+
+struct hs_impact {
+    double mpm, regions[3], cell, fine, layer;   /* lattice constants */
+    long levels;
+    int coarsen;                                 /* direction bits x 1, y 2, z 4 */
+    double a;                                    /* Å: target.a */
+    struct handshake hs;
+    int built;
+    struct handshake_energy e0;                  /* when the run starts */
+};
+
+static const char *const coarsen_names[] = {"x", "y", "xy", "z", "xz", "yz", "xyz", NULL};
+
+int handshake_impact_read(struct cfg_obj *t, struct impact_boundary *b)
+{
+    struct cfg *cfg = t->cfg;
+    /* lattice, a and temperature are read before the boundary */
+    json_t *lat = json_object_get(t->node, "lattice");
+    if (json_is_string(lat) && strcmp(json_string_value(lat), "fcc") != 0)
+        return cfg_error_at(cfg, "target.lattice",
+                            "boundary 'handshake' needs an fcc target (its MPM is cubic elastic "
+                            "with regions II and III on fcc sites), not '%s'",
+                            json_string_value(lat));
+    double temp = json_number_value(json_object_get(t->node, "temperature"));
+    if (temp > 0)
+        return cfg_error_at(cfg, "target.temperature",
+                            "boundary 'handshake' runs at 0 K only (the material points are not "
+                            "thermalised), not %g K",
+                            temp);
+    struct hs_impact *h = calloc(1, sizeof *h);
+    if (!h)
+        return err_nomem(cfg->err, "handshake boundary");
+    b->data = h;   /* freed by handshake_impact_destroy, also on errors */
+    h->a = json_number_value(json_object_get(t->node, "a"));
+    static const double regions_def[3] = {2, 2, 2};
+    int ci, rc;
+    struct cfg_obj o;
+    if ((rc = cfg_section(t, "handshake", &o)) ||
+        (rc = cfg_real(&o, "mpm", 16, CFG_GT(0), &h->mpm)) ||
+        (rc = cfg_reals(&o, "regions", 3, regions_def, CFG_GT(0), h->regions)) ||
+        (rc = cfg_real(&o, "cell", 1, CFG_GT(0), &h->cell)) ||
+        (rc = cfg_real(&o, "fine", 6, CFG_GE(0), &h->fine)) ||
+        (rc = cfg_int(&o, "levels", 2, CFG_RANGE(0, MPM_MAX_LEVELS), &h->levels)) ||
+        (rc = cfg_enum(&o, "coarsen", "xyz", coarsen_names, &ci)) ||
+        (rc = cfg_real(&o, "layer", 4, CFG_GT(0), &h->layer)) || (rc = cfg_close(&o)))
+        return rc;
+    h->coarsen = ci + 1;
+    b->peratom = 1;   /* region I gives the MPM its virial stress every step */
+    return 0;
+}
+
+/* Layout refusals name the key under target.handshake. */
+static const char *const key_path[HS_KEY_COUNT] = {
+    "target.handshake.regions", "target.handshake.cell",  "target.handshake.fine",
+    "target.handshake.levels",  "target.handshake.layer", "target.handshake.mpm",
+    "target.cells"};
+
+int handshake_impact_prepare(struct impact_boundary *b, struct particles *p, struct box *box,
+                             struct potential *pot, int nthreads, struct cfg *cfg)
+{
+    struct hs_impact *h = b->data;
+    struct err *e = cfg->err;
+    /* the target: the atoms that are not the cluster (lattice_fill puts a
+     * site at its lower corner) */
+    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    int type = -1;
+    for (int i = 0; i < p->n_owned; i++) {
+        if (p->mask[i] & IMPACT_GROUP_CLUSTER)
+            continue;
+        if (type < 0)
+            type = p->type[i];
+        for (int d = 0; d < 3; d++) {
+            lo[d] = fmin(lo[d], p->x[3 * i + d]);
+            hi[d] = fmax(hi[d], p->x[3 * i + d]);
+        }
+    }
+    if (type < 0)
+        return cfg_error_at(cfg, "target.cells", "boundary 'handshake': the target has no atoms");
+    struct handshake_crystal cr;
+    double a0, a = h->a;
+    int rc = handshake_crystal_from_potential(pot, p->type_name[type], 0.9 * a, 1.1 * a, &cr,
+                                              &a0, e);
+    if (rc) {
+        char msg[ERR_MSG_MAX];
+        snprintf(msg, sizeof msg, "%s", e->msg);
+        return cfg_error_at(cfg, "target.a", "boundary 'handshake': %s", msg);
+    }
+    /* the MPM is stress-free at its sites: the MD must start so too */
+    if (fabs(a / a0 - 1) > 1e-3)
+        return cfg_error_at(cfg, "target.a",
+                            "boundary 'handshake' needs the target at the potential's 0 K "
+                            "lattice constant %.5f Å, not %g Å: the MPM is stress-free at its "
+                            "lattice sites",
+                            a0, a);
+    cr.type = type;
+    cr.mass = p->mass[type];
+    struct handshake_layout L;
+    memset(&L, 0, sizeof L);
+    L.a = a;
+    for (int d = 0; d < 3; d++) {
+        L.lat_origin[d] = lo[d];
+        L.md_lo[d] = lo[d] - 0.25 * a;
+        L.md_hi[d] = hi[d] + 0.25 * a;
+        L.dom_lo[d] = L.mat_lo[d] = L.md_lo[d] - h->mpm * a;
+        /* the top (+z) is the free surface: no MPM above it */
+        L.dom_hi[d] = L.mat_hi[d] = d == 2 ? L.md_hi[d] : L.md_hi[d] + h->mpm * a;
+        L.w[d] = h->regions[d] * a;
+        L.face[2 * d] = L.face[2 * d + 1] = MPM_FACE_FIXED;
+    }
+    L.face[5] = MPM_FACE_FREE;
+    L.h = h->cell * a;
+    L.fine = h->fine * a;
+    L.nlevels = (int)h->levels;
+    L.coarsen = (unsigned)h->coarsen;
+    L.layer = h->layer * a;
+    enum hs_layout_key key;
+    char why[512];
+    if (handshake_layout_check(&L, pot->cutoff, &key, why, sizeof why))
+        return cfg_error_at(cfg, key_path[key], "%s", why);
+    rc = handshake_create(&h->hs, &L, &cr, &p, nthreads, e);
+    h->built = 1;   /* handshake_free also undoes a partial build */
+    if (rc)
+        return rc;
+    /* room for the copies of regions II and III below and beside the target */
+    double shell = L.w[1] + L.w[2];
+    for (int d = 0; d < 3; d++) {
+        box->lo[d] = fmin(box->lo[d], L.md_lo[d] - shell);
+        if (d < 2)
+            box->hi[d] = fmax(box->hi[d], L.md_hi[d] + shell);
+    }
+    return 0;
+}
+
+int handshake_impact_setup(struct impact_boundary *b, struct md *md, const double lo[3],
+                           const double hi[3], struct err *e)
+{
+    (void)lo;
+    (void)hi;
+    struct hs_impact *h = b->data;
+    int rc = handshake_connect(&h->hs, md, e);
+    if (!rc)
+        handshake_energy(&h->hs, &h->e0);
+    return rc;
+}
+
+/* Before every md_step: region I at t to the MPM, the MPM to t + dt, the
+ * copies of regions II and III to where the MPM put them (handshake.h). */
+int handshake_impact_pre_step(struct impact_boundary *b, struct md *md, struct err *e)
+{
+    struct hs_impact *h = b->data;
+    h->hs.mpm.timers = md->timers;
+    int rc = handshake_advance_mpm(&h->hs, e);
+    if (!rc) {
+        h->hs.step++;
+        h->hs.time += h->hs.md->dt;
+    }
+    return rc;
+}
+
+uint32_t handshake_impact_exclude(const struct impact_boundary *b)
+{
+    (void)b;
+    return HS_MASK_II | HS_MASK_III;   /* the copies: material points, not atoms */
+}
+
+void handshake_impact_report(const struct impact_boundary *b, struct result *r)
+{
+    const struct hs_impact *h = b->data;
+    if (!h || !h->built)
+        return;
+    const struct handshake *hs = &h->hs;
+    const struct handshake_layout *L = &hs->lay;
+    struct handshake_energy en;
+    handshake_energy(hs, &en);
+    double vd = 1, vb = 1;
+    for (int d = 0; d < 3; d++) {
+        vd *= L->mat_hi[d] - L->mat_lo[d];
+        vb *= L->md_hi[d] - L->md_lo[d];
+    }
+    result_metric(r, "mpm_points", (double)hs->mpm.pts.n, "1");
+    result_metric(r, "mpm_nodes", (double)hs->mpm.grid.nnodes, "1");
+    result_metric(r, "atoms_region_I", (double)hs->counts[HS_I], "1");
+    result_metric(r, "copies_region_II_III", (double)hs->ncopies, "1");
+    result_metric(r, "atoms_replaced", (vd - vb) / hs->omega0, "1");
+    result_metric(r, "mpm_energy", en.mpm_kinetic + en.mpm_strain, "eV");
+    result_metric(r, "mpm_kinetic_energy", en.mpm_kinetic, "eV");
+    /* MD atoms (kinetic + potential above the perfect crystal) + MPM */
+    result_metric(r, "coupled_energy_initial", h->e0.total, "eV");
+    result_metric(r, "coupled_energy_final", en.total, "eV");
+    result_metric(r, "c11_mpm", hs->cr.c11 * UNITS_EVA3_TO_GPA, "GPa");
+}
+
+void handshake_impact_destroy(struct impact_boundary *b)
+{
+    struct hs_impact *h = b->data;
+    if (!h)
+        return;
+    if (h->built)
+        handshake_free(&h->hs);
+    free(h);
+    b->data = NULL;
+}

@@ -1,0 +1,41 @@
+/*
+ * handshake_impact: the MPM/MD handshake as the boundary of a cluster-impact
+ * target, `target.boundary: handshake` of type cluster_impact (Guo & Yang
+ * 2005, section 3.2 and Fig. 12: the MD target embedded in hierarchical MPM
+ * layers).  The functions fill the `handshake` row of impact_boundaries[]
+ * (solver/scenarios/impact_boundary.h).
+ *
+ *   target:
+ *     boundary: handshake
+ *     handshake:
+ *       mpm: 16              lattice constants of MPM beyond the MD target on
+ *                            its four sides and below it (its top stays free)
+ *       regions: [2, 2, 2]   widths of regions I, II, III (lattice constants)
+ *       cell: 1              finest cell (1 or 0.5 lattice constants)
+ *       fine: 6              the coarse grid starts this far from the MD
+ *       levels: 2            coarsening levels (0: uniform grid)
+ *       coarsen: xyz         directions halved per level
+ *       layer: 4             width of each coarse level before the next
+ *
+ * The outer faces of the MPM are fixed ("the rest five surfaces are fixed")
+ * and its top is free, flush with the target's surface.  The MPM is cubic
+ * elastic with the potential's 0 K constants; the target must be fcc at the
+ * potential's lattice constant and at 0 K (the MPM points are not
+ * thermalised).
+ */
+#ifndef CASCADE_HANDSHAKE_IMPACT_H
+#define CASCADE_HANDSHAKE_IMPACT_H
+
+#include "scenarios/impact_boundary.h"
+
+int handshake_impact_read(struct cfg_obj *target, struct impact_boundary *b);
+int handshake_impact_prepare(struct impact_boundary *b, struct particles *p, struct box *box,
+                             struct potential *pot, int nthreads, struct cfg *cfg);
+int handshake_impact_setup(struct impact_boundary *b, struct md *md, const double lo[3],
+                           const double hi[3], struct err *e);
+int handshake_impact_pre_step(struct impact_boundary *b, struct md *md, struct err *e);
+uint32_t handshake_impact_exclude(const struct impact_boundary *b);
+void handshake_impact_report(const struct impact_boundary *b, struct result *r);
+void handshake_impact_destroy(struct impact_boundary *b);
+
+#endif

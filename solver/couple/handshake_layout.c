@@ -1,0 +1,160 @@
+/* handshake_layout: where regions I, II, III and the grid levels lie, and
+ * which layouts are refused (Guo & Yang 2005, section 2.2 and Fig. 3). */
+#include <math.h>
+#include <stdio.h>
+
+#include "couple/handshake.h"
+
+int handshake_face_coupled(const struct handshake_layout *L, int f)
+{
+    int d = f / 2;
+    double tol = 1e-6 * L->a;
+    return (f & 1) ? L->md_hi[d] < L->mat_hi[d] - tol : L->md_lo[d] > L->mat_lo[d] + tol;
+}
+
+enum hs_region handshake_classify(const struct handshake_layout *L, const double x[3])
+{
+    int inside = 1;
+    for (int d = 0; d < 3; d++)
+        inside &= x[d] >= L->md_lo[d] && x[d] < L->md_hi[d];
+    if (inside) {
+        /* distance to the nearest interface */
+        double dmin = INFINITY;
+        for (int f = 0; f < 6; f++) {
+            if (!handshake_face_coupled(L, f))
+                continue;
+            int d = f / 2;
+            double dist = (f & 1) ? L->md_hi[d] - x[d] : x[d] - L->md_lo[d];
+            dmin = fmin(dmin, dist);
+        }
+        return dmin < L->w[0] ? HS_I : HS_CORE;
+    }
+    /* Chebyshev distance outside the coupled faces */
+    double o = 0;
+    for (int d = 0; d < 3; d++) {
+        if (x[d] < L->md_lo[d])
+            o = fmax(o, L->md_lo[d] - x[d]);
+        else if (x[d] >= L->md_hi[d])
+            o = fmax(o, x[d] - L->md_hi[d]);
+    }
+    if (o <= L->w[1])
+        return HS_II;
+    if (o <= L->w[1] + L->w[2])
+        return HS_III;
+    return HS_MPM;
+}
+
+/* x is a whole multiple of q (relative tolerance). */
+static int multiple_of(double x, double q)
+{
+    double r = x / q;
+    return fabs(r - round(r)) < 1e-6;
+}
+
+int handshake_layout_check(const struct handshake_layout *L, double cutoff,
+                           enum hs_layout_key *key, char *why, size_t len)
+{
+    const double a = L->a;
+    static const char *const rname[3] = {"I", "II", "III"};
+#define REFUSE(k, ...)                                                                            \
+    do {                                                                                          \
+        *key = (k);                                                                               \
+        snprintf(why, len, __VA_ARGS__);                                                          \
+        return ERR_INPUT;                                                                         \
+    } while (0)
+    if (!(a > 0))
+        REFUSE(HS_KEY_GEOMETRY, "the lattice constant must be positive");
+    if (!(fabs(L->h - a) < 1e-9 * a || fabs(L->h - 0.5 * a) < 1e-9 * a))
+        REFUSE(HS_KEY_CELL,
+               "the finest cell must be 1 or 0.5 lattice constants (%g Å is %g): the lattice "
+               "sites of regions II and III must sit at the same place in every cell",
+               L->h, L->h / a);
+    for (int k = 0; k < 3; k++)
+        if (L->w[k] < cutoff * (1 - 1e-12))
+            REFUSE(HS_KEY_REGIONS,
+                   "region %s is %.4g Å (%g lattice constants) wide, narrower than the potential "
+                   "cutoff %.4g Å: each handshake region must be at least one cutoff wide",
+                   rname[k], L->w[k], L->w[k] / a, cutoff);
+    for (int k = 0; k < 3; k++)
+        if (!multiple_of(L->w[k], 0.5 * a))
+            REFUSE(HS_KEY_REGIONS,
+                   "region %s is %g lattice constants wide: widths must be multiples of 0.5 "
+                   "(whole (100) planes)",
+                   rname[k], L->w[k] / a);
+    if (L->w[0] < 2 * L->h * (1 - 1e-12))
+        REFUSE(HS_KEY_REGIONS,
+               "region I (%g Å) must be at least two cells (%g Å) wide, so that no node moving a "
+               "region II point sees its inner edge",
+               L->w[0], 2 * L->h);
+    if (L->nlevels < 0 || L->nlevels > MPM_MAX_LEVELS)
+        REFUSE(HS_KEY_LEVELS, "levels = %d: between 0 and %d", L->nlevels, MPM_MAX_LEVELS);
+    if (L->nlevels > 0 && (L->coarsen & 7u) == 0)
+        REFUSE(HS_KEY_LEVELS, "coarsening needs at least one direction");
+    if (L->nlevels > 1 && !(L->layer > 0))
+        REFUSE(HS_KEY_LAYER, "the width of each coarse level must be positive");
+    double shell = L->w[1] + L->w[2];
+    if (L->nlevels > 0 && L->fine < shell * (1 - 1e-12))
+        REFUSE(HS_KEY_FINE,
+               "the coarse grid would start %.4g Å (%g lattice constants) from the MD region, "
+               "inside regions II and III (%.4g Å): the MD region and its handshake must not "
+               "touch the coarse grid",
+               L->fine, L->fine / a, shell);
+    int ncoupled = 0;
+    for (int d = 0; d < 3; d++) {
+        double ext = L->dom_hi[d] - L->dom_lo[d];
+        if (!(ext > 0) || !multiple_of(ext, L->h))
+            REFUSE(HS_KEY_GEOMETRY, "the MPM domain along %c (%g Å) is not a whole number of "
+                   "cells of %g Å", "xyz"[d], ext, L->h);
+        if (L->md_lo[d] < L->dom_lo[d] - 1e-9 * a || L->md_hi[d] > L->dom_hi[d] + 1e-9 * a ||
+            !(L->md_hi[d] > L->md_lo[d]))
+            REFUSE(HS_KEY_GEOMETRY,
+                   "the MD region along %c [%g, %g] Å must lie inside the MPM domain [%g, %g] Å",
+                   "xyz"[d], L->md_lo[d], L->md_hi[d], L->dom_lo[d], L->dom_hi[d]);
+        if (L->mat_lo[d] < L->dom_lo[d] - 1e-9 * a || L->mat_hi[d] > L->dom_hi[d] + 1e-9 * a ||
+            L->md_lo[d] < L->mat_lo[d] - 1e-9 * a || L->md_hi[d] > L->mat_hi[d] + 1e-9 * a)
+            REFUSE(HS_KEY_GEOMETRY,
+                   "along %c the material [%g, %g] Å must lie inside the grid [%g, %g] Å and "
+                   "contain the MD region [%g, %g] Å",
+                   "xyz"[d], L->mat_lo[d], L->mat_hi[d], L->dom_lo[d], L->dom_hi[d], L->md_lo[d],
+                   L->md_hi[d]);
+        double off = L->lat_origin[d] - L->dom_lo[d] - 0.25 * a;
+        if (!multiple_of(off, 0.5 * a))
+            REFUSE(HS_KEY_GEOMETRY,
+                   "lattice sites must lie a quarter lattice constant off the grid planes "
+                   "(lattice origin %g Å along %c)",
+                   L->lat_origin[d], "xyz"[d]);
+        if (!multiple_of(L->md_lo[d] - L->dom_lo[d], 0.5 * a) ||
+            !multiple_of(L->md_hi[d] - L->dom_lo[d], 0.5 * a))
+            REFUSE(HS_KEY_MD,
+                   "the MD region's faces along %c must lie between (100) planes (multiples of "
+                   "0.5 lattice constants from the domain's corner)",
+                   "xyz"[d]);
+        for (int s = 0; s < 2; s++) {
+            if (!handshake_face_coupled(L, 2 * d + s))
+                continue;
+            ncoupled++;
+            double room = s ? L->mat_hi[d] - L->md_hi[d] : L->md_lo[d] - L->mat_lo[d];
+            if (room < shell * (1 - 1e-12))
+                REFUSE(HS_KEY_GEOMETRY,
+                       "the MPM part beyond the %s face of the MD region along %c is %.4g Å, "
+                       "less than regions II and III (%.4g Å)",
+                       s ? "upper" : "lower", "xyz"[d], room, shell);
+            if (L->md_periodic[d])
+                REFUSE(HS_KEY_MD,
+                       "the MD region cannot be periodic along %c: it has an interface there",
+                       "xyz"[d]);
+        }
+        double span = L->md_hi[d] - L->md_lo[d];
+        int both = handshake_face_coupled(L, 2 * d) && handshake_face_coupled(L, 2 * d + 1);
+        if (span < (both ? 2 : 1) * L->w[0] * (1 - 1e-12) &&
+            (handshake_face_coupled(L, 2 * d) || handshake_face_coupled(L, 2 * d + 1)))
+            REFUSE(HS_KEY_MD,
+                   "the MD region along %c (%g Å) is too short for its region I layers (%g Å "
+                   "each)",
+                   "xyz"[d], span, L->w[0]);
+    }
+    if (ncoupled == 0)
+        REFUSE(HS_KEY_MD, "the MD region has no face inside the MPM material: no interface");
+#undef REFUSE
+    return 0;
+}

@@ -1,0 +1,281 @@
+/*
+ * handshake_step: the coupled time step (Guo & Yang 2005, section 2.2):
+ * region I -> MPM (mass, volume, position, velocity, stress), one MUSL
+ * step, regions II and III -> MD (displacement coupling), one MD step, all
+ * with the same dt.
+ */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "core/units.h"
+#include "couple/handshake.h"
+
+void handshake_wrap(const struct handshake *hs, double x[3])
+{
+    const struct box *b = &hs->md->box;
+    for (int d = 0; d < 3; d++) {
+        if (b->bc[d] != BOUNDARY_PERIODIC)
+            continue;
+        double L = b->hi[d] - b->lo[d];
+        x[d] -= L * floor((x[d] - b->lo[d]) / L);
+        if (x[d] >= b->hi[d])   /* round-off of the line above */
+            x[d] = b->lo[d];
+    }
+}
+
+/* Index lists of region I and of the copies, after any reordering. */
+static int reindex(struct handshake *hs, struct err *e)
+{
+    struct particles *p = hs->md->p;
+    long nI = 0, nl = 0;
+    for (int i = 0; i < p->n_owned; i++) {
+        nI += (p->mask[i] & HS_MASK_I) != 0;
+        nl += (p->mask[i] & (HS_MASK_II | HS_MASK_III)) != 0;
+    }
+    if (nI != hs->nI || !hs->idxI) {
+        size_t n = (size_t)(nI > 0 ? nI : 1);
+        int *idx = realloc(hs->idxI, n * sizeof *idx);
+        double *x = realloc(hs->xI, 3 * n * sizeof *x);
+        if (idx)
+            hs->idxI = idx;
+        if (x)
+            hs->xI = x;
+        double *v = realloc(hs->vI, 3 * n * sizeof *v);
+        if (v)
+            hs->vI = v;
+        double *mI = realloc(hs->mI, n * sizeof *mI);
+        if (mI)
+            hs->mI = mI;
+        double *s = realloc(hs->sI, 6 * n * sizeof *s);
+        if (s)
+            hs->sI = s;
+        double *vol = realloc(hs->volI, n * sizeof *vol);
+        if (vol)
+            hs->volI = vol;
+        if (!idx || !x || !v || !mI || !s || !vol)
+            return err_nomem(e, "handshake region I");
+        hs->nI = nI;
+    }
+    if (nl != hs->nlink || !hs->link_md) {
+        size_t n = (size_t)(nl > 0 ? nl : 1);
+        int *lm = realloc(hs->link_md, n * sizeof *lm);
+        if (lm)
+            hs->link_md = lm;
+        long *lp = realloc(hs->link_pt, n * sizeof *lp);
+        if (lp)
+            hs->link_pt = lp;
+        if (!lm || !lp)
+            return err_nomem(e, "handshake links");
+        hs->nlink = nl;
+    }
+    long kI = 0, kl = 0;
+    for (int i = 0; i < p->n_owned; i++) {
+        if (p->mask[i] & HS_MASK_I) {
+            hs->idxI[kI] = i;
+            hs->mI[kI] = p->mass[p->type[i]];
+            hs->volI[kI] = hs->omega0;
+            kI++;
+        }
+        if (p->mask[i] & (HS_MASK_II | HS_MASK_III)) {
+            long q = (long)(p->id[i] - hs->id_base);
+            if (q < 0 || q >= hs->mpm.pts.n)
+                return err_set(e, ERR_RUNTIME, "handshake: copy %lld has no material point",
+                               (long long)p->id[i]);
+            hs->link_md[kl] = i;
+            hs->link_pt[kl] = q;
+            kl++;
+        }
+    }
+    hs->seen_builds = hs->md->nrebuilds;
+    hs->extra.n = hs->nI;
+    hs->extra.x = hs->xI;
+    hs->extra.v = hs->vI;
+    hs->extra.mass = hs->mI;
+    hs->extra.stress = hs->sI;
+    hs->extra.volume = hs->volI;
+    return 0;
+}
+
+/* Region I at the current time as material points: positions (inside the
+ * grid: wrapped along periodic axes), velocities, and the potential part of
+ * the virial stress over the atomic volume, so that V sigma = -W_i is the
+ * atom's own virial (Chen 2014 Eq. (s3a) with the atom as the point).  The
+ * kinetic part m v v is left out: the atoms' momentum reaches the nodes
+ * through the mapping of their velocities (s2) already. */
+static void gather_region_I(struct handshake *hs)
+{
+    const struct particles *p = hs->md->p;
+    for (long k = 0; k < hs->nI; k++) {
+        int i = hs->idxI[k];
+        double *x = hs->xI + 3 * k;
+        for (int d = 0; d < 3; d++) {
+            x[d] = p->x[3 * i + d];
+            hs->vI[3 * k + d] = p->v[3 * i + d];
+        }
+        handshake_wrap(hs, x);
+        handshake_atom_stress(hs, i, hs->sI + 6 * k);
+    }
+}
+
+/* Regions II and III to the MD: positions and (for output) velocities. */
+static void sync_copies(struct handshake *hs)
+{
+    struct particles *p = hs->md->p;
+    const struct mpm_points *pt = &hs->mpm.pts;
+    for (long k = 0; k < hs->nlink; k++) {
+        int i = hs->link_md[k];
+        long q = hs->link_pt[k];
+        double x[3] = {pt->x[3 * q], pt->x[3 * q + 1], pt->x[3 * q + 2]};
+        handshake_wrap(hs, x);
+        for (int d = 0; d < 3; d++) {
+            p->x[3 * i + d] = x[d];
+            p->v[3 * i + d] = pt->v[3 * q + d];
+        }
+    }
+}
+
+int handshake_connect(struct handshake *hs, struct md *md, struct err *e)
+{
+    hs->md = md;
+    md->frozen_mask |= HS_MASK_II | HS_MASK_III | HS_MASK_FIXED;
+    md->peratom = 1;
+    int rc = md_compute_forces(md, e);
+    if (rc)
+        return rc;
+    memset(&hs->extra, 0, sizeof hs->extra);
+    hs->extra.name = "region I";
+    hs->extra.follow_grid = 1;
+    if ((rc = reindex(hs, e)))
+        return rc;
+    if ((rc = mpm_attach(&hs->mpm, &hs->extra, e)))
+        return rc;
+    gather_region_I(hs);
+    sync_copies(hs);
+    return mpm_prepare(&hs->mpm, e);
+}
+
+int handshake_advance_mpm(struct handshake *hs, struct err *e)
+{
+    struct md *md = hs->md;
+    int rc;
+    if (md->nrebuilds != hs->seen_builds && (rc = reindex(hs, e)))
+        return rc;
+    gather_region_I(hs);
+    struct mpm *m = &hs->mpm;
+    double dt = md->dt;
+    m->fext_scale = hs->ramp > 0 ? fmin(1.0, (m->time + dt) / hs->ramp) : 1.0;
+    if ((rc = mpm_step(m, dt, e)))
+        return rc;
+    sync_copies(hs);
+    return 0;
+}
+
+int handshake_step(struct handshake *hs, struct err *e)
+{
+    struct md *md = hs->md;
+    int rc = handshake_advance_mpm(hs, e);
+    if (!rc)
+        rc = md_step(md, e);
+    if (rc)
+        return rc;
+    if (hs->md_damping > 0) {   /* quasi-static runs: -alpha m v on the atoms */
+        double f = exp(-hs->md_damping * md->dt);
+        struct particles *p = md->p;
+        for (int i = 0; i < p->n_owned; i++)
+            if (!(p->mask[i] & md->frozen_mask))
+                for (int d = 0; d < 3; d++)
+                    p->v[3 * i + d] *= f;
+    }
+    hs->step++;
+    hs->time += md->dt;
+    return 0;
+}
+
+void handshake_energy(const struct handshake *hs, struct handshake_energy *out)
+{
+    const struct particles *p = hs->md->p;
+    const uint32_t skip = HS_MASK_II | HS_MASK_III | HS_MASK_FIXED;
+    double ke = 0, pe = 0;
+    for (int i = 0; i < p->n_owned; i++) {
+        if (p->mask[i] & skip)
+            continue;
+        const double *v = p->v + 3 * i;
+        ke += p->mass[p->type[i]] * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+        pe += p->pe[i] - hs->cr.pe_ref;
+    }
+    struct mpm_totals t;
+    mpm_totals(&hs->mpm, &t);
+    out->md_kinetic = 0.5 * ke * UNITS_MVV2E;
+    out->md_potential = pe;
+    out->mpm_kinetic = t.kinetic;
+    out->mpm_strain = t.strain;
+    out->total = out->md_kinetic + out->md_potential + out->mpm_kinetic + out->mpm_strain;
+}
+
+int handshake_apply_strain(struct handshake *hs, const double eps[3], const double origin[3],
+                           struct err *e)
+{
+    struct md *md = hs->md;
+    struct particles *p = md->p;
+    const double *x0 = p->fields[hs->f_x0].data;
+    for (int i = 0; i < p->n_owned; i++)
+        for (int d = 0; d < 3; d++)
+            p->x[3 * i + d] = origin[d] + (1 + eps[d]) * (x0[3 * i + d] - origin[d]);
+    for (int d = 0; d < 3; d++)
+        if (md->box.bc[d] == BOUNDARY_PERIODIC) {
+            md->box.lo[d] = origin[d] + (1 + eps[d]) * (md->box.lo[d] - origin[d]);
+            md->box.hi[d] = origin[d] + (1 + eps[d]) * (md->box.hi[d] - origin[d]);
+        }
+    struct mpm *m = &hs->mpm;
+    struct mpm_points *pt = &m->pts;
+    /* logarithmic strain: what the rate form integrates to along this path */
+    double de[6] = {log1p(eps[0]), log1p(eps[1]), log1p(eps[2]), 0, 0, 0};
+    double J = (1 + eps[0]) * (1 + eps[1]) * (1 + eps[2]);
+    for (long q = 0; q < pt->n; q++) {
+        const struct mpm_material *mat = m->mat[m->body[pt->body[q]].material];
+        for (int d = 0; d < 3; d++)
+            pt->x[3 * q + d] = origin[d] + (1 + eps[d]) * (pt->x0[3 * q + d] - origin[d]);
+        double *F = pt->F + 9 * q, *s = pt->stress + 6 * q;
+        memset(F, 0, 9 * sizeof *F);
+        memset(s, 0, 6 * sizeof *s);
+        for (int d = 0; d < 3; d++)
+            F[4 * d] = 1 + eps[d];
+        mat->ops->update(mat, s, de, pt->state ? pt->state + pt->nstate * q : NULL);
+        pt->vol[q] = pt->vol0[q] * J;
+    }
+    mpm_points_moved(m);
+    md->nl->nbuilds = 0;   /* the box changed: rebuild ghosts and lists */
+    int rc = md_compute_forces(md, e);
+    if (!rc && md->nrebuilds != hs->seen_builds)
+        rc = reindex(hs, e);
+    return rc;
+}
+
+int handshake_map_forces(struct handshake *hs, struct err *e)
+{
+    int rc;
+    if (hs->md->nrebuilds != hs->seen_builds && (rc = reindex(hs, e)))
+        return rc;
+    gather_region_I(hs);
+    struct mpm *m = &hs->mpm;
+    if ((rc = mpm_locate_particles(m, e)))
+        return rc;
+    mpm_clear_grid(m);
+    mpm_map_to_grid(m, MPM_MAP_ALL);
+    return 0;
+}
+
+void handshake_free(struct handshake *hs)
+{
+    mpm_free(&hs->mpm);
+    free(hs->idxI);
+    free(hs->xI);
+    free(hs->vI);
+    free(hs->mI);
+    free(hs->sI);
+    free(hs->volI);
+    free(hs->link_md);
+    free(hs->link_pt);
+    memset(hs, 0, sizeof *hs);
+}
