@@ -157,7 +157,9 @@ $(STANDIN_BIN): $(call obj,tests/standin/fake_solver.c) $(UTIL_LIB)
 TEST_ENV := CASCADE_SOLVER=$(abspath $(SOLVER_BIN)) CASCADE_BIN=$(abspath $(CAMPAIGN_BIN)) \
             CASCADE_STANDIN=$(abspath $(STANDIN_BIN)) CASCADE_ROOT=$(abspath .) \
             OMP_NUM_THREADS=2 ASAN_OPTIONS=detect_leaks=1 LSAN_OPTIONS=suppressions=$(abspath tests/lsan.supp) \
-            UBSAN_OPTIONS=print_stacktrace=1
+            UBSAN_OPTIONS=print_stacktrace=1 OMP_WAIT_POLICY=passive
+# (passive: test processes run side by side with OpenMP threads; spinning
+#  threads of one starve the others on a loaded machine)
 CRITERION_JOBS ?= $(JOBS)
 
 test: deps

@@ -124,7 +124,7 @@ static long *read_ints(hid_t f, const char *name, long *n)
     return v;
 }
 
-Test(handshake_cases, packet_run_writes_regions_profile_and_transmission, .timeout = 240)
+Test(handshake_cases, packet_run_writes_regions_profile_and_transmission, .timeout = 600)
 {
     const char *path = th_write_temp(2, "packet.yaml",
                                      "type: handshake_packet\n"
