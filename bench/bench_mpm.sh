@@ -48,7 +48,7 @@ echo "BENCH mpm_peak_rss_mib $(printf '%.1f' "$rss") MiB"
 echo "BENCH mpm_bytes_per_point $(echo "$rss * 1048576 / $points" | bc -l | xargs printf '%.0f') B"
 echo "BENCH mpm_speedup_2_threads $(echo "$t1 / $t2" | bc -l | xargs printf '%.2f') x"
 echo "mpm bench: loop seconds, 1 thread: $(tr '\n' ' ' < "$WORK/mpm1.t")| 2 threads: $(tr '\n' ' ' < "$WORK/mpm2.t")" >&2
-echo "mpm bench: load average $(cut -d' ' -f1-3 /proc/loadavg 2>/dev/null) on $(nproc) cores" >&2
+echo "mpm bench: load average $(cut -d' ' -f1-3 /proc/loadavg 2>/dev/null) on $(nproc --all) cores" >&2
 # the physics of the last 1-thread run, for the record
 last="$WORK/mpm_1_$REPEAT"
 echo "mpm reference: ke at steps 50, 100, 199, 500 = $(metric "$last" ke_step_50) $(metric "$last" ke_step_100) $(metric "$last" ke_step_199) $(metric "$last" ke_step_500) J; energy change $(metric "$last" energy_change)" >&2
