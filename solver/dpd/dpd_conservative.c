@@ -83,10 +83,13 @@ int dpd_conservative(struct dpd *d, struct err *e)
     thread_accum_reduce(&d->acc_rho, d->rho, (size_t)ntot);
     ghost_reverse_add(p, d->rho, 1);
 
+    const uint32_t pm = d->passive_mask;
     double embed = 0;
     for (int i = 0; i < p->n_owned; i++) {
         double F;
         sc_embed(sc, d->rho[i], &F, &d->fp[i]);
+        if (pm && (p->mask[i] & pm))
+            continue;   /* a passive partner's energy belongs to its own model */
         embed += F;
         if (peratom)
             p->pe[i] = F;
@@ -107,12 +110,13 @@ int dpd_conservative(struct dpd *d, struct err *e)
 #pragma omp for schedule(static)
         for (int i = 0; i < p->n_owned; i++) {
             const double xi = p->x[3 * i], yi = p->x[3 * i + 1], zi = p->x[3 * i + 2];
+            const int passive_i = pm && (p->mask[i] & pm);
             double fxi = 0, fyi = 0, fzi = 0;
             for (int k = nl->offset[i]; k < nl->offset[i + 1]; k++) {
                 int j = nl->neigh[k];
                 double dx = xi - p->x[3 * j], dy = yi - p->x[3 * j + 1], dz = zi - p->x[3 * j + 2];
                 double r2 = dx * dx + dy * dy + dz * dz;
-                if (r2 >= rc2)
+                if (r2 >= rc2 || (passive_i && (p->mask[j] & pm)))
                     continue;
                 double r = sqrt(r2), v, dv, rr, drr;
                 sc_pair_terms(sc, r, &v, &dv, &rr, &drr);
