@@ -10,6 +10,9 @@ extern const struct case_type dpd_impact_case_type;
 extern const struct case_type dpd_tensile_case_type;
 extern const struct case_type dpd_fit_case_type;
 extern const struct case_type mpm_case_type;
+extern const struct case_type dpd_grid_impact_case_type;
+extern const struct case_type dpd_grid_tensile_case_type;
+extern const struct case_type dpd_mpm_impact_case_type;
 
 const struct case_type *const case_types[] = {
     &md_case_type,
@@ -19,6 +22,9 @@ const struct case_type *const case_types[] = {
     &dpd_tensile_case_type,
     &dpd_fit_case_type,
     &mpm_case_type,
+    &dpd_grid_impact_case_type,
+    &dpd_grid_tensile_case_type,
+    &dpd_mpm_impact_case_type,
     NULL,
 };
 
