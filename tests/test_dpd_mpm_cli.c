@@ -10,8 +10,10 @@
  *   momentum conserved, the reflection measured.
  */
 #include <criterion/criterion.h>
+#include <hdf5.h>
 #include <jansson.h>
 #include <math.h>
+#include <stdlib.h>
 #include <stdio.h>
 #include <string.h>
 
@@ -216,4 +218,66 @@ Test(dpd_mpm_cli, concurrent_impact_crosses_the_interface, .timeout = 120)
               metric(r, "momentum_change"));
     cr_assert(fabs(metric(r, "c11") - 146.2) < 1.0, "C11 %g GPa", metric(r, "c11"));
     json_decref(r);
+}
+
+/* Open dataset `name` of fields.h5 in dir: its row count and unit. */
+static long dataset_rows(hid_t f, const char *name, char unit[32])
+{
+    hid_t ds = H5Dopen2(f, name, H5P_DEFAULT);
+    cr_assert(ds >= 0, "%s missing", name);
+    hid_t sp = H5Dget_space(ds);
+    hsize_t d[2] = {0, 0};
+    H5Sget_simple_extent_dims(sp, d, NULL);
+    H5Sclose(sp);
+    hid_t a = H5Aopen(ds, "unit", H5P_DEFAULT);
+    hid_t t = H5Aget_type(a);
+    memset(unit, 0, 32);
+    H5Aread(a, t, unit);
+    H5Tclose(t);
+    H5Aclose(a);
+    H5Dclose(ds);
+    return (long)d[0];
+}
+
+/* The concurrent model's snapshots hold its material points (collection
+ * "points", one row per point, displacement zero at the start and not
+ * after the run, stress in GPa) beside the DPD particles. */
+Test(dpd_mpm_cli, concurrent_snapshots_hold_the_material_points, .timeout = 120)
+{
+    char yaml[2048], out[8192], dir[512];
+    snprintf(dir, sizeof dir, "%s/conc-snap", th_temp_dir());
+    impact_case(yaml, sizeof yaml, "dpd_mpm_impact", "  cell: 4.0\n",
+                "concurrent:\n  dpd: [-10, 45.2]\n  mpm: [45.2, 100]\n  monitor: 15\n"
+                "  compare: false\noutput: {thermo_every: 0, snapshot_every: 20}\n");
+    char *p = strstr(yaml, "steps: 240");
+    memcpy(p, "steps:  40", strlen("steps:  40"));
+    int rc = solver("run", yaml, out, sizeof out, dir);
+    cr_assert_eq(rc, 0, "%s", out);
+    json_t *r = metrics(dir);
+    long np = (long)metric(r, "material_points");
+    json_decref(r);
+    char h5[600], unit[32];
+    snprintf(h5, sizeof h5, "%s/fields.h5", dir);
+    hid_t f = H5Fopen(h5, H5F_ACC_RDONLY, H5P_DEFAULT);
+    cr_assert(f >= 0, "no %s", h5);
+    cr_assert_eq(dataset_rows(f, "/points/00000000/position", unit), np);
+    cr_assert_str_eq(unit, "Å");
+    cr_assert_eq(dataset_rows(f, "/points/00000040/stress", unit), np);
+    cr_assert_str_eq(unit, "GPa");
+    cr_assert(dataset_rows(f, "/particles/00000040/position", unit) > 0);
+    double *u = malloc((size_t)3 * np * sizeof *u);
+    double umax[2] = {0, 0};
+    for (int k = 0; k < 2; k++) {
+        hid_t ds = H5Dopen2(f, k ? "/points/00000040/displacement" : "/points/00000000/displacement",
+                            H5P_DEFAULT);
+        cr_assert(ds >= 0);
+        H5Dread(ds, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, u);
+        H5Dclose(ds);
+        for (long i = 0; i < 3 * np; i++)
+            umax[k] = fmax(umax[k], fabs(u[i]));
+    }
+    free(u);
+    H5Fclose(f);
+    cr_assert(umax[0] == 0, "displacement %g Å at the start", umax[0]);
+    cr_assert(umax[1] > 1e-4 && umax[1] < 1.0, "displacement %g Å after 0.2 ps", umax[1]);
 }

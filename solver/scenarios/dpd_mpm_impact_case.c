@@ -58,6 +58,12 @@
  * interface in the paper's layout) in the concurrent over the all-DPD run,
  * before tw.
  *
+ * Snapshots (fields.h5): the DPD particles of the flyer run as in dpd_impact
+ * (collection "particles"; partners, the material points' copies, have ids
+ * from 2^40 on), and for the concurrent model the material points
+ * (collection "points": position, displacement, velocity, stress in GPa,
+ * id).
+ *
  * Metrics (besides dpd_impact's wave_speed, arrival_time_1/2,
  * region_particles_1/2, displacement_max_1/2, flyer_velocity_final,
  * target_particles, flyer_particles, target_length, momentum_change,
@@ -482,6 +488,49 @@ static double internal_temperature(const struct coupled *m)
 
 /* --- the run ----------------------------------------------------------------- */
 
+/* The material points of the flyer run (collection "points" beside the DPD
+ * "particles" of dpd_output): position, displacement, velocity (Å, Å/ps),
+ * stress (GPa, xx yy zz xy xz yz), id. */
+static int points_snapshot(struct run *run, const struct coupled *m, struct err *e)
+{
+    const struct mpm_points *p = &m->c.m.pts;
+    long n = p->n;
+    if (!run->h5_open || n == 0)
+        return 0;
+    double *buf = malloc((size_t)6 * n * sizeof *buf);
+    int64_t *ids = malloc((size_t)n * sizeof *ids);
+    int rc = 0;
+    hid_t g = H5I_INVALID_HID;
+    if (!buf || !ids)
+        rc = err_nomem(e, "points snapshot");
+    else if ((g = h5out_begin_snapshot(&run->h5, "points", m->d.step, m->d.time, n, e)) < 0)
+        rc = ERR_RUNTIME;
+    if (!rc)
+        rc = h5out_write_doubles(&run->h5, g, "position", p->x, n, 3, "Å", e);
+    if (!rc) {
+        for (long k = 0; k < 3 * n; k++)
+            buf[k] = p->x[k] - p->x0[k];
+        rc = h5out_write_doubles(&run->h5, g, "displacement", buf, n, 3, "Å", e);
+    }
+    if (!rc)
+        rc = h5out_write_doubles(&run->h5, g, "velocity", p->v, n, 3, "Å/ps", e);
+    if (!rc) {
+        for (long k = 0; k < 6 * n; k++)
+            buf[k] = p->stress[k] * UNITS_EVA3_TO_GPA;
+        rc = h5out_write_doubles(&run->h5, g, "stress", buf, n, 6, "GPa", e);
+    }
+    if (!rc) {
+        for (long k = 0; k < n; k++)
+            ids[k] = p->id[k];
+        rc = h5out_write_ints(&run->h5, g, "id", ids, n, "1", e);
+    }
+    if (g >= 0)
+        h5out_end_snapshot(&run->h5, g);
+    free(buf);
+    free(ids);
+    return rc;
+}
+
 struct samples {
     double *t, *s1, *s2, *es, *mc, *mh, *h2;
     long n, cap;
@@ -676,7 +725,8 @@ static int impact_run(void *state, struct run *run, struct err *e)
     double P0[3], e0 = NAN, demax = 0, et = NAN;
     dpd_mpm_momentum(&m->c, P0);
     d->peratom = run_due(0, c->steps, run->out.snapshot_every);
-    if ((rc = dpd_compute_forces(d, e)) || (rc = dpd_output_step(&out, run, d, c->steps)))
+    if ((rc = dpd_compute_forces(d, e)) || (rc = dpd_output_step(&out, run, d, c->steps)) ||
+        (rc = points_snapshot(run, m, e)))
         goto done;
     progress_start(&run->progress, stderr, c->steps, d->dt, run->opt.progress && !run->opt.quiet);
     timer_start(&run->timers, TIMER_LOOP);
@@ -698,6 +748,8 @@ static int impact_run(void *state, struct run *run, struct err *e)
                 e0 = et;
             demax = fmax(demax, fabs(et - e0));
             rc = dpd_output_step(&out, run, d, c->steps);
+            if (!rc && run_due(s, c->steps, run->out.snapshot_every))
+                rc = points_snapshot(run, m, e);
             progress_update(&run->progress, s);
         }
         timer_start(&run->timers, TIMER_ANALYSIS);
