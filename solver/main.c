@@ -333,6 +333,8 @@ static int cmd_run_inner(int argc, char **argv, const struct parallel *par)
     long steps = 0;
     if (cr.type->steps) {
         steps = cr.type->steps(cr.state);
+    } else if (run.steps_run > 0) {   /* cases that do not run md.steps say what they ran */
+        steps = run.steps_run;
     } else {
         json_t *st = json_object_get(json_object_get(cd.doc, "md"), "steps");
         if (json_is_integer(st))

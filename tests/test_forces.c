@@ -14,6 +14,7 @@
 #define POT_SC "style: sutton_chen\n"
 #define POT_LJ "style: lj\nelements: [Ar]\nepsilon: 0.0104\nsigma: 3.4\ncutoff: 8.5\n"
 #define POT_SW "style: sw\nfile: Si.sw\nelements: [Si]\n"
+#define POT_MEAMS "style: meam/spline\nfile: Si_1.meam.spline\nelements: [Si]\n"
 
 /* Relative error ||F_fd - F|| / ||F|| over all components of a few atoms. */
 static double force_fd_error(const char *potyaml, enum lattice_style style, double a, long n,
@@ -89,6 +90,20 @@ Test(forces, stillinger_weber_matches_fd)
     cr_assert_lt(err, 1e-6, "relative force error %g", err);
 }
 
+Test(forces, meam_spline_matches_fd)
+{
+    double err = force_fd_error(POT_MEAMS, LATTICE_DIAMOND, 5.431, 2, "Si", 0.15);
+    cr_assert_lt(err, 1e-6, "relative force error %g", err);
+}
+
+/* Compressed (pairs inside the first knot) and with the angular spline
+ * beyond its last knot: the linear continuation must stay consistent. */
+Test(forces, meam_spline_compressed_matches_fd)
+{
+    double err = force_fd_error(POT_MEAMS, LATTICE_DIAMOND, 4.6, 2, "Si", 0.3);
+    cr_assert_lt(err, 1e-6, "relative force error %g", err);
+}
+
 /* P = -dE/dV under a uniform scaling of box and positions. */
 static void pressure_check(const char *potyaml, enum lattice_style style, double a, long n,
                            const char *el)
@@ -130,3 +145,4 @@ Test(pressure, funcfl_virial_is_minus_dE_dV) { pressure_check(POT_U3, LATTICE_FC
 Test(pressure, sutton_chen_virial_is_minus_dE_dV) { pressure_check(POT_SC, LATTICE_FCC, 3.55, 3, "Cu"); }
 Test(pressure, lj_virial_is_minus_dE_dV) { pressure_check(POT_LJ, LATTICE_FCC, 5.2, 3, "Ar"); }
 Test(pressure, sw_virial_is_minus_dE_dV) { pressure_check(POT_SW, LATTICE_DIAMOND, 5.40, 2, "Si"); }
+Test(pressure, meam_spline_virial_is_minus_dE_dV) { pressure_check(POT_MEAMS, LATTICE_DIAMOND, 5.40, 2, "Si"); }

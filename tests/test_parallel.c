@@ -19,18 +19,18 @@ static void read_file(const char *path, char *buf, size_t len)
     fclose(f);
 }
 
-Test(parallel, two_ranks_match_serial, .timeout = 300)
+/* Runs the case serially and on 2 ranks; the thermo tables must agree. */
+static void check_two_ranks(const char *tag, const char *yaml)
 {
     setenv("OMPI_ALLOW_RUN_AS_ROOT", "1", 1);
     setenv("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1", 1);
     setenv("OMP_NUM_THREADS", "1", 1);
-    const char *yaml = "seed: 3\nsystem:\n  lattice: {style: fcc, a: 3.615, cells: [5, 5, 5]}\n"
-                       "  element: Cu\npotential: {style: eam/alloy, file: Cu_mishin1.eam.alloy}\n"
-                       "md: {steps: 60, temperature: 400}\noutput: {thermo_every: 20, hdf5: false}\n";
-    const char *path = th_write_temp(6, "mpi.yaml", yaml);
+    char name[64];
+    snprintf(name, sizeof name, "%s.yaml", tag);
+    const char *path = th_write_temp(6, name, yaml);
     char d1[512], d2[512], out[8192];
-    snprintf(d1, sizeof d1, "%s/serial", th_temp_dir());
-    snprintf(d2, sizeof d2, "%s/mpi", th_temp_dir());
+    snprintf(d1, sizeof d1, "%s/%s-serial", th_temp_dir(), tag);
+    snprintf(d2, sizeof d2, "%s/%s-mpi", th_temp_dir(), tag);
     const char *a1[] = {th_solver(), "run", path, "--out", d1, "--quiet", NULL};
     cr_assert_eq(th_run(a1, out, sizeof out), 0, "%s", out);
     /* Open MPI's dlopen'ed components leak at exit and cannot be named in
@@ -47,5 +47,26 @@ Test(parallel, two_ranks_match_serial, .timeout = 300)
     read_file(p1, t1, sizeof t1);
     read_file(p2, t2, sizeof t2);
     cr_assert(strlen(t1) > 100);
-    cr_assert_str_eq(t1, t2, "thermo differs:\n%s\nvs\n%s", t1, t2);
+    cr_assert_str_eq(t1, t2, "%s: thermo differs:\n%s\nvs\n%s", tag, t1, t2);
+}
+
+Test(parallel, two_ranks_match_serial, .timeout = 300)
+{
+    check_two_ranks("eam", "seed: 3\nsystem:\n  lattice: {style: fcc, a: 3.615, cells: [5, 5, 5]}\n"
+                           "  element: Cu\npotential: {style: eam/alloy, file: Cu_mishin1.eam.alloy}\n"
+                           "md: {steps: 60, temperature: 400}\noutput: {thermo_every: 20, hdf5: false}\n");
+}
+
+/* Many-body potentials with full lists: every rank needs the embedding
+ * derivatives of the other ranks' atoms (meam/spline) or only its own
+ * triplets (sw). */
+Test(parallel, two_ranks_match_serial_silicon, .timeout = 300)
+{
+    check_two_ranks("sw", "seed: 4\nsystem:\n  lattice: {style: diamond, a: 5.431, cells: [3, 3, 3]}\n"
+                          "  element: Si\npotential: {style: sw, file: Si.sw, elements: [Si]}\n"
+                          "md: {steps: 40, temperature: 600}\noutput: {thermo_every: 10, hdf5: false}\n");
+    check_two_ranks("meam", "seed: 4\nsystem:\n  lattice: {style: diamond, a: 5.431, cells: [3, 3, 3]}\n"
+                            "  element: Si\npotential: {style: meam/spline, file: Si_1.meam.spline, "
+                            "elements: [Si]}\nmd: {steps: 40, temperature: 600}\n"
+                            "output: {thermo_every: 10, hdf5: false}\n");
 }

@@ -7,6 +7,7 @@ int eam_setfl_create(struct cfg_obj *o, struct potential **out);
 int eam_fs_create(struct cfg_obj *o, struct potential **out);
 int sutton_chen_create(struct cfg_obj *o, struct potential **out);
 int sw_create(struct cfg_obj *o, struct potential **out);
+int meam_spline_create(struct cfg_obj *o, struct potential **out);
 
 const struct potential_style potential_styles[] = {
     {"eam", "EAM, DYNAMO funcfl file (*.eam)", eam_funcfl_create},
@@ -15,5 +16,6 @@ const struct potential_style potential_styles[] = {
     {"sutton_chen", "Sutton-Chen many-body, analytic", sutton_chen_create},
     {"lj", "Lennard-Jones 12-6, cut and shifted", lj_create},
     {"sw", "Stillinger-Weber three-body (*.sw)", sw_create},
+    {"meam/spline", "spline-based MEAM of Lenosky et al. 2000 (*.meam.spline)", meam_spline_create},
     {NULL, NULL, NULL},
 };

@@ -17,6 +17,7 @@ static const char *const thermo_units[MD_THERMO_COLS] = {
 int md_output_begin(struct md_output *o, struct run *run, struct md *md, struct err *e)
 {
     memset(o, 0, sizeof *o);
+    o->xyz_field = -1;
     (void)md;
     if (run_thermo_header(run, thermo_cols, MD_THERMO_COLS) != 0)
         return err_set(e, ERR_RUNTIME, "%s: cannot write thermo.csv", run->opt.out_dir);
@@ -125,8 +126,23 @@ int md_output_step(struct md_output *o, struct run *run, struct md *md, long tot
         rc = thermo_row(o, run, md);
     if (!rc && run_due(s, total, run->out.snapshot_every))
         rc = md_output_snapshot(o, run, md);
-    if (!rc && run->xyz && run->out.xyz_every > 0 && s % run->out.xyz_every == 0)
-        rc = xyz_write_frame(run->xyz, md->p, &md->box, s, md->time, NULL, NULL) ? ERR_RUNTIME : 0;
+    if (!rc && run->xyz && run->out.xyz_every > 0 && s % run->out.xyz_every == 0) {
+        const char *name = NULL;
+        const int *extra = NULL;
+        struct particles *p = md->p;
+        if (o->xyz_field >= 0 && o->xyz_field < p->nfields) {
+            int *buf = realloc(o->xyz_buf, (size_t)(p->n_owned + 1) * sizeof *buf);
+            if (buf) {
+                o->xyz_buf = buf;
+                const double *f = particles_field(p, o->xyz_field);
+                for (int i = 0; i < p->n_owned; i++)
+                    buf[i] = (int)f[i];
+                name = p->fields[o->xyz_field].name;
+                extra = buf;
+            }
+        }
+        rc = xyz_write_frame(run->xyz, md->p, &md->box, s, md->time, name, extra) ? ERR_RUNTIME : 0;
+    }
     if (!rc && run->xyz && s == total)
         rc = write_final(run, md);
     timer_stop(&run->timers, TIMER_OUTPUT);
@@ -150,6 +166,7 @@ int md_output_end(struct md_output *o, struct run *run, struct err *e)
     free(o->series);
     free(o->stress);
     free(o->ibuf);
+    free(o->xyz_buf);
     memset(o, 0, sizeof *o);
     return rc;
 }

@@ -20,6 +20,8 @@ struct md_output {
     double *stress;   /* scratch: 6 per atom */
     int64_t *ibuf;    /* scratch: ids / types */
     long cap_atoms;
+    int xyz_field;    /* per-particle field written as an extra XYZ column (-1: none) */
+    int *xyz_buf;
 };
 
 int md_output_begin(struct md_output *o, struct run *run, struct md *md, struct err *e);

@@ -25,3 +25,24 @@ int md_check_timestep(struct md *md, struct cfg *c, const char *path)
                 md->dt, 2 * M_PI / wmax);
     return 0;
 }
+
+int md_check_displacement(const struct md *md, double dnn, double frac, struct cfg *c,
+                          const char *path)
+{
+    const struct particles *p = md->p;
+    double v2 = 0;
+    for (int i = 0; i < p->n_owned; i++) {
+        const double *v = p->v + 3 * i;
+        double s = v[0] * v[0] + v[1] * v[1] + v[2] * v[2];
+        if (s > v2)
+            v2 = s;
+    }
+    double vmax = sqrt(v2), step = vmax * md->dt, limit = frac * dnn;
+    if (step > limit)
+        return cfg_error_at(c, path,
+                            "time step %g ps moves the fastest atom (%.3g km/s) %.3g Å per step, "
+                            "more than %g of the nearest-neighbour distance %.3g Å; use a time "
+                            "step of at most %.3g ps",
+                            md->dt, vmax * 0.1, step, frac, dnn, limit / vmax);
+    return 0;
+}

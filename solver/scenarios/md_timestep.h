@@ -17,4 +17,13 @@
 /* `path` names the time-step key for the message. */
 int md_check_timestep(struct md *md, struct cfg *c, const char *path);
 
+/* Fast projectiles (Guo & Yang 2005, section 3.2: "the changing of atom
+ * positions at one step is at least one magnitude smaller than the
+ * equilibrium atom spacing"): refuse a time step with which the fastest
+ * owned particle moves more than `frac` times the nearest-neighbour
+ * distance `dnn` (Å) per step.  The message names the speed, the step
+ * length and the largest acceptable time step. */
+int md_check_displacement(const struct md *md, double dnn, double frac, struct cfg *c,
+                          const char *path);
+
 #endif

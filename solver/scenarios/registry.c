@@ -13,6 +13,10 @@ extern const struct case_type mpm_case_type;
 extern const struct case_type dpd_grid_impact_case_type;
 extern const struct case_type dpd_grid_tensile_case_type;
 extern const struct case_type dpd_mpm_impact_case_type;
+extern const struct case_type impact_case_type;
+extern const struct case_type hugoniot_case_type;
+extern const struct case_type isotherm_case_type;
+extern const struct case_type structure_case_type;
 
 const struct case_type *const case_types[] = {
     &md_case_type,
@@ -25,6 +29,10 @@ const struct case_type *const case_types[] = {
     &dpd_grid_impact_case_type,
     &dpd_grid_tensile_case_type,
     &dpd_mpm_impact_case_type,
+    &impact_case_type,
+    &hugoniot_case_type,
+    &isotherm_case_type,
+    &structure_case_type,
     NULL,
 };
 

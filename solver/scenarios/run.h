@@ -57,6 +57,8 @@ struct run {
     FILE *log;                 /* stderr unless quiet */
     struct timers timers;
     struct progress progress;
+    long steps_run;            /* steps for the timing report, set by cases that
+                                * do not run md.steps (0: md.steps) */
 };
 
 int run_open(struct run *r, const struct run_options *opt, const struct output_settings *out,

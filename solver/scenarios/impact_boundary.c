@@ -1,0 +1,94 @@
+/* impact_boundary: fixed and damped layers (pure MD); the handshake slot. */
+#include "scenarios/impact_boundary.h"
+
+#include <string.h>
+
+static int fixed_damped_read(struct cfg_obj *t, struct impact_boundary *b)
+{
+    int rc;
+    if ((rc = cfg_real(t, "fixed_thickness", 6.0, CFG_GT(0), &b->fixed_thickness)) ||
+        (rc = cfg_real(t, "damped_thickness", 10.0, CFG_GE(0), &b->damped_thickness)) ||
+        (rc = cfg_real(t, "damping_time", 0.05, CFG_GT(0), &b->damping_time)))
+        return rc;
+    return 0;
+}
+
+/* Distance of a point from the nearest of the five non-top faces. */
+static double face_distance(const double x[3], const double lo[3], const double hi[3])
+{
+    double d = x[2] - lo[2];
+    for (int k = 0; k < 2; k++) {
+        if (x[k] - lo[k] < d) d = x[k] - lo[k];
+        if (hi[k] - x[k] < d) d = hi[k] - x[k];
+    }
+    return d;
+}
+
+static int fixed_damped_setup(struct impact_boundary *b, struct md *md, const double lo[3],
+                              const double hi[3], struct err *e)
+{
+    struct particles *p = md->p;
+    b->nfixed = b->ndamped = 0;
+    for (int i = 0; i < p->n_owned; i++) {
+        if (p->mask[i] & IMPACT_GROUP_CLUSTER)
+            continue;
+        double d = face_distance(p->x + 3 * i, lo, hi);
+        if (d < b->fixed_thickness) {
+            p->mask[i] |= IMPACT_GROUP_FIXED;
+            for (int k = 0; k < 3; k++)
+                p->v[3 * i + k] = 0;
+            b->nfixed++;
+        } else if (d < b->fixed_thickness + b->damped_thickness) {
+            p->mask[i] |= IMPACT_GROUP_DAMPED;
+            b->ndamped++;
+        }
+    }
+    md->frozen_mask = IMPACT_GROUP_FIXED;
+    if (b->damped_thickness > 0) {
+        /* Langevin bath at the target temperature: friction m / damping_time */
+        md->thermo.style = THERMOSTAT_LANGEVIN;
+        md->thermo.temperature = b->temperature;
+        md->thermo.tau = b->damping_time;
+        md->thermo.group_mask = IMPACT_GROUP_DAMPED;
+    }
+    (void)e;
+    return 0;
+}
+
+static uint32_t fixed_damped_exclude(const struct impact_boundary *b)
+{
+    (void)b;
+    return IMPACT_GROUP_FIXED | IMPACT_GROUP_DAMPED;
+}
+
+static int handshake_read(struct cfg_obj *t, struct impact_boundary *b)
+{
+    (void)b;
+    char kp[CFG_PATH_MAX];
+    snprintf(kp, sizeof kp, "%s.boundary", t->path);
+    return cfg_error_at(t->cfg, kp,
+                        "boundary 'handshake' (the MD target embedded in hierarchical MPM layers "
+                        "through the MPM/MD handshake) needs the MPM solver and the handshake, "
+                        "which this build does not have yet; use 'fixed_damped'");
+}
+
+const struct impact_boundary_ops impact_boundaries[] = {
+    {"fixed_damped", fixed_damped_read, fixed_damped_setup, NULL, fixed_damped_exclude, NULL},
+    {"handshake", handshake_read, NULL, NULL, NULL, NULL},
+    {NULL, NULL, NULL, NULL, NULL, NULL},
+};
+
+int impact_boundary_read(struct cfg_obj *target, struct impact_boundary *b)
+{
+    const char *names[8];
+    int n = 0;
+    for (; impact_boundaries[n].name && n < 7; n++)
+        names[n] = impact_boundaries[n].name;
+    names[n] = NULL;
+    int k, rc = cfg_enum(target, "boundary", "fixed_damped", names, &k);
+    if (rc)
+        return rc;
+    memset(b, 0, sizeof *b);
+    b->ops = &impact_boundaries[k];
+    return b->ops->read(target, b);
+}

@@ -1,0 +1,427 @@
+/*
+ * impact_case: a cluster hitting a crystal surface (`type: cluster_impact`),
+ * Guo & Yang 2005, section 3: Cu clusters of 14, 128 and 1052 atoms at
+ * 10 km/s on Cu(001), 0 K, 10 ps; a 260-atom Si cluster on Si(001).
+ *
+ *   target:
+ *     lattice: fcc            fcc | bcc | diamond; the top face is (001), normal +z
+ *     element: Cu
+ *     a: 3.615                Å
+ *     cells: [20, 20, 15]     cubic cells along x [100], y [010], z [001]
+ *     temperature: 0          K (Maxwell-Boltzmann velocities, and the bath
+ *                             of the damped layer)
+ *     boundary: fixed_damped  fixed_damped | handshake (impact_boundary.h)
+ *     fixed_thickness: 6.0    Å, at least the potential cutoff
+ *     damped_thickness: 10.0  Å
+ *     damping_time: 0.05      ps
+ *   cluster:
+ *     lattice, element, a     default: the target's
+ *     atoms: 128              exact count of the spherical cut (cluster_build.h)
+ *     center: [fx, fy, fz]    optional centre of the cut (units of a)
+ *     speed: 10.0             km/s, straight down (-z)
+ *     gap: 0                  Å between the cluster's lowest atom and the
+ *                             surface at t = 0 (0: the potential cutoff + 1 Å)
+ *   potential: {...}
+ *   md:
+ *     timestep: 0.001         ps
+ *     steps: 10000
+ *     skin: 1.0               Å
+ *     max_displacement: 0.1   largest step of the fastest atom, as a fraction
+ *                             of the nearest-neighbour distance
+ *   analysis: {every: 100, structure: {...}}   (md_analysis.h)
+ *   output: {...}
+ *
+ * The cluster is centred over the middle of the top face.  Refused: a
+ * cluster wider than the free part of the top face, a target with no free
+ * interior, a fixed layer thinner than the cutoff, and a time step that
+ * moves the projectile more than max_displacement nearest-neighbour
+ * distances per step or that the stability check rejects.
+ *
+ * Metrics: sizes, impact energy, the displaced-atom count (peak, time of
+ * the peak, final), sputtered atoms and groups, crater depth, volume,
+ * top-view widths along [100] and [110] and their ratio, rim height, and the
+ * energy the boundary absorbed.  Series: md_analysis.h.
+ */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "core/elements.h"
+#include "core/units.h"
+#include "core/velocity.h"
+#include "scenarios/case_type.h"
+#include "scenarios/cluster_build.h"
+#include "scenarios/impact_boundary.h"
+#include "scenarios/md_analysis.h"
+#include "scenarios/md_output.h"
+#include "scenarios/md_timestep.h"
+
+struct impact {
+    struct md md;
+    struct md_analysis an;
+    struct impact_boundary bnd;
+    long steps;
+    long ntarget, ncluster;
+    double speed;              /* Å/ps */
+    double impact_energy;      /* eV */
+    double surface;            /* Å: top layer height */
+    double cluster_radius;     /* Å */
+    double center_frac[3];
+    double lo[3], hi[3];       /* target extent (atom positions) */
+    double a;
+};
+
+static const char *const impact_lattices[] = {"fcc", "bcc", "diamond", NULL};
+static const enum lattice_style impact_styles[] = {LATTICE_FCC, LATTICE_BCC, LATTICE_DIAMOND};
+static const enum structure_ref impact_refs[] = {STRUCT_REF_FCC, STRUCT_REF_BCC,
+                                                 STRUCT_REF_DIAMOND};
+
+struct impact_spec {
+    int tlat, clat;
+    const char *telement, *celement;
+    double ta, ca, temperature, speed, gap, dt, skin, maxdisp;
+    long cells[3], natoms, steps;
+    int has_center;
+    double center[3];
+};
+
+static int read_spec(struct cfg_obj *root, struct impact_spec *s, struct impact_boundary *b)
+{
+    struct cfg_obj to, co, mo;
+    int rc;
+    static const long cells_def[3] = {20, 20, 15};
+    if ((rc = cfg_section_required(root, "target", &to)) ||
+        (rc = cfg_enum(&to, "lattice", "fcc", impact_lattices, &s->tlat)) ||
+        (rc = cfg_string(&to, "element", NULL, &s->telement)) ||
+        (rc = cfg_real(&to, "a", CFG_REQUIRED, CFG_GT(0), &s->ta)) ||
+        (rc = cfg_ints(&to, "cells", 3, cells_def, CFG_RANGE(1, 10000), s->cells)) ||
+        (rc = cfg_real(&to, "temperature", 0.0, CFG_GE(0), &s->temperature)) ||
+        (rc = impact_boundary_read(&to, b)) || (rc = cfg_close(&to)))
+        return rc;
+    b->temperature = s->temperature;
+    if ((rc = cfg_section_required(root, "cluster", &co)) ||
+        (rc = cfg_enum(&co, "lattice", impact_lattices[s->tlat], impact_lattices, &s->clat)) ||
+        (rc = cfg_string(&co, "element", s->telement, &s->celement)) ||
+        (rc = cfg_real(&co, "a", s->ta, CFG_GT(0), &s->ca)) ||
+        (rc = cfg_int(&co, "atoms", CFG_REQUIRED_INT, CFG_RANGE(1, 100000000), &s->natoms)) ||
+        (rc = cfg_real(&co, "speed", 10.0, CFG_GE(0), &s->speed)) ||
+        (rc = cfg_real(&co, "gap", 0.0, CFG_GE(0), &s->gap)))
+        return rc;
+    s->has_center = json_object_get(co.node, "center") != NULL;
+    if (s->has_center) {
+        static const double zero[3] = {0, 0, 0};
+        if ((rc = cfg_reals(&co, "center", 3, zero, CFG_RANGE(-1, 1), s->center)))
+            return rc;
+    }
+    if ((rc = cfg_close(&co)))
+        return rc;
+    if ((rc = cfg_section(root, "md", &mo)) ||
+        (rc = cfg_real(&mo, "timestep", 0.001, CFG_GT(0), &s->dt)) ||
+        (rc = cfg_int(&mo, "steps", 10000, CFG_GE(0), &s->steps)) ||
+        (rc = cfg_real(&mo, "skin", 1.0, CFG_GT(0), &s->skin)) ||
+        (rc = cfg_real(&mo, "max_displacement", 0.1, CFG_RANGE(0.001, 1.0), &s->maxdisp)) ||
+        (rc = cfg_close(&mo)))
+        return rc;
+    return 0;
+}
+
+static double nn_distance(enum lattice_style st, double a)
+{
+    struct lattice l = {st, a, {0, 0, 0}, {{0}}};
+    return lattice_nn_distance(&l);
+}
+
+/* Build target + cluster; refuse what cannot work. */
+static int build(struct impact *c, const struct impact_spec *s, struct potential **potp,
+                 struct cfg *cfg, uint64_t seed, int nthreads)
+{
+    struct potential *pot = *potp;
+    struct err *e = cfg->err;
+    struct particles *p = particles_create(1024);
+    if (!p)
+        return err_nomem(e, "particles");
+    int rc = 0;
+    struct cluster_cut cut = {0};
+    struct lattice tl = {impact_styles[s->tlat], s->ta, {0, 0, 0}, {{0}}};
+    int tt = particles_type_index(p, s->telement, element_mass(s->telement));
+    int ct = particles_type_index(p, s->celement, element_mass(s->celement));
+    int64_t next_id = 1;
+    if (lattice_fill(&tl, s->cells, NULL, p, tt, &next_id, e) < 0) {
+        particles_destroy(&p);
+        return ERR_RUNTIME;
+    }
+    c->ntarget = p->n_owned;
+    for (int d = 0; d < 3; d++) {
+        c->lo[d] = INFINITY;
+        c->hi[d] = -INFINITY;
+    }
+    for (int i = 0; i < p->n_owned; i++)
+        for (int d = 0; d < 3; d++) {
+            c->lo[d] = fmin(c->lo[d], p->x[3 * i + d]);
+            c->hi[d] = fmax(c->hi[d], p->x[3 * i + d]);
+        }
+    c->surface = c->hi[2];
+    c->a = s->ta;
+    /* the boundary needs a free interior, and a fixed layer a cutoff thick */
+    struct impact_boundary *b = &c->bnd;
+    double layer = b->fixed_thickness + b->damped_thickness;
+    double wx = c->hi[0] - c->lo[0] - 2 * layer, wy = c->hi[1] - c->lo[1] - 2 * layer;
+    double wz = c->hi[2] - c->lo[2] - layer;
+    if (b->fixed_thickness < pot->cutoff) {
+        rc = cfg_error_at(cfg, "target.fixed_thickness",
+                          "%g Å is thinner than the potential cutoff %g Å: the damped atoms would "
+                          "not see a complete crystal", b->fixed_thickness, pot->cutoff);
+    } else if (wx <= 0 || wy <= 0 || wz <= 0) {
+        rc = cfg_error_at(cfg, "target.cells",
+                          "the target (%.1f x %.1f x %.1f Å) has no free interior inside its "
+                          "%.1f Å of fixed and damped layers", c->hi[0] - c->lo[0],
+                          c->hi[1] - c->lo[1], c->hi[2] - c->lo[2], layer);
+    }
+    if (!rc && cluster_cut_sphere(impact_styles[s->clat], s->ca, s->natoms,
+                                  s->has_center ? s->center : NULL, &cut, e)) {
+        char msg[ERR_MSG_MAX];
+        snprintf(msg, sizeof msg, "%s", e->msg);
+        rc = cfg_error_at(cfg, "cluster.atoms", "%s", msg);
+    }
+    if (!rc) {
+        double width = 2 * cut.extent + nn_distance(impact_styles[s->clat], s->ca);
+        double free_w = fmin(wx, wy);
+        if (width >= free_w)
+            rc = cfg_error_at(cfg, "cluster.atoms",
+                              "a cluster of %ld atoms is %.1f Å across, as wide as or wider than "
+                              "the free part of the target's top face (%.1f Å inside the fixed "
+                              "and damped layers); enlarge target.cells",
+                              s->natoms, width, free_w);
+    }
+    if (rc) {
+        cluster_cut_free(&cut);
+        particles_destroy(&p);
+        return rc;
+    }
+    c->ncluster = cut.n;
+    c->cluster_radius = cut.radius;
+    memcpy(c->center_frac, cut.center, sizeof c->center_frac);
+    /* place: centred over the top face, lowest atom `gap` above the surface */
+    double gap = s->gap > 0 ? s->gap : pot->cutoff + 1.0;
+    double zlow = INFINITY;
+    for (long k = 0; k < cut.n; k++)
+        zlow = fmin(zlow, cut.pos[k][2]);
+    double cx = 0.5 * (c->lo[0] + c->hi[0]), cy = 0.5 * (c->lo[1] + c->hi[1]);
+    double cz = c->surface + gap - zlow;
+    c->speed = s->speed * 10.0;   /* km/s -> Å/ps */
+    double vel[3] = {0, 0, -c->speed};
+    if (s->temperature > 0) {
+        if ((rc = potential_bind(pot, p, e)) || (rc = velocity_maxwell(p, s->temperature, seed, 1u, e))) {
+            cluster_cut_free(&cut);
+            particles_destroy(&p);
+            return rc;
+        }
+    }
+    for (long k = 0; k < cut.n; k++) {
+        double x[3] = {cx + cut.pos[k][0], cy + cut.pos[k][1], cz + cut.pos[k][2]};
+        int i = particles_add(p, x, vel, ct, next_id++);
+        if (i < 0) {
+            cluster_cut_free(&cut);
+            particles_destroy(&p);
+            return err_nomem(e, "cluster");
+        }
+        p->mask[i] |= IMPACT_GROUP_CLUSTER;
+    }
+    cluster_cut_free(&cut);
+    struct box box;
+    for (int d = 0; d < 3; d++) {
+        box.lo[d] = c->lo[d];
+        box.hi[d] = d == 2 ? cz + 2 * c->cluster_radius : c->hi[d];
+        box.bc[d] = BOUNDARY_FREE;
+    }
+    *potp = NULL;   /* the md owns particles and potential from here on */
+    rc = md_init(&c->md, p, &box, pot, s->dt, s->skin, nthreads, e);
+    if (rc) {
+        md_free(&c->md);
+        return rc;
+    }
+    c->md.seed = seed;
+    double m = p->mass[ct];
+    c->impact_energy = 0.5 * m * c->speed * c->speed * UNITS_MVV2E * (double)c->ncluster;
+    if (b->ops->setup && (rc = b->ops->setup(b, &c->md, c->lo, c->hi, e)))
+        return rc;
+    /* time step: the displacement rule for the projectile, then stability */
+    rc = md_check_displacement(&c->md, nn_distance(impact_styles[s->tlat], s->ta), s->maxdisp, cfg,
+                               "md.timestep");
+    if (!rc)
+        rc = md_check_timestep(&c->md, cfg, "md.timestep");
+    return rc;
+}
+
+static int impact_read(struct cfg_obj *root, const struct case_common *common, void **state)
+{
+    struct impact_spec s;
+    memset(&s, 0, sizeof s);
+    struct impact_boundary bnd;
+    struct cfg_obj po;
+    struct potential *pot = NULL;
+    int rc = read_spec(root, &s, &bnd);
+    if (!rc)
+        rc = cfg_section_required(root, "potential", &po);
+    if (!rc)
+        rc = potential_create(&po, &pot);
+    if (rc)
+        return rc;
+    struct structure_params def = {impact_refs[s.tlat], CNA_FIXED, s.ta, 0, 0, 0, 0.15, 1};
+    struct impact *c = calloc(1, sizeof *c);
+    if (!c) {
+        potential_destroy(&pot);
+        return err_nomem(root->cfg->err, "impact case");
+    }
+    if ((rc = md_analysis_read(root, &def, 100, &c->an))) {
+        potential_destroy(&pot);
+        free(c);
+        return rc;
+    }
+    if (root->cfg->shallow) {
+        potential_destroy(&pot);
+        md_analysis_free(&c->an);
+        free(c);
+        return 0;
+    }
+    c->bnd = bnd;
+    c->steps = s.steps;
+    rc = build(c, &s, &pot, root->cfg, common->seed, common->nthreads);
+    if (!rc) {
+        double q = 0.25 * s.ta;   /* crater grid a quarter cell off the lattice planes */
+        struct md_analysis_opts o = {
+            c->bnd.ops->exclude_mask ? c->bnd.ops->exclude_mask(&c->bnd) : 0,
+            1, 1, c->surface,
+            {0.5 * (c->lo[0] + c->hi[0]), 0.5 * (c->lo[1] + c->hi[1])},
+            {c->lo[0] - q, c->lo[1] - q}, {c->hi[0] + q, c->hi[1] + q},
+            s.ta,   /* columns of one cubic cell: two atoms of every (001) layer */
+            /* half the (001) layer spacing: a/4 (fcc, bcc), a/8 (diamond) */
+            s.tlat == 2 ? s.ta / 8.0 : s.ta / 4.0};
+        rc = md_analysis_attach(&c->an, c->md.p, &o, common->nthreads, root->cfg->err);
+    }
+    if (rc) {
+        /* build() hands the potential to the md (and NULLs pot) at md_init */
+        if (c->md.p)
+            md_free(&c->md);
+        potential_destroy(&pot);
+        md_analysis_free(&c->an);
+        free(c);
+        return rc;
+    }
+    *state = c;
+    return 0;
+}
+
+static int impact_run(void *state, struct run *run, struct err *e)
+{
+    struct impact *c = state;
+    struct md *md = &c->md;
+    md->timers = &run->timers;
+    struct md_output mo;
+    int rc = md_output_begin(&mo, run, md, e);
+    if (rc)
+        return rc;
+    mo.xyz_field = c->an.f_structure;
+    run_log(run, "target %ld atoms (%ld fixed, %ld damped), cluster %ld atoms (cut radius %.2f Å), "
+                 "%.2f keV at %.2f km/s",
+            c->ntarget, c->bnd.nfixed, c->bnd.ndamped, c->ncluster, c->cluster_radius,
+            c->impact_energy * 1e-3, c->speed / 10.0);
+    md->peratom = run_due(0, c->steps, run->out.snapshot_every);
+    rc = md_compute_forces(md, e);
+    double e0 = md->last.energy + md_kinetic_energy(md);
+    if (!rc)
+        rc = md_analysis_run(&c->an, md, e);
+    if (!rc)
+        rc = md_output_step(&mo, run, md, c->steps);
+    long peak = c->an.displaced;
+    double peak_t = md->time;
+    progress_start(&run->progress, stderr, c->steps, md->dt, run->opt.progress && !run->opt.quiet);
+    timer_start(&run->timers, TIMER_LOOP);
+    for (long s = 1; s <= c->steps && !rc; s++) {
+        md->peratom = run_due(s, c->steps, run->out.snapshot_every);
+        if ((rc = md_step(md, e)))
+            break;
+        if (c->bnd.ops->step && (rc = c->bnd.ops->step(&c->bnd, md, e)))
+            break;
+        double pe = md->last.energy, ke = md_kinetic_energy(md);
+        if (!isfinite(pe) || !isfinite(ke)) {
+            rc = err_set(e, ERR_DIVERGED, "diverged: non-finite energy at step %ld", s);
+            break;
+        }
+        if (md_analysis_due(&c->an, run, s, c->steps)) {
+            if ((rc = md_analysis_run(&c->an, md, e)))
+                break;
+            if (c->an.displaced > peak) {
+                peak = c->an.displaced;
+                peak_t = md->time;
+            }
+        }
+        rc = md_output_step(&mo, run, md, c->steps);
+        progress_update(&run->progress, s);
+    }
+    timer_stop(&run->timers, TIMER_LOOP);
+    progress_finish(&run->progress, md->step);
+    if (rc == ERR_DIVERGED)
+        md_output_snapshot(&mo, run, md);
+    struct result *r = &run->result;
+    double etot = md->last.energy + md_kinetic_energy(md);
+    result_metric(r, "atoms", (double)md->p->n_owned, "1");
+    result_metric(r, "target_atoms", (double)c->ntarget, "1");
+    result_metric(r, "cluster_atoms", (double)c->ncluster, "1");
+    result_metric(r, "cluster_radius", c->cluster_radius, "Å");
+    result_metric(r, "impact_speed", c->speed / 10.0, "km/s");
+    result_metric(r, "impact_energy", c->impact_energy * 1e-3, "keV");
+    result_metric(r, "impact_energy_per_atom", c->impact_energy / (double)c->ncluster, "eV");
+    result_metric(r, "fixed_atoms", (double)c->bnd.nfixed, "1");
+    result_metric(r, "damped_atoms", (double)c->bnd.ndamped, "1");
+    result_metric(r, "time", md->time, "ps");
+    result_metric(r, "displaced_peak", (double)peak, "1");
+    result_metric(r, "displaced_peak_time", peak_t, "ps");
+    result_metric(r, "displaced_final", (double)c->an.displaced, "1");
+    result_metric(r, "displaced_final_over_peak", peak > 0 ? (double)c->an.displaced / peak : 0.0, "1");
+    result_metric(r, "hcp_final", (double)c->an.counts[STRUCT_HCP], "1");
+    result_metric(r, "sputtered_atoms", (double)c->an.sputter.atoms, "1");
+    result_metric(r, "sputtered_clusters", (double)c->an.sputter.clusters, "1");
+    result_metric(r, "sputtered_monomers", (double)c->an.sputter.monomers, "1");
+    result_metric(r, "sputtered_largest", (double)c->an.sputter.largest, "1");
+    const struct crater_stats *cs = &c->an.crater;
+    double w100 = 0.5 * (cs->extent[0] + cs->extent[1]), w110 = 0.5 * (cs->extent[2] + cs->extent[3]);
+    result_metric(r, "crater_depth", cs->depth, "Å");
+    result_metric(r, "crater_volume", cs->volume, "Å^3");
+    result_metric(r, "crater_extent_100", w100, "Å");
+    result_metric(r, "crater_extent_110", w110, "Å");
+    result_metric(r, "crater_shape_110_over_100", w100 > 0 ? w110 / w100 : 0.0, "1");
+    result_metric(r, "rim_height", cs->rim, "Å");
+    result_metric(r, "energy_absorbed", e0 - etot, "eV");
+    result_metric(r, "temperature", md_temperature(md), "K");
+    run_log(run, "displaced atoms: peak %ld at %.2f ps, final %ld; sputtered %ld atoms in %ld "
+                 "groups; crater %.1f Å deep, %.1f x %.1f Å ([100] x [110])",
+            peak, peak_t, c->an.displaced, c->an.sputter.atoms, c->an.sputter.clusters, cs->depth,
+            w100, w110);
+    int rc2 = md_analysis_finish(&c->an, run, e);
+    int rc3 = md_output_end(&mo, run, e);
+    return rc ? rc : rc2 ? rc2 : rc3;
+}
+
+static void impact_destroy(void *state)
+{
+    struct impact *c = state;
+    if (!c)
+        return;
+    if (c->bnd.ops && c->bnd.ops->destroy)
+        c->bnd.ops->destroy(&c->bnd);
+    md_free(&c->md);
+    md_analysis_free(&c->an);
+    free(c);
+}
+
+static long impact_particles(const void *state)
+{
+    const struct impact *c = state;
+    return c && c->md.p ? c->md.p->n_owned : 0;
+}
+
+const struct case_type impact_case_type = {
+    "cluster_impact", "a cluster hitting a crystal surface: damage, sputtering, crater",
+    impact_read, impact_run, impact_destroy, impact_particles, NULL,
+};
