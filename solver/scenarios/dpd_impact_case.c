@@ -54,7 +54,10 @@
  * displacement_max_1/2 (Å), flyer_velocity_final (Å/ps), target_particles,
  * flyer_particles, energy_drift and energy_deviation_max (relative change
  * of pe + ke + internal energy: conserved by DPDE with a free flyer),
- * momentum_change (amu Å/ps: zero with a free flyer).
+ * momentum_change (amu Å/ps: zero with a free flyer), and the common
+ * neighbour analysis of the target at the coarse lattice constant
+ * (section analysis.structure, metrics cna_fcc, cna_hcp, cna_other, ...,
+ * per-particle field `structure` in the snapshots: dpd_structure.h).
  * Series: time_ps, displacement_region_1/2 (Å; differences to the reference
  * run when there is one, raw_displacement_region_1/2 the flyer run's own),
  * etotal (eV), arrival_thresholds (Å) and wave_speed_scan (m/s), and per
@@ -72,6 +75,7 @@
 #include "scenarios/dpd_impact_setup.h"
 #include "scenarios/dpd_output.h"
 #include "scenarios/dpd_setup.h"
+#include "scenarios/dpd_structure.h"
 #include "scenarios/md_system.h"
 
 #define FLYER_BIT DPD_FLYER_BIT
@@ -91,6 +95,7 @@ struct impact_case {
     double face, length;       /* Å */
     int xref;                  /* displacement reference field */
     long n_target, n_flyer;
+    struct dpd_structure st;   /* CNA of the flyer run (Fig. 4) */
 };
 
 static int cmp_id_index(const void *a, const void *b)
@@ -138,12 +143,15 @@ static int impact_read(struct cfg_obj *root, const struct case_common *common, v
     struct md_system_info info;
     struct dpd_input in;
     struct dpd_impact_keys k;
+    struct dpd_structure st;
     int rc = md_system_read(root, common->seed, &p, &box, &info);
     if (!rc)
         rc = dpd_section_read(root, DPD_ENERGY, &in);
     memset(&k, 0, sizeof k);
     if (!rc)
         rc = dpd_impact_keys_read(root, &k);
+    if (!rc)
+        rc = dpd_structure_read(root, &st);
     if (!rc && box.bc[k.axis] == BOUNDARY_PERIODIC)
         rc = cfg_error_at(root->cfg, "system.boundary",
                           "the impact axis %c must not be periodic (the flyer comes from outside)",
@@ -211,7 +219,11 @@ static int impact_read(struct cfg_obj *root, const struct case_common *common, v
                 rc = ERR_RUNTIME;
         }
     }
+    c->st = st;
+    if (!rc)
+        rc = dpd_structure_attach(&c->st, &c->d, in.prm.sc.a, FLYER_BIT, common->nthreads, e);
     if (rc) {
+        dpd_structure_free(&c->st);
         dpd_free(&c->d);
         if (c->has_ref)
             dpd_free(&c->ref);
@@ -241,6 +253,7 @@ static int impact_read(struct cfg_obj *root, const struct case_common *common, v
         dpd_free(&c->d);
         if (c->has_ref)
             dpd_free(&c->ref);
+        dpd_structure_free(&c->st);
         free(c->profile_times);
         free(c);
         return rc;
@@ -299,6 +312,8 @@ static int impact_run(void *state, struct run *run, struct err *e)
     }
     dpd_momentum(d, P0);
     e0 = dpd_total_energy(d);
+    if ((rc = dpd_structure_classify(&c->st, d, e)))
+        goto done;
     rc = dpd_output_step(&out, run, d, c->steps);
     progress_start(&run->progress, stderr, c->steps, d->dt, run->opt.progress && !run->opt.quiet);
     timer_start(&run->timers, TIMER_LOOP);
@@ -313,6 +328,8 @@ static int impact_run(void *state, struct run *run, struct err *e)
                 break;
             }
             demax = fmax(demax, fabs(et - e0));
+            if ((rc = dpd_structure_before_output(&c->st, run, d, c->steps, e)))
+                break;
             rc = dpd_output_step(&out, run, d, c->steps);
             progress_update(&run->progress, s);
         }
@@ -341,6 +358,8 @@ static int impact_run(void *state, struct run *run, struct err *e)
     }
     timer_stop(&run->timers, TIMER_LOOP);
     progress_finish(&run->progress, d->step);
+    if (!rc)
+        rc = dpd_structure_finish(&c->st, run, d, e);
 
     struct result *res = &run->result;
     double t1 = wave_arrival_time(ts, s1, ns, c->threshold);
@@ -430,6 +449,7 @@ static void impact_destroy(void *state)
     dpd_free(&c->d);
     if (c->has_ref)
         dpd_free(&c->ref);
+    dpd_structure_free(&c->st);
     free(c->profile_times);
     free(c);
 }

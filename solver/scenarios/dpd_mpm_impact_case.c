@@ -12,6 +12,9 @@
  * Sections: system, dpd (dpd_setup.h; default variant dpde), impact
  * (dpd_impact_setup.h: the same flyer, regions, arrival criterion, reference
  * run and profiles as the DPD-only `dpd_impact`), grid (dpd_mpm_setup.h),
+ * analysis.structure (dpd_structure.h: CNA of the flyer run's DPD particles
+ * at the coarse lattice constant, metrics cna_fcc, cna_hcp, cna_other, ...,
+ * field `structure` in the snapshots),
  * and for dpd_mpm_impact:
  *
  *   concurrent:
@@ -92,6 +95,7 @@
 #include "scenarios/dpd_mpm_setup.h"
 #include "scenarios/dpd_output.h"
 #include "scenarios/dpd_setup.h"
+#include "scenarios/dpd_structure.h"
 #include "scenarios/md_system.h"
 
 #define PARTNER_BIT (1u << 6)
@@ -129,6 +133,7 @@ struct impact_case {
     struct points pts;
     double face, length, cell;
     long n_target, n_flyer, nodes;
+    struct dpd_structure st;      /* CNA of the flyer run's DPD particles (Fig. 4) */
 };
 
 static int read_concurrent(struct cfg_obj *root, struct conc_keys *k)
@@ -293,6 +298,8 @@ static int impact_read(struct cfg_obj *root, const struct case_common *common, v
                                &gk);
     if (!rc && concurrent)
         rc = read_concurrent(root, &c->ck);
+    if (!rc)
+        rc = dpd_structure_read(root, &c->st);
     if (!rc && box.bc[c->k.axis] == BOUNDARY_PERIODIC)
         rc = cfg_error_at(root->cfg, "system.boundary",
                           "the impact axis %c must not be periodic (the flyer comes from outside)",
@@ -388,6 +395,9 @@ static int impact_read(struct cfg_obj *root, const struct case_common *common, v
         particles_destroy(&src[r]);
     particles_destroy(&p);
     particles_destroy(&hom);
+    if (!rc)
+        rc = dpd_structure_attach(&c->st, &c->r[0].d, in.prm.sc.a, DPD_FLYER_BIT | PARTNER_BIT,
+                                  common->nthreads, e);
     if (rc) {
         impact_destroy(c);
         return rc;
@@ -725,8 +735,8 @@ static int impact_run(void *state, struct run *run, struct err *e)
     double P0[3], e0 = NAN, demax = 0, et = NAN;
     dpd_mpm_momentum(&m->c, P0);
     d->peratom = run_due(0, c->steps, run->out.snapshot_every);
-    if ((rc = dpd_compute_forces(d, e)) || (rc = dpd_output_step(&out, run, d, c->steps)) ||
-        (rc = points_snapshot(run, m, e)))
+    if ((rc = dpd_compute_forces(d, e)) || (rc = dpd_structure_classify(&c->st, d, e)) ||
+        (rc = dpd_output_step(&out, run, d, c->steps)) || (rc = points_snapshot(run, m, e)))
         goto done;
     progress_start(&run->progress, stderr, c->steps, d->dt, run->opt.progress && !run->opt.quiet);
     timer_start(&run->timers, TIMER_LOOP);
@@ -747,6 +757,8 @@ static int impact_run(void *state, struct run *run, struct err *e)
             if (s == 1)
                 e0 = et;
             demax = fmax(demax, fabs(et - e0));
+            if ((rc = dpd_structure_before_output(&c->st, run, d, c->steps, e)))
+                break;
             rc = dpd_output_step(&out, run, d, c->steps);
             if (!rc && run_due(s, c->steps, run->out.snapshot_every))
                 rc = points_snapshot(run, m, e);
@@ -780,6 +792,8 @@ static int impact_run(void *state, struct run *run, struct err *e)
     }
     timer_stop(&run->timers, TIMER_LOOP);
     progress_finish(&run->progress, d->step);
+    if (!rc)
+        rc = dpd_structure_finish(&c->st, run, d, e);
     if (!rc || rc == ERR_DIVERGED) {
         report(c, run, &S, demax, e0, et, P0);
         if (np) {
@@ -820,6 +834,7 @@ static void impact_destroy(void *state)
     free(c->pts.x);
     free(c->pts.id);
     free(c->k.ptimes);
+    dpd_structure_free(&c->st);
     free(c);
 }
 
