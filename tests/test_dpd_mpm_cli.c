@@ -196,7 +196,7 @@ Test(dpd_mpm_cli, grid_impact_approaches_dpd_only, .timeout = 240)
     json_decref(r8);
 }
 
-Test(dpd_mpm_cli, concurrent_impact_crosses_the_interface, .timeout = 120)
+Test(dpd_mpm_cli, concurrent_impact_crosses_the_interface, .timeout = 300)
 {
     char yaml[2048], out[8192], dir[512];
     snprintf(dir, sizeof dir, "%s/conc-impact", th_temp_dir());
@@ -242,7 +242,7 @@ static long dataset_rows(hid_t f, const char *name, char unit[32])
 /* The concurrent model's snapshots hold its material points (collection
  * "points", one row per point, displacement zero at the start and not
  * after the run, stress in GPa) beside the DPD particles. */
-Test(dpd_mpm_cli, concurrent_snapshots_hold_the_material_points, .timeout = 120)
+Test(dpd_mpm_cli, concurrent_snapshots_hold_the_material_points, .timeout = 240)
 {
     char yaml[2048], out[8192], dir[512];
     snprintf(dir, sizeof dir, "%s/conc-snap", th_temp_dir());
@@ -288,7 +288,7 @@ Test(dpd_mpm_cli, concurrent_snapshots_hold_the_material_points, .timeout = 120)
  * end (18 particles, 8 neighbours each) -- at the impact face the flyer
  * continues the lattice -- in the DPD-only and the grid model alike; the
  * flyer is not counted; the classes are in the snapshots. */
-Test(dpd_mpm_cli, cna_of_the_target, .timeout = 120)
+Test(dpd_mpm_cli, cna_of_the_target, .timeout = 240)
 {
     const char *types[2] = {"dpd_impact", "dpd_grid_impact"};
     for (int t = 0; t < 2; t++) {
