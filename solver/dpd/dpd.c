@@ -5,6 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/domain.h"
 #include "core/ghost.h"
 #include "core/units.h"
 #include "dpd/cg_lattice.h"
@@ -73,24 +74,8 @@ static int rebuild(struct dpd *d, struct err *e)
 {
     struct particles *p = d->p;
     double range = list_cutoff(d) + d->skin;
-    particles_clear_ghosts(p);
-    int rc = box_remap(&d->box, p, 0.0, e);
-    if (rc)
-        return rc;
-    if (d->sort_every > 0 && d->nrebuilds % d->sort_every == 0 && p->n_owned > 1) {
-        int *perm = malloc((size_t)p->n_owned * sizeof *perm);
-        if (!perm)
-            return err_nomem(e, "spatial sort");
-        rc = nlist_spatial_order(p, 0.5 * range, perm, e);
-        if (!rc)
-            rc = particles_permute(p, perm, e);
-        free(perm);
-        if (rc)
-            return rc;
-    }
-    tstart(d, TIMER_COMM);
-    rc = ghost_build(p, &d->box, range, e);
-    tstop(d, TIMER_COMM);
+    int rc = domain_rebuild(p, &d->box, range, d->sort_every > 0 && d->nrebuilds % d->sort_every == 0,
+                            d->timers, e);
     if (!rc)
         rc = nlist_build(d->nl, p, e);
     if (!rc && d->canonical_lists)

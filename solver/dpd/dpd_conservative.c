@@ -1,8 +1,8 @@
 /*
  * dpd_conservative: the coarse-grained Sutton-Chen force (Chen 2014,
  * Eq. (2.3)) with its many-body density term, on a half list with ghosts:
- *   pass 1  rho_i = sum_j rho(r_ij) (both ends of each pair; ghost parts
- *           added to their owners), F'(rho_i) sent back out to the ghosts;
+ *   pass 1  rho_i and F'(rho_i) (core/sc_density.h, shared with the
+ *           atomistic Sutton-Chen potential);
  *   pass 2  f_i = -sum_j [eps V'(r) + (F'(rho_i) + F'(rho_j)) rho'(r)] e_ij.
  * Threads accumulate into private buffers summed in thread order
  * (core/thread_accum.h), so a thread count always gives the same sums.
@@ -13,6 +13,7 @@
 #include <string.h>
 
 #include "core/ghost.h"
+#include "core/sc_density.h"
 #include "dpd/dpd_pair.h"
 
 static int reserve(struct dpd *d, int ntot, int nt, struct err *e)
@@ -51,50 +52,26 @@ int dpd_conservative(struct dpd *d, struct err *e)
     if (rc)
         return rc;
     const double rc2 = sc->rc * sc->rc;
-    memset(d->rho, 0, (size_t)ntot * sizeof(double));
     memset(p->f, 0, (size_t)3 * ntot * sizeof(double));
     if (peratom) {
         memset(p->pe, 0, (size_t)ntot * sizeof(double));
         memset(p->virial, 0, (size_t)6 * ntot * sizeof(double));
     }
-
-#pragma omp parallel num_threads(nt)
-    {
-        int tid = omp_get_thread_num();
-        double *rho = thread_accum_target(&d->acc_rho, tid, d->rho, (size_t)ntot);
-#pragma omp for schedule(static)
-        for (int i = 0; i < p->n_owned; i++) {
-            const double xi = p->x[3 * i], yi = p->x[3 * i + 1], zi = p->x[3 * i + 2];
-            double rhoi = 0;
-            for (int k = nl->offset[i]; k < nl->offset[i + 1]; k++) {
-                int j = nl->neigh[k];
-                double dx = xi - p->x[3 * j], dy = yi - p->x[3 * j + 1], dz = zi - p->x[3 * j + 2];
-                double r2 = dx * dx + dy * dy + dz * dz;
-                if (r2 >= rc2)
-                    continue;
-                double v, dv, rr, drr;
-                sc_pair_terms(sc, sqrt(r2), &v, &dv, &rr, &drr);
-                rhoi += rr;
-                rho[j] += rr;
-            }
-            rho[i] += rhoi;
-        }
-    }
-    thread_accum_reduce(&d->acc_rho, d->rho, (size_t)ntot);
-    ghost_reverse_add(p, d->rho, 1);
-
+    /* pass 1 */
+    double embed = sc_density_embed(sc, p, nl, &d->acc_rho, nt, d->rho, d->fp,
+                                    peratom ? p->pe : NULL);
+    /* a passive partner's embedding energy belongs to its own model: out of
+     * the DPD energy (its F' still acts in the pairs with DPD particles) */
     const uint32_t pm = d->passive_mask;
-    double embed = 0;
-    for (int i = 0; i < p->n_owned; i++) {
-        double F;
-        sc_embed(sc, d->rho[i], &F, &d->fp[i]);
-        if (pm && (p->mask[i] & pm))
-            continue;   /* a passive partner's energy belongs to its own model */
-        embed += F;
+    for (int i = 0; pm && i < p->n_owned; i++) {
+        if (i < nl->ilo || i >= nl->ihi || !(p->mask[i] & pm))
+            continue;
+        double F, dF;
+        sc_embed(sc, d->rho[i], &F, &dF);
+        embed -= F;
         if (peratom)
-            p->pe[i] = F;
+            p->pe[i] = 0;
     }
-    ghost_forward(p, d->fp, 1);
 
     double esum[THREAD_ACCUM_MAX] = {0}, wsum[THREAD_ACCUM_MAX][6];
     memset(wsum, 0, sizeof wsum);

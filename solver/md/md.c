@@ -5,6 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/domain.h"
 #include "core/ghost.h"
 #include "core/parallel.h"
 #include "core/units.h"
@@ -25,24 +26,8 @@ static int rebuild(struct md *md, struct err *e)
 {
     struct particles *p = md->p;
     double range = md->pot->cutoff + md->skin;
-    particles_clear_ghosts(p);
-    int rc = box_remap(&md->box, p, 0.0, e);
-    if (rc)
-        return rc;
-    if (md->sort_every > 0 && md->nrebuilds % md->sort_every == 0 && p->n_owned > 1) {
-        int *perm = malloc((size_t)p->n_owned * sizeof *perm);
-        if (!perm)
-            return err_nomem(e, "spatial sort");
-        rc = nlist_spatial_order(p, 0.5 * range, perm, e);
-        if (!rc)
-            rc = particles_permute(p, perm, e);
-        free(perm);
-        if (rc)
-            return rc;
-    }
-    tstart(md, TIMER_COMM);
-    rc = ghost_build(p, &md->box, range, e);
-    tstop(md, TIMER_COMM);
+    int rc = domain_rebuild(p, &md->box, range, md->sort_every > 0 && md->nrebuilds % md->sort_every == 0,
+                            md->timers, e);
     if (rc)
         return rc;
     parallel_range(p->par, p->n_owned, &md->nl->ilo, &md->nl->ihi);

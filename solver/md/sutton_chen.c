@@ -11,6 +11,7 @@
 #include <string.h>
 
 #include "core/ghost.h"
+#include "core/sc_density.h"
 #include "core/sc_form.h"
 #include "md/potential.h"
 #include "md/potential_common.h"
@@ -49,44 +50,8 @@ static int sc_compute(struct potential *pot, struct particles *p, const struct n
     if (rc)
         return rc;
     const double rc2 = sc->rc * sc->rc;
-    memset(s->rho, 0, (size_t)ntot * sizeof(double));
-
-#pragma omp parallel num_threads(nt)
-    {
-        int tid = omp_get_thread_num();
-        double *rho = thread_accum_target(&s->rho_acc, tid, s->rho, (size_t)ntot);
-#pragma omp for schedule(static)
-        for (int i = 0; i < p->n_owned; i++) {
-            const double xi = p->x[3 * i], yi = p->x[3 * i + 1], zi = p->x[3 * i + 2];
-            double rhoi = 0;
-            for (int k = nl->offset[i]; k < nl->offset[i + 1]; k++) {
-                int j = nl->neigh[k];
-                double dx = xi - p->x[3 * j], dy = yi - p->x[3 * j + 1], dz = zi - p->x[3 * j + 2];
-                double r2 = dx * dx + dy * dy + dz * dz;
-                if (r2 >= rc2)
-                    continue;
-                double v, dv, rr, drr;
-                sc_pair_terms(sc, sqrt(r2), &v, &dv, &rr, &drr);
-                rhoi += rr;
-                rho[j] += rr;
-            }
-            rho[i] += rhoi;
-        }
-    }
-    thread_accum_reduce(&s->rho_acc, s->rho, (size_t)ntot);
-    ghost_reverse_add(p, s->rho, 1);
-
-    double embed = 0;
-    for (int i = 0; i < p->n_owned; i++) {
-        double F;
-        sc_embed(sc, s->rho[i], &F, &s->fp[i]);
-        if (i < nl->ilo || i >= nl->ihi)   /* energy of this rank's slice only */
-            continue;
-        embed += F;
-        if (flags & POT_PERATOM)
-            p->pe[i] = F;
-    }
-    ghost_forward(p, s->fp, 1);
+    double embed = sc_density_embed(sc, p, nl, &s->rho_acc, nt, s->rho, s->fp,
+                                    (flags & POT_PERATOM) ? p->pe : NULL);
 
     const double *fp = s->fp;
 #pragma omp parallel num_threads(nt)

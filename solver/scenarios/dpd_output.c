@@ -112,18 +112,7 @@ int dpd_output_step(struct dpd_output *o, struct run *run, struct dpd *d, long t
 
 int dpd_output_end(struct dpd_output *o, struct run *run, struct err *e)
 {
-    int rc = 0;
-    if (run->h5_open && o->nrows > 0) {
-        double *col = malloc((size_t)o->nrows * sizeof *col);
-        if (!col)
-            rc = err_nomem(e, "thermo series");
-        for (int k = 0; k < DPD_THERMO_COLS && !rc; k++) {
-            for (long r = 0; r < o->nrows; r++)
-                col[r] = o->series[r * DPD_THERMO_COLS + k];
-            rc = h5out_write_series(&run->h5, cols[k], col, o->nrows, units[k], e);
-        }
-        free(col);
-    }
+    int rc = run_write_series_table(run, o->series, o->nrows, DPD_THERMO_COLS, cols, units, e);
     free(o->series);
     free(o->ibuf);
     memset(o, 0, sizeof *o);

@@ -151,18 +151,7 @@ int md_output_step(struct md_output *o, struct run *run, struct md *md, long tot
 
 int md_output_end(struct md_output *o, struct run *run, struct err *e)
 {
-    int rc = 0;
-    if (run->h5_open && o->nrows > 0) {
-        double *col = malloc((size_t)o->nrows * sizeof *col);
-        if (!col)
-            rc = err_nomem(e, "thermo series");
-        for (int k = 0; k < MD_THERMO_COLS && !rc; k++) {
-            for (long r = 0; r < o->nrows; r++)
-                col[r] = o->series[r * MD_THERMO_COLS + k];
-            rc = h5out_write_series(&run->h5, thermo_cols[k], col, o->nrows, thermo_units[k], e);
-        }
-        free(col);
-    }
+    int rc = run_write_series_table(run, o->series, o->nrows, MD_THERMO_COLS, thermo_cols, thermo_units, e);
     free(o->series);
     free(o->stress);
     free(o->ibuf);

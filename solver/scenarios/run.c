@@ -3,6 +3,7 @@
 
 #include <errno.h>
 #include <stdarg.h>
+#include <stdlib.h>
 #include <string.h>
 #include <sys/resource.h>
 #include <sys/stat.h>
@@ -169,6 +170,24 @@ void run_thermo_row(struct run *r, const double *values, int n)
         fprintf(r->thermo_csv, "%s%.10g", k ? "," : "", values[k]);
     fputc('\n', r->thermo_csv);
     fflush(r->thermo_csv);
+}
+
+int run_write_series_table(struct run *r, const double *rows, long nrows, int ncols,
+                           const char *const *names, const char *const *units, struct err *e)
+{
+    if (!r->h5_open || nrows <= 0)
+        return 0;
+    double *col = malloc((size_t)nrows * sizeof *col);
+    if (!col)
+        return err_nomem(e, "thermo series");
+    int rc = 0;
+    for (int k = 0; k < ncols && !rc; k++) {
+        for (long i = 0; i < nrows; i++)
+            col[i] = rows[i * ncols + k];
+        rc = h5out_write_series(&r->h5, names[k], col, nrows, units[k], e);
+    }
+    free(col);
+    return rc;
 }
 
 static double peak_rss_mib(void)

@@ -80,6 +80,12 @@ void run_path(const struct run *r, const char *name, char *out, size_t len);
 int run_thermo_header(struct run *r, const char *const *columns, int n);
 void run_thermo_row(struct run *r, const double *values, int n);
 
+/* A thermo table kept in memory (nrows rows of ncols values) written as
+ * one series per column under /series of the HDF5 file; nothing without
+ * an HDF5 file. */
+int run_write_series_table(struct run *r, const double *rows, long nrows, int ncols,
+                           const char *const *names, const char *const *units, struct err *e);
+
 /* Log line (printf style) unless quiet. */
 void run_log(struct run *r, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
 

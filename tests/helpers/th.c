@@ -1,8 +1,10 @@
 /* th: test helpers (see th.h). */
+#define _XOPEN_SOURCE 700   /* nftw */
 #include "helpers/th.h"
 
 #include <criterion/criterion.h>
 #include <fcntl.h>
+#include <ftw.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -125,14 +127,32 @@ const char *th_root(void)
     return s ? s : ".";
 }
 
+static char temp_dir[256];
+
+static int remove_entry(const char *path, const struct stat *sb, int flag, struct FTW *ftw)
+{
+    (void)sb;
+    (void)flag;
+    (void)ftw;
+    return remove(path);
+}
+
+/* The test process's scratch directory goes when the process ends, unless
+ * CASCADE_KEEP_TEMP is set (to look at what a failing test wrote). */
+static void remove_temp_dir(void)
+{
+    if (temp_dir[0] && !getenv("CASCADE_KEEP_TEMP"))
+        nftw(temp_dir, remove_entry, 16, FTW_DEPTH | FTW_PHYS);
+}
+
 const char *th_temp_dir(void)
 {
-    static char dir[256];
-    if (!dir[0]) {
-        snprintf(dir, sizeof dir, "/tmp/cascade-test-XXXXXX");
-        cr_assert_not_null(mkdtemp(dir));
+    if (!temp_dir[0]) {
+        snprintf(temp_dir, sizeof temp_dir, "/tmp/cascade-test-XXXXXX");
+        cr_assert_not_null(mkdtemp(temp_dir));
+        atexit(remove_temp_dir);
     }
-    return dir;
+    return temp_dir;
 }
 
 const char *th_write_temp(int slot, const char *name, const char *text)

@@ -1,0 +1,33 @@
+/* domain: wrap, sort and ghosts before a neighbour-list build (domain.h). */
+#include "core/domain.h"
+
+#include <stdlib.h>
+
+#include "core/ghost.h"
+#include "core/neighbor.h"
+
+int domain_rebuild(struct particles *p, struct box *b, double range, int sort_now,
+                   struct timers *timers, struct err *e)
+{
+    particles_clear_ghosts(p);
+    int rc = box_remap(b, p, 0.0, e);
+    if (rc)
+        return rc;
+    if (sort_now && p->n_owned > 1) {
+        int *perm = malloc((size_t)p->n_owned * sizeof *perm);
+        if (!perm)
+            return err_nomem(e, "spatial sort");
+        rc = nlist_spatial_order(p, 0.5 * range, perm, e);
+        if (!rc)
+            rc = particles_permute(p, perm, e);
+        free(perm);
+        if (rc)
+            return rc;
+    }
+    if (timers)
+        timer_start(timers, TIMER_COMM);
+    rc = ghost_build(p, b, range, e);
+    if (timers)
+        timer_stop(timers, TIMER_COMM);
+    return rc;
+}
