@@ -172,7 +172,7 @@ static json_t *run_impact(const char *type, const char *grid, const char *name)
  * wave speed approaches the DPD-only one as the cells shrink (measured
  * 4907, 5734, 4901 m/s), total momentum and DPDE energy are conserved,
  * and the grid's dissipation is accounted for as heat. */
-Test(dpd_mpm_cli, grid_impact_approaches_dpd_only, .timeout = 240)
+Test(dpd_mpm_cli, grid_impact_approaches_dpd_only, .timeout = 600)
 {
     json_t *r0 = run_impact("dpd_impact", "", "dpd-only");
     json_t *r8 = run_impact("dpd_grid_impact", "  cell: 8.0\n", "grid-8");
