@@ -41,6 +41,11 @@ echo "demo: DPD-only flyer/target and tensile rod of Chen et al. 2014, quick var
 echo "      (studies/chen2014/dpd_quick.yaml: 2,304-particle bar; outputs in runs/chen2014_quick)"
 sh "$ROOT/studies/chen2014/run_dpd.sh" quick "$BIN/cascade-solver"
 
+echo
+echo "demo: the same target carried by a 4 Å MPM grid (DPD/MPM-grid model) and split into"
+echo "      DPD particles and material points (concurrent DPD/MPM model), about 30 s"
+sh "$ROOT/studies/chen2014/run_dpd_mpm.sh" demo "$BIN/cascade-solver"
+
 # --- the report of the study -------------------------------------------------
 REPORT=${DEMO_REPORT:-reports/demo}
 echo

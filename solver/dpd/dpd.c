@@ -156,6 +156,7 @@ void dpd_free(struct dpd *d)
     nlist_destroy(&d->nl);
     free(d->rho);
     free(d->fp);
+    free(d->pair_dr);
     thread_accum_free(&d->acc_rho);
     thread_accum_free(&d->acc_f);
     thread_accum_free(&d->acc_pe);

@@ -99,6 +99,18 @@ struct dpd {
                                  * pair sweep visits a particle's pairs in the same
                                  * order whatever else is in the system (reference runs) */
     int peratom;                /* keep per-particle energy and virial current */
+    /* For models that integrate the particles themselves (solver/couple):
+     * particles with any bit of passive_mask are passive partners -- copies
+     * of another model's particles near an interface (Chen 2014, Eqs.
+     * (3.2)-(3.4)).  They count in the densities of the many-body term and
+     * take part in pairs with the other particles, but a pair of two passive
+     * particles exerts no force and its energy is not the DPD model's. */
+    uint32_t passive_mask;
+    int keep_pair_dr;           /* dpd_pair_forces keeps each pair's D + R force (pair_dr) */
+    double *pair_dr;            /* per neighbour-list entry: the D + R force on i along e_ij
+                                 * (eV/Å), 0 for pairs without one; from the last
+                                 * dpd_pair_forces */
+    long pair_dr_cap;
     struct dpd_body body[DPD_MAX_BODIES];
     int nbodies;
     int ufield;                 /* index of the internal-energy field (DPDE), else -1 */
@@ -139,6 +151,19 @@ int dpd_compute_forces(struct dpd *d, struct err *e);
  * Maruyama: sigma w^R theta / sqrt(dt)), keyed on d->step.  Pairs inside one
  * rigid body are skipped.  Also leaves the conservative part in p->f. */
 int dpd_pair_forces(struct dpd *d, double dt, double *f, struct err *e);
+
+/* DPDE energy bookkeeping for models that move the particles themselves
+ * (the DPD/MPM-grid and concurrent models): after dpd_pair_forces with
+ * d->keep_pair_dr set, and with the positions unchanged since, each pair's
+ * dissipative + random force f^DR_ij did the work
+ *   W_ij = f^DR_ij . (w_i - w_j) dt
+ * on the motion, where w (3 per owned particle, Å/ps) are the velocities the
+ * model actually moved the particles with over the step (time-centred); the
+ * two internal energies each give up W_ij / 2, so kinetic + potential +
+ * internal energy is conserved as in dpd_sweep.  *heat (may be NULL) gets
+ * the total taken from the internal energies (eV).  ERR_DIVERGED when an
+ * internal energy is driven to zero or below.  No-op for isothermal DPD. */
+int dpd_pair_heat(struct dpd *d, double dt, const double *w, double *heat, struct err *e);
 
 /* One step: pair sweep (dissipative + random, exact per pair), velocity
  * Verlet with the conservative forces, rigid bodies, optional thermostat. */

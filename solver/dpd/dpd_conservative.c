@@ -60,6 +60,18 @@ int dpd_conservative(struct dpd *d, struct err *e)
     /* pass 1 */
     double embed = sc_density_embed(sc, p, nl, &d->acc_rho, nt, d->rho, d->fp,
                                     peratom ? p->pe : NULL);
+    /* a passive partner's embedding energy belongs to its own model: out of
+     * the DPD energy (its F' still acts in the pairs with DPD particles) */
+    const uint32_t pm = d->passive_mask;
+    for (int i = 0; pm && i < p->n_owned; i++) {
+        if (i < nl->ilo || i >= nl->ihi || !(p->mask[i] & pm))
+            continue;
+        double F, dF;
+        sc_embed(sc, d->rho[i], &F, &dF);
+        embed -= F;
+        if (peratom)
+            p->pe[i] = 0;
+    }
 
     double esum[THREAD_ACCUM_MAX] = {0}, wsum[THREAD_ACCUM_MAX][6];
     memset(wsum, 0, sizeof wsum);
@@ -75,12 +87,13 @@ int dpd_conservative(struct dpd *d, struct err *e)
 #pragma omp for schedule(static)
         for (int i = 0; i < p->n_owned; i++) {
             const double xi = p->x[3 * i], yi = p->x[3 * i + 1], zi = p->x[3 * i + 2];
+            const int passive_i = pm && (p->mask[i] & pm);
             double fxi = 0, fyi = 0, fzi = 0;
             for (int k = nl->offset[i]; k < nl->offset[i + 1]; k++) {
                 int j = nl->neigh[k];
                 double dx = xi - p->x[3 * j], dy = yi - p->x[3 * j + 1], dz = zi - p->x[3 * j + 2];
                 double r2 = dx * dx + dy * dy + dz * dz;
-                if (r2 >= rc2)
+                if (r2 >= rc2 || (passive_i && (p->mask[j] & pm)))
                     continue;
                 double r = sqrt(r2), v, dv, rr, drr;
                 sc_pair_terms(sc, r, &v, &dv, &rr, &drr);

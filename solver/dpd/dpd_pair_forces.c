@@ -11,6 +11,9 @@
  *   f^R_ij =  sigma_ij w^R(r) theta_ij / sqrt(dt) e_ij,
  *   sigma_ij^2 = 2 gamma_ij kB Theta_ij,
  * antisymmetric in i and j, so they sum to zero over all particles.
+ * Pairs of two passive partners (d->passive_mask) exert none.  With
+ * d->keep_pair_dr each list entry's D + R force is kept in d->pair_dr for
+ * the DPDE bookkeeping of dpd_pair_heat.
  */
 #include <math.h>
 #include <omp.h>
@@ -33,10 +36,27 @@ int dpd_pair_forces(struct dpd *d, double dt, double *fout, struct err *e)
     const int dpde = d->set.variant == DPD_ENERGY;
     const int site = dpde ? RNG_SITE_DPDE_PAIR : RNG_SITE_DPD_PAIR;
     const double *u = d->ufield >= 0 ? particles_field(p, d->ufield) : NULL;
+    const uint32_t pm = d->passive_mask;
     double *buf = calloc((size_t)3 * (ntot ? ntot : 1), sizeof *buf);
     struct thread_accum acc = {0};
     if (!buf)
         return err_nomem(e, "DPD pair forces");
+    double *keep = NULL;
+    if (d->keep_pair_dr) {
+        long nk = nl->offset[p->n_owned];
+        if (nk > d->pair_dr_cap) {
+            long cap = nk + nk / 4 + 64;
+            double *q = realloc(d->pair_dr, (size_t)cap * sizeof *q);
+            if (!q) {
+                free(buf);
+                return err_nomem(e, "DPD pair forces");
+            }
+            d->pair_dr = q;
+            d->pair_dr_cap = cap;
+        }
+        keep = d->pair_dr;
+        memset(keep, 0, (size_t)nk * sizeof *keep);
+    }
     if ((rc = thread_accum_reserve(&acc, nt, (size_t)3 * ntot, e))) {
         free(buf);
         return rc;
@@ -48,12 +68,13 @@ int dpd_pair_forces(struct dpd *d, double dt, double *fout, struct err *e)
 #pragma omp for schedule(static)
         for (int i = 0; i < p->n_owned; i++) {
             int bi = dpd_body_of(d, i);
+            const int passive_i = pm && (p->mask[i] & pm);
             for (int k = nl->offset[i]; k < nl->offset[i + 1]; k++) {
                 int j = nl->neigh[k];
                 double dx = p->x[3 * i] - p->x[3 * j], dy = p->x[3 * i + 1] - p->x[3 * j + 1],
                        dz = p->x[3 * i + 2] - p->x[3 * j + 2];
                 double r2 = dx * dx + dy * dy + dz * dz;
-                if (r2 >= rd2)
+                if (r2 >= rd2 || (passive_i && (p->mask[j] & pm)))
                     continue;
                 int oj = p->origin[j];
                 if (oj == i || (bi >= 0 && bi == dpd_body_of(d, j)))
@@ -74,6 +95,8 @@ int dpd_pair_forces(struct dpd *d, double dt, double *fout, struct err *e)
                 double sigma = sqrt(2.0 * gij * UNITS_KB * theta * UNITS_FTM2V);
                 double xi = dpd_normal(dpd_pair_key(d, site, i, j));
                 double fmag = (-gij * wr * wr * urel + sigma * wr * xi / sqrt(dt)) * UNITS_MVV2E;
+                if (keep)
+                    keep[k] = fmag;
                 f[3 * i] += fmag * ex;
                 f[3 * i + 1] += fmag * ey;
                 f[3 * i + 2] += fmag * ez;

@@ -54,7 +54,10 @@
  * displacement_max_1/2 (Å), flyer_velocity_final (Å/ps), target_particles,
  * flyer_particles, energy_drift and energy_deviation_max (relative change
  * of pe + ke + internal energy: conserved by DPDE with a free flyer),
- * momentum_change (amu Å/ps: zero with a free flyer).
+ * momentum_change (amu Å/ps: zero with a free flyer), and the common
+ * neighbour analysis of the target at the coarse lattice constant
+ * (section analysis.structure, metrics cna_fcc, cna_hcp, cna_other, ...,
+ * per-particle field `structure` in the snapshots: dpd_structure.h).
  * Series: time_ps, displacement_region_1/2 (Å; differences to the reference
  * run when there is one, raw_displacement_region_1/2 the flyer run's own),
  * etotal (eV), arrival_thresholds (Å) and wave_speed_scan (m/s), and per
@@ -69,11 +72,13 @@
 #include "core/lattice.h"
 #include "core/units.h"
 #include "scenarios/dpd_bar.h"
+#include "scenarios/dpd_impact_setup.h"
 #include "scenarios/dpd_output.h"
 #include "scenarios/dpd_setup.h"
+#include "scenarios/dpd_structure.h"
 #include "scenarios/md_system.h"
 
-#define FLYER_BIT (1u << 1)
+#define FLYER_BIT DPD_FLYER_BIT
 
 struct impact_case {
     struct dpd d;
@@ -90,135 +95,8 @@ struct impact_case {
     double face, length;       /* Å */
     int xref;                  /* displacement reference field */
     long n_target, n_flyer;
+    struct dpd_structure st;   /* CNA of the flyer run (Fig. 4) */
 };
-
-struct impact_keys {
-    int axis, motion, reference;
-    double thickness, velocity, a, gap, regions[2], half, threshold, bin;
-    long sample_every;
-    double *ptimes;
-    size_t nptimes;
-};
-
-static int read_impact(struct cfg_obj *root, struct impact_keys *k)
-{
-    static const char *const axes[] = {"x", "y", "z", NULL};
-    static const char *const motions[] = {"free", "prescribed", NULL};
-    static const double regions[2] = {100.0, 150.0};
-    struct cfg_obj o;
-    double thick;
-    int rc;
-    memset(k, 0, sizeof *k);
-    if ((rc = cfg_section(root, "impact", &o)) ||
-        (rc = cfg_enum(&o, "axis", "x", axes, &k->axis)) ||
-        (rc = cfg_real(&o, "flyer_thickness", 15.0, CFG_GT(0), &k->thickness)) ||
-        (rc = cfg_real(&o, "flyer_velocity", 5.0, CFG_ANY, &k->velocity)) ||
-        (rc = cfg_enum(&o, "flyer_motion", "free", motions, &k->motion)) ||
-        (rc = cfg_real(&o, "lattice_constant", 0.0, CFG_GE(0), &k->a)) ||
-        (rc = cfg_real(&o, "gap", 0.0, CFG_GE(0), &k->gap)) ||
-        (rc = cfg_reals(&o, "regions", 2, regions, CFG_GT(0), k->regions)) ||
-        (rc = cfg_real(&o, "region_thickness", 6.0, CFG_GT(0), &thick)) ||
-        (rc = cfg_real(&o, "arrival_threshold", 0.01, CFG_GT(0), &k->threshold)) ||
-        (rc = cfg_bool(&o, "reference", 1, &k->reference)) ||
-        (rc = cfg_int(&o, "sample_every", 1, CFG_GE(1), &k->sample_every)) ||
-        (rc = cfg_real_list(&o, "profile_times", 0, CFG_GE(0), &k->ptimes, &k->nptimes)) ||
-        (rc = cfg_real(&o, "profile_bin", 0.0, CFG_GE(0), &k->bin)) || (rc = cfg_close(&o)))
-        return rc;
-    k->half = 0.5 * thick;
-    if (!(k->regions[1] > k->regions[0]))
-        return cfg_error_at(o.cfg, "impact.regions",
-                            "the second region (%g Å) must lie beyond the first (%g Å)",
-                            k->regions[1], k->regions[0]);
-    return 0;
-}
-
-/* Append the flyer: (100) planes of an fcc lattice continuing the target's
- * stacking below its impact face, across the target's cross-section. */
-static int add_flyer(struct particles *p, const struct dpd_bar *bar, const struct impact_keys *k,
-                     double a, long *nadded, struct err *e)
-{
-    const int ax = k->axis, t1 = (ax + 1) % 3, t2 = (ax + 2) % 3;
-    const double dpl = 0.5 * a, tol = 0.25 * dpl;
-    long nplanes = lround(k->thickness / dpl);
-    if (nplanes < 1)
-        nplanes = 1;
-    long ncell = (nplanes + 1) / 2 + 1;
-    struct lattice lat = {LATTICE_FCC, a, {0, 0, 0}, {{0}}};
-    long cells[3];
-    lat.origin[ax] = bar->face_lo[ax] - ncell * a;
-    cells[ax] = ncell;
-    struct region box;
-    memset(&box, 0, sizeof box);
-    box.shape = REGION_BOX;
-    box.lo[ax] = bar->face_lo[ax] - nplanes * dpl - tol;
-    box.hi[ax] = bar->face_lo[ax] - dpl + tol;
-    /* Stacking: a (100) plane holds the sites whose two transverse
-     * coordinates, in half cells from the lattice origin, add up to an even
-     * (A) or odd (B) number.  The flyer's plane next to the face must be of
-     * the other kind, so find the face plane's kind from its particle
-     * nearest the transverse corner. */
-    int best = -1;
-    double bestd = INFINITY;
-    for (int i = 0; i < p->n_owned; i++) {
-        if (p->x[3 * i + ax] > bar->face_lo[ax] + 0.5 * dpl)
-            continue;
-        double dd = p->x[3 * i + t1] - bar->face_lo[t1] + p->x[3 * i + t2] - bar->face_lo[t2];
-        if (dd < bestd) {
-            bestd = dd;
-            best = i;
-        }
-    }
-    long parity = 0;
-    if (best >= 0)
-        parity = lround((p->x[3 * best + t1] - bar->face_lo[t1]) / dpl) +
-                 lround((p->x[3 * best + t2] - bar->face_lo[t2]) / dpl);
-    for (int q = 0; q < 2; q++) {
-        int t = q ? t2 : t1;
-        /* one spare cell on each side; the region keeps the cross-section */
-        lat.origin[t] = bar->face_lo[t] - a + (q == 0 && (parity & 1) ? dpl : 0.0);
-        cells[t] = lround((bar->face_hi[t] - bar->face_lo[t]) / a) + 3;
-        box.lo[t] = bar->face_lo[t] - tol;
-        box.hi[t] = bar->face_hi[t] + tol;
-    }
-    int64_t next_id = 1;
-    for (int i = 0; i < p->n_owned; i++)
-        if (p->id[i] >= next_id)
-            next_id = p->id[i] + 1;
-    int n0 = p->n_owned;
-    long added = lattice_fill(&lat, cells, &box, p, 0, &next_id, e);
-    if (added < 0)
-        return ERR_RUNTIME;
-    for (int i = n0; i < p->n_owned; i++) {
-        p->mask[i] |= FLYER_BIT;
-        p->x[3 * i + ax] -= k->gap;
-    }
-    *nadded = added;
-    return 0;
-}
-
-/* A copy of the owned particles (positions, velocities, types, ids, masks). */
-static struct particles *clone_particles(const struct particles *p, struct err *e)
-{
-    struct particles *q = particles_create(p->n_owned > 0 ? p->n_owned : 1);
-    if (!q) {
-        err_nomem(e, "reference particles");
-        return NULL;
-    }
-    for (int t = 0; t < p->ntypes; t++)
-        particles_type_index(q, p->type_name[t], p->mass[t]);
-    for (int i = 0; i < p->n_owned; i++) {
-        int k = particles_add(q, p->x + 3 * i, p->v + 3 * i, p->type[i], p->id[i]);
-        if (k < 0) {
-            particles_destroy(&q);
-            err_nomem(e, "reference particles");
-            return NULL;
-        }
-        q->mask[k] = p->mask[i];
-        for (int c = 0; c < 3; c++)
-            q->image[3 * k + c] = p->image[3 * i + c];
-    }
-    return q;
-}
 
 static int cmp_id_index(const void *a, const void *b)
 {
@@ -264,13 +142,16 @@ static int impact_read(struct cfg_obj *root, const struct case_common *common, v
     struct box box;
     struct md_system_info info;
     struct dpd_input in;
-    struct impact_keys k;
+    struct dpd_impact_keys k;
+    struct dpd_structure st;
     int rc = md_system_read(root, common->seed, &p, &box, &info);
     if (!rc)
         rc = dpd_section_read(root, DPD_ENERGY, &in);
     memset(&k, 0, sizeof k);
     if (!rc)
-        rc = read_impact(root, &k);
+        rc = dpd_impact_keys_read(root, &k);
+    if (!rc)
+        rc = dpd_structure_read(root, &st);
     if (!rc && box.bc[k.axis] == BOUNDARY_PERIODIC)
         rc = cfg_error_at(root->cfg, "system.boundary",
                           "the impact axis %c must not be periodic (the flyer comes from outside)",
@@ -293,11 +174,11 @@ static int impact_read(struct cfg_obj *root, const struct case_common *common, v
     c->n_target = p->n_owned;
     struct particles *pref = NULL;
     rc = dpd_init_velocities(&in, p, common, e);
-    if (!rc && k.reference && !(pref = clone_particles(p, e)))
+    if (!rc && k.reference && !(pref = dpd_particles_clone(p, e)))
         rc = ERR_RUNTIME;
     if (!rc) {
         dpd_bar_measure(p, 0, 0.5 * a, &bar);
-        rc = add_flyer(p, &bar, &k, a, &nflyer, e);
+        rc = dpd_impact_add_flyer(p, &bar, &k, a, &nflyer, e);
     }
     if (rc) {
         particles_destroy(&p);
@@ -338,7 +219,11 @@ static int impact_read(struct cfg_obj *root, const struct case_common *common, v
                 rc = ERR_RUNTIME;
         }
     }
+    c->st = st;
+    if (!rc)
+        rc = dpd_structure_attach(&c->st, &c->d, in.prm.sc.a, FLYER_BIT, common->nthreads, e);
     if (rc) {
+        dpd_structure_free(&c->st);
         dpd_free(&c->d);
         if (c->has_ref)
             dpd_free(&c->ref);
@@ -368,6 +253,7 @@ static int impact_read(struct cfg_obj *root, const struct case_common *common, v
         dpd_free(&c->d);
         if (c->has_ref)
             dpd_free(&c->ref);
+        dpd_structure_free(&c->st);
         free(c->profile_times);
         free(c);
         return rc;
@@ -426,6 +312,8 @@ static int impact_run(void *state, struct run *run, struct err *e)
     }
     dpd_momentum(d, P0);
     e0 = dpd_total_energy(d);
+    if ((rc = dpd_structure_classify(&c->st, d, e)))
+        goto done;
     rc = dpd_output_step(&out, run, d, c->steps);
     progress_start(&run->progress, stderr, c->steps, d->dt, run->opt.progress && !run->opt.quiet);
     timer_start(&run->timers, TIMER_LOOP);
@@ -440,6 +328,8 @@ static int impact_run(void *state, struct run *run, struct err *e)
                 break;
             }
             demax = fmax(demax, fabs(et - e0));
+            if ((rc = dpd_structure_before_output(&c->st, run, d, c->steps, e)))
+                break;
             rc = dpd_output_step(&out, run, d, c->steps);
             progress_update(&run->progress, s);
         }
@@ -468,6 +358,8 @@ static int impact_run(void *state, struct run *run, struct err *e)
     }
     timer_stop(&run->timers, TIMER_LOOP);
     progress_finish(&run->progress, d->step);
+    if (!rc)
+        rc = dpd_structure_finish(&c->st, run, d, e);
 
     struct result *res = &run->result;
     double t1 = wave_arrival_time(ts, s1, ns, c->threshold);
@@ -557,6 +449,7 @@ static void impact_destroy(void *state)
     dpd_free(&c->d);
     if (c->has_ref)
         dpd_free(&c->ref);
+    dpd_structure_free(&c->st);
     free(c->profile_times);
     free(c);
 }

@@ -1,0 +1,869 @@
+/*
+ * dpd_mpm_impact_case: the flyer/target impact of Chen et al. 2014 with the
+ * DPD particles carried by the MPM grid (couple/dpd_mpm.h):
+ *
+ *   type: dpd_grid_impact   the DPD/MPM-grid model (Sec. 4.1.1, Figs. 2b, 3, 4):
+ *                           the whole target DPD, its pair forces mapped to the
+ *                           grid nodes (Eq. (s3b)), moved by the MUSL update
+ *   type: dpd_mpm_impact    the concurrent DPD/MPM model (Sec. 4.2, Figs. 7, 8):
+ *                           the target split into DPD particles and material
+ *                           points of the same size on one grid (Eq. (3.1))
+ *
+ * Sections: system, dpd (dpd_setup.h; default variant dpde), impact
+ * (dpd_impact_setup.h: the same flyer, regions, arrival criterion, reference
+ * run and profiles as the DPD-only `dpd_impact`), grid (dpd_mpm_setup.h),
+ * analysis.structure (dpd_structure.h: CNA of the flyer run's DPD particles
+ * at the coarse lattice constant, metrics cna_fcc, cna_hcp, cna_other, ...,
+ * field `structure` in the snapshots),
+ * and for dpd_mpm_impact:
+ *
+ *   concurrent:
+ *     dpd: [-20, 108.45]     Å from the impact face, [lo, hi): DPD particles (required)
+ *     mpm: [108.45, 240]     Å from the impact face, [lo, hi): material points (required);
+ *                            the ranges must not overlap and must hold every particle
+ *                            of the target (by its position at the start)
+ *     lattice_constant: 0    Å at which the cubic elastic constants of the material
+ *                            points are computed from the coarse-grained potential
+ *                            (cg_lattice_elastic; 0: the parameter file's, i.e. the fit
+ *                            temperature's zero-pressure crystal)
+ *     partner_range: 0       Å: material points this close to a DPD particle become its
+ *                            passive partners (0: two DPD cutoffs plus the skin)
+ *     monitor: 60.0          Å from the face: centre of the slab (DPD side) where the
+ *                            incident and reflected waves are measured
+ *     monitor_thickness: 6.0 Å
+ *     velocity_window: 0.1   ps: a slab's velocity is the central difference of its
+ *                            displacement over +- this
+ *     compare: true          also run the same target all DPD on the grid (with its own
+ *                            reference run): the reflected wave is the difference
+ *
+ * The material points sit where the particles they replace were, at rest,
+ * unstressed, each with the particle's mass and the volume per particle of
+ * the bar (its extents over its particle count); their law is cubic_elastic
+ * with C11, C12, C44 of the coarse-grained crystal -- computed, never tuned.
+ *
+ * Measurements.  As in dpd_impact, a region's signal is its mean
+ * displacement along the axis (DPD particles and material points, selected
+ * by where they were at the start) in the flyer run minus that in the
+ * reference run without the flyer: the displacement the impact caused.  The
+ * wave has arrived when the signal first reaches impact.arrival_threshold
+ * (analysis/wave_arrival.h); wave_speed = region separation / difference of
+ * the arrival times.  Concurrent model with `compare`: the monitor slab's
+ * impact-caused displacement in the concurrent run and in the all-DPD run
+ * agree until a wave from the interface reaches the monitor; the
+ * difference of their velocities (central differences over
+ * +-velocity_window) is the reflected wave.  incident_amplitude = the
+ * largest all-DPD velocity before any wave from the interface can reach
+ * the monitor, tr = (2 x_i - x_m) / c_L (c_L = sqrt(C11/rho), the fastest
+ * wave), reflected_amplitude = the largest |difference| before a wave from
+ * the far end can, tw = (2 L - x_m) / c_L; reflection_ratio is their
+ * quotient -- the reflection coefficient of the particle velocity.
+ * transmission_ratio: the largest velocity of region 2 (beyond the
+ * interface in the paper's layout) in the concurrent over the all-DPD run,
+ * before tw.
+ *
+ * Snapshots (fields.h5): the DPD particles of the flyer run as in dpd_impact
+ * (collection "particles"; partners, the material points' copies, have ids
+ * from 2^40 on), and for the concurrent model the material points
+ * (collection "points": position, displacement, velocity, stress in GPa,
+ * id).
+ *
+ * Metrics (besides dpd_impact's wave_speed, arrival_time_1/2,
+ * region_particles_1/2, displacement_max_1/2, flyer_velocity_final,
+ * target_particles, flyer_particles, target_length, momentum_change,
+ * temperature): cell (Å), energy_drift and energy_deviation_max (relative,
+ * the centred energy of dpd_mpm.h), heat_dr and heat_grid (eV given to the
+ * internal energies by the D + R forces and by the grid's smoothing),
+ * internal_temperature (K, mean u / (C_v kB)), grid_nodes; concurrent:
+ * material_points, partners, c11, c12, c44 (GPa), density (g/cm^3),
+ * longitudinal_speed (m/s), incident_amplitude, reflected_amplitude (Å/ps),
+ * reflection_ratio, transmission_ratio, reflection_window (ps).  Series: time_ps,
+ * displacement_region_1/2, profile_x and profile_t<T>ps, arrival_thresholds
+ * and wave_speed_scan, etotal (centred, eV); concurrent + compare:
+ * monitor_concurrent, monitor_homogeneous (Å), monitor_velocity_concurrent,
+ * monitor_velocity_homogeneous, reflected_velocity (Å/ps).
+ */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "analysis/displacement.h"
+#include "analysis/wave_arrival.h"
+#include "core/units.h"
+#include "dpd/cg_lattice.h"
+#include "scenarios/dpd_bar.h"
+#include "scenarios/dpd_impact_setup.h"
+#include "scenarios/dpd_mpm_setup.h"
+#include "scenarios/dpd_output.h"
+#include "scenarios/dpd_setup.h"
+#include "scenarios/dpd_structure.h"
+#include "scenarios/md_system.h"
+
+#define PARTNER_BIT (1u << 6)
+#define PARTNER_ID0 ((int64_t)1 << 40)
+#define MAX_RUNS 4
+
+/* One simulation: the DPD model and the grid (and material points). */
+struct coupled {
+    struct dpd d;
+    struct dpd_mpm c;
+    int xref;
+    int has_d, has_c;
+};
+
+/* The material points of the concurrent model (shared by its runs). */
+struct points {
+    long n;
+    double *x;
+    int64_t *id;
+    double mass, volume, rho, c11, c12, c44, range;
+};
+
+struct conc_keys {
+    double dpd[2], mpm[2], a, range, monitor, mhalf, vwin;
+    int compare;
+};
+
+struct impact_case {
+    int concurrent;
+    struct coupled r[MAX_RUNS];   /* flyer, reference, all-DPD flyer, all-DPD reference */
+    int nruns, has_ref, has_hom;
+    long steps;
+    struct dpd_impact_keys k;
+    struct conc_keys ck;
+    struct points pts;
+    double face, length, cell;
+    long n_target, n_flyer, nodes;
+    struct dpd_structure st;      /* CNA of the flyer run's DPD particles (Fig. 4) */
+};
+
+static int read_concurrent(struct cfg_obj *root, struct conc_keys *k)
+{
+    struct cfg_obj o;
+    int rc;
+    if ((rc = cfg_section_required(root, "concurrent", &o)) ||
+        (rc = cfg_reals(&o, "dpd", 2, NULL, CFG_ANY, k->dpd)) ||
+        (rc = cfg_reals(&o, "mpm", 2, NULL, CFG_ANY, k->mpm)) ||
+        (rc = cfg_real(&o, "lattice_constant", 0.0, CFG_GE(0), &k->a)) ||
+        (rc = cfg_real(&o, "partner_range", 0.0, CFG_GE(0), &k->range)) ||
+        (rc = cfg_real(&o, "monitor", 60.0, CFG_ANY, &k->monitor)) ||
+        (rc = cfg_real(&o, "monitor_thickness", 6.0, CFG_GT(0), &k->mhalf)) ||
+        (rc = cfg_real(&o, "velocity_window", 0.1, CFG_GT(0), &k->vwin)) ||
+        (rc = cfg_bool(&o, "compare", 1, &k->compare)) || (rc = cfg_close(&o)))
+        return rc;
+    k->mhalf *= 0.5;
+    char kp[CFG_PATH_MAX];
+    for (int q = 0; q < 2; q++) {
+        const double *r = q ? k->mpm : k->dpd;
+        if (!(r[1] > r[0])) {
+            snprintf(kp, sizeof kp, "%s.%s", o.path, q ? "mpm" : "dpd");
+            return cfg_error_at(o.cfg, kp, "empty range [%g, %g): give [lo, hi) with hi > lo",
+                                r[0], r[1]);
+        }
+    }
+    if (k->dpd[0] < k->mpm[1] && k->mpm[0] < k->dpd[1]) {
+        snprintf(kp, sizeof kp, "%s.mpm", o.path);
+        return cfg_error_at(o.cfg, kp,
+                            "the MPM range [%g, %g) overlaps the DPD range [%g, %g): a particle "
+                            "is either a DPD particle or a material point",
+                            k->mpm[0], k->mpm[1], k->dpd[0], k->dpd[1]);
+    }
+    return 0;
+}
+
+/* --- building ---------------------------------------------------------------- */
+
+static void coupled_free(struct coupled *m)
+{
+    if (m->has_c)
+        dpd_mpm_free(&m->c);
+    if (m->has_d)
+        dpd_free(&m->d);
+    memset(m, 0, sizeof *m);
+}
+
+/* One run over the DPD particles p (taken), with the flyer's particles
+ * (mask DPD_FLYER_BIT) made a rigid body, and the material points `pts`
+ * (NULL: none). */
+static int coupled_build(struct coupled *m, struct particles *p, const struct points *pts,
+                         const struct impact_case *ic, const struct dpd_input *in,
+                         const struct box *box, const struct case_common *common,
+                         const struct dpd_mpm_grid *g, struct err *e)
+{
+    memset(m, 0, sizeof *m);
+    long added = 0;
+    int rc = 0, flyer = 0;
+    for (int i = 0; i < p->n_owned; i++)
+        flyer |= (p->mask[i] & DPD_FLYER_BIT) != 0;
+    if (pts && pts->n > 0)
+        rc = dpd_mpm_partners_create(p, p->n_owned, pts->n, pts->x, pts->id, pts->range,
+                                     PARTNER_BIT, PARTNER_ID0, &added, e);
+    if (rc) {
+        particles_destroy(&p);
+        return rc;
+    }
+    m->has_d = 1;
+    if ((rc = dpd_build(in, p, box, common, e, &m->d)))
+        return rc;
+    m->d.passive_mask = PARTNER_BIT;
+    if (flyer) {
+        double v[3] = {0, 0, 0};
+        v[ic->k.axis] = ic->k.velocity;
+        rc = dpd_add_body(&m->d, DPD_FLYER_BIT,
+                          ic->k.motion == 0 ? DPD_BODY_FREE : DPD_BODY_PRESCRIBED, v, e);
+    }
+    if (!rc)
+        rc = dpd_mpm_order(&m->d, PARTNER_BIT, e);
+    if (!rc && (m->xref = displacement_begin(m->d.p, &m->d.box, e)) < 0)
+        rc = ERR_RUNTIME;
+    if (rc)
+        return rc;
+    m->has_c = 1;
+    if ((rc = dpd_mpm_init(&m->c, &m->d, g, PARTNER_BIT, PARTNER_ID0, e)))
+        return rc;
+    if (pts && pts->n > 0) {
+        struct mpm_material *mat =
+            mpm_material_cubic_elastic("coarse-grained", pts->rho, pts->c11, pts->c12, pts->c44);
+        if (!mat)
+            return err_nomem(e, "material");
+        rc = dpd_mpm_add_points(&m->c, mat, pts->n, pts->x, NULL, pts->mass, pts->volume, pts->id,
+                                e);
+    }
+    return rc ? rc : dpd_mpm_prepare(&m->c, e);
+}
+
+/* Split the target into DPD particles (kept in p) and material points by
+ * position along the axis from the face. */
+static int split_target(struct cfg_obj *root, struct particles *p, const struct impact_case *ic,
+                        struct points *pts)
+{
+    struct err *e = root->cfg->err;
+    const int ax = ic->k.axis;
+    unsigned char *keep = malloc((size_t)(p->n_owned ? p->n_owned : 1));
+    pts->x = malloc((size_t)3 * (p->n_owned ? p->n_owned : 1) * sizeof *pts->x);
+    pts->id = malloc((size_t)(p->n_owned ? p->n_owned : 1) * sizeof *pts->id);
+    if (!keep || !pts->x || !pts->id) {
+        free(keep);
+        return err_nomem(e, "material points");
+    }
+    pts->n = 0;
+    int rc = 0;
+    for (int i = 0; i < p->n_owned && !rc; i++) {
+        double s = p->x[3 * i + ax] - ic->face;
+        int in_dpd = s >= ic->ck.dpd[0] && s < ic->ck.dpd[1];
+        int in_mpm = s >= ic->ck.mpm[0] && s < ic->ck.mpm[1];
+        keep[i] = (unsigned char)in_dpd;
+        if (in_mpm) {
+            memcpy(pts->x + 3 * pts->n, p->x + 3 * i, 3 * sizeof(double));
+            pts->id[pts->n++] = p->id[i];
+        } else if (!in_dpd) {
+            rc = cfg_error_at(root->cfg, "concurrent",
+                              "particle %lld at %.3f Å from the impact face lies in neither "
+                              "concurrent.dpd [%g, %g) nor concurrent.mpm [%g, %g)",
+                              (long long)p->id[i], s, ic->ck.dpd[0], ic->ck.dpd[1], ic->ck.mpm[0],
+                              ic->ck.mpm[1]);
+        }
+    }
+    if (!rc && pts->n == 0)
+        rc = cfg_error_at(root->cfg, "concurrent.mpm",
+                          "no particle of the target lies in the MPM range [%g, %g) Å from the "
+                          "impact face",
+                          ic->ck.mpm[0], ic->ck.mpm[1]);
+    if (!rc)
+        particles_compact(p, keep);
+    free(keep);
+    return rc;
+}
+
+static void impact_destroy(void *state);
+
+static int impact_read(struct cfg_obj *root, const struct case_common *common, void **state,
+                       int concurrent)
+{
+    struct particles *p = NULL;
+    struct box box;
+    struct md_system_info info;
+    struct dpd_input in;
+    struct dpd_mpm_grid_keys gk;
+    struct impact_case *c = calloc(1, sizeof *c);
+    if (!c)
+        return err_nomem(root->cfg->err, "impact case");
+    c->concurrent = concurrent;
+    int rc = md_system_read(root, common->seed, &p, &box, &info);
+    if (!rc)
+        rc = dpd_section_read(root, DPD_ENERGY, &in);
+    if (!rc)
+        rc = dpd_impact_keys_read(root, &c->k);
+    if (!rc)
+        rc = dpd_mpm_grid_read(root, root->cfg->shallow ? 0.0 : fmax(in.prm.sc.rc, in.set.cutoff),
+                               &gk);
+    if (!rc && concurrent)
+        rc = read_concurrent(root, &c->ck);
+    if (!rc)
+        rc = dpd_structure_read(root, &c->st);
+    if (!rc && box.bc[c->k.axis] == BOUNDARY_PERIODIC)
+        rc = cfg_error_at(root->cfg, "system.boundary",
+                          "the impact axis %c must not be periodic (the flyer comes from outside)",
+                          "xyz"[c->k.axis]);
+    if (!rc && in.thermo.style != THERMOSTAT_NONE)
+        rc = cfg_error_at(root->cfg, "dpd.thermostat.style",
+                          "the grid-carried models take no thermostat: equilibrate with the "
+                          "DPD-only `dpd` case type and read its final state (Chen 2014 "
+                          "embeds the equilibrated state in the grid)");
+    if (rc || root->cfg->shallow) {
+        particles_destroy(&p);
+        impact_destroy(c);
+        return rc;
+    }
+    struct err *e = root->cfg->err;
+    const int ax = c->k.axis;
+    double a = c->k.a > 0 ? c->k.a : in.prm.lattice_constant;
+    struct dpd_bar bar;
+    struct particles *hom = NULL;
+    rc = dpd_init_velocities(&in, p, common, e);
+    dpd_bar_measure(p, 0, 0.5 * a, &bar);
+    c->face = bar.face_lo[ax];
+    c->length = bar.extent[ax];
+    c->n_target = p->n_owned;
+    c->steps = in.steps;
+    c->cell = gk.cell;
+    for (int r = 0; r < 2 && !rc; r++)
+        if (c->k.regions[r] + c->k.half > c->length)
+            rc = cfg_error_at(root->cfg, "impact.regions",
+                              "region %d (%g +- %g Å from the face) reaches past the target's "
+                              "far face at %g Å",
+                              r + 1, c->k.regions[r], c->k.half, c->length);
+    /* one grid for every run: over the target, with room for where the
+     * impact pushes it over the run */
+    struct dpd_mpm_grid g;
+    double mlo[3], mhi[3];
+    for (int d = 0; d < 3; d++) {
+        mlo[d] = mhi[d] = gk.margin > 0 ? gk.margin : 2 * gk.cell + 0.5 * a;
+        if (d == ax && gk.margin <= 0)
+            mhi[d] += fabs(c->k.velocity) * in.dt * (double)in.steps;
+    }
+    dpd_mpm_grid_place(p, 0, mlo, mhi, &gk, &g);
+    if (!rc && concurrent) {
+        c->has_hom = c->ck.compare;
+        if (c->has_hom && !(hom = dpd_particles_clone(p, e)))
+            rc = ERR_RUNTIME;
+        struct points *pts = &c->pts;
+        double aL = c->ck.a > 0 ? c->ck.a : in.prm.lattice_constant;
+        cg_lattice_elastic(&in.prm.sc, aL, &pts->c11, &pts->c12, &pts->c44);
+        pts->mass = in.prm.mass;
+        pts->volume = bar.extent[0] * bar.extent[1] * bar.extent[2] / (double)c->n_target;
+        pts->rho = pts->mass / pts->volume;
+        pts->range = c->ck.range > 0 ? c->ck.range : 2 * fmax(in.prm.sc.rc, in.set.cutoff) + in.skin;
+        if (!rc)
+            rc = split_target(root, p, c, pts);
+        if (!rc && c->ck.monitor - c->ck.mhalf < c->ck.dpd[0])
+            rc = cfg_error_at(root->cfg, "concurrent.monitor",
+                              "the monitor slab must lie in the DPD part [%g, %g)", c->ck.dpd[0],
+                              c->ck.dpd[1]);
+    }
+    /* the runs: flyer (+ reference) (+ all-DPD flyer and reference) */
+    struct particles *src[MAX_RUNS] = {NULL, NULL, NULL, NULL};
+    const struct points *use[MAX_RUNS] = {concurrent ? &c->pts : NULL,
+                                          concurrent ? &c->pts : NULL, NULL, NULL};
+    int flyer[MAX_RUNS] = {1, 0, 1, 0};
+    c->has_ref = c->k.reference;
+    int want[MAX_RUNS] = {1, c->has_ref, c->has_hom, c->has_hom && c->has_ref};
+    for (int r = 0; r < MAX_RUNS && !rc; r++) {
+        if (!want[r])
+            continue;
+        src[r] = dpd_particles_clone(r < 2 ? p : hom, e);
+        if (!src[r]) {
+            rc = ERR_RUNTIME;
+            break;
+        }
+        long nf = 0;
+        if (flyer[r])
+            rc = dpd_impact_add_flyer(src[r], &bar, &c->k, a, &nf, e);
+        if (r == 0)
+            c->n_flyer = nf;
+        if (!rc) {
+            rc = coupled_build(&c->r[r], src[r], use[r], c, &in, &box, common, &g, e);
+            src[r] = NULL;
+            c->nruns = r + 1;
+        }
+        if (rc == ERR_INPUT && strstr(e->msg, "time step")) {
+            char msg[sizeof e->msg];
+            snprintf(msg, sizeof msg, "%s", e->msg);
+            rc = cfg_error_at(root->cfg, "dpd.timestep", "%s", msg);
+        }
+    }
+    for (int r = 0; r < MAX_RUNS; r++)
+        particles_destroy(&src[r]);
+    particles_destroy(&p);
+    particles_destroy(&hom);
+    if (!rc)
+        rc = dpd_structure_attach(&c->st, &c->r[0].d, in.prm.sc.a, DPD_FLYER_BIT | PARTNER_BIT,
+                                  common->nthreads, e);
+    if (rc) {
+        impact_destroy(c);
+        return rc;
+    }
+    c->nodes = c->r[0].c.m.grid.nnodes;
+    *state = c;
+    return 0;
+}
+
+static int grid_impact_read(struct cfg_obj *root, const struct case_common *common, void **state)
+{
+    return impact_read(root, common, state, 0);
+}
+
+static int concurrent_impact_read(struct cfg_obj *root, const struct case_common *common,
+                                  void **state)
+{
+    return impact_read(root, common, state, 1);
+}
+
+/* --- measuring ------------------------------------------------------------------ */
+
+/* Mean displacement along the axis of the material (carried DPD particles
+ * and material points) whose start position along the axis lies in
+ * [lo, hi); *count its number. */
+static double slab_mean(const struct coupled *m, int ax, double lo, double hi, long *count)
+{
+    long nd = 0;
+    double md = displacement_slab_mean(m->d.p, &m->d.box, m->xref, ax, lo, hi,
+                                       DPD_FLYER_BIT | PARTNER_BIT, &nd);
+    double sum = nd ? md * nd : 0.0;
+    long n = nd;
+    const struct mpm_points *pts = &m->c.m.pts;
+    for (long k = 0; k < pts->n; k++) {
+        double r = pts->x0[3 * k + ax];
+        if (r < lo || r >= hi)
+            continue;
+        sum += pts->x[3 * k + ax] - r;
+        n++;
+    }
+    if (count)
+        *count = n;
+    return n ? sum / n : NAN;
+}
+
+/* Displacement profile of both kinds of material in bins of width w from
+ * origin: out[k] (NAN for empty bins). */
+static void profile(const struct coupled *m, int ax, double origin, double w, int nbins,
+                    double *out, long *cnt)
+{
+    const struct particles *p = m->d.p;
+    const double *x0 = p->fields[m->xref].data;
+    memset(cnt, 0, (size_t)nbins * sizeof *cnt);
+    for (int k = 0; k < nbins; k++)
+        out[k] = 0;
+    for (long i = 0; i < m->c.ncarried; i++) {
+        int k = (int)floor((x0[3 * i + ax] - origin) / w);
+        if (k < 0 || k >= nbins)
+            continue;
+        double xu[3];
+        box_unwrap(&m->d.box, p, (int)i, xu);
+        out[k] += xu[ax] - x0[3 * i + ax];
+        cnt[k]++;
+    }
+    const struct mpm_points *pts = &m->c.m.pts;
+    for (long q = 0; q < pts->n; q++) {
+        int k = (int)floor((pts->x0[3 * q + ax] - origin) / w);
+        if (k < 0 || k >= nbins)
+            continue;
+        out[k] += pts->x[3 * q + ax] - pts->x0[3 * q + ax];
+        cnt[k]++;
+    }
+    for (int k = 0; k < nbins; k++)
+        out[k] = cnt[k] ? out[k] / cnt[k] : NAN;
+}
+
+/* Impact-caused mean displacement of [lo, hi) from the face: flyer run a
+ * less reference run b (or the raw signal without one). */
+static double signal(const struct impact_case *c, int a, int b, double lo, double hi, long *count)
+{
+    double s = slab_mean(&c->r[a], c->k.axis, c->face + lo, c->face + hi, count);
+    if (b >= 0 && b < c->nruns && c->r[b].has_c)
+        s -= slab_mean(&c->r[b], c->k.axis, c->face + lo, c->face + hi, NULL);
+    return s;
+}
+
+static double internal_temperature(const struct coupled *m)
+{
+    const struct dpd *d = &m->d;
+    if (d->ufield < 0 || m->c.ncarried == 0)
+        return NAN;
+    const double *u = d->p->fields[d->ufield].data;
+    double s = 0;
+    for (long i = 0; i < m->c.ncarried; i++)
+        s += u[i];
+    return s / (double)m->c.ncarried / (d->set.heat_capacity * UNITS_KB);
+}
+
+/* --- the run ----------------------------------------------------------------- */
+
+/* The material points of the flyer run (collection "points" beside the DPD
+ * "particles" of dpd_output): position, displacement, velocity (Å, Å/ps),
+ * stress (GPa, xx yy zz xy xz yz), id. */
+static int points_snapshot(struct run *run, const struct coupled *m, struct err *e)
+{
+    const struct mpm_points *p = &m->c.m.pts;
+    long n = p->n;
+    if (!run->h5_open || n == 0)
+        return 0;
+    double *buf = malloc((size_t)6 * n * sizeof *buf);
+    int64_t *ids = malloc((size_t)n * sizeof *ids);
+    int rc = 0;
+    hid_t g = H5I_INVALID_HID;
+    if (!buf || !ids)
+        rc = err_nomem(e, "points snapshot");
+    else if ((g = h5out_begin_snapshot(&run->h5, "points", m->d.step, m->d.time, n, e)) < 0)
+        rc = ERR_RUNTIME;
+    if (!rc)
+        rc = h5out_write_doubles(&run->h5, g, "position", p->x, n, 3, "Å", e);
+    if (!rc) {
+        for (long k = 0; k < 3 * n; k++)
+            buf[k] = p->x[k] - p->x0[k];
+        rc = h5out_write_doubles(&run->h5, g, "displacement", buf, n, 3, "Å", e);
+    }
+    if (!rc)
+        rc = h5out_write_doubles(&run->h5, g, "velocity", p->v, n, 3, "Å/ps", e);
+    if (!rc) {
+        for (long k = 0; k < 6 * n; k++)
+            buf[k] = p->stress[k] * UNITS_EVA3_TO_GPA;
+        rc = h5out_write_doubles(&run->h5, g, "stress", buf, n, 6, "GPa", e);
+    }
+    if (!rc) {
+        for (long k = 0; k < n; k++)
+            ids[k] = p->id[k];
+        rc = h5out_write_ints(&run->h5, g, "id", ids, n, "1", e);
+    }
+    if (g >= 0)
+        h5out_end_snapshot(&run->h5, g);
+    free(buf);
+    free(ids);
+    return rc;
+}
+
+struct samples {
+    double *t, *s1, *s2, *es, *mc, *mh, *h2;
+    long n, cap;
+};
+
+static int samples_alloc(struct samples *s, long cap, struct err *e)
+{
+    memset(s, 0, sizeof *s);
+    s->cap = cap;
+    double **a[] = {&s->t, &s->s1, &s->s2, &s->es, &s->mc, &s->mh, &s->h2};
+    for (size_t k = 0; k < sizeof a / sizeof a[0]; k++)
+        if (!(*a[k] = calloc((size_t)cap, sizeof(double))))
+            return err_nomem(e, "impact samples");
+    return 0;
+}
+
+static void samples_free(struct samples *s)
+{
+    free(s->t);
+    free(s->s1);
+    free(s->s2);
+    free(s->es);
+    free(s->mc);
+    free(s->mh);
+    free(s->h2);
+}
+
+/* Velocity of a slab from its displacement samples: central differences
+ * over +-w ps (NAN where the window leaves the run). */
+static void slab_velocity(const double *t, const double *u, long n, double w, double *v)
+{
+    long j0 = 0, j1 = 0;
+    for (long q = 0; q < n; q++) {
+        v[q] = NAN;
+        while (j0 < q && t[j0] < t[q] - w)
+            j0++;
+        if (j1 < q)
+            j1 = q;
+        while (j1 + 1 < n && t[j1 + 1] <= t[q] + w)
+            j1++;
+        if (t[q] - t[0] >= w - 1e-12 && t[n - 1] - t[q] >= w - 1e-12 && t[j1] > t[j0])
+            v[q] = (u[j1] - u[j0]) / (t[j1] - t[j0]);
+    }
+}
+
+static void report(struct impact_case *c, struct run *run, const struct samples *S,
+                   double demax, double e0, double et, const double P0[3])
+{
+    struct result *res = &run->result;
+    struct coupled *m = &c->r[0];
+    double dist = c->k.regions[1] - c->k.regions[0];
+    double t1 = wave_arrival_time(S->t, S->s1, S->n, c->k.threshold);
+    double t2 = wave_arrival_time(S->t, S->s2, S->n, c->k.threshold);
+    double speed = wave_speed(dist, t1, t2);
+    double m1 = -INFINITY, m2 = -INFINITY;
+    for (long q = 0; q < S->n; q++) {
+        m1 = fmax(m1, S->s1[q]);
+        m2 = fmax(m2, S->s2[q]);
+    }
+    double P1[3];
+    dpd_mpm_momentum(&m->c, P1);
+    double dP = sqrt((P1[0] - P0[0]) * (P1[0] - P0[0]) + (P1[1] - P0[1]) * (P1[1] - P0[1]) +
+                     (P1[2] - P0[2]) * (P1[2] - P0[2]));
+    long n1 = 0, n2 = 0;
+    signal(c, 0, -1, c->k.regions[0] - c->k.half, c->k.regions[0] + c->k.half, &n1);
+    signal(c, 0, -1, c->k.regions[1] - c->k.half, c->k.regions[1] + c->k.half, &n2);
+    result_metric(res, "wave_speed", speed * UNITS_APS_TO_MS, "m/s");
+    result_metric(res, "arrival_time_1", t1, "ps");
+    result_metric(res, "arrival_time_2", t2, "ps");
+    result_metric(res, "region_particles_1", (double)n1, "1");
+    result_metric(res, "region_particles_2", (double)n2, "1");
+    result_metric(res, "displacement_max_1", m1, "Å");
+    result_metric(res, "displacement_max_2", m2, "Å");
+    result_metric(res, "flyer_velocity_final", m->d.nbodies ? m->d.body[0].v[c->k.axis] : NAN,
+                  "Å/ps");
+    result_metric(res, "target_particles", (double)c->n_target, "1");
+    result_metric(res, "flyer_particles", (double)c->n_flyer, "1");
+    result_metric(res, "target_length", c->length, "Å");
+    result_metric(res, "cell", c->cell, "Å");
+    result_metric(res, "grid_nodes", (double)c->nodes, "1");
+    result_metric(res, "energy_drift", (et - e0) / fabs(e0), "1");
+    result_metric(res, "energy_deviation_max", demax / fabs(e0), "1");
+    result_metric(res, "heat_dr", m->c.heat, "eV");
+    result_metric(res, "heat_grid", m->c.subgrid_heat, "eV");
+    result_metric(res, "momentum_change", dP, "amu Å/ps");
+    result_metric(res, "temperature", dpd_temperature(&m->d), "K");
+    result_metric(res, "internal_temperature", internal_temperature(m), "K");
+    result_series(res, "time_ps", S->t, (int)S->n, "ps");
+    result_series(res, "displacement_region_1", S->s1, (int)S->n, "Å");
+    result_series(res, "displacement_region_2", S->s2, (int)S->n, "Å");
+    result_series(res, "etotal", S->es, (int)S->n, "eV");
+    {
+        static const double th[] = {0.005, 0.01, 0.02, 0.05, 0.1, 0.2, 0.5, 1.0};
+        const int nth = (int)(sizeof th / sizeof th[0]);
+        double vs[sizeof th / sizeof th[0]];
+        for (int q = 0; q < nth; q++)
+            vs[q] = wave_speed(dist, wave_arrival_time(S->t, S->s1, S->n, th[q]),
+                               wave_arrival_time(S->t, S->s2, S->n, th[q])) *
+                    UNITS_APS_TO_MS;
+        result_series(res, "arrival_thresholds", th, nth, "Å");
+        result_series(res, "wave_speed_scan", vs, nth, "m/s");
+    }
+    run_log(run, "wave arrival: region 1 at %.4f ps, region 2 at %.4f ps -> %.0f m/s", t1, t2,
+            speed * UNITS_APS_TO_MS);
+    if (!c->concurrent)
+        return;
+    const struct points *pts = &c->pts;
+    double cl = sqrt(pts->c11 / pts->rho * UNITS_FTM2V);   /* Å/ps */
+    result_metric(res, "material_points", (double)m->c.m.pts.n, "1");
+    result_metric(res, "partners", (double)m->c.npartner, "1");
+    result_metric(res, "c11", pts->c11 * UNITS_EVA3_TO_GPA, "GPa");
+    result_metric(res, "c12", pts->c12 * UNITS_EVA3_TO_GPA, "GPa");
+    result_metric(res, "c44", pts->c44 * UNITS_EVA3_TO_GPA, "GPa");
+    result_metric(res, "density", pts->rho * UNITS_AMU_A3_TO_KG_M3 * 1e-3, "g/cm^3");
+    result_metric(res, "longitudinal_speed", cl * UNITS_APS_TO_MS, "m/s");
+    if (!c->has_hom)
+        return;
+    /* the first wave from the interface reaches the monitor at tr, the
+     * first one from the far end at tw (at the fastest, longitudinal speed) */
+    double xi = c->ck.dpd[1] < c->ck.mpm[1] ? c->ck.dpd[1] : c->ck.mpm[1];
+    double tr = (2 * xi - c->ck.monitor) / cl, tw = (2 * c->length - c->ck.monitor) / cl;
+    long n = S->n;
+    size_t sz = (size_t)(n ? n : 1) * sizeof(double);
+    double *vc = malloc(sz), *vh = malloc(sz), *rv = malloc(sz), *v2c = malloc(sz),
+           *v2h = malloc(sz);
+    if (vc && vh && rv && v2c && v2h) {
+        slab_velocity(S->t, S->mc, n, c->ck.vwin, vc);
+        slab_velocity(S->t, S->mh, n, c->ck.vwin, vh);
+        slab_velocity(S->t, S->s2, n, c->ck.vwin, v2c);
+        slab_velocity(S->t, S->h2, n, c->ck.vwin, v2h);
+        double inc = 0, refl = 0, tc = 0, th = 0;
+        for (long q = 0; q < n; q++) {
+            rv[q] = vc[q] - vh[q];
+            if (!isfinite(rv[q]) || S->t[q] > tw)
+                continue;
+            if (S->t[q] <= tr)
+                inc = fmax(inc, vh[q]);
+            refl = fmax(refl, fabs(rv[q]));
+            tc = fmax(tc, v2c[q]);
+            th = fmax(th, v2h[q]);
+        }
+        result_metric(res, "reflection_window", tw, "ps");
+        result_metric(res, "incident_amplitude", inc, "Å/ps");
+        result_metric(res, "reflected_amplitude", refl, "Å/ps");
+        result_metric(res, "reflection_ratio", inc > 0 ? refl / inc : NAN, "1");
+        result_metric(res, "transmission_ratio", th > 0 ? tc / th : NAN, "1");
+        result_series(res, "monitor_concurrent", S->mc, (int)n, "Å");
+        result_series(res, "monitor_homogeneous", S->mh, (int)n, "Å");
+        result_series(res, "monitor_velocity_concurrent", vc, (int)n, "Å/ps");
+        result_series(res, "monitor_velocity_homogeneous", vh, (int)n, "Å/ps");
+        result_series(res, "reflected_velocity", rv, (int)n, "Å/ps");
+        run_log(run,
+                "interface: incident %.3f Å/ps (up to %.2f ps), reflected %.3f Å/ps (ratio %.3f) "
+                "up to %.2f ps; region 2 peak velocity %.3f of the all-DPD one",
+                inc, tr, refl, inc > 0 ? refl / inc : NAN, tw, th > 0 ? tc / th : NAN);
+    }
+    free(vc);
+    free(vh);
+    free(rv);
+    free(v2c);
+    free(v2h);
+}
+
+static int impact_run(void *state, struct run *run, struct err *e)
+{
+    struct impact_case *c = state;
+    struct coupled *m = &c->r[0];
+    struct dpd *d = &m->d;
+    d->timers = &run->timers;
+    m->c.m.timers = &run->timers;
+    struct dpd_output out;
+    int rc = dpd_output_begin(&out, run, e);
+    if (rc)
+        return rc;
+    struct samples S;
+    long nsamp = c->steps / c->k.sample_every + 2;
+    double bin = c->k.bin > 0 ? c->k.bin : 0.5 * d->prm.lattice_constant;
+    int nbins = (int)ceil(c->length / bin);
+    size_t np = c->k.nptimes;
+    double *prof = calloc((np ? np : 1) * (size_t)nbins, sizeof *prof);
+    double *pref = calloc((size_t)nbins, sizeof *pref);
+    long *cnt = calloc((size_t)nbins, sizeof *cnt);
+    if ((rc = samples_alloc(&S, nsamp, e)) || !prof || !pref || !cnt) {
+        rc = rc ? rc : err_nomem(e, "profiles");
+        goto done;
+    }
+    for (size_t q = 0; q < np * (size_t)nbins; q++)
+        prof[q] = NAN;
+    const double lo1 = c->k.regions[0] - c->k.half, hi1 = c->k.regions[0] + c->k.half;
+    const double lo2 = c->k.regions[1] - c->k.half, hi2 = c->k.regions[1] + c->k.half;
+    const double mlo = c->ck.monitor - c->ck.mhalf, mhi = c->ck.monitor + c->ck.mhalf;
+    double P0[3], e0 = NAN, demax = 0, et = NAN;
+    dpd_mpm_momentum(&m->c, P0);
+    d->peratom = run_due(0, c->steps, run->out.snapshot_every);
+    if ((rc = dpd_compute_forces(d, e)) || (rc = dpd_structure_classify(&c->st, d, e)) ||
+        (rc = dpd_output_step(&out, run, d, c->steps)) || (rc = points_snapshot(run, m, e)))
+        goto done;
+    progress_start(&run->progress, stderr, c->steps, d->dt, run->opt.progress && !run->opt.quiet);
+    timer_start(&run->timers, TIMER_LOOP);
+    for (long s = 0; s <= c->steps && !rc; s++) {
+        if (s > 0) {
+            d->peratom = run_due(s, c->steps, run->out.snapshot_every);
+            for (int r = 0; r < c->nruns && !rc; r++)
+                rc = dpd_mpm_step(&c->r[r].c, e);
+            if (rc)
+                break;
+            struct dpd_mpm_energy en;
+            dpd_mpm_energy(&m->c, &en);
+            et = en.centred;
+            if (!isfinite(et)) {
+                rc = err_set(e, ERR_DIVERGED, "diverged: non-finite energy at step %ld", s);
+                break;
+            }
+            if (s == 1)
+                e0 = et;
+            demax = fmax(demax, fabs(et - e0));
+            if ((rc = dpd_structure_before_output(&c->st, run, d, c->steps, e)))
+                break;
+            rc = dpd_output_step(&out, run, d, c->steps);
+            if (!rc && run_due(s, c->steps, run->out.snapshot_every))
+                rc = points_snapshot(run, m, e);
+            progress_update(&run->progress, s);
+        }
+        timer_start(&run->timers, TIMER_ANALYSIS);
+        if (s % c->k.sample_every == 0 || s == c->steps) {
+            long q = S.n++;
+            S.t[q] = d->time;
+            S.s1[q] = signal(c, 0, 1, lo1, hi1, NULL);
+            S.s2[q] = signal(c, 0, 1, lo2, hi2, NULL);
+            S.es[q] = s > 0 ? et : NAN;
+            if (c->has_hom) {
+                S.mc[q] = signal(c, 0, 1, mlo, mhi, NULL);
+                S.mh[q] = signal(c, 2, 3, mlo, mhi, NULL);
+                S.h2[q] = signal(c, 2, 3, lo2, hi2, NULL);
+            }
+        }
+        for (size_t q = 0; q < np; q++) {
+            if (lround(c->k.ptimes[q] / d->dt) != s)
+                continue;
+            double *pq = prof + q * nbins;
+            profile(m, c->k.axis, c->face, bin, nbins, pq, cnt);
+            if (c->has_ref) {
+                profile(&c->r[1], c->k.axis, c->face, bin, nbins, pref, cnt);
+                for (int b = 0; b < nbins; b++)
+                    pq[b] -= pref[b];
+            }
+        }
+        timer_stop(&run->timers, TIMER_ANALYSIS);
+    }
+    timer_stop(&run->timers, TIMER_LOOP);
+    progress_finish(&run->progress, d->step);
+    if (!rc)
+        rc = dpd_structure_finish(&c->st, run, d, e);
+    if (!rc || rc == ERR_DIVERGED) {
+        report(c, run, &S, demax, e0, et, P0);
+        if (np) {
+            double *xc = malloc((size_t)nbins * sizeof *xc);
+            if (xc) {
+                for (int b = 0; b < nbins; b++)
+                    xc[b] = (b + 0.5) * bin;
+                result_series(&run->result, "profile_x", xc, nbins, "Å");
+                free(xc);
+            }
+            for (size_t q = 0; q < np; q++) {
+                char name[64];
+                snprintf(name, sizeof name, "profile_t%gps", c->k.ptimes[q]);
+                result_series(&run->result, name, prof + q * nbins, nbins, "Å");
+            }
+        }
+    }
+done:
+    samples_free(&S);
+    free(prof);
+    free(pref);
+    free(cnt);
+    {
+        int rc2 = dpd_output_end(&out, run, e);
+        if (!rc && !rc2)
+            rc2 = run_write_final_state(run, d->p, &d->box, d->step, d->time, e);
+        return rc ? rc : rc2;
+    }
+}
+
+static void impact_destroy(void *state)
+{
+    struct impact_case *c = state;
+    if (!c)
+        return;
+    for (int r = 0; r < MAX_RUNS; r++)
+        coupled_free(&c->r[r]);
+    free(c->pts.x);
+    free(c->pts.id);
+    free(c->k.ptimes);
+    dpd_structure_free(&c->st);
+    free(c);
+}
+
+/* Particles advanced per step, over every run: DPD particles (not the
+ * partners) and material points. */
+static long impact_particles(const void *state)
+{
+    const struct impact_case *c = state;
+    long n = 0;
+    for (int r = 0; r < c->nruns; r++)
+        if (c->r[r].has_c)
+            n += c->r[r].d.p->n_owned - c->r[r].c.npartner + c->r[r].c.m.pts.n;
+    return n;
+}
+
+static long impact_steps(const void *state)
+{
+    const struct impact_case *c = state;
+    return c->steps;
+}
+
+const struct case_type dpd_grid_impact_case_type = {
+    "dpd_grid_impact",
+    "DPD/MPM-grid flyer/target impact: DPD forces on the MPM grid, wave arrival, wave speed",
+    grid_impact_read, impact_run, impact_destroy, impact_particles, impact_steps,
+};
+
+const struct case_type dpd_mpm_impact_case_type = {
+    "dpd_mpm_impact",
+    "concurrent DPD/MPM flyer/target impact: wave across the interface, reflection",
+    concurrent_impact_read, impact_run, impact_destroy, impact_particles, impact_steps,
+};

@@ -1,0 +1,184 @@
+/* dpd_tensile_setup: the tensile rod, its grips and its stress-strain run. */
+#include "scenarios/dpd_tensile_setup.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "core/units.h"
+#include "scenarios/dpd_output.h"
+#include "scenarios/dpd_setup.h"
+#include "scenarios/md_system.h"
+
+static int read_tensile(struct cfg_obj *root, struct dpd_tensile *k)
+{
+    static const char *const axes[] = {"x", "y", "z", NULL};
+    struct cfg_obj o;
+    int rc;
+    if ((rc = cfg_section(root, "tensile", &o)) ||
+        (rc = cfg_enum(&o, "axis", "x", axes, &k->axis)) ||
+        (rc = cfg_real(&o, "grip_length", 15.0, CFG_GT(0), &k->grip)) ||
+        (rc = cfg_real(&o, "velocity", 2.169, CFG_GT(0), &k->v)) ||
+        (rc = cfg_real(&o, "lattice_constant", 0.0, CFG_GE(0), &k->a)) ||
+        (rc = cfg_real(&o, "area", 0.0, CFG_GE(0), &k->area_key)) ||
+        (rc = cfg_bool(&o, "velocity_ramp", 1, &k->ramp)) ||
+        (rc = cfg_int(&o, "sample_every", 20, CFG_GE(1), &k->sample_every)))
+        return rc;
+    return cfg_close(&o);
+}
+
+int dpd_tensile_read(struct cfg_obj *root, const struct case_common *common, struct dpd *d,
+                     struct dpd_tensile *t)
+{
+    struct particles *p = NULL;
+    struct box box;
+    struct md_system_info info;
+    struct dpd_input in;
+    memset(t, 0, sizeof *t);
+    int rc = md_system_read(root, common->seed, &p, &box, &info);
+    if (!rc)
+        rc = dpd_section_read(root, DPD_ENERGY, &in);
+    if (!rc)
+        rc = read_tensile(root, t);
+    int axis = t->axis;
+    if (!rc && box.bc[axis] == BOUNDARY_PERIODIC)
+        rc = cfg_error_at(root->cfg, "system.boundary",
+                          "the rod axis %c must not be periodic (its ends are pulled apart)",
+                          "xyz"[axis]);
+    if (rc || root->cfg->shallow) {
+        particles_destroy(&p);
+        return rc;
+    }
+    struct err *e = root->cfg->err;
+    double a = t->a > 0 ? t->a : in.prm.lattice_constant, v = t->v;
+    struct dpd_bar *bar = &t->bar;
+    dpd_bar_measure(p, 0, 0.5 * a, bar);
+    t->L0 = bar->extent[axis];
+    if (!(2 * t->grip < bar->face_hi[axis] - bar->face_lo[axis])) {
+        particles_destroy(&p);
+        return cfg_error_at(root->cfg, "tensile.grip_length",
+                            "grips of %g Å at both ends leave nothing of a %g Å rod", t->grip,
+                            bar->extent[axis]);
+    }
+    /* a grip is the material within grip_length of its end of the rod */
+    double lo_cut = bar->face_lo[axis] - 0.5 * bar->plane + t->grip;
+    double hi_cut = bar->face_hi[axis] + 0.5 * bar->plane - t->grip;
+    for (int i = 0; i < p->n_owned; i++) {
+        double x = p->x[3 * i + axis];
+        if (x < lo_cut)
+            p->mask[i] |= DPD_GRIP_LO_BIT;
+        else if (x > hi_cut)
+            p->mask[i] |= DPD_GRIP_HI_BIT;
+    }
+    rc = dpd_init_velocities(&in, p, common, e);
+    if (rc) {
+        particles_destroy(&p);
+        return rc;
+    }
+    if (t->ramp) {
+        double xlo = bar->face_lo[axis], xhi = bar->face_hi[axis];
+        for (int i = 0; i < p->n_owned; i++)
+            p->v[3 * i + axis] += v * (2 * p->x[3 * i + axis] - xlo - xhi) / (xhi - xlo);
+    }
+    rc = dpd_build(&in, p, &box, common, e, d);
+    double vlo[3] = {0, 0, 0}, vhi[3] = {0, 0, 0};
+    vlo[axis] = -v;
+    vhi[axis] = v;
+    if (!rc)
+        rc = dpd_add_body(d, DPD_GRIP_LO_BIT, DPD_BODY_PRESCRIBED, vlo, e);
+    if (!rc)
+        rc = dpd_add_body(d, DPD_GRIP_HI_BIT, DPD_BODY_PRESCRIBED, vhi, e);
+    if (rc) {
+        dpd_free(d);
+        return rc;
+    }
+    t->steps = in.steps;
+    int t1 = (axis + 1) % 3, t2 = (axis + 2) % 3;
+    t->area = t->area_key > 0 ? t->area_key : bar->extent[t1] * bar->extent[t2];
+    t->ngrip = d->body[0].n + d->body[1].n;
+    return 0;
+}
+
+int dpd_tensile_run(struct dpd *d, const struct dpd_tensile *c,
+                    int (*step)(void *ctx, struct err *e), void *ctx, struct run *run,
+                    struct err *e)
+{
+    d->timers = &run->timers;
+    struct dpd_output out;
+    int rc = dpd_output_begin(&out, run, e);
+    if (rc)
+        return rc;
+    long nmax = c->steps / c->sample_every + 2;
+    double *strain = malloc((size_t)nmax * sizeof *strain);
+    double *stress = malloc((size_t)nmax * sizeof *stress);
+    double *times = malloc((size_t)nmax * sizeof *times);
+    long ns = 0;
+    if (!strain || !stress || !times) {
+        rc = err_nomem(e, "stress-strain samples");
+        goto done;
+    }
+    d->peratom = run_due(0, c->steps, run->out.snapshot_every);
+    if ((rc = dpd_compute_forces(d, e)) || (rc = dpd_output_step(&out, run, d, c->steps)))
+        goto done;
+    progress_start(&run->progress, stderr, c->steps, d->dt, run->opt.progress && !run->opt.quiet);
+    timer_start(&run->timers, TIMER_LOOP);
+    double fsum = 0, tsum = 0;
+    long nacc = 0;
+    for (long s = 1; s <= c->steps && !rc; s++) {
+        d->peratom = run_due(s, c->steps, run->out.snapshot_every);
+        if ((rc = step(ctx, e)))
+            break;
+        if (!isfinite(d->epot)) {
+            rc = err_set(e, ERR_DIVERGED, "diverged: non-finite energy at step %ld", s);
+            break;
+        }
+        /* Chen 2014 Sec. 4.1.2: stress from the rigid-end forces */
+        fsum += 0.5 * (d->body[0].force[c->axis] - d->body[1].force[c->axis]);
+        tsum += d->time;
+        nacc++;
+        if (nacc == c->sample_every || s == c->steps) {
+            double t = tsum / nacc;
+            times[ns] = t;
+            strain[ns] = 2.0 * c->v * t / c->L0;
+            stress[ns] = fsum / nacc / c->area * UNITS_EVA3_TO_GPA;
+            ns++;
+            fsum = tsum = 0;
+            nacc = 0;
+        }
+        rc = dpd_output_step(&out, run, d, c->steps);
+        progress_update(&run->progress, s);
+    }
+    timer_stop(&run->timers, TIMER_LOOP);
+    progress_finish(&run->progress, d->step);
+    {
+        struct result *res = &run->result;
+        long kpk = -1;
+        for (long k = 0; k < ns; k++)
+            if (kpk < 0 || stress[k] > stress[kpk])
+                kpk = k;
+        result_metric(res, "peak_stress", kpk >= 0 ? stress[kpk] : NAN, "GPa");
+        result_metric(res, "strain_at_peak", kpk >= 0 ? strain[kpk] : NAN, "1");
+        result_metric(res, "strain_rate", 2.0 * c->v / c->L0, "1/ps");
+        result_metric(res, "strain_final", 2.0 * c->v * d->time / c->L0, "1");
+        result_metric(res, "rod_length", c->L0, "Å");
+        result_metric(res, "area", c->area, "Å^2");
+        result_metric(res, "particles", (double)d->p->n_owned, "1");
+        result_metric(res, "grip_particles", (double)c->ngrip, "1");
+        result_metric(res, "temperature", dpd_temperature(d), "K");
+        result_series(res, "time_ps", times, (int)ns, "ps");
+        result_series(res, "strain", strain, (int)ns, "1");
+        result_series(res, "stress", stress, (int)ns, "GPa");
+        if (kpk >= 0)
+            run_log(run, "peak stress %.3f GPa at strain %.4f", stress[kpk], strain[kpk]);
+    }
+done:
+    free(strain);
+    free(stress);
+    free(times);
+    {
+        int rc2 = dpd_output_end(&out, run, e);
+        if (!rc && !rc2)
+            rc2 = run_write_final_state(run, d->p, &d->box, d->step, d->time, e);
+        return rc ? rc : rc2;
+    }
+}
