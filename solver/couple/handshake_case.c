@@ -157,6 +157,26 @@ void hs_case_free(struct hs_case *c)
     free(c->dbuf);
 }
 
+void hs_case_destroy(void *state)
+{
+    if (!state)
+        return;
+    hs_case_free(state);   /* the first member: same address */
+    free(state);
+}
+
+long hs_case_particles(const void *state)
+{
+    const struct hs_case *c = state;
+    return c ? c->md.p->n_owned + c->hs.mpm.pts.n : 0;
+}
+
+long hs_case_steps(const void *state)
+{
+    const struct hs_case *c = state;
+    return c ? c->steps : 0;
+}
+
 /* --- loads ------------------------------------------------------------------ */
 
 /* A traction t (eV/Å^3, along +x) on the points of the last cell layer at

@@ -78,6 +78,12 @@ int hs_case_build(struct hs_case *c, enum mpm_face_bc x_hi_face, int end_margin,
 
 void hs_case_free(struct hs_case *c);
 
+/* Case-type callbacks shared by the handshake case types, whose state is a
+ * malloc'ed struct with its struct hs_case as the first member. */
+void hs_case_destroy(void *state);
+long hs_case_particles(const void *state);
+long hs_case_steps(const void *state);
+
 /* Bar coordinates (Å): the interfaces and the ends. */
 static inline double hs_case_x_left(const struct hs_case *c) { return c->hs.lay.md_lo[0]; }
 static inline double hs_case_x_right(const struct hs_case *c) { return c->hs.lay.md_hi[0]; }

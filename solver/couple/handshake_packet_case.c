@@ -29,6 +29,7 @@
  *   md.steps: 0           0: up to the measure time
  */
 #include <math.h>
+#include <stddef.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -42,6 +43,8 @@ struct packet_case {
     double x0;                                /* Å */
     double e_init;                            /* eV */
 };
+/* the shared callbacks (hs_case_destroy, ...) see the struct hs_case */
+_Static_assert(offsetof(struct packet_case, c) == 0, "hs_case first");
 
 static int packet_read(struct cfg_obj *root, const struct case_common *common, void **state)
 {
@@ -244,29 +247,8 @@ static int packet_run(void *state, struct run *run, struct err *e)
     return rc ? rc : rc2;
 }
 
-static void packet_destroy(void *state)
-{
-    struct packet_case *w = state;
-    if (!w)
-        return;
-    hs_case_free(&w->c);
-    free(w);
-}
-
-static long packet_particles(const void *state)
-{
-    const struct packet_case *w = state;
-    return w ? w->c.md.p->n_owned + w->c.hs.mpm.pts.n : 0;
-}
-
-static long packet_steps(const void *state)
-{
-    const struct packet_case *w = state;
-    return w ? w->c.steps : 0;
-}
-
 const struct case_type handshake_packet_case_type = {
     "handshake_packet",
     "MPM/MD handshake: Gaussian wave packets from the MD into the MPM (Guo & Yang 2005, Fig. 9)",
-    packet_read, packet_run, packet_destroy, packet_particles, packet_steps,
+    packet_read, packet_run, hs_case_destroy, hs_case_particles, hs_case_steps,
 };

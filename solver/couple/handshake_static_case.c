@@ -22,6 +22,7 @@
  * sxx_mpm_mean; residual kinetic energy.
  */
 #include <math.h>
+#include <stddef.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -35,6 +36,8 @@ struct static_case {
     double damping;    /* 1/ps */
     double exclude;    /* lattice constants */
 };
+/* the shared callbacks (hs_case_destroy, ...) see the struct hs_case */
+_Static_assert(offsetof(struct static_case, c) == 0, "hs_case first");
 
 static int static_read(struct cfg_obj *root, const struct case_common *common, void **state)
 {
@@ -164,29 +167,8 @@ static int static_run(void *state, struct run *run, struct err *e)
     return rc ? rc : rc2;
 }
 
-static void static_destroy(void *state)
-{
-    struct static_case *w = state;
-    if (!w)
-        return;
-    hs_case_free(&w->c);
-    free(w);
-}
-
-static long static_particles(const void *state)
-{
-    const struct static_case *w = state;
-    return w ? w->c.md.p->n_owned + w->c.hs.mpm.pts.n : 0;
-}
-
-static long static_steps(const void *state)
-{
-    const struct static_case *w = state;
-    return w ? w->c.steps : 0;
-}
-
 const struct case_type handshake_static_case_type = {
     "handshake_static",
     "MPM/MD handshake: quasi-static end-loaded bar with damping (Guo & Yang 2005, Fig. 8)",
-    static_read, static_run, static_destroy, static_particles, static_steps,
+    static_read, static_run, hs_case_destroy, hs_case_particles, hs_case_steps,
 };

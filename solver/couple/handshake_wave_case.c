@@ -36,6 +36,7 @@
  *                         constants differ).
  */
 #include <math.h>
+#include <stddef.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -49,6 +50,8 @@ struct wave_case {
     double ramp;          /* ps */
     long probe_every;
 };
+/* the shared callbacks (hs_case_destroy, ...) see the struct hs_case */
+_Static_assert(offsetof(struct wave_case, c) == 0, "hs_case first");
 
 static int wave_read(struct cfg_obj *root, const struct case_common *common, void **state)
 {
@@ -288,29 +291,8 @@ static int wave_run(void *state, struct run *run, struct err *e)
     return rc ? rc : rc2;
 }
 
-static void wave_destroy(void *state)
-{
-    struct wave_case *w = state;
-    if (!w)
-        return;
-    hs_case_free(&w->c);
-    free(w);
-}
-
-static long wave_particles(const void *state)
-{
-    const struct wave_case *w = state;
-    return w ? w->c.md.p->n_owned + w->c.hs.mpm.pts.n : 0;
-}
-
-static long wave_steps(const void *state)
-{
-    const struct wave_case *w = state;
-    return w ? w->c.steps : 0;
-}
-
 const struct case_type handshake_wave_case_type = {
     "handshake_wave",
     "MPM/MD handshake: step stress wave from the MPM into the MD (Guo & Yang 2005, Figs. 4-7)",
-    wave_read, wave_run, wave_destroy, wave_particles, wave_steps,
+    wave_read, wave_run, hs_case_destroy, hs_case_particles, hs_case_steps,
 };
