@@ -5,6 +5,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/units.h"
+
 struct particles *particles_create(int capacity)
 {
     struct particles *p = calloc(1, sizeof *p);
@@ -197,4 +199,20 @@ int particles_type_index(struct particles *p, const char *name, double mass)
     snprintf(p->type_name[t], sizeof p->type_name[t], "%s", name);
     p->mass[t] = mass;
     return t;
+}
+
+void particles_kinetic_tensor(const struct particles *p, double k[6])
+{
+    for (int c = 0; c < 6; c++)
+        k[c] = 0;
+    for (int i = 0; i < p->n_owned; i++) {
+        double m = p->mass[p->type[i]] * UNITS_MVV2E;
+        const double *v = p->v + 3 * i;
+        k[0] += m * v[0] * v[0];
+        k[1] += m * v[1] * v[1];
+        k[2] += m * v[2] * v[2];
+        k[3] += m * v[0] * v[1];
+        k[4] += m * v[0] * v[2];
+        k[5] += m * v[1] * v[2];
+    }
 }

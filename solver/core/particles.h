@@ -93,4 +93,8 @@ void particles_compact(struct particles *p, const unsigned char *keep);
 /* Type index for a name, adding it when absent; -1 when too many types. */
 int particles_type_index(struct particles *p, const char *name, double mass);
 
+/* Kinetic tensor sum m v_a v_b of the owned particles (eV; xx yy zz xy xz
+ * yz), the kinetic part of the pressure tensor times the volume. */
+void particles_kinetic_tensor(const struct particles *p, double k[6]);
+
 #endif

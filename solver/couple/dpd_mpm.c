@@ -27,44 +27,17 @@ static int particle_class(const struct dpd *d, int i, uint32_t partner_bit)
     return (m & partner_bit) ? 1 : 0;
 }
 
-static int cmp_key(const void *a, const void *b)
-{
-    const int64_t *x = a, *y = b;
-    for (int k = 0; k < 2; k++)
-        if (x[k] != y[k])
-            return (x[k] > y[k]) - (x[k] < y[k]);
-    return 0;
-}
-
 int dpd_mpm_order(struct dpd *d, uint32_t partner_bit, struct err *e)
 {
-    struct particles *p = d->p;
-    int n = p->n_owned;
-    int64_t (*key)[3] = malloc((size_t)(n ? n : 1) * sizeof *key);
-    int *perm = malloc((size_t)(n ? n : 1) * sizeof *perm);
-    int rc = 0;
-    if (!key || !perm) {
-        rc = err_nomem(e, "particle order");
-    } else {
-        for (int i = 0; i < n; i++) {
-            key[i][0] = particle_class(d, i, partner_bit);
-            key[i][1] = p->id[i];
-            key[i][2] = i;
-        }
-        qsort(key, (size_t)n, sizeof *key, cmp_key);
-        for (int i = 0; i < n; i++)
-            perm[i] = (int)key[i][2];
-        particles_clear_ghosts(p);
-        rc = particles_permute(p, perm, e);
-    }
-    free(key);
-    free(perm);
-    if (rc)
-        return rc;
-    d->sort_every = 0;
-    d->canonical_lists = 1;
-    d->nl->nbuilds = 0;   /* rebuild ghosts and list from the new order */
-    return dpd_compute_forces(d, e);
+    int n = d->p->n_owned;
+    int *cls = malloc((size_t)(n ? n : 1) * sizeof *cls);
+    if (!cls)
+        return err_nomem(e, "particle order");
+    for (int i = 0; i < n; i++)
+        cls[i] = particle_class(d, i, partner_bit);
+    int rc = dpd_fix_order(d, cls, e);
+    free(cls);
+    return rc;
 }
 
 /* --- set-up ----------------------------------------------------------------- */

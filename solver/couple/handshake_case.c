@@ -306,11 +306,7 @@ int hs_case_snapshot(struct hs_case *c, struct run *run, struct err *e)
     hid_t g = h5out_begin_snapshot(h, "particles", hs->step, hs->time, n, e);
     if (g < 0)
         return ERR_RUNTIME;
-    rc = h5out_write_doubles(h, g, "position", p->x, n, 3, "Å", e);
-    if (!rc)
-        rc = h5out_write_doubles(h, g, "velocity", p->v, n, 3, "Å/ps", e);
-    if (!rc)
-        rc = h5out_write_doubles(h, g, "force", p->f, n, 3, "eV/Å", e);
+    rc = run_snapshot_particles(run, g, p, c->ibuf, e);
     if (!rc)
         rc = h5out_write_doubles(h, g, "pe", p->pe, n, 1, "eV", e);
     for (long i = 0; i < n; i++) {   /* virial stress over the atomic volume */
@@ -322,10 +318,6 @@ int hs_case_snapshot(struct hs_case *c, struct run *run, struct err *e)
     }
     if (!rc)
         rc = h5out_write_doubles(h, g, "stress", c->dbuf, n, 6, "GPa", e);
-    for (long i = 0; i < n; i++)
-        c->ibuf[i] = p->id[i];
-    if (!rc)
-        rc = h5out_write_ints(h, g, "id", c->ibuf, n, "1", e);
     for (long i = 0; i < n; i++)
         c->ibuf[i] = (int64_t)p->fields[hs->f_region].data[i];
     if (!rc)

@@ -331,18 +331,8 @@ void dpd_momentum(const struct dpd *d, double P[3])
 
 void dpd_pressure_tensor(const struct dpd *d, double P[6])
 {
-    const struct particles *p = d->p;
-    double k[6] = {0};
-    for (int i = 0; i < p->n_owned; i++) {
-        double m = p->mass[p->type[i]] * UNITS_MVV2E;
-        const double *v = p->v + 3 * i;
-        k[0] += m * v[0] * v[0];
-        k[1] += m * v[1] * v[1];
-        k[2] += m * v[2] * v[2];
-        k[3] += m * v[0] * v[1];
-        k[4] += m * v[0] * v[2];
-        k[5] += m * v[1] * v[2];
-    }
+    double k[6];
+    particles_kinetic_tensor(d->p, k);
     double V = box_volume(&d->box);
     for (int c = 0; c < 6; c++)
         P[c] = (k[c] + d->virial[c]) / V;
@@ -355,4 +345,44 @@ double dpd_timestep_limit(const struct cg_params *prm)
         return INFINITY;
     double wE = sqrt(k * UNITS_FTM2V / prm->mass);
     return sqrt(2.0) / wE;
+}
+
+static int cmp_order_key(const void *a, const void *b)
+{
+    const int64_t *x = a, *y = b;
+    for (int k = 0; k < 2; k++)
+        if (x[k] != y[k])
+            return (x[k] > y[k]) - (x[k] < y[k]);
+    return 0;
+}
+
+int dpd_fix_order(struct dpd *d, const int *cls, struct err *e)
+{
+    struct particles *p = d->p;
+    int n = p->n_owned;
+    int64_t (*key)[3] = malloc((size_t)(n ? n : 1) * sizeof *key);
+    int *perm = malloc((size_t)(n ? n : 1) * sizeof *perm);
+    int rc = 0;
+    if (!key || !perm) {
+        rc = err_nomem(e, "particle order");
+    } else {
+        for (int i = 0; i < n; i++) {
+            key[i][0] = cls ? cls[i] : 0;
+            key[i][1] = p->id[i];
+            key[i][2] = i;
+        }
+        qsort(key, (size_t)n, sizeof *key, cmp_order_key);
+        for (int i = 0; i < n; i++)
+            perm[i] = (int)key[i][2];
+        particles_clear_ghosts(p);
+        rc = particles_permute(p, perm, e);
+    }
+    free(key);
+    free(perm);
+    if (rc)
+        return rc;
+    d->sort_every = 0;
+    d->canonical_lists = 1;
+    d->nl->nbuilds = 0;   /* rebuild ghosts and list from the new order */
+    return dpd_compute_forces(d, e);
 }

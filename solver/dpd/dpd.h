@@ -144,6 +144,12 @@ int dpd_add_body(struct dpd *d, uint32_t mask, enum dpd_body_kind kind, const do
  * particles have moved too far. */
 int dpd_compute_forces(struct dpd *d, struct err *e);
 
+/* Store the particles for good in the order of (cls[i], id) (cls NULL: id
+ * alone), switch to canonical neighbour lists and no further reordering,
+ * and recompute the forces: runs that must match particle by particle (a
+ * reference run, a coupled model whose kinds sit in blocks) start here. */
+int dpd_fix_order(struct dpd *d, const int *cls, struct err *e);
+
 /* Chen 2014, Eq. (s3b) input: the total DPD pair force on every owned
  * particle, f_i = sum_j (f^C_ij + f^D_ij + f^R_ij), at the current positions
  * and velocities, written to f (3 per owned particle, eV/Å) without moving

@@ -171,18 +171,8 @@ double md_temperature(const struct md *md)
 
 void md_pressure_tensor(const struct md *md, double P[6])
 {
-    const struct particles *p = md->p;
-    double k[6] = {0};
-    for (int i = 0; i < p->n_owned; i++) {
-        double m = p->mass[p->type[i]] * UNITS_MVV2E;
-        const double *v = p->v + 3 * i;
-        k[0] += m * v[0] * v[0];
-        k[1] += m * v[1] * v[1];
-        k[2] += m * v[2] * v[2];
-        k[3] += m * v[0] * v[1];
-        k[4] += m * v[0] * v[2];
-        k[5] += m * v[1] * v[2];
-    }
+    double k[6];
+    particles_kinetic_tensor(md->p, k);
     double V = box_volume(&md->box);
     for (int c = 0; c < 6; c++)
         P[c] = (k[c] + md->last.virial[c]) / V;

@@ -98,44 +98,6 @@ struct impact_case {
     struct dpd_structure st;   /* CNA of the flyer run (Fig. 4) */
 };
 
-static int cmp_id_index(const void *a, const void *b)
-{
-    int64_t x = ((const int64_t *)a)[0], y = ((const int64_t *)b)[0];
-    return (x > y) - (x < y);
-}
-
-/* Store the particles in id order for good, with canonical neighbour lists,
- * and recompute the forces. */
-static int order_by_id(struct dpd *d, struct err *e)
-{
-    struct particles *p = d->p;
-    int n = p->n_owned;
-    int64_t (*key)[2] = malloc((size_t)(n ? n : 1) * sizeof *key);
-    int *perm = malloc((size_t)(n ? n : 1) * sizeof *perm);
-    int rc = 0;
-    if (!key || !perm) {
-        rc = err_nomem(e, "id order");
-    } else {
-        for (int i = 0; i < n; i++) {
-            key[i][0] = p->id[i];
-            key[i][1] = i;
-        }
-        qsort(key, (size_t)n, sizeof *key, cmp_id_index);
-        for (int i = 0; i < n; i++)
-            perm[i] = (int)key[i][1];
-        particles_clear_ghosts(p);
-        rc = particles_permute(p, perm, e);
-    }
-    free(key);
-    free(perm);
-    if (rc)
-        return rc;
-    d->sort_every = 0;
-    d->canonical_lists = 1;
-    d->nl->nbuilds = 0;   /* rebuild ghosts and list from the new order */
-    return dpd_compute_forces(d, e);
-}
-
 static int impact_read(struct cfg_obj *root, const struct case_common *common, void **state)
 {
     struct particles *p = NULL;
@@ -212,7 +174,7 @@ static int impact_read(struct cfg_obj *root, const struct case_common *common, v
             particles_destroy(&pref);
         }
         for (int r = 0; !rc && r < 2; r++)
-            rc = order_by_id(r ? &c->ref : &c->d, e);
+            rc = dpd_fix_order(r ? &c->ref : &c->d, NULL, e);
         if (!rc) {
             c->xref_ref = displacement_begin(c->ref.p, &c->ref.box, e);
             if (c->xref_ref < 0)

@@ -73,19 +73,7 @@ int dpd_output_snapshot(struct dpd_output *o, struct run *run, struct dpd *d)
     hid_t g = h5out_begin_snapshot(&run->h5, "particles", d->step, d->time, n, &e);
     if (g < 0)
         return ERR_RUNTIME;
-    int rc = h5out_write_doubles(&run->h5, g, "position", p->x, n, 3, "Å", &e);
-    if (!rc)
-        rc = h5out_write_doubles(&run->h5, g, "velocity", p->v, n, 3, "Å/ps", &e);
-    if (!rc)
-        rc = h5out_write_doubles(&run->h5, g, "force", p->f, n, 3, "eV/Å", &e);
-    for (long i = 0; i < n; i++)
-        o->ibuf[i] = p->id[i];
-    if (!rc)
-        rc = h5out_write_ints(&run->h5, g, "id", o->ibuf, n, "1", &e);
-    for (long i = 0; i < n; i++)
-        o->ibuf[i] = p->type[i];
-    if (!rc)
-        rc = h5out_write_ints(&run->h5, g, "type", o->ibuf, n, "1", &e);
+    int rc = run_snapshot_particles(run, g, p, o->ibuf, &e);
     if (!rc && d->peratom)
         rc = h5out_write_doubles(&run->h5, g, "pe", p->pe, n, 1, "eV", &e);
     for (int k = 0; !rc && k < p->nfields; k++)

@@ -172,6 +172,26 @@ void run_thermo_row(struct run *r, const double *values, int n)
     fflush(r->thermo_csv);
 }
 
+int run_snapshot_particles(struct run *r, hid_t g, const struct particles *p, int64_t *ibuf,
+                           struct err *e)
+{
+    long n = p->n_owned;
+    int rc = h5out_write_doubles(&r->h5, g, "position", p->x, n, 3, "Å", e);
+    if (!rc)
+        rc = h5out_write_doubles(&r->h5, g, "velocity", p->v, n, 3, "Å/ps", e);
+    if (!rc)
+        rc = h5out_write_doubles(&r->h5, g, "force", p->f, n, 3, "eV/Å", e);
+    for (long i = 0; !rc && i < n; i++)
+        ibuf[i] = p->id[i];
+    if (!rc)
+        rc = h5out_write_ints(&r->h5, g, "id", ibuf, n, "1", e);
+    for (long i = 0; !rc && i < n; i++)
+        ibuf[i] = p->type[i];
+    if (!rc)
+        rc = h5out_write_ints(&r->h5, g, "type", ibuf, n, "1", e);
+    return rc;
+}
+
 int run_write_series_table(struct run *r, const double *rows, long nrows, int ncols,
                            const char *const *names, const char *const *units, struct err *e)
 {
