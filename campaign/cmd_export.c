@@ -1,4 +1,5 @@
 /* cascade export: a study as one CSV row per job. */
+#include <errno.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -64,6 +65,7 @@ int cmd_export(int argc, char **argv)
         else
             rc = err_set(&e, ERR_INPUT, "no study named '%s' in %s", study, db_path);
         sqlite3_finalize(st);
+        st = NULL;
     }
     if (!rc)
         rc = db_prepare(db, "SELECT name FROM study_axes WHERE study_id = ?1 ORDER BY position",
@@ -78,6 +80,7 @@ int cmd_export(int argc, char **argv)
             axes[naxes++] = strdup((const char *)sqlite3_column_text(st, 0));
         }
         sqlite3_finalize(st);
+        st = NULL;
         rc = db_prepare(db,
                         "SELECT DISTINCT metric, unit FROM results WHERE study = ?1 "
                         "ORDER BY metric",
@@ -90,14 +93,17 @@ int cmd_export(int argc, char **argv)
             if (!g)
                 break;
             mc = g;
-            mc[nm].name = strdup((const char *)sqlite3_column_text(st, 0));
-            mc[nm].unit = strdup((const char *)sqlite3_column_text(st, 1));
+            const char *mname = (const char *)sqlite3_column_text(st, 0);
+            const char *munit = (const char *)sqlite3_column_text(st, 1);
+            mc[nm].name = strdup(mname ? mname : "");
+            mc[nm].unit = strdup(munit ? munit : "");
             nm++;
         }
         sqlite3_finalize(st);
+        st = NULL;
     }
     if (!rc && out_path && !(out = fopen(out_path, "w")))
-        rc = err_set(&e, ERR_INPUT, "cannot write %s", out_path);
+        rc = err_set(&e, ERR_INPUT, "cannot write %s: %s", out_path, strerror(errno));
     if (!rc)
         rc = db_prepare(db,
                         "SELECT j.id, j.key, j.kind, coalesce(j.name, ''), j.state, d.id, "

@@ -1,6 +1,8 @@
 /*
- * plot: figures for reports, drawn by gnuplot (SVG).  Data goes to gnuplot
- * inline on its standard input, so no temporary data files are left.
+ * plot: figures for reports, drawn by gnuplot (SVG).  gnuplot is started
+ * without a shell; the data goes through a temporary file (removed after)
+ * and every text reaches the script as a quoted string with control
+ * characters blanked, so no title, label or file name can become a command.
  */
 #ifndef CASCADE_PLOT_H
 #define CASCADE_PLOT_H

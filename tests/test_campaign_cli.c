@@ -121,6 +121,15 @@ Test(campaign_cli, md_study_with_preparation_job, .timeout = 120)
     for (const char *c = out; *c; c++)
         lines += *c == '\n';
     cr_assert_eq(lines, 4, "%s", out);
+    /* error paths of export: each a message and exit 2, never a crash (both
+     * were a double free of the finalized statement) */
+    rc = ct_cascade(dir, NULL, out, sizeof out, "export", "nosuch", "--csv", NULL);
+    cr_assert_eq(rc, 2, "%s", out);
+    cr_assert_not_null(strstr(out, "no study named 'nosuch'"), "%s", out);
+    rc = ct_cascade(dir, NULL, out, sizeof out, "export", "mdprep", "--csv", "--out",
+                    "/nonexistent/dir/x.csv", NULL);
+    cr_assert_eq(rc, 2, "%s", out);
+    cr_assert_not_null(strstr(out, "/nonexistent/dir/x.csv"), "%s", out);
     char qfile[512];
     snprintf(qfile, sizeof qfile, "%s/db/queries/metric_vs_param.sql", getenv("CASCADE_ROOT"));
     rc = ct_cascade(dir, NULL, out, sizeof out, "query", "-f", qfile, "--csv", "--param",

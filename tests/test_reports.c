@@ -326,3 +326,43 @@ Test(reports, report_of_a_real_time_step_study, .timeout = 180)
     free(md);
     ct_rmrf(dir);
 }
+
+/* A swept string that carries gnuplot commands after a newline (a shell
+ * escape '!cmd', a system "cmd" call, a quote that tries to end the
+ * string first) must stay text: the report is written and no command
+ * runs (before the fix, the first payload created its file). */
+Test(reports, swept_strings_never_run_as_gnuplot_commands, .timeout = 120)
+{
+    char dir[64], out[65536], study[2048];
+    ct_mkdir(dir, sizeof dir);
+    snprintf(study, sizeof study,
+             "name: inj\n"
+             "base: {type: fake, fake: {x: 0.1, y: 1.0}}\n"
+             "sweep:\n"
+             "  grid:\n"
+             "    title: [\"a\\n!touch %s/pwned1\\n\", \"b\\nsystem \\\"touch %s/pwned2\\\"\\nc\",\n"
+             "            \"d'\\n!touch %s/pwned3\\n\", \"e\\r!touch %s/pwned4\\r\",\n"
+             "            \"`touch %s/pwned5`\"]\n"
+             "    fake.x: [0.1, 0.2, 0.4]\n"
+             "metrics: [x_squared, sum]\n"
+             "report: {resolution: fake.x}\n",
+             dir, dir, dir, dir, dir);
+    ct_write(0, dir, "inj.yaml", study);
+    int rc = ct_cascade(dir, NULL, out, sizeof out, "run", "inj.yaml", "--solver", ct_standin(),
+                        "--quiet", NULL);
+    cr_assert_eq(rc, 0, "%s", out);
+    rc = ct_cascade(dir, NULL, out, sizeof out, "report", "inj", NULL);
+    cr_assert_eq(rc, 0, "%s", out);
+    char rdir[128];
+    snprintf(rdir, sizeof rdir, "%s/reports/inj", dir);
+    cr_assert(exists(rdir, "fig-00-x_squared-g0-value.svg"));
+    cr_assert(exists(rdir, "fig-01-sum-g4-value.svg"));
+    const char *names[] = {"pwned1", "pwned2", "pwned3", "pwned4", "pwned5"};
+    for (int i = 0; i < 5; i++) {
+        char p[160];
+        struct stat sb;
+        snprintf(p, sizeof p, "%s/%s", dir, names[i]);
+        cr_assert_neq(stat(p, &sb), 0, "%s was created: a plot ran a command", p);
+    }
+    ct_rmrf(dir);
+}
