@@ -276,3 +276,60 @@ Test(cli, batch_resolve_answers_every_line)
     cr_assert(strstr(l2, "\"ok\":false") && strstr(l2, "<stdin line 2>"), "%s", l2);
     cr_assert(strstr(l3, "\"ok\":false") && strstr(l3, "invalid JSON"), "%s", l3);
 }
+
+/* Non-finite and malformed numbers in configuration files: each is refused
+ * at read time with file:line and the field (a NaN coordinate crashed the
+ * spatial sort of `check` and `run` before). */
+Test(cli, nonfinite_and_malformed_coordinates_refused)
+{
+    static const struct {
+        const char *atom_line;   /* the second atom of a LAMMPS data file */
+        const char *expect;
+    } data_cases[] = {
+        {"2 1 nan 1 1", "m.data:16: Atoms line: field 3 (x) must be a finite decimal number, found 'nan'"},
+        {"2 1 1 inf 1", "field 4 (y) must be a finite decimal number, found 'inf'"},
+        {"2 1 1 1 1e999", "field 5 (z) must be a finite decimal number, found '1e999'"},
+        {"2 1 1 1 -INF", "field 5 (z) must be a finite decimal number, found '-INF'"},
+        {"2 1 0x10 1 1", "field 3 (x) must be a finite decimal number, found '0x10'"},
+        {"2 1 1xyz.785 1 1", "field 3 (x) must be a finite decimal number, found '1xyz.785'"},
+        {"2.5 1 1 1 1", "m.data:16: Atoms line: id 2.5 is not a positive integer"},
+        {"2 1e300 1 1 1", "m.data:16: atom type 1e+300 out of range 1..1"},
+        {"2 1 1 1 1 0 1e99 0", "m.data:16: Atoms line: image flag 1e+99 is not an integer"},
+    };
+    for (size_t k = 0; k < sizeof data_cases / sizeof data_cases[0]; k++) {
+        char text[1024];
+        snprintf(text, sizeof text,
+                 "title\n\n2 atoms\n1 atom types\n0 10 xlo xhi\n0 10 ylo yhi\n"
+                 "0 10 zlo zhi\n\nMasses\n\n1 63.5 # Cu\n\nAtoms # atomic\n\n"
+                 "1 1 0 0 0\n%s\n", data_cases[k].atom_line);
+        const char *data = th_write_temp(3, "m.data", text);
+        char yaml[1024], out[4096];
+        snprintf(yaml, sizeof yaml, "system:\n  read_data: %s\npotential: {style: sutton_chen}\n",
+                 data);
+        int rc = solver("check", yaml, out, sizeof out);
+        cr_assert_eq(rc, 2, "'%s': %s", data_cases[k].atom_line, out);
+        cr_assert(strstr(out, data_cases[k].expect), "'%s': %s", data_cases[k].atom_line, out);
+    }
+    static const struct {
+        const char *atom_line;
+        const char *expect;
+    } xyz_cases[] = {
+        {"Cu nan 1 1", "m.xyz:4: pos (column 2): 'nan' is not a finite decimal number"},
+        {"Cu 1 1 inf", "m.xyz:4: pos (column 4): 'inf' is not a finite decimal number"},
+        {"Cu 1 1e999 1", "m.xyz:4: pos (column 3): '1e999' is not a finite decimal number"},
+        {"Cu 0x1p3 1 1", "m.xyz:4: pos (column 2): '0x1p3' is not a finite decimal number"},
+    };
+    for (size_t k = 0; k < sizeof xyz_cases / sizeof xyz_cases[0]; k++) {
+        char text[1024];
+        snprintf(text, sizeof text,
+                 "2\nLattice=\"10 0 0 0 10 0 0 0 10\" Properties=species:S:1:pos:R:3 "
+                 "pbc=\"T T T\"\nCu 0 0 0\n%s\n", xyz_cases[k].atom_line);
+        const char *xyz = th_write_temp(3, "m.xyz", text);
+        char yaml[1024], out[4096];
+        snprintf(yaml, sizeof yaml, "system:\n  read_xyz: %s\npotential: {style: sutton_chen}\n",
+                 xyz);
+        int rc = solver("check", yaml, out, sizeof out);
+        cr_assert_eq(rc, 2, "'%s': %s", xyz_cases[k].atom_line, out);
+        cr_assert(strstr(out, xyz_cases[k].expect), "'%s': %s", xyz_cases[k].atom_line, out);
+    }
+}

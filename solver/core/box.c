@@ -19,6 +19,14 @@ int box_remap(struct box *b, struct particles *p, double margin, struct err *e)
                 double *x = &p->x[3 * i + d];
                 if (*x < lo || *x >= hi) {
                     double k = floor((*x - lo) / len);
+                    /* a NaN or a particle a million boxes away is a runaway,
+                     * not an image to count (and (int)k would overflow) */
+                    if (!(fabs(k) < 1.0e6))
+                        return err_set(e, ERR_DIVERGED,
+                                       "particle id %lld has %c = %g, %s the periodic box "
+                                       "[%g, %g)", (long long)p->id[i], "xyz"[d], *x,
+                                       isfinite(*x) ? "a million box lengths outside" : "not inside",
+                                       lo, hi);
                     *x -= k * len;
                     if (*x >= hi)   /* round-off at the upper face */
                         *x = lo;

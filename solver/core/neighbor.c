@@ -96,6 +96,9 @@ static int bin_particles(struct nlist *nl, const struct particles *p, double wid
     for (int i = 0; i < ntot; i++)
         for (int d = 0; d < 3; d++) {
             double x = p->x[3 * i + d];
+            if (!isfinite(x))
+                return err_set(e, ERR_DIVERGED, "particle id %lld has a non-finite %c coordinate",
+                               (long long)p->id[i], "xyz"[d]);
             if (x < lo[d]) lo[d] = x;
             if (x > hi[d]) hi[d] = x;
         }
@@ -269,11 +272,17 @@ int nlist_spatial_order(const struct particles *p, double cell, int *perm, struc
             if (x < lo[d]) lo[d] = x;
             if (x > hi[d]) hi[d] = x;
         }
+    for (int d = 0; d < 3; d++)
+        if (!isfinite(lo[d]) || !isfinite(hi[d]))
+            return err_set(e, ERR_DIVERGED, "a particle has a non-finite %c coordinate",
+                           "xyz"[d]);
     int nc[3];
     long ncell = 1;
     for (int d = 0; d < 3; d++) {
-        nc[d] = (int)((hi[d] - lo[d]) / cell) + 1;
-        if (nc[d] > 1024) nc[d] = 1024;
+        /* compare in double before the cast: a coordinate far outside the
+         * box (1e300) must not overflow the int */
+        double q = (hi[d] - lo[d]) / cell;
+        nc[d] = q < 1023.0 ? (int)q + 1 : 1024;
         ncell *= nc[d];
     }
     int *count = calloc((size_t)ncell + 1, sizeof *count);
@@ -286,8 +295,8 @@ int nlist_spatial_order(const struct particles *p, double cell, int *perm, struc
     for (int i = 0; i < n; i++) {
         int c[3];
         for (int d = 0; d < 3; d++) {
-            c[d] = (int)((p->x[3 * i + d] - lo[d]) / cell);
-            if (c[d] >= nc[d]) c[d] = nc[d] - 1;
+            double q = (p->x[3 * i + d] - lo[d]) / cell;
+            c[d] = q < (double)(nc[d] - 1) ? (int)q : nc[d] - 1;
         }
         cellof[i] = (c[2] * nc[1] + c[1]) * nc[0] + c[0];
         count[cellof[i] + 1]++;

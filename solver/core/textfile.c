@@ -85,6 +85,33 @@ int textfile_error(struct textfile *t, struct err *e, const char *fmt, ...)
     return err_set(e, ERR_INPUT, "%s:%d: %s", t->path, t->line, what);
 }
 
+int text_parse_real(const char *tok, double *out)
+{
+    /* strtod also takes hex floats, "inf" and "nan": a data file holds none */
+    if (!tok || !*tok || strpbrk(tok, "xXpP"))
+        return -1;
+    char *end;
+    errno = 0;
+    double v = strtod(tok, &end);
+    if (*end || end == tok || !isfinite(v) || errno == ERANGE)
+        return -1;
+    *out = v;
+    return 0;
+}
+
+int text_parse_long(const char *tok, long *out)
+{
+    if (!tok || !*tok)
+        return -1;
+    char *end;
+    errno = 0;
+    long v = strtol(tok, &end, 10);
+    if (*end || end == tok || errno)
+        return -1;
+    *out = v;
+    return 0;
+}
+
 int textfile_double(struct textfile *t, double *out, const char *what, struct err *e)
 {
     const char *tok = textfile_token(t);

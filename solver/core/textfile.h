@@ -36,6 +36,11 @@ int textfile_doubles(struct textfile *t, double *out, long n, const char *what, 
 int textfile_double(struct textfile *t, double *out, const char *what, struct err *e);
 int textfile_int(struct textfile *t, long *out, const char *what, struct err *e);
 
+/* Strict number parsing of one token: decimal only (no hex, no inf or
+ * nan), the whole token consumed, finite and in range.  0 on success. */
+int text_parse_real(const char *tok, double *out);
+int text_parse_long(const char *tok, long *out);
+
 int textfile_error(struct textfile *t, struct err *e, const char *fmt, ...)
     __attribute__((format(printf, 3, 4)));
 

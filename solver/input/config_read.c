@@ -22,16 +22,28 @@ static int cmp_id_pair(const void *a, const void *b)
     return (x > y) - (x < y);
 }
 
-static int parse_doubles(const char *s, double *out, int n)
+/* Up to n whitespace-separated numbers of s, each parsed strictly
+ * (text_parse_real).  Returns how many were read, or -(k+1) when token k is
+ * not a finite decimal number (its text in *bad). */
+static int parse_doubles(const char *s, double *out, int n, char *bad, size_t badlen)
 {
-    char *end;
-    for (int k = 0; k < n; k++) {
-        out[k] = strtod(s, &end);
-        if (end == s)
-            return k;
-        s = end;
+    int k = 0;
+    while (k < n) {
+        s += strspn(s, " \t\r");
+        if (!*s)
+            break;
+        size_t len = strcspn(s, " \t\r");
+        char tok[128];
+        snprintf(tok, sizeof tok, "%.*s", (int)(len < sizeof tok ? len : sizeof tok - 1), s);
+        if (len >= sizeof tok || text_parse_real(tok, &out[k]) != 0) {
+            if (bad)
+                snprintf(bad, badlen, "%.40s", tok);
+            return -(k + 1);
+        }
+        s += len;
+        k++;
     }
-    return n;
+    return k;
 }
 
 int config_read_lammps_data(const char *path, const char *const *elements, int nelements,
@@ -65,7 +77,7 @@ int config_read_lammps_data(const char *path, const char *const *elements, int n
             natoms = strtol(s, NULL, 10);
         } else if (strstr(s, "xlo xhi") || strstr(s, "ylo yhi") || strstr(s, "zlo zhi")) {
             int d = strstr(s, "xlo") ? 0 : strstr(s, "ylo") ? 1 : 2;
-            if (parse_doubles(s, v, 2) != 2 || !(v[1] > v[0])) {
+            if (parse_doubles(s, v, 2, NULL, 0) != 2 || !(v[1] > v[0])) {
                 rc = textfile_error(&t, e, "box bounds need lo < hi");
                 goto done;
             }
@@ -124,7 +136,7 @@ int config_read_lammps_data(const char *path, const char *const *elements, int n
                 double v[2];
                 if (t.buf[strspn(t.buf, " \t")] == '\0')
                     continue;
-                if (parse_doubles(t.buf, v, 2) != 2 || v[0] < 1 || v[0] > ntypes || !(v[1] > 0)) {
+                if (parse_doubles(t.buf, v, 2, NULL, 0) != 2 || v[0] < 1 || v[0] > ntypes || !(v[1] > 0)) {
                     rc = textfile_error(&t, e, "Masses line must be 'type mass' with mass > 0");
                     goto done;
                 }
@@ -166,17 +178,38 @@ int config_read_lammps_data(const char *path, const char *const *elements, int n
                     *h2 = '\0';
                 if (t.buf[strspn(t.buf, " \t")] == '\0')
                     continue;
-                double v[8];
-                int nv = parse_doubles(t.buf, v, 8);
+                double v[9];
+                char bad[48];
+                int nv = parse_doubles(t.buf, v, 9, bad, sizeof bad);
+                if (nv < 0) {
+                    static const char *const field[] = {"id", "type", "x", "y", "z",
+                                                        "ix", "iy", "iz", "extra"};
+                    rc = textfile_error(&t, e, "Atoms line: field %d (%s) must be a finite "
+                                        "decimal number, found '%s'", -nv, field[-nv - 1], bad);
+                    goto done;
+                }
                 if (nv != 5 && nv != 8) {
                     rc = textfile_error(&t, e, "Atoms line must be 'id type x y z [ix iy iz]'");
                     goto done;
                 }
-                long type = (long)v[1];
-                if (type < 1 || type > ntypes || v[0] < 1) {
-                    rc = textfile_error(&t, e, "atom type %ld out of range 1..%ld", type, ntypes);
+                if (!(v[0] >= 1 && v[0] <= 9.0e15 && v[0] == floor(v[0]))) {
+                    rc = textfile_error(&t, e, "Atoms line: id %.10g is not a positive integer",
+                                        v[0]);
                     goto done;
                 }
+                if (!(v[1] >= 1 && v[1] <= (double)ntypes && v[1] == floor(v[1]))) {
+                    rc = textfile_error(&t, e, "atom type %.10g out of range 1..%ld",
+                                        v[1], ntypes);
+                    goto done;
+                }
+                if (nv == 8)
+                    for (int d = 5; d < 8; d++)
+                        if (!(fabs(v[d]) < 1.0e9 && v[d] == floor(v[d]))) {
+                            rc = textfile_error(&t, e, "Atoms line: image flag %.10g is not an "
+                                                "integer", v[d]);
+                            goto done;
+                        }
+                long type = (long)v[1];
                 double x[3] = {v[2], v[3], v[4]};
                 const char *nm = type - 1 < nelements ? elements[type - 1] : names[type - 1];
                 int ti = particles_type_index(p, nm, 0);
@@ -212,10 +245,25 @@ int config_read_lammps_data(const char *path, const char *const *elements, int n
                 }
                 if (t.buf[strspn(t.buf, " \t")] == '\0')
                     continue;
-                double v[4];
-                if (parse_doubles(t.buf, v, 4) != 4) {
+                double v[5];
+                char bad[48];
+                int nv = parse_doubles(t.buf, v, 5, bad, sizeof bad);
+                if (nv < 0) {
+                    free(pairs);
+                    rc = textfile_error(&t, e, "Velocities line: field %d (%s) must be a finite "
+                                        "decimal number, found '%s'", -nv,
+                                        (const char *const[]){"id", "vx", "vy", "vz", "extra"}[-nv - 1], bad);
+                    goto done;
+                }
+                if (nv != 4) {
                     free(pairs);
                     rc = textfile_error(&t, e, "Velocities line must be 'id vx vy vz'");
+                    goto done;
+                }
+                if (!(v[0] >= 1 && v[0] <= 9.0e15 && v[0] == floor(v[0]))) {
+                    free(pairs);
+                    rc = textfile_error(&t, e, "Velocities line: id %.10g is not a positive "
+                                        "integer", v[0]);
                     goto done;
                 }
                 int64_t key[2] = {(int64_t)v[0], 0};
@@ -295,7 +343,7 @@ int config_read_extxyz(const char *path, struct particles *p, struct box *b, int
         goto done;
     }
     double L[9];
-    if (parse_doubles(val, L, 9) != 9) {
+    if (parse_doubles(val, L, 9, NULL, 0) != 9) {
         rc = textfile_error(&t, e, "Lattice needs 9 numbers");
         goto done;
     }
@@ -304,7 +352,7 @@ int config_read_extxyz(const char *path, struct particles *p, struct box *b, int
         goto done;
     }
     double origin[3] = {0, 0, 0};
-    if (xyz_attr(t.buf, "Origin", val, sizeof val) == 0 && parse_doubles(val, origin, 3) != 3) {
+    if (xyz_attr(t.buf, "Origin", val, sizeof val) == 0 && parse_doubles(val, origin, 3, NULL, 0) != 3) {
         rc = textfile_error(&t, e, "Origin needs 3 numbers");
         goto done;
     }
@@ -367,14 +415,16 @@ int config_read_extxyz(const char *path, struct particles *p, struct box *b, int
         }
         double x[3], v[3] = {0, 0, 0};
         for (int d = 0; d < 3; d++) {
-            char *end;
-            x[d] = strtod(cols[col_pos + d], &end);
-            if (*end) {
-                rc = textfile_error(&t, e, "bad coordinate '%s'", cols[col_pos + d]);
+            if (text_parse_real(cols[col_pos + d], &x[d]) != 0) {
+                rc = textfile_error(&t, e, "pos (column %d): '%.40s' is not a finite decimal "
+                                    "number", col_pos + d + 1, cols[col_pos + d]);
                 goto done;
             }
-            if (col_vel >= 0)
-                v[d] = strtod(cols[col_vel + d], NULL);
+            if (col_vel >= 0 && text_parse_real(cols[col_vel + d], &v[d]) != 0) {
+                rc = textfile_error(&t, e, "velocities (column %d): '%.40s' is not a finite "
+                                    "decimal number", col_vel + d + 1, cols[col_vel + d]);
+                goto done;
+            }
         }
         const char *sp = cols[col_species];
         int ti = particles_type_index(p, sp, element_mass(sp));
@@ -382,7 +432,13 @@ int config_read_extxyz(const char *path, struct particles *p, struct box *b, int
             rc = textfile_error(&t, e, "too many species");
             goto done;
         }
-        int64_t id = col_id >= 0 ? (int64_t)strtoll(cols[col_id], NULL, 10) : (int64_t)(k + 1);
+        long idv = k + 1;
+        if (col_id >= 0 && (text_parse_long(cols[col_id], &idv) != 0 || idv < 1)) {
+            rc = textfile_error(&t, e, "id (column %d): '%.40s' is not a positive integer",
+                                col_id + 1, cols[col_id]);
+            goto done;
+        }
+        int64_t id = (int64_t)idv;
         if (particles_add(p, x, v, ti, id) < 0) {
             rc = err_nomem(e, "atoms");
             goto done;

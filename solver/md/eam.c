@@ -134,8 +134,9 @@ static int eam_compute_one(struct eam *m, struct particles *p, const struct nlis
                 nb[k] = nb[inner];
                 nb[inner++] = j;
                 double q = sqrt(r2) * rdr;
-                int im = (int)q;
-                im = im > kmax ? kmax : im;
+                /* compared in double first: a NaN distance (coincident or
+                 * runaway atoms) must not reach the int cast */
+                int im = q < (double)kmax ? (int)q : kmax;
                 q -= im;
                 q = q > 1.0 ? 1.0 : q;
                 const double *c = tab + 8 * im;
@@ -170,8 +171,9 @@ static int eam_compute_one(struct eam *m, struct particles *p, const struct nlis
                 double dx = xi - x[3 * j], dy = yi - x[3 * j + 1], dz = zi - x[3 * j + 2];
                 double r = sqrt(dx * dx + dy * dy + dz * dz);
                 double q = r * rdr;
-                int im = (int)q;
-                im = im > kmax ? kmax : im;
+                /* compared in double first: a NaN distance (coincident or
+                 * runaway atoms) must not reach the int cast */
+                int im = q < (double)kmax ? (int)q : kmax;
                 q -= im;
                 q = q > 1.0 ? 1.0 : q;
                 const double *c = tab + 8 * im;

@@ -28,11 +28,10 @@ void eam_spline_free(struct eam_spline *s);
 static inline int eam_spline_locate(const struct eam_spline *s, double x, double *p)
 {
     double q = x * s->rdelta;
-    int m = (int)q;
-    if (m > s->n - 2)
-        m = s->n - 2;
-    if (m < 0)   /* x < 0 (a negative density): extrapolate the first cubic */
-        m = 0;
+    /* bounds compared in double before the cast: a NaN or huge density
+     * must not reach (int) (undefined behaviour) */
+    int m = q < (double)(s->n - 2) ? (q > 0 ? (int)q : 0) : s->n - 2;
+    /* x < 0 (a negative density): m = 0 extrapolates the first cubic */
     q -= m;
     if (q > 1.0)
         q = 1.0;

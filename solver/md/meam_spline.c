@@ -114,7 +114,7 @@ static inline double mspline_eval(const struct mspline *s, double x, double *dy)
         *dy = s->d0;
         return s->y[0] + s->d0 * (x - s->x[0]);
     }
-    if (x >= s->x[n - 1]) {
+    if (!(x < s->x[n - 1])) {   /* NaN too: no int cast of it below */
         *dy = s->dn;
         return s->y[n - 1] + s->dn * (x - s->x[n - 1]);
     }
