@@ -21,7 +21,7 @@
 #include "md/potential.h"
 #include "output/provenance.h"
 #include "scenarios/case_type.h"
-#include "scenarios/run.h"
+#include "output/run.h"
 #include "util/canon.h"
 
 static const char *usage_main =

@@ -12,7 +12,7 @@
 #include <jansson.h>
 
 #include "scenarios/case_type.h"
-#include "scenarios/run.h"
+#include "output/run.h"
 #include "util/cfg.h"
 #include "util/locmap.h"
 

@@ -14,7 +14,7 @@
 
 #include <stdint.h>
 
-#include "scenarios/run.h"
+#include "output/run.h"
 #include "util/cfg.h"
 
 struct parallel;

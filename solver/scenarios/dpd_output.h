@@ -14,7 +14,7 @@
 #define CASCADE_DPD_OUTPUT_H
 
 #include "dpd/dpd.h"
-#include "scenarios/run.h"
+#include "output/run.h"
 
 #define DPD_THERMO_COLS 8
 

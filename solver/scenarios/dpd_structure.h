@@ -30,7 +30,7 @@
 #include "analysis/frame.h"
 #include "analysis/structure.h"
 #include "dpd/dpd.h"
-#include "scenarios/run.h"
+#include "output/run.h"
 #include "util/cfg.h"
 
 struct dpd_structure {

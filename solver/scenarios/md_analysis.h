@@ -36,7 +36,7 @@
 #include "analysis/sputter.h"
 #include "analysis/structure.h"
 #include "md/md.h"
-#include "scenarios/run.h"
+#include "output/run.h"
 
 /* What the case asks for besides the structure classes. */
 struct md_analysis_opts {

@@ -10,7 +10,7 @@
 #define CASCADE_MD_OUTPUT_H
 
 #include "md/md.h"
-#include "scenarios/run.h"
+#include "output/run.h"
 
 #define MD_THERMO_COLS 13
 

@@ -1,5 +1,5 @@
 /* run: output files, timing report and result.json of one simulation. */
-#include "scenarios/run.h"
+#include "output/run.h"
 
 #include <errno.h>
 #include <stdarg.h>
