@@ -15,8 +15,11 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include "core/parallel.h"
+#include "engine/sim.h"
 #include "input/case.h"
 #include "md/potential.h"
 #include "output/provenance.h"
@@ -41,12 +44,19 @@ static const char *usage_main =
 
 static const char *usage_run =
     "usage: cascade-solver run CASE.yaml [--out DIR] [--threads N] [--quiet] [--no-progress]\n"
+    "                                    [--restart [DIR|FILE]]\n"
     "\n"
     "Runs the case.  Writes DIR/result.json (metrics, status, timing), DIR/thermo.csv,\n"
     "DIR/fields.h5 + DIR/fields.xdmf (snapshots for ParaView) and, when asked,\n"
-    "DIR/snapshots.xyz (extended XYZ for OVITO).\n"
+    "DIR/snapshots.xyz (extended XYZ for OVITO) and DIR/checkpoint-STEP.h5\n"
+    "(output.checkpoint_every; the newest two are kept).\n"
     "\n"
     "  --out DIR      output directory (default: CASE-out next to the current directory)\n"
+    "  --restart [P]  continue from the newest valid checkpoint in directory P (default:\n"
+    "                 the --out directory) or from checkpoint file P; the case must be\n"
+    "                 the same (same job key).  Same final state as an uninterrupted run,\n"
+    "                 bitwise on the same thread count.  Snapshots written before the\n"
+    "                 restart are kept as fields.before-STEP.h5\n"
     "  --threads N    OpenMP threads (default: OMP_NUM_THREADS or 1); results do not\n"
     "                 depend on it beyond round-off\n"
     "  --quiet        print errors only\n"
@@ -239,6 +249,33 @@ static int cmd_info(int argc, char **argv)
 
 static int cmd_run_inner(int argc, char **argv, const struct parallel *par);
 
+static int is_directory(const char *path)
+{
+    struct stat sb;
+    return stat(path, &sb) == 0 && S_ISDIR(sb.st_mode);
+}
+
+/* A restart writes fresh output files; the snapshots and frames of the run
+ * before it are kept beside them under a name with the checkpoint's step
+ * (fields.h5 -> fields.before-NNNNNNNNNN.h5). */
+static int keep_previous_outputs(const char *out, const char *ckpt, struct err *e)
+{
+    const char *base = strrchr(ckpt, '/');
+    long step = 0;
+    if (sscanf(base ? base + 1 : ckpt, "checkpoint-%ld", &step) != 1)
+        step = 0;
+    const char *names[][2] = {{"fields", "h5"}, {"fields", "xdmf"}, {"snapshots", "xyz"}};
+    for (int k = 0; k < 3; k++) {
+        char from[4096], to[4200];
+        snprintf(from, sizeof from, "%s/%s.%s", out, names[k][0], names[k][1]);
+        snprintf(to, sizeof to, "%s/%s.before-%010ld.%s", out, names[k][0], step, names[k][1]);
+        if (access(from, F_OK) == 0 && rename(from, to) != 0)
+            return err_set(e, ERR_RUNTIME, "%s: cannot keep the outputs before the restart: %s",
+                           from, strerror(errno));
+    }
+    return 0;
+}
+
 /* MPI (when launched by mpirun) brackets the whole run. */
 static int cmd_run(int *argc, char ***argv)
 {
@@ -259,12 +296,22 @@ static int cmd_run_inner(int argc, char **argv, const struct parallel *par)
         fputs(usage_run, stdout);
         return 0;
     }
-    const char *file = NULL, *out = NULL;
+    const char *file = NULL, *out = NULL, *restart = NULL;
     long threads = 0;
-    int quiet = 0, progress = 1;
+    int quiet = 0, progress = 1, want_restart = 0;
     for (int i = 0; i < argc; i++) {
         if (strcmp(argv[i], "--out") == 0 && i + 1 < argc) {
             out = argv[++i];
+        } else if (strncmp(argv[i], "--restart=", 10) == 0) {
+            want_restart = 1;
+            restart = argv[i] + 10;
+        } else if (strcmp(argv[i], "--restart") == 0) {
+            want_restart = 1;
+            /* an optional DIR or FILE: a checkpoint file, or a directory
+             * when the case file is already given (else it is the case) */
+            if (i + 1 < argc && argv[i + 1][0] != '-' &&
+                (file || strstr(argv[i + 1], ".h5") || is_directory(argv[i + 1])))
+                restart = argv[++i];
         } else if (strcmp(argv[i], "--threads") == 0 && i + 1 < argc) {
             if (parse_int(argv[++i], 1, 1024, &threads) != 0) {
                 fprintf(stderr, "error: --threads needs an integer 1..1024, got '%s'\n", argv[i]);
@@ -314,7 +361,34 @@ static int cmd_run_inner(int argc, char **argv, const struct parallel *par)
         case_doc_free(&cd);
         return exit_code(rc);
     }
-    struct run_options opt = {out, (int)threads, progress, quiet, par->rank};
+    char ckpt_path[4096] = "";
+    if (want_restart) {
+        if (!cr.type->checkpoints)
+            rc = err_set(&e, ERR_INPUT, "%s: case type '%s' does not run on the engine with "
+                                        "checkpoints yet: --restart is not available for it",
+                         file, cr.type->name);
+        char key[32];
+        canon_key(cd.doc, key);
+        if (!rc)
+            rc = sim_find_checkpoint(restart && *restart ? restart : out, key, ckpt_path,
+                                     sizeof ckpt_path, &e);
+        if (!rc && par->rank == 0)
+            rc = keep_previous_outputs(out, ckpt_path, &e);
+        if (rc) {
+            fprintf(stderr, "error: %s\n", e.msg);
+            case_resolved_free(&cr);
+            case_doc_free(&cd);
+            return exit_code(rc);
+        }
+    }
+    /* the restart tests kill a run at an exact step, the way a node failure
+     * or a scheduler's time limit would */
+    long kill_at = 0;
+    const char *kill_env = getenv("CASCADE_SOLVER_KILL_AT_STEP");
+    if (kill_env && parse_int(kill_env, 1, 1000000000L, &kill_at) != 0)
+        kill_at = 0;
+    struct run_options opt = {out, (int)threads, progress, quiet, par->rank,
+                              ckpt_path[0] ? ckpt_path : NULL, kill_at};
     struct run run;
     rc = run_open(&run, &opt, &cr.output, cd.doc, cr.common.seed, cr.common.title, &e);
     if (rc) {
@@ -331,10 +405,11 @@ static int cmd_run_inner(int argc, char **argv, const struct parallel *par)
             cr.type->particles(cr.state), par->size, (int)threads, out);
     rc = cr.type->run(cr.state, &run, &e);
     long steps = 0;
-    if (cr.type->steps) {
-        steps = cr.type->steps(cr.state);
-    } else if (run.steps_run > 0) {   /* cases that do not run md.steps say what they ran */
+    if (run.steps_run > 0) {   /* the engine, and cases that do not run md.steps, say
+                                * how many steps this process ran */
         steps = run.steps_run;
+    } else if (cr.type->steps) {
+        steps = cr.type->steps(cr.state);
     } else {
         json_t *st = json_object_get(json_object_get(cd.doc, "md"), "steps");
         if (json_is_integer(st))

@@ -251,4 +251,5 @@ const struct case_type handshake_packet_case_type = {
     "handshake_packet",
     "MPM/MD handshake: Gaussian wave packets from the MD into the MPM (Guo & Yang 2005, Fig. 9)",
     packet_read, packet_run, hs_case_destroy, hs_case_particles, hs_case_steps,
+    .checkpoints = 0,
 };

@@ -171,4 +171,5 @@ const struct case_type handshake_static_case_type = {
     "handshake_static",
     "MPM/MD handshake: quasi-static end-loaded bar with damping (Guo & Yang 2005, Fig. 8)",
     static_read, static_run, hs_case_destroy, hs_case_particles, hs_case_steps,
+    .checkpoints = 0,
 };

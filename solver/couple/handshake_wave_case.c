@@ -295,4 +295,5 @@ const struct case_type handshake_wave_case_type = {
     "handshake_wave",
     "MPM/MD handshake: step stress wave from the MPM into the MD (Guo & Yang 2005, Figs. 4-7)",
     wave_read, wave_run, hs_case_destroy, hs_case_particles, hs_case_steps,
+    .checkpoints = 0,
 };

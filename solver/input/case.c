@@ -58,6 +58,11 @@ int case_resolve(struct case_doc *cd, int shallow, int nthreads, const struct pa
         (rc = output_settings_read(&root, &out->output)))
         return rc;
     out->type = case_types[type];
+    if (out->output.checkpoint_every > 0 && !out->type->checkpoints)
+        return cfg_error_at(&cfg, "output.checkpoint_every",
+                            "case type '%s' does not write checkpoints yet (it does not run on "
+                            "the engine, engine/sim.h)",
+                            out->type->name);
     out->common.seed = (uint64_t)seed;
     out->common.nthreads = nthreads;
     out->common.par = par;

@@ -41,7 +41,8 @@ int md_compute_forces(struct md *md, struct err *e)
     struct particles *p = md->p;
     int rc;
     tstart(md, TIMER_NEIGHBOR);
-    int need = nlist_needs_rebuild(md->nl, p);
+    int need = md->rebuild_next || nlist_needs_rebuild(md->nl, p);
+    md->rebuild_next = 0;
     if (need) {
         rc = rebuild(md, e);
         tstop(md, TIMER_NEIGHBOR);
@@ -111,7 +112,7 @@ void md_free(struct md *md)
     nlist_destroy(&md->nl);
 }
 
-int md_step(struct md *md, struct err *e)
+void md_step_drift(struct md *md)
 {
     struct particles *p = md->p;
     const double dt = md->dt;
@@ -128,13 +129,23 @@ int md_step(struct md *md, struct err *e)
             p->x[3 * i + d] += dt * p->v[3 * i + d];
     }
     tstop(md, TIMER_INTEGRATE);
+}
 
+int md_step_forces(struct md *md, struct err *e)
+{
     int rc = md_compute_forces(md, e);
     if (rc)
         return rc;
     if (md->thermo.style == THERMOSTAT_LANGEVIN)
-        thermostat_langevin_forces(&md->thermo, p, dt, md->seed, md->step + 1);
+        thermostat_langevin_forces(&md->thermo, md->p, md->dt, md->seed, md->step + 1);
+    return 0;
+}
 
+void md_step_kick(struct md *md)
+{
+    struct particles *p = md->p;
+    const double dt = md->dt;
+    const uint32_t hold = md->frozen_mask | md->rigid_mask;
     tstart(md, TIMER_INTEGRATE);
     for (int i = 0; i < p->n_owned; i++) {
         if (p->mask[i] & hold)
@@ -148,6 +159,15 @@ int md_step(struct md *md, struct err *e)
     tstop(md, TIMER_INTEGRATE);
     md->step++;
     md->time += dt;
+}
+
+int md_step(struct md *md, struct err *e)
+{
+    md_step_drift(md);
+    int rc = md_step_forces(md, e);
+    if (rc)
+        return rc;
+    md_step_kick(md);
     return 0;
 }
 

@@ -38,6 +38,9 @@ struct md {
     struct force_result last;   /* energy and virial of the last force call */
     struct timers *timers;      /* borrowed, may be NULL */
     long nrebuilds;
+    int rebuild_next;           /* rebuild ghosts and lists at the next force call
+                                 * (after a checkpoint: both the continuing and the
+                                 * restarted run build them from the same state) */
     uint64_t seed;
 };
 
@@ -49,8 +52,14 @@ void md_free(struct md *md);
 /* Recompute forces at the current positions (rebuilding lists if needed). */
 int md_compute_forces(struct md *md, struct err *e);
 
-/* One velocity-Verlet step of dt. */
+/* One velocity-Verlet step of dt: drift, forces, kick. */
 int md_step(struct md *md, struct err *e);
+/* The step's stages, for the engine (engine/sim.h): first half kick and
+ * drift; forces at the new positions (with the Langevin forces of the
+ * step); second half kick, Berendsen rescaling, step and time counters. */
+void md_step_drift(struct md *md);
+int md_step_forces(struct md *md, struct err *e);
+void md_step_kick(struct md *md);
 
 /* Observables of the owned particles. */
 double md_kinetic_energy(const struct md *md);            /* eV */

@@ -22,7 +22,8 @@ int output_settings_read(struct cfg_obj *root, struct output_settings *o)
     if ((rc = cfg_int(&s, "thermo_every", 100, CFG_GE(0), &o->thermo_every)) ||
         (rc = cfg_int(&s, "snapshot_every", 0, CFG_GE(0), &o->snapshot_every)) ||
         (rc = cfg_int(&s, "xyz_every", 0, CFG_GE(0), &o->xyz_every)) ||
-        (rc = cfg_bool(&s, "hdf5", 1, &o->hdf5)))
+        (rc = cfg_bool(&s, "hdf5", 1, &o->hdf5)) ||
+        (rc = cfg_int(&s, "checkpoint_every", 0, CFG_GE(0), &o->checkpoint_every)))
         return rc;
     int has_final;
     o->final_state = NULL;

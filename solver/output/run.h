@@ -27,6 +27,9 @@ struct run_options {
     int progress;       /* show progress (terminal or plain lines) */
     int quiet;          /* only errors on stderr */
     int rank;           /* MPI rank: only rank 0 writes files and logs */
+    const char *restart;/* checkpoint file to continue from (NULL: none) */
+    long kill_at_step;  /* testing: SIGKILL itself after this step (0: never);
+                         * from CASCADE_SOLVER_KILL_AT_STEP */
 };
 
 /* The `output` section of a case. */
@@ -35,6 +38,7 @@ struct output_settings {
     long snapshot_every;    /* steps between HDF5 snapshots (0: first and last only) */
     long xyz_every;         /* steps between extended XYZ frames (0: none) */
     int hdf5;               /* write fields.h5 + fields.xdmf */
+    long checkpoint_every;  /* steps between checkpoints (0: none; engine/sim.h) */
     const char *final_state;/* file name for the final particle state (NULL: none):
                              * NAME.data = LAMMPS data, NAME.xyz = extended XYZ;
                              * system.read_data / read_xyz of a later case reads it */

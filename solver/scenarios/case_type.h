@@ -40,6 +40,9 @@ struct case_type {
     long (*particles)(const void *state);
     /* Time steps the run takes, for timing reports (NULL: md.steps). */
     long (*steps)(const void *state);
+    /* Runs on the engine (engine/sim.h): writes output.checkpoint_every
+     * checkpoints and continues from one (run --restart). */
+    int checkpoints;
 };
 
 extern const struct case_type *const case_types[];   /* NULL-terminated */

@@ -110,4 +110,5 @@ static long crystal_particles(const void *state)
 const struct case_type crystal_case_type = {
     "crystal", "0 K lattice constant, cohesive energy and cubic elastic constants of a potential",
     crystal_read, crystal_run, crystal_destroy, crystal_particles, NULL,
+    .checkpoints = 0,
 };

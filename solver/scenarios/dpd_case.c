@@ -174,4 +174,5 @@ static long dpd_case_steps(const void *state)
 const struct case_type dpd_case_type = {
     "dpd", "DPD or DPDE dynamics of one configuration (equilibration, isotherm points)",
     dpd_case_read, dpd_case_run, dpd_case_destroy, dpd_case_particles, dpd_case_steps,
+    .checkpoints = 0,
 };

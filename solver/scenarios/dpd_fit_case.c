@@ -413,4 +413,5 @@ static long fit_particles(const void *state)
 const struct case_type dpd_fit_case_type = {
     "dpd_fit", "fit coarse-grained Sutton-Chen DPD parameters to an MD pressure-density isotherm",
     fit_read, fit_run, fit_destroy, fit_particles, NULL,
+    .checkpoints = 0,
 };

@@ -131,4 +131,5 @@ const struct case_type dpd_grid_tensile_case_type = {
     "dpd_grid_tensile",
     "DPD/MPM-grid tensile rod pulled by rigid ends: stress-strain curve and peak stress",
     gt_read, gt_run, gt_destroy, gt_particles, gt_steps,
+    .checkpoints = 0,
 };

@@ -435,4 +435,5 @@ static long impact_steps(const void *state)
 const struct case_type dpd_impact_case_type = {
     "dpd_impact", "DPD flyer/target impact: wave arrival at reference regions, wave speed",
     impact_read, impact_run, impact_destroy, impact_particles, impact_steps,
+    .checkpoints = 0,
 };

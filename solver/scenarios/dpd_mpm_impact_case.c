@@ -860,10 +860,12 @@ const struct case_type dpd_grid_impact_case_type = {
     "dpd_grid_impact",
     "DPD/MPM-grid flyer/target impact: DPD forces on the MPM grid, wave arrival, wave speed",
     grid_impact_read, impact_run, impact_destroy, impact_particles, impact_steps,
+    .checkpoints = 0,
 };
 
 const struct case_type dpd_mpm_impact_case_type = {
     "dpd_mpm_impact",
     "concurrent DPD/MPM flyer/target impact: wave across the interface, reflection",
     concurrent_impact_read, impact_run, impact_destroy, impact_particles, impact_steps,
+    .checkpoints = 0,
 };

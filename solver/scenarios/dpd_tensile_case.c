@@ -89,4 +89,5 @@ static long tensile_steps(const void *state)
 const struct case_type dpd_tensile_case_type = {
     "dpd_tensile", "DPD tensile rod pulled by rigid ends: stress-strain curve and peak stress",
     tensile_read, tensile_run, tensile_destroy, tensile_particles, tensile_steps,
+    .checkpoints = 0,
 };

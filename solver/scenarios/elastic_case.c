@@ -263,4 +263,5 @@ const struct case_type elastic_case_type = {
     "cubic elastic constants at a temperature from MD finite-strain averages (for the MPM side "
     "of the handshake)",
     elastic_read, elastic_run, elastic_destroy, elastic_particles, elastic_steps,
+    .checkpoints = 0,
 };

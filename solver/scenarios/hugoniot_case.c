@@ -722,4 +722,5 @@ static long hugoniot_particles(const void *state)
 const struct case_type hugoniot_case_type = {
     "hugoniot", "shock Hugoniot of a crystal: Us(up) by piston-driven shocks, Rankine-Hugoniot check",
     hugoniot_read, hugoniot_run, hugoniot_destroy, hugoniot_particles, NULL,
+    .checkpoints = 0,
 };

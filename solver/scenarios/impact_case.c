@@ -441,4 +441,5 @@ static long impact_particles(const void *state)
 const struct case_type impact_case_type = {
     "cluster_impact", "a cluster hitting a crystal surface: damage, sputtering, crater",
     impact_read, impact_run, impact_destroy, impact_particles, NULL,
+    .checkpoints = 0,
 };

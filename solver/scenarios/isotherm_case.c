@@ -228,4 +228,5 @@ static long isotherm_particles(const void *state)
 const struct case_type isotherm_case_type = {
     "isotherm", "pressure-volume isotherm of a crystal at a temperature, with a Vinet fit",
     isotherm_read, isotherm_run, isotherm_destroy, isotherm_particles, NULL,
+    .checkpoints = 0,
 };

@@ -24,6 +24,7 @@
 #include <string.h>
 
 #include "analysis/block_average.h"
+#include "engine/models.h"
 #include "core/units.h"
 #include "md/md.h"
 #include "core/velocity.h"
@@ -34,9 +35,18 @@
 
 struct md_case {
     struct md md;
+    struct md_model model;
     long steps;
     double temperature;
     double max_de;
+    /* the run's accumulators (checkpointed) */
+    struct md_output out;
+    double tsum;                 /* temperature summed over the steps */
+    long tcount;
+    double *plate;               /* pressure samples of the second half (GPa) */
+    long nlate, np;
+    double *restored_rows;       /* thermo rows read from a checkpoint */
+    long nrestored;
 };
 
 static int md_case_read(struct cfg_obj *root, const struct case_common *common, void **state)
@@ -107,67 +117,51 @@ static int md_case_read(struct cfg_obj *root, const struct case_common *common, 
     return 0;
 }
 
-static int md_case_run(void *state, struct run *run, struct err *e)
+/* --- the run on the engine (engine/sim.h) --------------------------------- */
+
+static int md_case_begin(void *state, struct sim *s, struct err *e)
+{
+    struct md_case *c = state;
+    int rc = md_output_begin(&c->out, s->run, &c->md, e);
+    if (!rc && s->restarted_from >= 0)
+        rc = md_output_resume(&c->out, s->run, c->restored_rows, c->nrestored, e);
+    free(c->restored_rows);
+    c->restored_rows = NULL;
+    return rc;
+}
+
+static int md_case_after_step(void *state, struct sim *s, struct err *e)
 {
     struct md_case *c = state;
     struct md *md = &c->md;
-    md->timers = &run->timers;
-    struct md_output mo;
-    int rc = md_output_begin(&mo, run, md, e);
-    if (rc)
-        return rc;
-    long natoms = md->p->n_owned;
-    double e0 = md->last.energy + md_kinetic_energy(md);
-    double tsum = 0;
-    long tcount = 0;
-    int diverged = 0;
-    char why[256] = "";
+    c->tsum += md_temperature(md);
+    c->tcount++;
     /* pressure samples of the second half of the run */
-    long nlate = c->steps - c->steps / 2;
-    double *plate = malloc((size_t)(nlate > 0 ? nlate : 1) * sizeof *plate);
-    long np = 0;
-    if (!plate)
-        return err_nomem(e, "pressure samples");
-    md->peratom = run_due(0, c->steps, run->out.snapshot_every);
-    rc = md_compute_forces(md, e);
-    if (!rc)
-        rc = md_output_step(&mo, run, md, c->steps);
-    progress_start(&run->progress, stderr, c->steps, md->dt, run->opt.progress && !run->opt.quiet);
-    timer_start(&run->timers, TIMER_LOOP);
-    for (long s = 1; s <= c->steps && !rc; s++) {
-        md->peratom = run_due(s, c->steps, run->out.snapshot_every);
-        rc = md_step(md, e);
-        if (rc)
-            break;
-        double pe = md->last.energy, ke = md_kinetic_energy(md);
-        tsum += md_temperature(md);
-        tcount++;
-        if (!isfinite(pe) || !isfinite(ke)) {
-            diverged = 1;
-            snprintf(why, sizeof why, "non-finite energy at step %ld", s);
-        } else if (md->thermo.style == THERMOSTAT_NONE && fabs(pe + ke - e0) > c->max_de * natoms) {
-            diverged = 1;
-            snprintf(why, sizeof why,
-                     "total energy changed by %.3g eV/atom at step %ld (limit md.max_energy_change "
-                     "= %g eV/atom): time step too large?",
-                     (pe + ke - e0) / natoms, s, c->max_de);
-        }
-        if (diverged) {
-            rc = err_set(e, ERR_DIVERGED, "diverged: %s", why);
-            break;
-        }
-        if (s > c->steps / 2 && np < nlate) {
-            double Ps[6];
-            md_pressure_tensor(md, Ps);
-            plate[np++] = (Ps[0] + Ps[1] + Ps[2]) / 3.0 * UNITS_EVA3_TO_GPA;
-        }
-        rc = md_output_step(&mo, run, md, c->steps);
-        progress_update(&run->progress, s);
+    if (s->step > c->steps / 2 && c->np < c->nlate) {
+        double Ps[6];
+        md_pressure_tensor(md, Ps);
+        c->plate[c->np++] = (Ps[0] + Ps[1] + Ps[2]) / 3.0 * UNITS_EVA3_TO_GPA;
     }
-    timer_stop(&run->timers, TIMER_LOOP);
-    progress_finish(&run->progress, md->step);
-    /* metrics */
-    struct result *res = &run->result;
+    return 0;
+}
+
+static int md_case_output(void *state, struct sim *s, unsigned due, struct err *e)
+{
+    struct md_case *c = state;
+    (void)due;   /* md_output_step reads the same schedule */
+    int rc = md_output_step(&c->out, s->run, &c->md, c->steps);
+    return rc ? err_set(e, ERR_RUNTIME, "%s: cannot write the outputs of step %ld",
+                        s->run->opt.out_dir, s->step)
+              : 0;
+}
+
+static int md_case_report(void *state, struct sim *s, int run_rc, struct err *e)
+{
+    struct md_case *c = state;
+    struct md *md = &c->md;
+    struct result *res = &s->run->result;
+    long natoms = md->p->n_owned;
+    double e0 = s->e0[0].total;
     double pe = md->last.energy, ke = md_kinetic_energy(md), P[6], mom[3];
     md_pressure_tensor(md, P);
     md_momentum(md, mom);
@@ -184,7 +178,8 @@ static int md_case_run(void *state, struct run *run, struct err *e)
     result_metric(res, "ke", ke, "eV");
     result_metric(res, "etotal", pe + ke, "eV");
     result_metric(res, "temperature", md_temperature(md), "K");
-    result_metric(res, "temperature_mean", tcount ? tsum / tcount : md_temperature(md), "K");
+    result_metric(res, "temperature_mean", c->tcount ? c->tsum / c->tcount : md_temperature(md),
+                  "K");
     result_metric(res, "energy_drift", (pe + ke - e0) / fabs(e0 != 0 ? e0 : 1.0), "1");
     result_metric(res, "pressure", (P[0] + P[1] + P[2]) / 3.0 * UNITS_EVA3_TO_GPA, "GPa");
     const char *pn[6] = {"pxx", "pyy", "pzz", "pxy", "pxz", "pyz"};
@@ -200,15 +195,77 @@ static int md_case_run(void *state, struct run *run, struct err *e)
     result_metric(res, "density", mass / box_volume(&md->box) * UNITS_AMU_A3_TO_KG_M3 / 1000.0,
                   "g/cm^3");
     double psem;
-    double pmean = np ? block_average(plate, np, 10, &psem) : (P[0] + P[1] + P[2]) / 3.0 * UNITS_EVA3_TO_GPA;
+    double pmean = c->np ? block_average(c->plate, c->np, 10, &psem)
+                         : (P[0] + P[1] + P[2]) / 3.0 * UNITS_EVA3_TO_GPA;
     result_metric(res, "pressure_mean", pmean, "GPa");
-    result_metric(res, "pressure_sem", np ? psem : NAN, "GPa");
-    free(plate);
+    result_metric(res, "pressure_sem", c->np ? psem : NAN, "GPa");
     result_metric(res, "neighbor_rebuilds", (double)md->nrebuilds, "1");
-    int rc2 = md_output_end(&mo, run, e);
-    if (!rc && !rc2)
-        rc2 = run_write_final_state(run, md->p, &md->box, md->step, md->time, e);
-    return rc ? rc : rc2;
+    int rc = md_output_end(&c->out, s->run, e);
+    if (!run_rc && !rc)
+        rc = run_write_final_state(s->run, md->p, &md->box, md->step, md->time, e);
+    return rc;
+}
+
+static int md_case_checkpoint_write(void *state, struct ckpt *ck, struct err *e)
+{
+    struct md_case *c = state;
+    int rc = ckpt_put_double(ck, "temperature_sum", c->tsum);
+    if (!rc) rc = ckpt_put_long(ck, "temperature_count", c->tcount);
+    if (!rc) rc = ckpt_put_doubles(ck, "pressure_samples", c->plate, c->np);
+    if (!rc) rc = ckpt_put_doubles(ck, "thermo_rows", c->out.series, c->out.nrows * MD_THERMO_COLS);
+    return rc;
+}
+
+static int md_case_checkpoint_read(void *state, struct ckpt *ck, struct err *e)
+{
+    struct md_case *c = state;
+    int rc = ckpt_get_double(ck, "temperature_sum", &c->tsum);
+    if (!rc) rc = ckpt_get_long(ck, "temperature_count", &c->tcount);
+    long np = rc ? -1 : ckpt_len(ck, "pressure_samples");
+    if (!rc && (np < 0 || np > c->nlate))
+        rc = err_set(e, ERR_INPUT, "%s: checkpoint has %ld pressure samples, at most %ld fit",
+                     ck->path, np, c->nlate);
+    if (!rc) {
+        c->np = np;
+        rc = ckpt_get_doubles(ck, "pressure_samples", c->plate, np);
+    }
+    long nv = rc ? -1 : ckpt_len(ck, "thermo_rows");
+    if (!rc && (nv < 0 || nv % MD_THERMO_COLS != 0))
+        rc = err_set(e, ERR_INPUT, "%s: checkpoint thermo rows are not %d-column rows",
+                     ck->path, MD_THERMO_COLS);
+    if (!rc) {
+        c->restored_rows = malloc((size_t)(nv > 0 ? nv : 1) * sizeof *c->restored_rows);
+        c->nrestored = nv / MD_THERMO_COLS;
+        rc = c->restored_rows ? ckpt_get_doubles(ck, "thermo_rows", c->restored_rows, nv)
+                              : err_nomem(e, "thermo rows");
+    }
+    return rc;
+}
+
+static const struct sim_case_ops md_case_ops = {
+    .begin = md_case_begin,
+    .after_step = md_case_after_step,
+    .output = md_case_output,
+    .report = md_case_report,
+    .checkpoint_write = md_case_checkpoint_write,
+    .checkpoint_read = md_case_checkpoint_read,
+};
+
+static int md_case_run(void *state, struct run *run, struct err *e)
+{
+    struct md_case *c = state;
+    c->md.timers = &run->timers;
+    c->nlate = c->steps - c->steps / 2;
+    c->plate = malloc((size_t)(c->nlate > 0 ? c->nlate : 1) * sizeof *c->plate);
+    if (!c->plate)
+        return err_nomem(e, "pressure samples");
+    c->model = (struct md_model){&c->md, c->max_de};
+    struct sim s;
+    sim_init(&s, run, c->steps, c->md.dt);
+    s.case_ops = &md_case_ops;
+    s.case_state = c;
+    int rc = sim_add_model(&s, &sim_model_md, &c->model, e);
+    return rc ? rc : sim_run(&s, run->opt.restart, e);
 }
 
 static void md_case_destroy(void *state)
@@ -217,6 +274,8 @@ static void md_case_destroy(void *state)
     if (!c)
         return;
     md_free(&c->md);
+    free(c->plate);
+    free(c->restored_rows);
     free(c);
 }
 
@@ -235,4 +294,5 @@ static long md_case_steps(const void *state)
 const struct case_type md_case_type = {
     "md", "molecular dynamics of one crystal or configuration (NVE or thermostatted)",
     md_case_read, md_case_run, md_case_destroy, md_case_particles, md_case_steps,
+    .checkpoints = 1,
 };

@@ -47,6 +47,23 @@ static int thermo_row(struct md_output *o, struct run *run, struct md *md)
     return 0;
 }
 
+int md_output_resume(struct md_output *o, struct run *run, const double *rows, long nrows,
+                     struct err *e)
+{
+    if (nrows <= 0)
+        return 0;
+    double *sr = malloc((size_t)nrows * MD_THERMO_COLS * sizeof *sr);
+    if (!sr)
+        return err_nomem(e, "thermo series");
+    memcpy(sr, rows, (size_t)nrows * MD_THERMO_COLS * sizeof *sr);
+    free(o->series);
+    o->series = sr;
+    o->nrows = o->cap = nrows;
+    for (long i = 0; i < nrows; i++)
+        run_thermo_row(run, rows + i * MD_THERMO_COLS, MD_THERMO_COLS);
+    return 0;
+}
+
 int md_output_snapshot(struct md_output *o, struct run *run, struct md *md)
 {
     if (!run->h5_open)

@@ -25,6 +25,10 @@ struct md_output {
 };
 
 int md_output_begin(struct md_output *o, struct run *run, struct md *md, struct err *e);
+/* A restarted run: the thermo rows written before its checkpoint (nrows x
+ * MD_THERMO_COLS) go back into the series and thermo.csv. */
+int md_output_resume(struct md_output *o, struct run *run, const double *rows, long nrows,
+                     struct err *e);
 /* Act on md->step if due (thermo, snapshot, xyz). */
 int md_output_step(struct md_output *o, struct run *run, struct md *md, long total_steps);
 /* Force a snapshot now (for example at the end of a diverged run). */

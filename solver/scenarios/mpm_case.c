@@ -230,4 +230,5 @@ static long mpm_type_steps(const void *state)
 const struct case_type mpm_case_type = {
     "mpm", "material point method (MUSL/USL, uniform or hierarchical grid)",
     mpm_type_read, mpm_type_run, mpm_type_destroy, mpm_type_particles, mpm_type_steps,
+    .checkpoints = 0,
 };

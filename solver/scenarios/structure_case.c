@@ -191,4 +191,5 @@ static long structure_particles(const void *state)
 const struct case_type structure_case_type = {
     "structure", "local crystalline order (CNA, coordination, surface) of a configuration",
     structure_read, structure_run, structure_destroy, structure_particles, NULL,
+    .checkpoints = 0,
 };

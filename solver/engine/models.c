@@ -1,0 +1,17 @@
+/* models: the registry of model stage tables (models.h). */
+#include "engine/models.h"
+
+#include <string.h>
+
+static const struct sim_model_ops *const registry[] = {
+    &sim_model_md,
+    NULL,
+};
+
+const struct sim_model_ops *sim_model_find(const char *name)
+{
+    for (int k = 0; registry[k]; k++)
+        if (strcmp(registry[k]->name, name) == 0)
+            return registry[k];
+    return NULL;
+}

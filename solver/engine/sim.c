@@ -1,0 +1,400 @@
+/* sim: the time loop, divergence check, outputs and checkpoints (sim.h). */
+#include "engine/sim.h"
+
+#include <dirent.h>
+#include <errno.h>
+#include <math.h>
+#include <signal.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+void sim_init(struct sim *s, struct run *r, long steps, double dt)
+{
+    memset(s, 0, sizeof *s);
+    s->run = r;
+    s->steps = steps;
+    s->dt = dt;
+    s->nphases = 1;
+    s->phase[0] = (struct sim_phase){"run", steps};
+    s->checkpoint_every = r ? r->out.checkpoint_every : 0;
+    s->restarted_from = -1;
+}
+
+int sim_add_model(struct sim *s, const struct sim_model_ops *ops, void *self, struct err *e)
+{
+    if (s->nmodels >= SIM_MAX_MODELS)
+        return err_set(e, ERR_RUNTIME, "at most %d models in one simulation", SIM_MAX_MODELS);
+    s->model[s->nmodels++] = (struct sim_model){ops, self};
+    return 0;
+}
+
+int sim_add_phase(struct sim *s, const char *name, long steps, struct err *e)
+{
+    if (s->nphases == 1 && strcmp(s->phase[0].name, "run") == 0) {
+        s->nphases = 0;   /* the first declared phase replaces the default one */
+        s->steps = 0;
+    }
+    if (s->nphases >= SIM_MAX_PHASES)
+        return err_set(e, ERR_RUNTIME, "at most %d phases in one simulation", SIM_MAX_PHASES);
+    s->phase[s->nphases++] = (struct sim_phase){name, steps};
+    s->steps += steps;
+    return 0;
+}
+
+int sim_due(const struct sim *s, long every)
+{
+    return run_due(s->step, s->steps, every);
+}
+
+static unsigned due_bits(const struct sim *s)
+{
+    const struct output_settings *o = &s->run->out;
+    unsigned due = 0;
+    if (sim_due(s, o->thermo_every))
+        due |= SIM_DUE_THERMO;
+    if (sim_due(s, o->snapshot_every))
+        due |= SIM_DUE_SNAPSHOT;
+    if (o->xyz_every > 0 && s->step % o->xyz_every == 0)
+        due |= SIM_DUE_XYZ;
+    if (s->step == s->steps || s->stop)
+        due |= SIM_DUE_LAST;
+    return due;
+}
+
+static int output(struct sim *s, unsigned due, struct err *e)
+{
+    if (!s->case_ops->output || !due)
+        return 0;
+    timer_start(&s->run->timers, TIMER_OUTPUT);
+    int rc = s->case_ops->output(s->case_state, s, due, e);
+    timer_stop(&s->run->timers, TIMER_OUTPUT);
+    return rc;
+}
+
+/* Non-finite energy, or a conserving model whose energy ran away. */
+static int check_divergence(struct sim *s, struct err *e)
+{
+    for (int k = 0; k < s->nmodels; k++) {
+        const struct sim_model *m = &s->model[k];
+        if (!m->ops->observe)
+            continue;
+        struct sim_energy en = {0};
+        m->ops->observe(m->self, s, &en);
+        if (!isfinite(en.total)) {
+            snprintf(s->diverged, sizeof s->diverged, "non-finite energy at step %ld", s->step);
+            return err_set(e, ERR_DIVERGED, "diverged: %s", s->diverged);
+        }
+        const struct sim_energy *e0 = &s->e0[k];
+        if (e0->conserved && e0->limit > 0 && e0->scale > 0) {
+            double change = (en.total - e0->total) / e0->scale;
+            if (fabs(change) > e0->limit) {
+                snprintf(s->diverged, sizeof s->diverged,
+                         "total energy changed by %.3g %s at step %ld (limit %s = %g %s): time "
+                         "step too large?",
+                         change, e0->unit, s->step, e0->limit_key, e0->limit, e0->unit);
+                return err_set(e, ERR_DIVERGED, "diverged: %s", s->diverged);
+            }
+        }
+    }
+    return 0;
+}
+
+/* --- checkpoints ----------------------------------------------------------- */
+
+static void ckpt_name(const struct sim *s, long step, char *out, size_t len)
+{
+    char name[64];
+    snprintf(name, sizeof name, "checkpoint-%010ld.h5", step);
+    run_path(s->run, name, out, len);
+}
+
+static int write_engine_state(struct sim *s, struct ckpt *ck)
+{
+    int rc = ckpt_enter(ck, "engine");
+    double e0[SIM_MAX_MODELS];
+    for (int k = 0; k < s->nmodels; k++)
+        e0[k] = s->e0[k].total;
+    if (!rc) rc = ckpt_put_long(ck, "step", s->step);
+    if (!rc) rc = ckpt_put_double(ck, "time", s->time);
+    if (!rc) rc = ckpt_put_double(ck, "dt", s->dt);
+    if (!rc) rc = ckpt_put_long(ck, "phase", s->cur_phase);
+    if (!rc) rc = ckpt_put_long(ck, "phase_step", s->phase_step);
+    if (!rc) rc = ckpt_put_long(ck, "nmodels", s->nmodels);
+    if (!rc) rc = ckpt_put_doubles(ck, "initial_energy", e0, s->nmodels);
+    return rc;
+}
+
+static int read_engine_state(struct sim *s, struct ckpt *ck)
+{
+    int rc = ckpt_enter(ck, "engine");
+    long phase = 0, nmodels = 0;
+    double e0[SIM_MAX_MODELS];
+    if (!rc) rc = ckpt_get_long(ck, "nmodels", &nmodels);
+    if (!rc && nmodels != s->nmodels)
+        rc = err_set(ck->e, ERR_INPUT, "%s: checkpoint has %ld models, the case has %d",
+                     ck->path, nmodels, s->nmodels);
+    if (!rc) rc = ckpt_get_long(ck, "step", &s->step);
+    if (!rc) rc = ckpt_get_double(ck, "time", &s->time);
+    if (!rc) rc = ckpt_get_double(ck, "dt", &s->dt);
+    if (!rc) rc = ckpt_get_long(ck, "phase", &phase);
+    if (!rc) rc = ckpt_get_long(ck, "phase_step", &s->phase_step);
+    if (!rc) rc = ckpt_get_doubles(ck, "initial_energy", e0, s->nmodels);
+    if (!rc && (phase < 0 || phase >= s->nphases || s->step < 0 || s->step > s->steps))
+        rc = err_set(ck->e, ERR_INPUT, "%s: checkpoint step %ld / phase %ld do not fit the "
+                                       "case's schedule (%ld steps, %d phases)",
+                     ck->path, s->step, phase, s->steps, s->nphases);
+    s->cur_phase = (int)phase;
+    for (int k = 0; !rc && k < s->nmodels; k++)
+        s->e0[k].total = e0[k];
+    return rc;
+}
+
+/* Remove all but the newest `keep` checkpoints of the output directory. */
+static void prune_checkpoints(struct sim *s, int keep)
+{
+    DIR *d = opendir(s->run->opt.out_dir);
+    if (!d)
+        return;
+    long steps[64];
+    int n = 0;
+    struct dirent *de;
+    while ((de = readdir(d)) != NULL && n < 64) {
+        long st;
+        char tail[8];
+        if (sscanf(de->d_name, "checkpoint-%ld.%7s", &st, tail) == 2 && strcmp(tail, "h5") == 0)
+            steps[n++] = st;
+    }
+    closedir(d);
+    for (int i = 0; i < n; i++) {
+        int newer = 0;
+        for (int j = 0; j < n; j++)
+            newer += steps[j] > steps[i];
+        if (newer >= keep) {
+            char path[4096];
+            ckpt_name(s, steps[i], path, sizeof path);
+            unlink(path);
+        }
+    }
+}
+
+static int write_checkpoint(struct sim *s, struct err *e)
+{
+    if (s->run->opt.rank != 0)
+        return 0;
+    char path[4096], tmp[4200];
+    ckpt_name(s, s->step, path, sizeof path);
+    snprintf(tmp, sizeof tmp, "%s.tmp", path);
+    struct ckpt ck;
+    int rc = ckpt_create(&ck, tmp, s->run->case_doc, s->run->case_key, s->step, s->time, e);
+    if (!rc)
+        rc = write_engine_state(s, &ck);
+    for (int k = 0; !rc && k < s->nmodels; k++) {
+        const struct sim_model *m = &s->model[k];
+        if (!m->ops->checkpoint_write)
+            continue;
+        char g[96];
+        snprintf(g, sizeof g, "model/%s", m->ops->name);
+        if (!(rc = ckpt_enter(&ck, g)))
+            rc = m->ops->checkpoint_write(m->self, &ck, e);
+    }
+    if (!rc && s->case_ops->checkpoint_write && !(rc = ckpt_enter(&ck, "case")))
+        rc = s->case_ops->checkpoint_write(s->case_state, &ck, e);
+    int rc2 = ckpt_close(&ck);
+    rc = rc ? rc : rc2;
+    if (!rc && rename(tmp, path) != 0)
+        rc = err_set(e, ERR_RUNTIME, "%s: cannot rename checkpoint: %s", tmp, strerror(errno));
+    if (rc) {
+        unlink(tmp);
+        return rc;
+    }
+    prune_checkpoints(s, 2);
+    return 0;
+}
+
+static int read_checkpoint(struct sim *s, const char *path, struct err *e)
+{
+    struct ckpt ck;
+    long step = 0;
+    int rc = ckpt_open(&ck, path, s->run->case_key, &step, e);
+    if (rc)
+        return rc;
+    rc = read_engine_state(s, &ck);
+    for (int k = 0; !rc && k < s->nmodels; k++) {
+        const struct sim_model *m = &s->model[k];
+        if (!m->ops->checkpoint_read)
+            continue;
+        char g[96];
+        snprintf(g, sizeof g, "model/%s", m->ops->name);
+        if (!(rc = ckpt_enter(&ck, g)))
+            rc = m->ops->checkpoint_read(m->self, &ck, e);
+    }
+    if (!rc && s->case_ops->checkpoint_read && !(rc = ckpt_enter(&ck, "case")))
+        rc = s->case_ops->checkpoint_read(s->case_state, &ck, e);
+    ckpt_close(&ck);
+    if (rc)
+        return rc == ERR_DIVERGED ? ERR_INPUT : rc;
+    s->restarted_from = s->step;
+    return 0;
+}
+
+static void sync_models(struct sim *s)
+{
+    for (int k = 0; k < s->nmodels; k++)
+        if (s->model[k].ops->checkpoint_sync)
+            s->model[k].ops->checkpoint_sync(s->model[k].self);
+}
+
+static int is_dir(const char *path)
+{
+    struct stat sb;
+    return stat(path, &sb) == 0 && S_ISDIR(sb.st_mode);
+}
+
+int sim_find_checkpoint(const char *path, const char *case_key, char *out, size_t len,
+                        struct err *e)
+{
+    if (!is_dir(path)) {
+        struct ckpt ck;
+        int rc = ckpt_open(&ck, path, case_key, NULL, e);
+        if (rc)
+            return rc;
+        ckpt_close(&ck);
+        snprintf(out, len, "%s", path);
+        return 0;
+    }
+    DIR *d = opendir(path);
+    if (!d)
+        return err_set(e, ERR_INPUT, "%s: cannot read directory: %s", path, strerror(errno));
+    long steps[256];
+    int n = 0;
+    struct dirent *de;
+    while ((de = readdir(d)) != NULL && n < 256) {
+        long st;
+        char tail[8];
+        if (sscanf(de->d_name, "checkpoint-%ld.%7s", &st, tail) == 2 && strcmp(tail, "h5") == 0)
+            steps[n++] = st;
+    }
+    closedir(d);
+    /* newest first; an unreadable newest one (a disk error after the
+     * rename) falls back to the one before */
+    struct err first = {0};
+    for (int tried = 0; tried < n; tried++) {
+        int best = -1;
+        for (int i = 0; i < n; i++)
+            if (steps[i] >= 0 && (best < 0 || steps[i] > steps[best]))
+                best = i;
+        char file[4096];
+        snprintf(file, sizeof file, "%s/checkpoint-%010ld.h5", path, steps[best]);
+        steps[best] = -1;
+        struct ckpt ck;
+        struct err e2 = {0};
+        if (ckpt_open(&ck, file, case_key, NULL, &e2) == 0) {
+            ckpt_close(&ck);
+            snprintf(out, len, "%s", file);
+            return 0;
+        }
+        if (!first.code)
+            first = e2;
+    }
+    if (first.code)
+        return err_set(e, ERR_INPUT, "%s: no valid checkpoint (newest: %s)", path, first.msg);
+    return err_set(e, ERR_INPUT, "%s: no checkpoint-*.h5 file to restart from", path);
+}
+
+/* --- the loop -------------------------------------------------------------- */
+
+static int run_stage(struct sim *s, int which, struct err *e)
+{
+    for (int k = 0; k < s->nmodels; k++) {
+        const struct sim_model_ops *o = s->model[k].ops;
+        int (*stage)(void *, struct sim *, struct err *) =
+            which == 0 ? o->pre_force : which == 1 ? o->force : o->integrate;
+        if (stage) {
+            int rc = stage(s->model[k].self, s, e);
+            if (rc)
+                return rc;
+        }
+    }
+    return 0;
+}
+
+int sim_run(struct sim *s, const char *restart, struct err *e)
+{
+    struct run *r = s->run;
+    const struct sim_case_ops *co = s->case_ops;
+    int rc = 0;
+    s->peratom = run_due(s->step, s->steps, r->out.snapshot_every);
+    for (int k = 0; k < s->nmodels && !rc; k++)
+        if (s->model[k].ops->init)
+            rc = s->model[k].ops->init(s->model[k].self, s, e);
+    for (int k = 0; k < s->nmodels && !rc; k++)
+        if (s->model[k].ops->observe)
+            s->model[k].ops->observe(s->model[k].self, s, &s->e0[k]);
+    if (!rc && restart) {
+        rc = read_checkpoint(s, restart, e);
+        if (!rc) {
+            sync_models(s);
+            run_log(r, "restart: continuing from step %ld (%s)", s->step, restart);
+        }
+    }
+    if (!rc && co->begin)
+        rc = co->begin(s->case_state, s, e);
+    if (!rc && s->restarted_from < 0)
+        rc = output(s, due_bits(s), e);
+    progress_start_at(&r->progress, stderr, s->steps, s->step, s->dt,
+                      r->opt.progress && !r->opt.quiet);
+    timer_start(&r->timers, TIMER_LOOP);
+    while (!rc && s->step < s->steps && !s->stop) {
+        if (s->phase_step == 0 && co->phase_begin &&
+            (rc = co->phase_begin(s->case_state, s, s->cur_phase, e)))
+            break;
+        /* per-particle energies and stresses only when a snapshot is due */
+        s->peratom = run_due(s->step + 1, s->steps, r->out.snapshot_every);
+        if ((rc = run_stage(s, 0, e)) || (rc = run_stage(s, 1, e)) || (rc = run_stage(s, 2, e)))
+            break;
+        s->step++;
+        s->time += s->dt;
+        if (++s->phase_step >= s->phase[s->cur_phase].steps && s->cur_phase + 1 < s->nphases) {
+            s->cur_phase++;
+            s->phase_step = 0;
+        }
+        if ((rc = check_divergence(s, e)))
+            break;
+        if (co->after_step && (rc = co->after_step(s->case_state, s, e)))
+            break;
+        if ((rc = output(s, due_bits(s), e)))
+            break;
+        if (s->checkpoint_every > 0 && s->step % s->checkpoint_every == 0 && s->step < s->steps &&
+            !s->stop) {
+            timer_start(&r->timers, TIMER_OUTPUT);
+            rc = write_checkpoint(s, e);
+            timer_stop(&r->timers, TIMER_OUTPUT);
+            if (rc)
+                break;
+            /* the uninterrupted run continues from the same state a
+             * restarted one starts in */
+            sync_models(s);
+        }
+        progress_update(&r->progress, s->step);
+        if (r->opt.kill_at_step == s->step)
+            raise(SIGKILL);   /* testing hook (run_options) */
+    }
+    timer_stop(&r->timers, TIMER_LOOP);
+    progress_finish(&r->progress, s->step);
+    r->steps_run = s->step - (s->restarted_from > 0 ? s->restarted_from : 0);
+    /* beside the metrics, so a restarted run's metrics equal the
+     * uninterrupted run's */
+    if (s->restarted_from >= 0)
+        json_object_set_new(r->result.root, "restarted_from_step",
+                            json_integer((json_int_t)s->restarted_from));
+    if (co->report) {
+        struct err e2 = {0};
+        int rc2 = co->report(s->case_state, s, rc, rc ? &e2 : e);
+        if (!rc)
+            rc = rc2;
+    }
+    return rc;
+}

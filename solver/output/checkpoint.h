@@ -1,0 +1,84 @@
+/*
+ * checkpoint: the complete state of a run in one HDF5 file, so that a run
+ * killed at any step continues bitwise from its last checkpoint.
+ *
+ * Layout:
+ *   /   attributes format = "cascade-checkpoint", version, case_key, step,
+ *       time_ps, case (canonical JSON); every dataset is chunked with a
+ *       Fletcher-32 checksum, so a corrupt file is refused on read
+ *   /engine/...        the loop's own state (step, phase, initial energies)
+ *   /model/<name>/...  each model's state (particles, grid points, ...)
+ *   /case/...          the case type's accumulators and partial series
+ *
+ * Files are written to a temporary name and renamed, so a reader never sees
+ * half a checkpoint; the writer keeps the newest two (sim.c).
+ *
+ * Every function returns 0 or an error code with the message in the err
+ * given at open/create: the message names the file and the dataset.
+ */
+#ifndef CASCADE_CHECKPOINT_H
+#define CASCADE_CHECKPOINT_H
+
+#include <hdf5.h>
+#include <jansson.h>
+#include <stdint.h>
+
+#include "core/box.h"
+#include "core/particles.h"
+#include "util/err.h"
+
+#define CKPT_FORMAT "cascade-checkpoint"
+#define CKPT_VERSION 1
+
+struct ckpt {
+    hid_t file;
+    hid_t group;          /* where put/get act: a subgroup, or the file */
+    char path[4096];
+    char where[128];      /* current group name, for messages */
+    int writing;
+    struct err *e;
+};
+
+/* Create `path` (truncating) with the root attributes. */
+int ckpt_create(struct ckpt *c, const char *path, const json_t *case_doc, const char *case_key,
+                long step, double time, struct err *e);
+/* Open `path` for reading: refuses another format or version, and a case
+ * key other than `expect_key` (NULL: any).  *step gets the step it holds. */
+int ckpt_open(struct ckpt *c, const char *path, const char *expect_key, long *step,
+              struct err *e);
+/* Close; 0 or the error of the final flush (a full disk shows here). */
+int ckpt_close(struct ckpt *c);
+
+/* Enter group `name` (a path like "model/md"); created when writing. */
+int ckpt_enter(struct ckpt *c, const char *name);
+
+int ckpt_put_doubles(struct ckpt *c, const char *name, const double *d, long n);
+int ckpt_put_i64(struct ckpt *c, const char *name, const int64_t *d, long n);
+int ckpt_put_ints(struct ckpt *c, const char *name, const int *d, long n);
+int ckpt_put_u32(struct ckpt *c, const char *name, const uint32_t *d, long n);
+int ckpt_put_double(struct ckpt *c, const char *name, double v);
+int ckpt_put_long(struct ckpt *c, const char *name, long v);
+
+/* Length of a 1-D dataset, or -1 (with the error set) when missing. */
+long ckpt_len(struct ckpt *c, const char *name);
+/* Reads check the stored length against n exactly. */
+int ckpt_get_doubles(struct ckpt *c, const char *name, double *d, long n);
+int ckpt_get_i64(struct ckpt *c, const char *name, int64_t *d, long n);
+int ckpt_get_ints(struct ckpt *c, const char *name, int *d, long n);
+int ckpt_get_u32(struct ckpt *c, const char *name, uint32_t *d, long n);
+int ckpt_get_double(struct ckpt *c, const char *name, double *v);
+int ckpt_get_long(struct ckpt *c, const char *name, long *v);
+
+/* A particle set's owned particles (positions, velocities, forces, types,
+ * ids, masks, images, per-particle energies and virials, extra fields) and
+ * its type table, under group `name`. */
+int ckpt_put_particles(struct ckpt *c, const char *name, const struct particles *p);
+/* Replace the owned particles of p (ghosts dropped) by the stored ones, in
+ * the stored order; the type table and the field names must match. */
+int ckpt_get_particles(struct ckpt *c, const char *name, struct particles *p);
+
+/* The box bounds and boundaries (free boundaries move with the particles). */
+int ckpt_put_box(struct ckpt *c, const char *name, const struct box *b);
+int ckpt_get_box(struct ckpt *c, const char *name, struct box *b);
+
+#endif
