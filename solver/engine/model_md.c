@@ -4,14 +4,14 @@
 static int md_model_init(void *self, struct sim *s, struct err *e)
 {
     struct md_model *m = self;
-    m->md->peratom = s->peratom;
+    m->md->peratom = s->peratom || m->peratom_always;
     return md_compute_forces(m->md, e);
 }
 
 static int md_model_pre_force(void *self, struct sim *s, struct err *e)
 {
     struct md_model *m = self;
-    m->md->peratom = s->peratom;
+    m->md->peratom = s->peratom || m->peratom_always;
     md_step_drift(m->md);
     return 0;
 }

@@ -13,6 +13,9 @@
 struct md_model {
     struct md *md;              /* borrowed from the case */
     double max_energy_change;   /* eV/atom; NVE runs only (0: no check) */
+    int peratom_always;         /* per-atom energies and virials every step
+                                 * (boundaries that read them), not only at
+                                 * snapshots */
 };
 extern const struct sim_model_ops sim_model_md;
 

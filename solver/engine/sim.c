@@ -23,6 +23,18 @@ void sim_init(struct sim *s, struct run *r, long steps, double dt)
     s->restarted_from = -1;
 }
 
+void sim_init_subrun(struct sim *s, struct run *r, long steps, double dt)
+{
+    sim_init(s, r, steps, dt);
+    s->subrun = 1;
+    s->checkpoint_every = 0;
+}
+
+static struct timers *sim_timers(struct sim *s)
+{
+    return s->run ? &s->run->timers : &s->own_timers;
+}
+
 int sim_add_model(struct sim *s, const struct sim_model_ops *ops, void *self, struct err *e)
 {
     if (s->nmodels >= SIM_MAX_MODELS)
@@ -51,6 +63,8 @@ int sim_due(const struct sim *s, long every)
 
 static unsigned due_bits(const struct sim *s)
 {
+    if (!s->run)
+        return (s->step == s->steps || s->stop) ? SIM_DUE_LAST : 0;
     const struct output_settings *o = &s->run->out;
     unsigned due = 0;
     if (sim_due(s, o->thermo_every))
@@ -66,11 +80,11 @@ static unsigned due_bits(const struct sim *s)
 
 static int output(struct sim *s, unsigned due, struct err *e)
 {
-    if (!s->case_ops->output || !due)
+    if (!s->case_ops || !s->case_ops->output || !due)
         return 0;
-    timer_start(&s->run->timers, TIMER_OUTPUT);
+    timer_start(sim_timers(s), TIMER_OUTPUT);
     int rc = s->case_ops->output(s->case_state, s, due, e);
-    timer_stop(&s->run->timers, TIMER_OUTPUT);
+    timer_stop(sim_timers(s), TIMER_OUTPUT);
     return rc;
 }
 
@@ -200,7 +214,7 @@ static int write_checkpoint(struct sim *s, struct err *e)
         if (!(rc = ckpt_enter(&ck, g)))
             rc = m->ops->checkpoint_write(m->self, &ck, e);
     }
-    if (!rc && s->case_ops->checkpoint_write && !(rc = ckpt_enter(&ck, "case")))
+    if (!rc && s->case_ops && s->case_ops->checkpoint_write && !(rc = ckpt_enter(&ck, "case")))
         rc = s->case_ops->checkpoint_write(s->case_state, &ck, e);
     int rc2 = ckpt_close(&ck);
     rc = rc ? rc : rc2;
@@ -231,7 +245,7 @@ static int read_checkpoint(struct sim *s, const char *path, struct err *e)
         if (!(rc = ckpt_enter(&ck, g)))
             rc = m->ops->checkpoint_read(m->self, &ck, e);
     }
-    if (!rc && s->case_ops->checkpoint_read && !(rc = ckpt_enter(&ck, "case")))
+    if (!rc && s->case_ops && s->case_ops->checkpoint_read && !(rc = ckpt_enter(&ck, "case")))
         rc = s->case_ops->checkpoint_read(s->case_state, &ck, e);
     ckpt_close(&ck);
     if (rc)
@@ -311,7 +325,8 @@ static int run_stage(struct sim *s, int which, struct err *e)
     for (int k = 0; k < s->nmodels; k++) {
         const struct sim_model_ops *o = s->model[k].ops;
         int (*stage)(void *, struct sim *, struct err *) =
-            which == 0 ? o->pre_force : which == 1 ? o->force : o->integrate;
+            which == 0 ? o->pre_force : which == 1 ? o->force : which == 2 ? o->integrate
+                                                                           : o->post_step;
         if (stage) {
             int rc = stage(s->model[k].self, s, e);
             if (rc)
@@ -321,12 +336,28 @@ static int run_stage(struct sim *s, int which, struct err *e)
     return 0;
 }
 
+/* Checkpoints need every model to write and read its state. */
+static int check_checkpointable(const struct sim *s, struct err *e)
+{
+    for (int k = 0; k < s->nmodels; k++)
+        if (!s->model[k].ops->checkpoint_write || !s->model[k].ops->checkpoint_read)
+            return err_set(e, ERR_INPUT,
+                           "output.checkpoint_every / --restart: model '%s' of this case cannot "
+                           "write checkpoints yet",
+                           s->model[k].ops->name);
+    return 0;
+}
+
 int sim_run(struct sim *s, const char *restart, struct err *e)
 {
+    static const struct sim_case_ops no_hooks;
     struct run *r = s->run;
-    const struct sim_case_ops *co = s->case_ops;
+    const struct sim_case_ops *co = s->case_ops ? s->case_ops : &no_hooks;
+    struct timers *tm = sim_timers(s);
     int rc = 0;
-    s->peratom = run_due(s->step, s->steps, r->out.snapshot_every);
+    if (s->checkpoint_every > 0 || restart)
+        rc = check_checkpointable(s, e);
+    s->peratom = r ? run_due(s->step, s->steps, r->out.snapshot_every) : 0;
     for (int k = 0; k < s->nmodels && !rc; k++)
         if (s->model[k].ops->init)
             rc = s->model[k].ops->init(s->model[k].self, s, e);
@@ -344,16 +375,19 @@ int sim_run(struct sim *s, const char *restart, struct err *e)
         rc = co->begin(s->case_state, s, e);
     if (!rc && s->restarted_from < 0)
         rc = output(s, due_bits(s), e);
-    progress_start_at(&r->progress, stderr, s->steps, s->step, s->dt,
-                      r->opt.progress && !r->opt.quiet);
-    timer_start(&r->timers, TIMER_LOOP);
+    int show = r && !s->subrun && r->opt.progress && !r->opt.quiet;
+    struct progress quiet_progress;
+    struct progress *pr = r && !s->subrun ? &r->progress : &quiet_progress;
+    progress_start_at(pr, stderr, s->steps, s->step, s->dt, show);
+    timer_start(tm, TIMER_LOOP);
     while (!rc && s->step < s->steps && !s->stop) {
         if (s->phase_step == 0 && co->phase_begin &&
             (rc = co->phase_begin(s->case_state, s, s->cur_phase, e)))
             break;
         /* per-particle energies and stresses only when a snapshot is due */
-        s->peratom = run_due(s->step + 1, s->steps, r->out.snapshot_every);
-        if ((rc = run_stage(s, 0, e)) || (rc = run_stage(s, 1, e)) || (rc = run_stage(s, 2, e)))
+        s->peratom = r ? run_due(s->step + 1, s->steps, r->out.snapshot_every) : 0;
+        if ((rc = run_stage(s, 0, e)) || (rc = run_stage(s, 1, e)) || (rc = run_stage(s, 2, e)) ||
+            (rc = run_stage(s, 3, e)))
             break;
         s->step++;
         s->time += s->dt;
@@ -369,27 +403,29 @@ int sim_run(struct sim *s, const char *restart, struct err *e)
             break;
         if (s->checkpoint_every > 0 && s->step % s->checkpoint_every == 0 && s->step < s->steps &&
             !s->stop) {
-            timer_start(&r->timers, TIMER_OUTPUT);
+            timer_start(tm, TIMER_OUTPUT);
             rc = write_checkpoint(s, e);
-            timer_stop(&r->timers, TIMER_OUTPUT);
+            timer_stop(tm, TIMER_OUTPUT);
             if (rc)
                 break;
             /* the uninterrupted run continues from the same state a
              * restarted one starts in */
             sync_models(s);
         }
-        progress_update(&r->progress, s->step);
-        if (r->opt.kill_at_step == s->step)
+        progress_update(pr, s->step);
+        if (r && !s->subrun && r->opt.kill_at_step == s->step)
             raise(SIGKILL);   /* testing hook (run_options) */
     }
-    timer_stop(&r->timers, TIMER_LOOP);
-    progress_finish(&r->progress, s->step);
-    r->steps_run = s->step - (s->restarted_from > 0 ? s->restarted_from : 0);
-    /* beside the metrics, so a restarted run's metrics equal the
-     * uninterrupted run's */
-    if (s->restarted_from >= 0)
-        json_object_set_new(r->result.root, "restarted_from_step",
-                            json_integer((json_int_t)s->restarted_from));
+    timer_stop(tm, TIMER_LOOP);
+    progress_finish(pr, s->step);
+    if (r && !s->subrun) {
+        r->steps_run = s->step - (s->restarted_from > 0 ? s->restarted_from : 0);
+        /* beside the metrics, so a restarted run's metrics equal the
+         * uninterrupted run's */
+        if (s->restarted_from >= 0)
+            json_object_set_new(r->result.root, "restarted_from_step",
+                                json_integer((json_int_t)s->restarted_from));
+    }
     if (co->report) {
         struct err e2 = {0};
         int rc2 = co->report(s->case_state, s, rc, rc ? &e2 : e);

@@ -17,6 +17,7 @@
  *     every model's pre_force   (first half kick, drift, boundary motion)
  *     every model's force       (ghosts, lists, forces; couplings last)
  *     every model's integrate   (second half kick, thermostat, grid update)
+ *     every model's post_step   (couplings acting on the advanced state)
  * then, once for the whole simulation:
  *     the divergence check      (each model's observe: finite energy, and
  *                                the energy change of conserving models)
@@ -58,6 +59,9 @@ struct sim_model_ops {
     int (*pre_force)(void *self, struct sim *s, struct err *e);
     int (*force)(void *self, struct sim *s, struct err *e);
     int (*integrate)(void *self, struct sim *s, struct err *e);
+    /* after every model integrated: couplings and boundaries that act on
+     * the advanced state */
+    int (*post_step)(void *self, struct sim *s, struct err *e);
     void (*observe)(void *self, const struct sim *s, struct sim_energy *en);
     /* the complete state the next step needs; checkpoint_read runs after
      * the case has been built from its case file, and replaces state */
@@ -125,14 +129,22 @@ struct sim {
     long phase_step;                 /* steps done in the current phase */
     int stop;                        /* set by the case: end after this step */
     long restarted_from;             /* step of the checkpoint continued from, or -1 */
+    int subrun;                      /* a stretch of dynamics inside a case (a
+                                      * thermal average, one shock of several):
+                                      * no progress, checkpoints or kill hook;
+                                      * run may be NULL (no outputs) */
+    struct timers own_timers;        /* when run is NULL */
     struct sim_energy e0[SIM_MAX_MODELS];   /* energies at step 0 */
     int peratom;                     /* per-particle energies needed this step */
     char diverged[256];              /* why the run diverged ("" if not) */
 };
 
 /* An empty simulation on run r: one phase of `steps` steps of `dt` ps, the
- * output cadence from r->out. */
+ * output cadence from r->out.  sim_init_subrun: a stretch of dynamics
+ * inside a case, on run r (may be NULL): the loop, the divergence check
+ * and the timers, without progress, checkpoints or snapshots of its own. */
 void sim_init(struct sim *s, struct run *r, long steps, double dt);
+void sim_init_subrun(struct sim *s, struct run *r, long steps, double dt);
 int sim_add_model(struct sim *s, const struct sim_model_ops *ops, void *self, struct err *e);
 /* Replace the single phase by declared phases (their steps add up). */
 int sim_add_phase(struct sim *s, const char *name, long steps, struct err *e);

@@ -249,6 +249,14 @@ int ckpt_put_u32(struct ckpt *c, const char *name, const uint32_t *d, long n)
 {
     return put_array(c, name, H5T_NATIVE_UINT32, H5T_STD_U32LE, d, n);
 }
+int ckpt_put_bytes(struct ckpt *c, const char *name, const void *d, long n)
+{
+    return put_array(c, name, H5T_NATIVE_UCHAR, H5T_STD_U8LE, d, n);
+}
+int ckpt_get_bytes(struct ckpt *c, const char *name, void *d, long n)
+{
+    return get_array(c, name, H5T_NATIVE_UCHAR, d, n);
+}
 int ckpt_put_double(struct ckpt *c, const char *name, double v)
 {
     return ckpt_put_doubles(c, name, &v, 1);

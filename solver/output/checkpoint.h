@@ -57,6 +57,10 @@ int ckpt_put_i64(struct ckpt *c, const char *name, const int64_t *d, long n);
 int ckpt_put_ints(struct ckpt *c, const char *name, const int *d, long n);
 int ckpt_put_u32(struct ckpt *c, const char *name, const uint32_t *d, long n);
 int ckpt_put_double(struct ckpt *c, const char *name, double v);
+/* Plain structs of numbers (statistics of an analysis) as bytes: a
+ * checkpoint is read by the build that wrote it (format version). */
+int ckpt_put_bytes(struct ckpt *c, const char *name, const void *d, long n);
+int ckpt_get_bytes(struct ckpt *c, const char *name, void *d, long n);
 int ckpt_put_long(struct ckpt *c, const char *name, long v);
 
 /* Length of a 1-D dataset, or -1 (with the error set) when missing. */

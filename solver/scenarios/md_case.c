@@ -259,7 +259,7 @@ static int md_case_run(void *state, struct run *run, struct err *e)
     c->plate = malloc((size_t)(c->nlate > 0 ? c->nlate : 1) * sizeof *c->plate);
     if (!c->plate)
         return err_nomem(e, "pressure samples");
-    c->model = (struct md_model){&c->md, c->max_de};
+    c->model = (struct md_model){.md = &c->md, .max_energy_change = c->max_de};
     struct sim s;
     sim_init(&s, run, c->steps, c->md.dt);
     s.case_ops = &md_case_ops;
