@@ -37,7 +37,7 @@
 
 #include "analysis/block_average.h"
 #include "core/units.h"
-#include "md/crystal_thermal.h"
+#include "scenarios/crystal_thermal.h"
 #include "scenarios/case_type.h"
 
 struct elastic_case {

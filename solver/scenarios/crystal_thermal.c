@@ -1,5 +1,5 @@
 /* crystal_thermal: pressure time series of a thermostatted crystal. */
-#include "md/crystal_thermal.h"
+#include "scenarios/crystal_thermal.h"
 
 #include <string.h>
 
