@@ -381,6 +381,11 @@ int sim_run(struct sim *s, const char *restart, struct err *e)
     progress_start_at(pr, stderr, s->steps, s->step, s->dt, show);
     timer_start(tm, TIMER_LOOP);
     while (!rc && s->step < s->steps && !s->stop) {
+        /* the next phase (phases of 0 steps are passed over) */
+        while (s->phase_step >= s->phase[s->cur_phase].steps && s->cur_phase + 1 < s->nphases) {
+            s->cur_phase++;
+            s->phase_step = 0;
+        }
         if (s->phase_step == 0 && co->phase_begin &&
             (rc = co->phase_begin(s->case_state, s, s->cur_phase, e)))
             break;
@@ -391,10 +396,7 @@ int sim_run(struct sim *s, const char *restart, struct err *e)
             break;
         s->step++;
         s->time += s->dt;
-        if (++s->phase_step >= s->phase[s->cur_phase].steps && s->cur_phase + 1 < s->nphases) {
-            s->cur_phase++;
-            s->phase_step = 0;
-        }
+        s->phase_step++;
         if ((rc = check_divergence(s, e)))
             break;
         if (co->after_step && (rc = co->after_step(s->case_state, s, e)))

@@ -5,7 +5,26 @@
 
 #include "core/elements.h"
 #include "core/velocity.h"
+#include "engine/models.h"
 #include "md/md.h"
+
+struct pressure_samples {
+    const struct md *md;
+    long equilibrate, every;
+    double *P;
+    long *n;
+};
+
+static int sample_after_step(void *state, struct sim *s, struct err *e)
+{
+    struct pressure_samples *ps = state;
+    long k = s->step - ps->equilibrate;   /* steps into the sampling phase */
+    if (k > 0 && k % ps->every == 0) {
+        md_pressure_tensor(ps->md, ps->P + 6 * *ps->n);
+        (*ps->n)++;
+    }
+    return 0;
+}
 
 int crystal_pressure_md(struct potential *pot, const struct crystal_spec *c, double a,
                         const int (*orient)[3], const double eps[3], const struct crystal_md *run,
@@ -50,16 +69,23 @@ int crystal_pressure_md(struct potential *pot, const struct crystal_spec *c, dou
     md.thermo.tau = run->tau;
     md.thermo.group_mask = 1u;
     md.seed = run->seed;
-    for (long s = 0; s < run->equilibrate && !rc; s++)
-        rc = md_step(&md, e);
-    long every = run->sample_every > 0 ? run->sample_every : 1;
-    for (long s = 1; s <= run->sample && !rc; s++) {
-        rc = md_step(&md, e);
-        if (!rc && s % every == 0) {
-            md_pressure_tensor(&md, P + 6 * *n);
-            (*n)++;
-        }
-    }
+    /* two declared phases: equilibrate, then sample every sample_every steps */
+    struct pressure_samples ps = {&md, run->equilibrate,
+                                  run->sample_every > 0 ? run->sample_every : 1, P, n};
+    static const struct sim_case_ops hooks = {.after_step = sample_after_step};
+    struct sim s;
+    struct md_model model = {.md = &md};
+    sim_init_subrun(&s, NULL, 0, run->dt);
+    s.case_ops = &hooks;
+    s.case_state = &ps;
+    if (!rc)
+        rc = sim_add_phase(&s, "equilibrate", run->equilibrate, e);
+    if (!rc)
+        rc = sim_add_phase(&s, "sample", run->sample, e);
+    if (!rc)
+        rc = sim_add_model(&s, &sim_model_md, &model, e);
+    if (!rc)
+        rc = sim_run(&s, NULL, e);
     md.pot = NULL;
     md_free(&md);
     return rc;

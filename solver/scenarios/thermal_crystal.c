@@ -6,6 +6,7 @@
 
 #include "core/elements.h"
 #include "core/velocity.h"
+#include "engine/models.h"
 
 int thermal_crystal_md(struct md *md, struct potential *pot, const struct thermal_spec *s, double a,
                        const double *scale, struct err *e)
@@ -50,30 +51,50 @@ int thermal_crystal_md(struct md *md, struct potential *pot, const struct therma
     return rc;
 }
 
+/* The averages of the last navg steps of a thermal run. */
+struct thermal_acc {
+    const struct md *md;
+    long n, navg;
+    double acc[6], tacc;
+    long cnt;
+};
+
+static int thermal_after_step(void *state, struct sim *s, struct err *e)
+{
+    struct thermal_acc *a = state;
+    if (s->step > a->n - a->navg) {
+        double Pi[6];
+        md_pressure_tensor(a->md, Pi);
+        for (int k = 0; k < 6; k++)
+            a->acc[k] += Pi[k];
+        a->tacc += md_temperature(a->md);
+        a->cnt++;
+    }
+    return 0;
+}
+
 int thermal_average(struct md *md, double t_run, double t_avg, double P[6], double *T,
                     struct err *e)
 {
-    long n = (long)llround(t_run / md->dt), navg = (long)llround(t_avg / md->dt);
-    double acc[6] = {0}, tacc = 0;
-    long cnt = 0;
-    for (long s = 1; s <= n; s++) {
-        int rc = md_step(md, e);
-        if (rc)
-            return rc;
-        if (s > n - navg) {
-            double Pi[6];
-            md_pressure_tensor(md, Pi);
-            for (int k = 0; k < 6; k++)
-                acc[k] += Pi[k];
-            tacc += md_temperature(md);
-            cnt++;
-        }
-    }
-    if (cnt == 0)
+    static const struct sim_case_ops hooks = {.after_step = thermal_after_step};
+    struct thermal_acc a = {.md = md};
+    a.n = (long)llround(t_run / md->dt);
+    a.navg = (long)llround(t_avg / md->dt);
+    struct sim s;
+    sim_init_subrun(&s, NULL, a.n, md->dt);
+    struct md_model model = {.md = md};
+    s.case_ops = &hooks;
+    s.case_state = &a;
+    int rc = sim_add_model(&s, &sim_model_md, &model, e);
+    if (!rc)
+        rc = sim_run(&s, NULL, e);
+    if (rc)
+        return rc;
+    if (a.cnt == 0)
         return err_set(e, ERR_RUNTIME, "thermal average over no steps");
     for (int k = 0; k < 6; k++)
-        P[k] = acc[k] / cnt;
-    *T = tacc / cnt;
+        P[k] = a.acc[k] / a.cnt;
+    *T = a.tacc / a.cnt;
     return 0;
 }
 
