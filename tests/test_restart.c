@@ -157,3 +157,45 @@ Test(restart, checkpoints_refused_for_a_case_type_off_the_engine)
                   strstr(msg, "does not write checkpoints"),
               "%s", msg);
 }
+
+/* A cluster impact on a target with fixed and Langevin-damped layers: the
+ * damage analysis (displaced peak, sputter, crater series) and the thermo
+ * rows continue exactly. */
+Test(restart, cluster_impact_continues_bitwise, .timeout = 300)
+{
+    const char *yaml = "seed: 1\n"
+                       "type: cluster_impact\n"
+                       "target: {lattice: fcc, element: Cu, a: 3.615, cells: [10, 10, 7], "
+                       "damped_thickness: 4.0}\n"
+                       "cluster: {atoms: 14, speed: 10.0}\n"
+                       "potential: {style: eam/alloy, file: Cu_mishin1.eam.alloy}\n"
+                       "md: {timestep: 0.001, steps: 120}\n"
+                       "analysis: {every: 20}\n"
+                       "output: {thermo_every: 30, snapshot_every: 60, checkpoint_every: 25}\n";
+    const char *const kills[] = {"55", "90", NULL};
+    th_kill_and_restart(yaml, kills, 1, "particles", md_fields);
+}
+
+/* The handshake boundary keeps MPM layers of its own that checkpoints do
+ * not hold yet: asked for checkpoints, the run refuses at its start. */
+Test(restart, handshake_boundary_refuses_checkpoints, .timeout = 120)
+{
+    char path[1024], text[8192];
+    snprintf(path, sizeof path, "%s/docs/examples/cu14_impact_handshake.yaml", th_root());
+    long n;
+    char *yaml = th_restart_slurp(path, &n);
+    char *out = strstr(yaml, "output:");
+    cr_assert_not_null(out, "the example has no output section");
+    *out = '\0';
+    snprintf(text, sizeof text, "%soutput: {hdf5: false, checkpoint_every: 10}\n", yaml);
+    free(yaml);
+    char *steps = strstr(text, "steps: 2000");
+    cr_assert_not_null(steps);
+    memcpy(steps, "steps: 20  ", 11);
+    const char *cpath = th_write_temp(1, "hs.yaml", text);
+    char msg[4096];
+    int rc = th_restart_solve("hs", cpath, NULL, NULL, msg, sizeof msg);
+    cr_assert_eq(rc, 2, "%s", msg);
+    cr_assert(strstr(msg, "model 'impact_boundary' of this case cannot write checkpoints"), "%s",
+              msg);
+}

@@ -7,6 +7,7 @@
 
 #include "engine/sim.h"
 #include "md/md.h"
+#include "scenarios/impact_boundary.h"
 
 /* MD: velocity Verlet with the md's potential and thermostat (md/md.h).
  * The model's self is a struct md_model. */
@@ -18,6 +19,16 @@ struct md_model {
                                  * snapshots */
 };
 extern const struct sim_model_ops sim_model_md;
+
+/* An impact target's boundary treatment (scenarios/impact_boundary.h):
+ * its pre_step before the md's drift, its step after the md's kick.  The
+ * stateful variant (the handshake layers) cannot be checkpointed yet. */
+struct impact_boundary_model {
+    struct impact_boundary *bnd;   /* borrowed from the case */
+    struct md *md;
+};
+extern const struct sim_model_ops sim_model_impact_boundary;
+extern const struct sim_model_ops sim_model_impact_boundary_stateful;
 
 /* The model named `name`, or NULL. */
 const struct sim_model_ops *sim_model_find(const char *name);

@@ -31,7 +31,12 @@
  *   step(b, md)            after every md_step (optional);
  *   exclude_mask(b)        the groups the damage counts leave out;
  *   report(b, result)      the treatment's own metrics (optional);
- *   destroy(b).
+ *   destroy(b);
+ *   stateless              checkpoints may be written (nothing of its own
+ *                          changes during the run).
+ * In the engine (engine/sim.h) the treatment is a model that runs pre_step
+ * as its pre_force stage (before the md's) and step as its post_step
+ * stage (after the md's integrate): engine/model_impact_boundary.c.
  * b->peratom asks for per-atom energies and virials at every step.
  */
 #ifndef CASCADE_IMPACT_BOUNDARY_H
@@ -74,6 +79,10 @@ struct impact_boundary_ops {
                    struct potential *pot, int nthreads, struct cfg *cfg);
     int (*pre_step)(struct impact_boundary *b, struct md *md, struct err *e);
     void (*report)(const struct impact_boundary *b, struct result *r);
+    /* 1: all the treatment's state is rebuilt from the case (a checkpoint
+     * of the md restores the run); 0: it has state of its own that
+     * checkpoints do not hold yet */
+    int stateless;
 };
 
 extern const struct impact_boundary_ops impact_boundaries[];   /* NULL-name terminated */

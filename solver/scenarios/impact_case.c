@@ -50,6 +50,7 @@
 #include "core/elements.h"
 #include "core/units.h"
 #include "core/velocity.h"
+#include "engine/models.h"
 #include "scenarios/case_type.h"
 #include "scenarios/cluster_build.h"
 #include "scenarios/impact_boundary.h"
@@ -61,6 +62,14 @@ struct impact {
     struct md md;
     struct md_analysis an;
     struct impact_boundary bnd;
+    struct md_model model;
+    struct impact_boundary_model bmodel;
+    int md_index;              /* the md's place among the engine's models */
+    struct md_output out;
+    long peak;                 /* displaced atoms: largest count and its time */
+    double peak_t;
+    double *restored_rows;     /* thermo rows read from a checkpoint */
+    long nrestored;
     long steps;
     long ntarget, ncluster;
     double speed;              /* Å/ps */
@@ -326,59 +335,66 @@ static int impact_read(struct cfg_obj *root, const struct case_common *common, v
     return 0;
 }
 
-static int impact_run(void *state, struct run *run, struct err *e)
+/* --- the run on the engine (engine/sim.h) --------------------------------- */
+
+static int impact_begin(void *state, struct sim *s, struct err *e)
 {
     struct impact *c = state;
     struct md *md = &c->md;
-    md->timers = &run->timers;
-    struct md_output mo;
-    int rc = md_output_begin(&mo, run, md, e);
+    struct run *run = s->run;
+    int rc = md_output_begin(&c->out, run, md, e);
     if (rc)
         return rc;
-    mo.xyz_field = c->an.f_structure;
+    c->out.xyz_field = c->an.f_structure;
+    if (s->restarted_from >= 0) {
+        rc = md_output_resume(&c->out, run, c->restored_rows, c->nrestored, e);
+        free(c->restored_rows);
+        c->restored_rows = NULL;
+        return rc;
+    }
     run_log(run, "target %ld atoms (%ld fixed, %ld damped), cluster %ld atoms (cut radius %.2f Å), "
                  "%.2f keV at %.2f km/s",
             c->ntarget, c->bnd.nfixed, c->bnd.ndamped, c->ncluster, c->cluster_radius,
             c->impact_energy * 1e-3, c->speed / 10.0);
-    md->peratom = run_due(0, c->steps, run->out.snapshot_every) || c->bnd.peratom;
-    rc = md_compute_forces(md, e);
-    double e0 = md->last.energy + md_kinetic_energy(md);
-    if (!rc)
-        rc = md_analysis_run(&c->an, md, e);
-    if (!rc)
-        rc = md_output_step(&mo, run, md, c->steps);
-    long peak = c->an.displaced;
-    double peak_t = md->time;
-    progress_start(&run->progress, stderr, c->steps, md->dt, run->opt.progress && !run->opt.quiet);
-    timer_start(&run->timers, TIMER_LOOP);
-    for (long s = 1; s <= c->steps && !rc; s++) {
-        md->peratom = run_due(s, c->steps, run->out.snapshot_every) || c->bnd.peratom;
-        if (c->bnd.ops->pre_step && (rc = c->bnd.ops->pre_step(&c->bnd, md, e)))
-            break;
-        if ((rc = md_step(md, e)))
-            break;
-        if (c->bnd.ops->step && (rc = c->bnd.ops->step(&c->bnd, md, e)))
-            break;
-        double pe = md->last.energy, ke = md_kinetic_energy(md);
-        if (!isfinite(pe) || !isfinite(ke)) {
-            rc = err_set(e, ERR_DIVERGED, "diverged: non-finite energy at step %ld", s);
-            break;
-        }
-        if (md_analysis_due(&c->an, run, s, c->steps)) {
-            if ((rc = md_analysis_run(&c->an, md, e)))
-                break;
-            if (c->an.displaced > peak) {
-                peak = c->an.displaced;
-                peak_t = md->time;
-            }
-        }
-        rc = md_output_step(&mo, run, md, c->steps);
-        progress_update(&run->progress, s);
+    rc = md_analysis_run(&c->an, md, e);
+    c->peak = c->an.displaced;
+    c->peak_t = md->time;
+    return rc;
+}
+
+static int impact_after_step(void *state, struct sim *s, struct err *e)
+{
+    struct impact *c = state;
+    if (!md_analysis_due(&c->an, s->run, s->step, c->steps))
+        return 0;
+    int rc = md_analysis_run(&c->an, &c->md, e);
+    if (!rc && c->an.displaced > c->peak) {
+        c->peak = c->an.displaced;
+        c->peak_t = c->md.time;
     }
-    timer_stop(&run->timers, TIMER_LOOP);
-    progress_finish(&run->progress, md->step);
-    if (rc == ERR_DIVERGED)
-        md_output_snapshot(&mo, run, md);
+    return rc;
+}
+
+static int impact_output(void *state, struct sim *s, unsigned due, struct err *e)
+{
+    struct impact *c = state;
+    (void)due;   /* md_output_step reads the same schedule */
+    return md_output_step(&c->out, s->run, &c->md, c->steps)
+               ? err_set(e, ERR_RUNTIME, "%s: cannot write the outputs of step %ld",
+                         s->run->opt.out_dir, s->step)
+               : 0;
+}
+
+static int impact_report(void *state, struct sim *s, int run_rc, struct err *e)
+{
+    struct impact *c = state;
+    struct md *md = &c->md;
+    struct run *run = s->run;
+    if (run_rc == ERR_DIVERGED)
+        md_output_snapshot(&c->out, run, md);
+    long peak = c->peak;
+    double peak_t = c->peak_t;
+    double e0 = s->e0[c->md_index].total;
     struct result *r = &run->result;
     double etot = md->last.energy + md_kinetic_energy(md);
     result_metric(r, "atoms", (double)md->p->n_owned, "1");
@@ -417,8 +433,93 @@ static int impact_run(void *state, struct run *run, struct err *e)
             peak, peak_t, c->an.displaced, c->an.sputter.atoms, c->an.sputter.clusters, cs->depth,
             w100, w110);
     int rc2 = md_analysis_finish(&c->an, run, e);
-    int rc3 = md_output_end(&mo, run, e);
-    return rc ? rc : rc2 ? rc2 : rc3;
+    int rc3 = md_output_end(&c->out, run, e);
+    return rc2 ? rc2 : rc3;
+}
+
+/* The analysis' latest results and series, the peak, the thermo rows. */
+static int impact_checkpoint_write(void *state, struct ckpt *ck, struct err *e)
+{
+    struct impact *c = state;
+    const struct md_analysis *a = &c->an;
+    long latest[2] = {a->displaced, a->counted};
+    int rc = ckpt_put_long(ck, "displaced_peak", c->peak);
+    if (!rc) rc = ckpt_put_double(ck, "displaced_peak_time", c->peak_t);
+    if (!rc) rc = ckpt_put_bytes(ck, "analysis_counts", a->counts, (long)sizeof a->counts);
+    if (!rc) rc = ckpt_put_bytes(ck, "analysis_latest", latest, (long)sizeof latest);
+    if (!rc) rc = ckpt_put_bytes(ck, "analysis_sputter", &a->sputter, (long)sizeof a->sputter);
+    if (!rc) rc = ckpt_put_bytes(ck, "analysis_crater", &a->crater, (long)sizeof a->crater);
+    if (!rc) rc = ckpt_put_doubles(ck, "analysis_rows", a->rows, a->nrows * a->ncols);
+    if (!rc) rc = ckpt_put_doubles(ck, "thermo_rows", c->out.series, c->out.nrows * MD_THERMO_COLS);
+    return rc;
+}
+
+static int impact_checkpoint_read(void *state, struct ckpt *ck, struct err *e)
+{
+    struct impact *c = state;
+    struct md_analysis *a = &c->an;
+    long latest[2];
+    int rc = ckpt_get_long(ck, "displaced_peak", &c->peak);
+    if (!rc) rc = ckpt_get_double(ck, "displaced_peak_time", &c->peak_t);
+    if (!rc) rc = ckpt_get_bytes(ck, "analysis_counts", a->counts, (long)sizeof a->counts);
+    if (!rc) rc = ckpt_get_bytes(ck, "analysis_latest", latest, (long)sizeof latest);
+    if (!rc) rc = ckpt_get_bytes(ck, "analysis_sputter", &a->sputter, (long)sizeof a->sputter);
+    if (!rc) rc = ckpt_get_bytes(ck, "analysis_crater", &a->crater, (long)sizeof a->crater);
+    a->displaced = latest[0];
+    a->counted = latest[1];
+    long nv = rc ? -1 : ckpt_len(ck, "analysis_rows");
+    if (!rc && (nv < 0 || a->ncols <= 0 || nv % a->ncols != 0))
+        rc = err_set(e, ERR_INPUT, "%s: checkpoint analysis rows are not %d-column rows",
+                     ck->path, a->ncols);
+    if (!rc) {
+        free(a->rows);
+        a->rows = malloc((size_t)(nv > 0 ? nv : 1) * sizeof *a->rows);
+        a->nrows = a->caprows = a->rows ? nv / a->ncols : 0;
+        rc = a->rows ? ckpt_get_doubles(ck, "analysis_rows", a->rows, nv)
+                     : err_nomem(e, "analysis rows");
+    }
+    nv = rc ? -1 : ckpt_len(ck, "thermo_rows");
+    if (!rc && (nv < 0 || nv % MD_THERMO_COLS != 0))
+        rc = err_set(e, ERR_INPUT, "%s: checkpoint thermo rows are not %d-column rows",
+                     ck->path, MD_THERMO_COLS);
+    if (!rc) {
+        c->restored_rows = malloc((size_t)(nv > 0 ? nv : 1) * sizeof *c->restored_rows);
+        c->nrestored = nv / MD_THERMO_COLS;
+        rc = c->restored_rows ? ckpt_get_doubles(ck, "thermo_rows", c->restored_rows, nv)
+                              : err_nomem(e, "thermo rows");
+    }
+    return rc;
+}
+
+static const struct sim_case_ops impact_case_ops = {
+    .begin = impact_begin,
+    .after_step = impact_after_step,
+    .output = impact_output,
+    .report = impact_report,
+    .checkpoint_write = impact_checkpoint_write,
+    .checkpoint_read = impact_checkpoint_read,
+};
+
+static int impact_run(void *state, struct run *run, struct err *e)
+{
+    struct impact *c = state;
+    c->md.timers = &run->timers;
+    /* the boundary's pre_step before the md's drift, its step after the
+     * md's kick: the boundary model first */
+    c->bmodel = (struct impact_boundary_model){&c->bnd, &c->md};
+    c->model = (struct md_model){.md = &c->md, .peratom_always = c->bnd.peratom};
+    struct sim s;
+    sim_init(&s, run, c->steps, c->md.dt);
+    s.case_ops = &impact_case_ops;
+    s.case_state = c;
+    int rc = sim_add_model(&s,
+                           c->bnd.ops->stateless ? &sim_model_impact_boundary
+                                                 : &sim_model_impact_boundary_stateful,
+                           &c->bmodel, e);
+    c->md_index = s.nmodels;
+    if (!rc)
+        rc = sim_add_model(&s, &sim_model_md, &c->model, e);
+    return rc ? rc : sim_run(&s, run->opt.restart, e);
 }
 
 static void impact_destroy(void *state)
@@ -429,6 +530,7 @@ static void impact_destroy(void *state)
     impact_boundary_free(&c->bnd);
     md_free(&c->md);
     md_analysis_free(&c->an);
+    free(c->restored_rows);
     free(c);
 }
 
@@ -441,5 +543,5 @@ static long impact_particles(const void *state)
 const struct case_type impact_case_type = {
     "cluster_impact", "a cluster hitting a crystal surface: damage, sputtering, crater",
     impact_read, impact_run, impact_destroy, impact_particles, NULL,
-    .checkpoints = 0,
+    .checkpoints = 1,
 };
