@@ -11,7 +11,9 @@ static int md_model_init(void *self, struct sim *s, struct err *e)
 static int md_model_pre_force(void *self, struct sim *s, struct err *e)
 {
     struct md_model *m = self;
-    m->md->peratom = s->peratom || m->peratom_always;
+    /* the step being taken is s->step + 1 */
+    m->md->peratom = s->peratom || m->peratom_always ||
+                     (m->peratom_every > 0 && (s->step + 1) % m->peratom_every == 0);
     md_step_drift(m->md);
     return 0;
 }

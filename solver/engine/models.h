@@ -17,6 +17,8 @@ struct md_model {
     int peratom_always;         /* per-atom energies and virials every step
                                  * (boundaries that read them), not only at
                                  * snapshots */
+    long peratom_every;         /* ... and every this many steps (0: never),
+                                 * for a case's own sampling */
 };
 extern const struct sim_model_ops sim_model_md;
 

@@ -72,6 +72,7 @@
 #include "analysis/shock_front.h"
 #include "analysis/structure.h"
 #include "core/units.h"
+#include "engine/models.h"
 #include "scenarios/case_type.h"
 #include "scenarios/md_output.h"
 #include "scenarios/md_timestep.h"
@@ -351,6 +352,70 @@ struct shock_out {
     long npts;
 };
 
+/* One shock's sampling, every `every` steps: the velocity profile, the
+ * front and leading-edge positions, the state between piston and front. */
+struct shock_sampler {
+    struct hugoniot *h;
+    struct md *md;
+    struct run *run;
+    double up, u, x0, L, xp0, area;
+    int nbins;
+    double *mean;
+    long *count;
+    double *ts, *xf, *xl;
+    long cap, min_count, global_step0;
+    long nsamp, nmeas;
+    double Pacc[6], racc, Tacc, uacc;
+    long every;
+};
+
+static int shock_after_step(void *state, struct sim *sim, struct err *e)
+{
+    struct shock_sampler *sm = state;
+    struct hugoniot *h = sm->h;
+    struct md *md = sm->md;
+    long s = sim->step;
+    if (s % sm->every)
+        return 0;
+    double ke = md_kinetic_energy(md);
+    shock_profile(md->p->x, 3, md->p->v, 3, md->p->n_owned, sm->x0, h->bin, sm->nbins, sm->mean,
+                  sm->count);
+    double front, lead;
+    if (shock_front_locate(sm->mean, sm->count, sm->nbins, sm->x0, h->bin, 0.5 * sm->u, +1,
+                           sm->min_count, &front) != 0)
+        return 0;   /* not formed yet */
+    if (shock_front_locate(sm->mean, sm->count, sm->nbins, sm->x0, h->bin, 0.15 * sm->u, +1,
+                           sm->min_count, &lead) != 0)
+        lead = front;
+    sm->ts[sm->nsamp] = md->time;
+    sm->xf[sm->nsamp] = front;
+    sm->xl[sm->nsamp] = lead;
+    sm->nsamp++;
+    double xpist = sm->xp0 + sm->u * md->time;
+    double row[8] = {sm->up, (double)(sm->global_step0 + s), md->time, front, lead,
+                     md->last.energy, ke, md_temperature(md)};
+    run_thermo_row(sm->run, row, 8);
+    double frac = (front - sm->xp0) / (sm->x0 + sm->L - sm->xp0);
+    if (frac > 0.5) {
+        /* the middle 70 % between piston face and front */
+        double gap = front - xpist;
+        struct region_state r;
+        region_measure(md, xpist + 0.15 * gap, front - 0.15 * gap, sm->area, &r);
+        if (r.n > 0) {
+            for (int c = 0; c < 6; c++)
+                sm->Pacc[c] += r.P[c];
+            sm->racc += r.rho;
+            sm->Tacc += r.T;
+            sm->uacc += r.u;
+            sm->nmeas++;
+        }
+    }
+    if (frac > h->stop_at || sm->nsamp >= sm->cap)
+        sim->stop = 1;
+    (void)e;
+    return 0;
+}
+
 static int run_shock(struct hugoniot *h, const struct particles *tmpl, const struct box *tbox,
                      double up, int k, struct run *run, long *global_step, struct shock_out *o,
                      struct err *e)
@@ -405,58 +470,31 @@ static int run_shock(struct hugoniot *h, const struct particles *tmpl, const str
     long every = (long)llround(h->sample_every / h->th.dt);
     if (every < 1)
         every = 1;
-    long nsamp = 0, nmeas = 0;
-    double Pacc[6] = {0}, racc = 0, Tacc = 0, uacc = 0;
     /* profile: mean vx in slabs from the original left end */
     long min_count = (long)(0.5 * area / (h->a * h->a) * (h->bin / h->a) * 2);
     if (min_count < 4)
         min_count = 4;
     long nsteps_max = (long)llround(h->max_time / h->th.dt);
-    int stopped = 0;
-    for (long s = 1; s <= nsteps_max && !rc && !stopped; s++) {
-        md.peratom = s % every == 0;
-        if ((rc = md_step(&md, e)))
-            break;
-        if (s % every)
-            continue;
-        double ke = md_kinetic_energy(&md);
-        if (!isfinite(ke) || !isfinite(md.last.energy)) {
-            rc = err_set(e, ERR_DIVERGED, "diverged: non-finite energy in the %g km/s shock at %g ps",
-                         up, md.time);
-            break;
-        }
-        shock_profile(md.p->x, 3, md.p->v, 3, md.p->n_owned, x0, h->bin, nbins, mean, count);
-        double front, lead;
-        if (shock_front_locate(mean, count, nbins, x0, h->bin, 0.5 * u, +1, min_count, &front) != 0)
-            continue;   /* not formed yet */
-        if (shock_front_locate(mean, count, nbins, x0, h->bin, 0.15 * u, +1, min_count, &lead) != 0)
-            lead = front;
-        ts[nsamp] = md.time;
-        xf[nsamp] = front;
-        xl[nsamp] = lead;
-        nsamp++;
-        double xpist = xp0 + u * md.time;
-        double row[8] = {up, (double)(*global_step + s), md.time, front, lead, md.last.energy, ke,
-                         md_temperature(&md)};
-        run_thermo_row(run, row, 8);
-        double frac = (front - xp0) / (x0 + L - xp0);
-        if (frac > 0.5) {
-            /* the middle 70 % between piston face and front */
-            double gap = front - xpist;
-            struct region_state r;
-            region_measure(&md, xpist + 0.15 * gap, front - 0.15 * gap, area, &r);
-            if (r.n > 0) {
-                for (int c = 0; c < 6; c++)
-                    Pacc[c] += r.P[c];
-                racc += r.rho;
-                Tacc += r.T;
-                uacc += r.u;
-                nmeas++;
-            }
-        }
-        if (frac > h->stop_at || nsamp >= cap)
-            stopped = 1;
-    }
+    /* the shock runs until its front has crossed stop_at of the sample (the
+     * case's stop condition) or max_time */
+    struct shock_sampler sm = {
+        .h = h, .md = &md, .run = run, .up = up, .u = u, .x0 = x0, .L = L, .xp0 = xp0,
+        .area = area, .nbins = nbins, .mean = mean, .count = count, .ts = ts, .xf = xf, .xl = xl,
+        .cap = cap, .min_count = min_count, .global_step0 = *global_step, .every = every,
+    };
+    static const struct sim_case_ops hooks = {.after_step = shock_after_step};
+    struct md_model model = {.md = &md, .peratom_every = every};
+    struct sim sim;
+    sim_init_subrun(&sim, NULL, nsteps_max, h->th.dt);
+    sim.case_ops = &hooks;
+    sim.case_state = &sm;
+    if (!rc)
+        rc = sim_add_model(&sim, &sim_model_md, &model, e);
+    if (!rc)
+        rc = sim_run(&sim, NULL, e);
+    int stopped = sim.stop;
+    long nsamp = sm.nsamp, nmeas = sm.nmeas;
+    double *Pacc = sm.Pacc, racc = sm.racc, Tacc = sm.Tacc, uacc = sm.uacc;
     o->time = md.time;
     *global_step += md.step;
     h->steps_done += md.step;
