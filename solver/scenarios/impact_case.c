@@ -356,7 +356,7 @@ static int impact_begin(void *state, struct sim *s, struct err *e)
                  "%.2f keV at %.2f km/s",
             c->ntarget, c->bnd.nfixed, c->bnd.ndamped, c->ncluster, c->cluster_radius,
             c->impact_energy * 1e-3, c->speed / 10.0);
-    rc = md_analysis_run(&c->an, md, e);
+    rc = md_analysis_run(&c->an, md->p, &md->box, md->time, md->timers, e);
     c->peak = c->an.displaced;
     c->peak_t = md->time;
     return rc;
@@ -367,7 +367,7 @@ static int impact_after_step(void *state, struct sim *s, struct err *e)
     struct impact *c = state;
     if (!md_analysis_due(&c->an, s->run, s->step, c->steps))
         return 0;
-    int rc = md_analysis_run(&c->an, &c->md, e);
+    int rc = md_analysis_run(&c->an, c->md.p, &c->md.box, c->md.time, c->md.timers, e);
     if (!rc && c->an.displaced > c->peak) {
         c->peak = c->an.displaced;
         c->peak_t = c->md.time;

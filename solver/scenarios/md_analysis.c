@@ -97,15 +97,15 @@ static int reserve(struct md_analysis *a, int n, struct err *e)
     return 0;
 }
 
-int md_analysis_run(struct md_analysis *a, struct md *md, struct err *e)
+int md_analysis_run(struct md_analysis *a, struct particles *p, const struct box *box, double time,
+                    struct timers *timers, struct err *e)
 {
-    struct particles *p = md->p;
     int n = p->n_owned;
-    if (md->timers)
-        timer_start(md->timers, TIMER_ANALYSIS);
+    if (timers)
+        timer_start(timers, TIMER_ANALYSIS);
     int rc = reserve(a, n, e);
     if (!rc)
-        rc = structure_classify_particles(&a->sp, p, &md->box, &a->fr, a->cls, e);
+        rc = structure_classify_particles(&a->sp, p, box, &a->fr, a->cls, e);
     if (rc)
         goto out;
     for (int i = 0; i < n; i++) {
@@ -157,7 +157,7 @@ int md_analysis_run(struct md_analysis *a, struct md *md, struct err *e)
     }
     double *row = a->rows + a->nrows * a->ncols;
     int k = 0;
-    row[k++] = md->time;
+    row[k++] = time;
     for (int c = 0; c < STRUCT_NCLASSES; c++)
         row[k++] = (double)a->counts[c];
     row[k++] = (double)a->displaced;
@@ -174,8 +174,8 @@ int md_analysis_run(struct md_analysis *a, struct md *md, struct err *e)
     }
     a->nrows++;
 out:
-    if (md->timers)
-        timer_stop(md->timers, TIMER_ANALYSIS);
+    if (timers)
+        timer_stop(timers, TIMER_ANALYSIS);
     return rc;
 }
 

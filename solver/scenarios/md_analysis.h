@@ -35,7 +35,9 @@
 #include "analysis/frame.h"
 #include "analysis/sputter.h"
 #include "analysis/structure.h"
-#include "md/md.h"
+#include "core/box.h"
+#include "core/particles.h"
+#include "core/timers.h"
 #include "output/run.h"
 
 /* What the case asks for besides the structure classes. */
@@ -84,8 +86,11 @@ int md_analysis_attach(struct md_analysis *a, struct particles *p,
 /* Whether step s of `total` is an analysis step (snapshot steps included). */
 int md_analysis_due(const struct md_analysis *a, const struct run *run, long s, long total);
 
-/* Analyse the current configuration, fill the fields, append a row. */
-int md_analysis_run(struct md_analysis *a, struct md *md, struct err *e);
+/* Analyse the current configuration (owned particles of p in box at
+ * `time` ps), fill the fields, append a row; timed as TIMER_ANALYSIS when
+ * timers is not NULL. */
+int md_analysis_run(struct md_analysis *a, struct particles *p, const struct box *box, double time,
+                    struct timers *timers, struct err *e);
 
 /* Series into result.json and fields.h5. */
 int md_analysis_finish(struct md_analysis *a, struct run *run, struct err *e);
