@@ -8,7 +8,7 @@
 
 #include "core/units.h"
 #include "mpm/mpm_hgrid.h"
-#include "scenarios/md_timestep.h"
+#include "md/md_timestep.h"
 
 static const char *const coarsen_names[] = {"x", "y", "xy", "z", "xz", "yz", "xyz", NULL};
 

@@ -23,7 +23,7 @@
 #include "core/units.h"
 #include "scenarios/dpd_output.h"
 #include "scenarios/dpd_setup.h"
-#include "scenarios/md_system.h"
+#include "input/md_system.h"
 
 struct dpd_case {
     struct dpd d;

@@ -76,7 +76,7 @@
 #include "scenarios/dpd_output.h"
 #include "scenarios/dpd_setup.h"
 #include "scenarios/dpd_structure.h"
-#include "scenarios/md_system.h"
+#include "input/md_system.h"
 
 #define FLYER_BIT DPD_FLYER_BIT
 

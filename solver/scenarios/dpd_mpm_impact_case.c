@@ -96,7 +96,7 @@
 #include "scenarios/dpd_output.h"
 #include "scenarios/dpd_setup.h"
 #include "scenarios/dpd_structure.h"
-#include "scenarios/md_system.h"
+#include "input/md_system.h"
 
 #define PARTNER_BIT (1u << 6)
 #define PARTNER_ID0 ((int64_t)1 << 40)

@@ -8,7 +8,7 @@
 #include "core/units.h"
 #include "scenarios/dpd_output.h"
 #include "scenarios/dpd_setup.h"
-#include "scenarios/md_system.h"
+#include "input/md_system.h"
 
 static int read_tensile(struct cfg_obj *root, struct dpd_tensile *k)
 {

@@ -74,8 +74,8 @@
 #include "core/units.h"
 #include "engine/models.h"
 #include "scenarios/case_type.h"
-#include "scenarios/md_output.h"
-#include "scenarios/md_timestep.h"
+#include "output/md_output.h"
+#include "md/md_timestep.h"
 #include "scenarios/thermal_crystal.h"
 
 #define GROUP_PISTON (1u << 1)

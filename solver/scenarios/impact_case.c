@@ -54,9 +54,9 @@
 #include "scenarios/case_type.h"
 #include "scenarios/cluster_build.h"
 #include "scenarios/impact_boundary.h"
-#include "scenarios/md_analysis.h"
-#include "scenarios/md_output.h"
-#include "scenarios/md_timestep.h"
+#include "analysis/md_analysis.h"
+#include "output/md_output.h"
+#include "md/md_timestep.h"
 
 struct impact {
     struct md md;

@@ -33,7 +33,7 @@
 #include "analysis/eos.h"
 #include "core/units.h"
 #include "scenarios/case_type.h"
-#include "scenarios/md_timestep.h"
+#include "md/md_timestep.h"
 #include "scenarios/thermal_crystal.h"
 
 struct isotherm {

@@ -29,9 +29,9 @@
 #include "md/md.h"
 #include "core/velocity.h"
 #include "scenarios/case_type.h"
-#include "scenarios/md_system.h"
-#include "scenarios/md_output.h"
-#include "scenarios/md_timestep.h"
+#include "input/md_system.h"
+#include "output/md_output.h"
+#include "md/md_timestep.h"
 
 struct md_case {
     struct md md;

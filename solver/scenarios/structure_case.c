@@ -22,7 +22,7 @@
 #include "analysis/structure.h"
 #include "core/timers.h"
 #include "scenarios/case_type.h"
-#include "scenarios/md_system.h"
+#include "input/md_system.h"
 
 struct structure_case {
     struct particles *p;

@@ -1,5 +1,5 @@
 /* md_timestep: stability bound of the MD time step. */
-#include "scenarios/md_timestep.h"
+#include "md/md_timestep.h"
 
 #include <math.h>
 #include <stdio.h>

@@ -1,5 +1,5 @@
 /* md_analysis: structure, displaced, sputtered and crater analysis of MD runs. */
-#include "scenarios/md_analysis.h"
+#include "analysis/md_analysis.h"
 
 #include <stdlib.h>
 #include <string.h>

@@ -1,5 +1,5 @@
 /* md_system: lattice / data-file / XYZ systems for MD cases. */
-#include "scenarios/md_system.h"
+#include "input/md_system.h"
 
 #include <math.h>
 #include <string.h>

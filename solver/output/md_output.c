@@ -1,5 +1,5 @@
 /* md_output: the MD run's thermo, snapshots and frames. */
-#include "scenarios/md_output.h"
+#include "output/md_output.h"
 
 #include <stdio.h>
 #include <stdlib.h>
