@@ -199,3 +199,34 @@ Test(restart, handshake_boundary_refuses_checkpoints, .timeout = 120)
     cr_assert(strstr(msg, "model 'impact_boundary' of this case cannot write checkpoints"), "%s",
               msg);
 }
+
+static void key_of(const char *yaml, char *key, size_t len)
+{
+    const char *path = th_write_temp(3, "key.yaml", yaml);
+    const char *argv[] = {th_solver(), "resolve", "--key", path, NULL};
+    char out[4096];
+    cr_assert_eq(th_run(argv, out, sizeof out), 0, "%s", out);
+    snprintf(key, len, "%.16s", out);
+}
+
+/* Asking for no checkpoints keeps the job key a case had before
+ * checkpoints existed (a campaign does not rerun its jobs); asking for
+ * them makes another job, since the extra neighbour rebuilds change
+ * round-off. */
+Test(restart, checkpoint_setting_and_the_job_key)
+{
+    char k0[32], k1[32], k2[32];
+    key_of("md: {steps: 10}\npotential: {style: sutton_chen}\n"
+           "system: {lattice: {style: fcc, a: 3.61, cells: [3, 3, 3]}, element: Cu}\n",
+           k0, sizeof k0);
+    key_of("md: {steps: 10}\npotential: {style: sutton_chen}\n"
+           "system: {lattice: {style: fcc, a: 3.61, cells: [3, 3, 3]}, element: Cu}\n"
+           "output: {checkpoint_every: 0}\n",
+           k1, sizeof k1);
+    key_of("md: {steps: 10}\npotential: {style: sutton_chen}\n"
+           "system: {lattice: {style: fcc, a: 3.61, cells: [3, 3, 3]}, element: Cu}\n"
+           "output: {checkpoint_every: 5}\n",
+           k2, sizeof k2);
+    cr_assert_str_eq(k0, k1);
+    cr_assert_str_neq(k0, k2);
+}

@@ -22,9 +22,19 @@ int output_settings_read(struct cfg_obj *root, struct output_settings *o)
     if ((rc = cfg_int(&s, "thermo_every", 100, CFG_GE(0), &o->thermo_every)) ||
         (rc = cfg_int(&s, "snapshot_every", 0, CFG_GE(0), &o->snapshot_every)) ||
         (rc = cfg_int(&s, "xyz_every", 0, CFG_GE(0), &o->xyz_every)) ||
-        (rc = cfg_bool(&s, "hdf5", 1, &o->hdf5)) ||
-        (rc = cfg_int(&s, "checkpoint_every", 0, CFG_GE(0), &o->checkpoint_every)))
+        (rc = cfg_bool(&s, "hdf5", 1, &o->hdf5)))
         return rc;
+    /* checkpoint_every enters the canonical case only when set: cases that
+     * do not ask for checkpoints keep the job keys they had before it
+     * existed (checkpoints change round-off, engine/sim.h, so a run with
+     * them is another job) */
+    o->checkpoint_every = 0;
+    if (json_object_get(s.node, "checkpoint_every")) {
+        if ((rc = cfg_int(&s, "checkpoint_every", 0, CFG_GE(0), &o->checkpoint_every)))
+            return rc;
+        if (o->checkpoint_every == 0)
+            json_object_del(s.node, "checkpoint_every");
+    }
     int has_final;
     o->final_state = NULL;
     if ((rc = cfg_string_opt(&s, "final_state", &o->final_state, &has_final)))

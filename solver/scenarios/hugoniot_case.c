@@ -73,6 +73,7 @@
 #include "analysis/structure.h"
 #include "core/units.h"
 #include "engine/models.h"
+#include "md/md_settings.h"
 #include "scenarios/case_type.h"
 #include "output/md_output.h"
 #include "md/md_timestep.h"
@@ -119,7 +120,8 @@ static void hugoniot_destroy(void *state);
 
 static int hugoniot_read(struct cfg_obj *root, const struct case_common *common, void **state)
 {
-    struct cfg_obj ho, mo, ao, so, po;
+    struct cfg_obj ho, ao, so, po;
+    struct md_settings ms;
     int rc, lat, zp;
     const char *element;
     double a, T, piston, bin, every, fstart, stop, tmax, teq, tau, c0, sref, dt, skin;
@@ -158,10 +160,10 @@ static int hugoniot_read(struct cfg_obj *root, const struct case_common *common,
                           fit[0], fit[1]);
         goto fail;
     }
-    if ((rc = cfg_section(root, "md", &mo)) ||
-        (rc = cfg_real(&mo, "timestep", 0.001, CFG_GT(0), &dt)) ||
-        (rc = cfg_real(&mo, "skin", 1.0, CFG_GT(0), &skin)) || (rc = cfg_close(&mo)))
+    if ((rc = md_settings_read(root, MD_KEY_TIMESTEP | MD_KEY_SKIN, &md_settings_defaults, &ms)))
         goto fail;
+    dt = ms.timestep;
+    skin = ms.skin;
     struct structure_params def = {lat == 0 ? STRUCT_REF_FCC : STRUCT_REF_BCC, CNA_ADAPTIVE, a, 0, 0,
                                    0, 0.15, 1};
     struct structure_params sp;

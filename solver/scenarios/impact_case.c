@@ -51,6 +51,7 @@
 #include "core/units.h"
 #include "core/velocity.h"
 #include "engine/models.h"
+#include "md/md_settings.h"
 #include "scenarios/case_type.h"
 #include "scenarios/cluster_build.h"
 #include "scenarios/impact_boundary.h"
@@ -97,7 +98,7 @@ struct impact_spec {
 
 static int read_spec(struct cfg_obj *root, struct impact_spec *s, struct impact_boundary *b)
 {
-    struct cfg_obj to, co, mo;
+    struct cfg_obj to, co;
     int rc;
     static const long cells_def[3] = {20, 20, 15};
     if ((rc = cfg_section_required(root, "target", &to)) ||
@@ -125,13 +126,18 @@ static int read_spec(struct cfg_obj *root, struct impact_spec *s, struct impact_
     }
     if ((rc = cfg_close(&co)))
         return rc;
-    if ((rc = cfg_section(root, "md", &mo)) ||
-        (rc = cfg_real(&mo, "timestep", 0.001, CFG_GT(0), &s->dt)) ||
-        (rc = cfg_int(&mo, "steps", 10000, CFG_GE(0), &s->steps)) ||
-        (rc = cfg_real(&mo, "skin", 1.0, CFG_GT(0), &s->skin)) ||
-        (rc = cfg_real(&mo, "max_displacement", 0.1, CFG_RANGE(0.001, 1.0), &s->maxdisp)) ||
-        (rc = cfg_close(&mo)))
+    /* the case's own default: the paper's 10 ps at 1 fs */
+    struct md_settings def = md_settings_defaults, ms;
+    def.steps = 10000;
+    if ((rc = md_settings_read(root,
+                               MD_KEY_TIMESTEP | MD_KEY_STEPS | MD_KEY_SKIN |
+                                   MD_KEY_MAX_DISPLACEMENT,
+                               &def, &ms)))
         return rc;
+    s->dt = ms.timestep;
+    s->steps = ms.steps;
+    s->skin = ms.skin;
+    s->maxdisp = ms.max_displacement;
     return 0;
 }
 

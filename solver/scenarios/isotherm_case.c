@@ -32,6 +32,7 @@
 
 #include "analysis/eos.h"
 #include "core/units.h"
+#include "md/md_settings.h"
 #include "scenarios/case_type.h"
 #include "md/md_timestep.h"
 #include "scenarios/thermal_crystal.h"
@@ -59,7 +60,8 @@ static void isotherm_destroy(void *state)
 
 static int isotherm_read(struct cfg_obj *root, const struct case_common *common, void **state)
 {
-    struct cfg_obj io, mo, po;
+    struct cfg_obj io, po;
+    struct md_settings ms;
     int rc, lat;
     const char *element;
     long cells;
@@ -77,12 +79,12 @@ static int isotherm_read(struct cfg_obj *root, const struct case_common *common,
         (rc = cfg_real(&io, "damping_time", 0.1, CFG_GT(0), &tau)) ||
         (rc = cfg_real(&io, "reference_b0", 133.0, CFG_GT(0), &b0)) ||
         (rc = cfg_real(&io, "reference_b0p", 5.4, CFG_ANY, &b0p)) || (rc = cfg_close(&io)) ||
-        (rc = cfg_section(root, "md", &mo)) ||
-        (rc = cfg_real(&mo, "timestep", 0.001, CFG_GT(0), &dt)) ||
-        (rc = cfg_real(&mo, "skin", 1.0, CFG_GT(0), &skin)) || (rc = cfg_close(&mo))) {
+        (rc = md_settings_read(root, MD_KEY_TIMESTEP | MD_KEY_SKIN, &md_settings_defaults, &ms))) {
         free(vr);
         return rc;
     }
+    dt = ms.timestep;
+    skin = ms.skin;
     struct potential *pot = NULL;
     if ((rc = cfg_section_required(root, "potential", &po)) || (rc = potential_create(&po, &pot))) {
         free(vr);

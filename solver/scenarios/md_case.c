@@ -3,14 +3,8 @@
  *
  *   system:    see md_system.h
  *   potential: style + the style's keys (md/potential.h)
- *   md:
- *     timestep: 0.001        ps
- *     steps: 1000
- *     temperature: 0         K, Maxwell-Boltzmann initial velocities (0: at rest)
- *     skin: 1.0              Å, neighbour-list skin
- *     thermostat: {style: none | berendsen | langevin, temperature, tau}
- *     max_energy_change: 1.0 eV/atom: an NVE run whose total energy moves more
- *                            than this has diverged
+ *   md:        timestep, steps, temperature, skin, max_energy_change,
+ *              thermostat (md/md_settings.h; the shared defaults)
  *
  * A run of 0 steps evaluates energies, forces and the pressure tensor.
  *
@@ -27,6 +21,7 @@
 #include "engine/models.h"
 #include "core/units.h"
 #include "md/md.h"
+#include "md/md_settings.h"
 #include "core/velocity.h"
 #include "scenarios/case_type.h"
 #include "input/md_system.h"
@@ -57,23 +52,17 @@ static int md_case_read(struct cfg_obj *root, const struct case_common *common, 
     int rc = md_system_read(root, common->seed, &p, &box, &info);
     if (rc)
         return rc;
-    struct cfg_obj po, mo, to;
+    struct cfg_obj po;
     struct potential *pot = NULL;
     if ((rc = cfg_section_required(root, "potential", &po)) || (rc = potential_create(&po, &pot))) {
         particles_destroy(&p);
         return rc;
     }
-    double dt, temperature, skin, max_de;
-    long steps;
-    struct thermostat th;
-    if ((rc = cfg_section(root, "md", &mo)) ||
-        (rc = cfg_real(&mo, "timestep", 0.001, CFG_GT(0), &dt)) ||
-        (rc = cfg_int(&mo, "steps", 1000, CFG_GE(0), &steps)) ||
-        (rc = cfg_real(&mo, "temperature", 0.0, CFG_GE(0), &temperature)) ||
-        (rc = cfg_real(&mo, "skin", 1.0, CFG_GT(0), &skin)) ||
-        (rc = cfg_real(&mo, "max_energy_change", 1.0, CFG_GT(0), &max_de)) ||
-        (rc = cfg_section(&mo, "thermostat", &to)) || (rc = thermostat_read(&to, &th)) ||
-        (rc = cfg_close(&mo))) {
+    struct md_settings ms;
+    if ((rc = md_settings_read(root,
+                               MD_KEY_TIMESTEP | MD_KEY_STEPS | MD_KEY_TEMPERATURE | MD_KEY_SKIN |
+                                   MD_KEY_MAX_ENERGY_CHANGE | MD_KEY_THERMOSTAT,
+                               &md_settings_defaults, &ms))) {
         particles_destroy(&p);
         potential_destroy(&pot);
         return rc;
@@ -88,9 +77,10 @@ static int md_case_read(struct cfg_obj *root, const struct case_common *common, 
         potential_destroy(&pot);
         return err_nomem(root->cfg->err, "md case");
     }
-    c->steps = steps;
-    c->temperature = temperature;
-    c->max_de = max_de;
+    c->steps = ms.steps;
+    c->temperature = ms.temperature;
+    c->max_de = ms.max_energy_change;
+    double temperature = ms.temperature;
     struct err *e = root->cfg->err;
     if (temperature > 0) {
         /* masses are needed first: bind the potential's masses */
@@ -103,8 +93,8 @@ static int md_case_read(struct cfg_obj *root, const struct case_common *common, 
         }
     }
     p->par = common->par;
-    rc = md_init(&c->md, p, &box, pot, dt, skin, common->nthreads, e);
-    c->md.thermo = th;
+    rc = md_init(&c->md, p, &box, pot, ms.timestep, ms.skin, common->nthreads, e);
+    c->md.thermo = ms.thermostat;
     c->md.seed = common->seed;
     if (!rc)
         rc = md_check_timestep(&c->md, root->cfg, "md.timestep");
