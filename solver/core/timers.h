@@ -18,6 +18,7 @@ enum timer_id {
     TIMER_MPM_G2P,
     TIMER_ANALYSIS,
     TIMER_OUTPUT,
+    TIMER_CHECKPOINT,
     TIMER_COUNT
 };
 

@@ -405,9 +405,9 @@ int sim_run(struct sim *s, const char *restart, struct err *e)
             break;
         if (s->checkpoint_every > 0 && s->step % s->checkpoint_every == 0 && s->step < s->steps &&
             !s->stop) {
-            timer_start(tm, TIMER_OUTPUT);
+            timer_start(tm, TIMER_CHECKPOINT);
             rc = write_checkpoint(s, e);
-            timer_stop(tm, TIMER_OUTPUT);
+            timer_stop(tm, TIMER_CHECKPOINT);
             if (rc)
                 break;
             /* the uninterrupted run continues from the same state a
