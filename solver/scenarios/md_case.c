@@ -42,7 +42,29 @@ struct md_case {
     long nlate, np;
     double *restored_rows;       /* thermo rows read from a checkpoint */
     long nrestored;
+    /* least-squares line through the total energy per atom against time
+     * (Welford-style running moments: no cancellation over long runs) */
+    struct energy_fit {
+        double n, mean_t, mean_e, c_te, m2_t, m2_e;
+    } fit;
 };
+
+static void energy_fit_add(struct energy_fit *f, double t, double e)
+{
+    f->n += 1.0;
+    double dt = t - f->mean_t, de = e - f->mean_e;
+    f->mean_t += dt / f->n;
+    f->mean_e += de / f->n;
+    f->c_te += dt * (e - f->mean_e);
+    f->m2_t += dt * (t - f->mean_t);
+    f->m2_e += de * (e - f->mean_e);
+}
+
+static double md_case_energy_per_atom(const struct md *md)
+{
+    long n = md->p->n_owned > 0 ? md->p->n_owned : 1;
+    return (md->last.energy + md_kinetic_energy(md)) / (double)n;
+}
 
 static int md_case_read(struct cfg_obj *root, const struct case_common *common, void **state)
 {
@@ -112,6 +134,8 @@ static int md_case_read(struct cfg_obj *root, const struct case_common *common, 
 static int md_case_begin(void *state, struct sim *s, struct err *e)
 {
     struct md_case *c = state;
+    if (s->restarted_from < 0)
+        energy_fit_add(&c->fit, c->md.time, md_case_energy_per_atom(&c->md));
     int rc = md_output_begin(&c->out, s->run, &c->md, e);
     if (!rc && s->restarted_from >= 0)
         rc = md_output_resume(&c->out, s->run, c->restored_rows, c->nrestored, e);
@@ -126,6 +150,7 @@ static int md_case_after_step(void *state, struct sim *s, struct err *e)
     struct md *md = &c->md;
     c->tsum += md_temperature(md);
     c->tcount++;
+    energy_fit_add(&c->fit, md->time, md_case_energy_per_atom(md));
     /* pressure samples of the second half of the run */
     if (s->step > c->steps / 2 && c->np < c->nlate) {
         double Ps[6];
@@ -171,6 +196,14 @@ static int md_case_report(void *state, struct sim *s, int run_rc, struct err *e)
     result_metric(res, "temperature_mean", c->tcount ? c->tsum / c->tcount : md_temperature(md),
                   "K");
     result_metric(res, "energy_drift", (pe + ke - e0) / fabs(e0 != 0 ? e0 : 1.0), "1");
+    /* the drift as a rate: slope of the fitted line, and the fluctuation
+     * about it (RMS), both per atom; the end-point difference above mixes
+     * the two */
+    const struct energy_fit *f = &c->fit;
+    double slope = f->n > 1 && f->m2_t > 0 ? f->c_te / f->m2_t : 0.0;
+    double resid = f->n > 1 ? (f->m2_e - slope * f->c_te) / f->n : 0.0;
+    result_metric(res, "energy_drift_rate", slope, "eV/atom/ps");
+    result_metric(res, "energy_fluctuation", sqrt(resid > 0 ? resid : 0.0), "eV/atom");
     result_metric(res, "pressure", (P[0] + P[1] + P[2]) / 3.0 * UNITS_EVA3_TO_GPA, "GPa");
     const char *pn[6] = {"pxx", "pyy", "pzz", "pxy", "pxz", "pyz"};
     for (int k = 0; k < 6; k++)
@@ -202,6 +235,7 @@ static int md_case_checkpoint_write(void *state, struct ckpt *ck, struct err *e)
     int rc = ckpt_put_double(ck, "temperature_sum", c->tsum);
     if (!rc) rc = ckpt_put_long(ck, "temperature_count", c->tcount);
     if (!rc) rc = ckpt_put_doubles(ck, "pressure_samples", c->plate, c->np);
+    if (!rc) rc = ckpt_put_doubles(ck, "energy_fit", &c->fit.n, 6);
     if (!rc) rc = ckpt_put_doubles(ck, "thermo_rows", c->out.series, c->out.nrows * MD_THERMO_COLS);
     return rc;
 }
@@ -211,6 +245,7 @@ static int md_case_checkpoint_read(void *state, struct ckpt *ck, struct err *e)
     struct md_case *c = state;
     int rc = ckpt_get_double(ck, "temperature_sum", &c->tsum);
     if (!rc) rc = ckpt_get_long(ck, "temperature_count", &c->tcount);
+    if (!rc) rc = ckpt_get_doubles(ck, "energy_fit", &c->fit.n, 6);
     long np = rc ? -1 : ckpt_len(ck, "pressure_samples");
     if (!rc && (np < 0 || np > c->nlate))
         rc = err_set(e, ERR_INPUT, "%s: checkpoint has %ld pressure samples, at most %ld fit",
