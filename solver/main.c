@@ -230,6 +230,10 @@ static int cmd_info(int argc, char **argv)
         fputs(usage_info, stdout);
         return 0;
     }
+    if (argc > 0) {
+        fprintf(stderr, "error: info takes no arguments, got '%s'\n%s", argv[0], usage_info);
+        return 2;
+    }
     json_t *info = provenance_json();
     json_t *types = json_object();
     for (int i = 0; case_types[i]; i++)
