@@ -5,7 +5,8 @@
  * transaction (a failing one leaves the file as it was); a database newer
  * than the program is refused; the migration files are numbered as their
  * versions; jobs.state follows the latest run through the triggers; the
- * read-only connection refuses writes; schema constraints hold; many
+ * read-only connection refuses writes (cascade query refuses a statement that
+ * may write before it runs: VACUUM INTO creates no file); schema constraints hold; many
  * processes opening one fresh file at once all succeed (the WAL switch
  * takes no busy handler).
  */
@@ -150,6 +151,26 @@ Test(campaign_db, state_follows_latest_run_and_constraints_hold)
                             "--csv", NULL),
                  0, "%s", out);
     cr_assert_str_eq(out, "n\n2\n");
+    /* a write that SQLite would refuse only after creating a file (VACUUM
+     * INTO) is refused before it runs: no file appears */
+    char copy[160], sql[256];
+    snprintf(copy, sizeof copy, "%s/copy.db", dir);
+    snprintf(sql, sizeof sql, "VACUUM INTO '%s'", copy);
+    cr_assert_eq(ct_cascade(dir, NULL, out, sizeof out, "query", sql, NULL), 2, "%s", out);
+    cr_assert_not_null(strstr(out, "read-only"), "%s", out);
+    cr_assert_neq(access(copy, F_OK), 0, "query created %s", copy);
+    /* ... also after a statement that ran (nothing of a refused script runs after it) */
+    snprintf(sql, sizeof sql, "SELECT 1 AS one; VACUUM INTO '%s'", copy);
+    cr_assert_eq(ct_cascade(dir, NULL, out, sizeof out, "query", sql, NULL), 2, "%s", out);
+    cr_assert_neq(access(copy, F_OK), 0, "query created %s", copy);
+    /* reading statements still run, and EXPLAIN of a write only describes it */
+    cr_assert_eq(ct_cascade(dir, NULL, out, sizeof out, "query", "PRAGMA table_info(runs)",
+                            "--csv", NULL),
+                 0, "%s", out);
+    snprintf(sql, sizeof sql, "EXPLAIN VACUUM INTO '%s'", copy);
+    cr_assert_eq(ct_cascade(dir, NULL, out, sizeof out, "query", sql, "--csv", NULL), 0, "%s",
+                 out);
+    cr_assert_neq(access(copy, F_OK), 0, "EXPLAIN created %s", copy);
     ct_rmrf(dir);
 }
 
