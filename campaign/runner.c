@@ -21,6 +21,8 @@ struct slot {
     long j;
     long long run_id;
     int attempt;
+    int lost;            /* our lease was taken over: stopped, not to be recorded */
+    char run_dir[4096];  /* the attempt's own directory */
 };
 
 struct run_state {
@@ -110,6 +112,34 @@ static void final_failure(struct run_state *r, long j, const char *why)
     progress_view_job(&r->view, "failed", r->p->jobs[j].key, lab, 0, why);
 }
 
+/* ${prep:KEY} of job j: the directory of the preparation job's recorded
+ * done run (the attempt whose files were checked in), looked up when the
+ * job starts. */
+struct prep_lookup {
+    struct run_state *r;
+    long j;
+    char dir[4096];
+};
+
+static const char *prep_dir(void *ctx, const char *key, struct err *e)
+{
+    struct prep_lookup *pl = ctx;
+    struct run_state *r = pl->r;
+    const struct plan_job *pj = &r->p->jobs[pl->j];
+    for (int d = 0; d < pj->ndeps; d++) {
+        long dj = pj->deps[d];
+        if (strcmp(r->p->jobs[dj].key, key) != 0)
+            continue;
+        if (store_done_dir(&r->store, r->job_ids[dj], pl->dir, sizeof pl->dir, e) != 0) {
+            err_prefix(e, "preparation job %s: ", key);
+            return NULL;
+        }
+        return pl->dir;
+    }
+    err_set(e, ERR_RUNTIME, "the case reads preparation job %s, which it does not depend on", key);
+    return NULL;
+}
+
 /* Try to start queue entry k; returns 1 when a slot was used. */
 static int try_start(struct run_state *r, long k, int slot)
 {
@@ -127,13 +157,14 @@ static int try_start(struct run_state *r, long k, int slot)
         qe->retry_at = now + 0.05;
         return 0;
     }
-    char run_dir[4096 + 300];
-    snprintf(run_dir, sizeof run_dir, "%s/%s/%s", r->o->runs_root, r->s->name, pj->key);
+    char job_dir[4096], run_dir[4096];
+    snprintf(job_dir, sizeof job_dir, "%s/%s/%s", r->o->runs_root, r->s->name, pj->key);
     double t0 = sys_mono();
     enum claim_result res;
     long long run_id = 0;
     int attempt = 0;
-    if (store_claim(&r->store, r->job_ids[j], run_dir, &res, &run_id, &attempt, r->e) != 0) {
+    if (store_claim(&r->store, r->job_ids[j], job_dir, &res, &run_id, &attempt, run_dir,
+                    sizeof run_dir, r->e) != 0) {
         r->fatal = 1;
         return 0;
     }
@@ -168,7 +199,8 @@ static int try_start(struct run_state *r, long k, int slot)
         break;
     }
     struct launch_spec L;
-    int rc = launch_build(&L, r->s, r->sv, r->o->runs_root, pj->key, pj->case_json, r->e);
+    struct prep_lookup pl = {r, j, ""};
+    int rc = launch_build(&L, r->s, r->sv, run_dir, pj->key, pj->case_json, prep_dir, &pl, r->e);
     if (!rc) {
         L.job_id = r->job_ids[j];
         L.run_id = run_id;
@@ -185,7 +217,7 @@ static int try_start(struct run_state *r, long k, int slot)
         sys_hostname(o.host, sizeof o.host);
         snprintf(o.message, sizeof o.message, "could not start: %s", r->e->msg);
         int lost;
-        if (store_finish(&r->store, r->job_ids[j], run_id, &o, &lost, r->e) != 0)
+        if (store_finish(&r->store, r->job_ids[j], run_id, run_dir, &o, &lost, r->e) != 0)
             r->fatal = 1;
         qe->j = -1;
         final_failure(r, j, o.message);
@@ -195,7 +227,9 @@ static int try_start(struct run_state *r, long k, int slot)
     r->sum->start_s += sys_mono() - t0;
     r->sum->started++;
     r->mem[j] = M_RUNNING;
-    r->slots[slot] = (struct slot){1, j, run_id, attempt};
+    struct slot *sl = &r->slots[slot];
+    *sl = (struct slot){1, j, run_id, attempt, 0, ""};
+    snprintf(sl->run_dir, sizeof sl->run_dir, "%s", run_dir);
     r->running++;
     r->view.running = r->running;
     progress_view_tick(&r->view, 1);
@@ -252,8 +286,10 @@ static void on_done(void *ctx, int slot, struct outcome *o)
     long j = sl->j;
     int lost = 0;
     double t0 = sys_mono();
-    if (store_finish(&r->store, r->job_ids[j], sl->run_id, o, &lost, r->e) != 0)
+    if (store_finish(&r->store, r->job_ids[j], sl->run_id, sl->run_dir, o, &lost, r->e) != 0)
         r->fatal = 1;
+    if (r->store.note[0])
+        progress_view_note(&r->view, "%s: %s", r->p->jobs[j].key, r->store.note);
     r->sum->record_s += sys_mono() - t0 + o->collect_s;
     if (!lost)
         r->sum->metric_rows += r->store.last_metric_rows;
@@ -266,8 +302,9 @@ static void on_done(void *ctx, int slot, struct outcome *o)
     const char *status = run_status_name(o->status);
     if (lost) {
         r->mem[j] = M_ELSEWHERE;
-        progress_view_note(&r->view, "%s: our lease expired and another runner took the job; "
-                                     "this result is not recorded", r->p->jobs[j].key);
+        if (!sl->lost)   /* else drop_lost_leases said so when it stopped the job */
+            progress_view_note(&r->view, "%s: our lease expired and another runner took the "
+                                         "job; this result is not recorded", r->p->jobs[j].key);
         push(r, j, sys_mono() + r->o->poll_s);
     } else if (o->status == RS_DONE) {
         r->mem[j] = M_DONE;
@@ -290,6 +327,33 @@ static void on_done(void *ctx, int slot, struct outcome *o)
         progress_view_job(&r->view, status, r->p->jobs[j].key, lab, o->wall_s, o->message);
     }
     outcome_free(o);
+}
+
+/* A runner frozen past its lease (SIGSTOP, a suspended VM, a long stall)
+ * may find on waking that another runner took its jobs over: their solvers
+ * are stopped at once and nothing of them is recorded (store_finish finds
+ * the lease gone).  They wrote only their own attempt directories. */
+static void drop_lost_leases(struct run_state *r)
+{
+    for (int i = 0; i < r->b->nslots; i++) {
+        struct slot *sl = &r->slots[i];
+        if (!sl->busy || sl->lost)
+            continue;
+        int held = 1;
+        struct err e = {0};
+        if (store_lease_held(&r->store, r->job_ids[sl->j], sl->run_id, &held, &e) != 0) {
+            progress_view_note(&r->view, "cannot check the lease of %s: %s",
+                               r->p->jobs[sl->j].key, e.msg);
+            continue;
+        }
+        if (held)
+            continue;
+        sl->lost = 1;
+        progress_view_note(&r->view, "%s: our lease expired and another runner took the job; "
+                                     "stopping attempt %d, nothing of it is recorded",
+                           r->p->jobs[sl->j].key, sl->attempt);
+        r->b->cancel(r->b, i);
+    }
 }
 
 static void cancel_all(struct run_state *r)
@@ -396,6 +460,8 @@ int runner_run(const struct study *s, const struct plan *p, const struct solver 
             struct err he = {0};
             if (store_heartbeat(&r.store, &he) != 0)
                 progress_view_note(&r.view, "heartbeat failed: %s", he.msg);
+            else
+                drop_lost_leases(&r);
             next_beat = sys_mono() + o->lease_s / 3.0;
         }
         progress_view_tick(&r.view, 0);

@@ -7,6 +7,7 @@
 #include <unistd.h>
 
 #include "db.h"
+#include "launch.h"
 #include "sysinfo.h"
 
 enum {
@@ -23,6 +24,7 @@ enum {
     Q_ARTIFACT_INSERT,
     Q_LEASE_DELETE,
     Q_HEARTBEAT,
+    Q_DONE_DIR,
     Q_COUNT
 };
 
@@ -51,6 +53,10 @@ static const char *const queries[Q_COUNT] = {
                           "VALUES (?1, ?2, ?3, ?4, ?5)",
     [Q_LEASE_DELETE] = "DELETE FROM leases WHERE job_id = ?1 AND run_id = ?2",
     [Q_HEARTBEAT] = "UPDATE leases SET expires = ?2 WHERE runner = ?1",
+    [Q_DONE_DIR] = "SELECT run_dir FROM runs WHERE job_id = ?1 AND status = 'done' "
+                   "AND solver_version = ?2 AND solver_git = ?3 "
+                   "AND attempt > (SELECT retry_after FROM jobs WHERE id = ?1) "
+                   "ORDER BY attempt DESC LIMIT 1",
 };
 
 int store_init(struct store *st, sqlite3 *db, const struct study *s, const struct solver *sv,
@@ -379,8 +385,9 @@ static int drop_lease(sqlite3 *db, long long job_id, struct err *e)
     return db_exec(db, sql, e);
 }
 
-int store_claim(struct store *st, long long job_id, const char *run_dir, enum claim_result *res,
-                long long *run_id, int *attempt, struct err *e)
+int store_claim(struct store *st, long long job_id, const char *job_dir, enum claim_result *res,
+                long long *run_id, int *attempt, char *run_dir, size_t run_dir_len,
+                struct err *e)
 {
     sqlite3 *db = st->db;
     int rc = db_begin(db, e);
@@ -419,6 +426,7 @@ int store_claim(struct store *st, long long job_id, const char *run_dir, enum cl
     sqlite3_step(s);
     *attempt = sqlite3_column_int(s, 0);
     sqlite3_reset(s);
+    launch_attempt_dir(job_dir, *attempt, run_dir, run_dir_len);
     char now[40];
     double t = sys_now();
     sys_iso_time(t, now, sizeof now);
@@ -469,12 +477,13 @@ static int wanted(const struct store *st, const char *name)
     return 0;
 }
 
-int store_finish(struct store *st, long long job_id, long long run_id, const struct outcome *o,
-                 int *lost, struct err *e)
+int store_finish(struct store *st, long long job_id, long long run_id, const char *run_dir,
+                 const struct outcome *o, int *lost, struct err *e)
 {
     sqlite3 *db = st->db;
     *lost = 0;
     st->last_metric_rows = 0;
+    st->note[0] = '\0';
     int rc = db_begin(db, e);
     if (rc)
         return rc;
@@ -573,6 +582,12 @@ int store_finish(struct store *st, long long job_id, long long run_id, const str
             rc = db_fail(db, e, "releasing the lease");
         sqlite3_reset(s);
     }
+    /* The link is a convenience (runs.run_dir is the record): a failure to
+     * write it does not lose the outcome.  Written while this transaction
+     * holds the write lock, so no later attempt can be recorded before it. */
+    struct err le = {0};
+    if (!rc && run_dir && launch_point_current(run_dir, &le) != 0)
+        snprintf(st->note, sizeof st->note, "%s", le.msg);
     if (!rc)
         rc = db_commit(db, e);
     if (rc)
@@ -588,6 +603,40 @@ int store_heartbeat(struct store *st, struct err *e)
     int rc = sqlite3_step(s) == SQLITE_DONE ? 0 : db_fail(st->db, e, "heartbeat");
     sqlite3_reset(s);
     return rc;
+}
+
+int store_lease_held(struct store *st, long long job_id, long long run_id, int *held,
+                     struct err *e)
+{
+    sqlite3_stmt *s = q(st, Q_LEASE_GET);
+    sqlite3_bind_int64(s, 1, job_id);
+    int r = sqlite3_step(s);
+    if (r != SQLITE_ROW && r != SQLITE_DONE) {
+        sqlite3_reset(s);
+        return db_fail(st->db, e, "looking at a lease");
+    }
+    *held = r == SQLITE_ROW && strcmp((const char *)sqlite3_column_text(s, 0), st->runner) == 0 &&
+            sqlite3_column_int64(s, 2) == run_id;
+    sqlite3_reset(s);
+    return 0;
+}
+
+int store_done_dir(struct store *st, long long job_id, char *dir, size_t len, struct err *e)
+{
+    sqlite3_stmt *s = q(st, Q_DONE_DIR);
+    sqlite3_bind_int64(s, 1, job_id);
+    bind_text(s, 2, st->solver_version);
+    bind_text(s, 3, st->solver_git);
+    int r = sqlite3_step(s);
+    if (r == SQLITE_ROW)
+        snprintf(dir, len, "%s", (const char *)sqlite3_column_text(s, 0));
+    sqlite3_reset(s);
+    if (r == SQLITE_ROW)
+        return 0;
+    if (r != SQLITE_DONE)
+        return db_fail(st->db, e, "looking up a preparation job's run directory");
+    return err_set(e, ERR_RUNTIME, "the preparation job has no done run for this solver "
+                                   "(retried meanwhile?)");
 }
 
 int store_reap(struct store *st, int *n, struct err *e)

@@ -8,12 +8,14 @@
  * Case schema (every key optional):
  *   type: fake   seed: 1   title: ""
  *   fake:
- *     action: ok | sleep | crash | hang | exit | diverge | fail_once | env
+ *     action: ok | sleep | crash | hang | exit | diverge | fail_once | env | slow_once
  *     seconds: 0        # sleep first (every action)
  *     code: 3           # exit code for 'exit'
  *     x: 0.0, y: 0.0    # inputs of the metrics x_squared = x^2, sum = x + y
  *     metrics: 0        # extra metrics m0..m{n-1} (for the speed test)
  *     flag: ""          # fail_once: exit 3 unless this file exists (then create it... see below)
+ *                       # slow_once: sleep `seconds` only when it does not exist (creating
+ *                       # it first), so a second attempt is quick; writes solver.pid
  *     ignore_term: false  # hang: ignore SIGTERM too (the runner must escalate)
  *     read: ""          # a file that must exist; its size becomes metric read_bytes
  *     write: ""         # a file to write into the output directory
@@ -34,9 +36,9 @@
 
 extern char **environ;
 
-static const char *const actions[] = {"ok",      "sleep",     "crash", "hang", "exit",
-                                      "diverge", "fail_once", "env",   NULL};
-enum { A_OK, A_SLEEP, A_CRASH, A_HANG, A_EXIT, A_DIVERGE, A_FAIL_ONCE, A_ENV };
+static const char *const actions[] = {"ok",      "sleep",     "crash", "hang",      "exit",
+                                      "diverge", "fail_once", "env",   "slow_once", NULL};
+enum { A_OK, A_SLEEP, A_CRASH, A_HANG, A_EXIT, A_DIVERGE, A_FAIL_ONCE, A_ENV, A_SLOW_ONCE };
 
 struct fake_case {
     long seed;
@@ -192,8 +194,23 @@ static int cmd_run(int argc, char **argv)
     }
     mkdir(out, 0777);
     fprintf(stderr, "fake-solver: %s action %s\n", file, actions[fc.action]);
-    if (fc.seconds > 0)
-        nap(fc.seconds);
+    double seconds = fc.seconds;
+    if (fc.action == A_SLOW_ONCE) {
+        char path[4096 + 32];
+        snprintf(path, sizeof path, "%s/solver.pid", out);
+        FILE *f = fopen(path, "w");
+        if (f) {
+            fprintf(f, "%d\n", (int)getpid());
+            fclose(f);
+        }
+        if (access(fc.flag, F_OK) == 0) {
+            seconds = 0;
+        } else if ((f = fopen(fc.flag, "w"))) {
+            fclose(f);
+        }
+    }
+    if (seconds > 0)
+        nap(seconds);
     int code = 0;
     if (fc.read[0] && access(fc.read, R_OK) != 0) {
         fprintf(stderr, "error: %s: cannot read '%s'\n", file, fc.read);
