@@ -276,7 +276,7 @@ static int job_retry_after(struct store *st, long long job_id, long long *ra, st
     sqlite3_bind_int64(s, 1, job_id);
     if (sqlite3_step(s) != SQLITE_ROW) {
         sqlite3_reset(s);
-        return err_set(e, ERR_RUNTIME, "database: no job %lld", job_id);
+        return db_err(st->db, e, ERR_RUNTIME, "no job %lld", job_id);
     }
     *ra = sqlite3_column_int64(s, 0);
     sqlite3_reset(s);
@@ -635,8 +635,8 @@ int store_done_dir(struct store *st, long long job_id, char *dir, size_t len, st
         return 0;
     if (r != SQLITE_DONE)
         return db_fail(st->db, e, "looking up a preparation job's run directory");
-    return err_set(e, ERR_RUNTIME, "the preparation job has no done run for this solver "
-                                   "(retried meanwhile?)");
+    return db_err(st->db, e, ERR_RUNTIME, "the preparation job has no done run for this solver "
+                                          "(retried meanwhile?)");
 }
 
 int store_reap(struct store *st, int *n, struct err *e)

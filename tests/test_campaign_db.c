@@ -8,11 +8,14 @@
  * read-only connection refuses writes (cascade query refuses a statement that
  * may write before it runs: VACUUM INTO creates no file); schema constraints hold; many
  * processes opening one fresh file at once all succeed (the WAL switch
- * takes no busy handler).
+ * takes no busy handler).  A database cascade may not write is refused at
+ * once, naming the file (every error of the db layer names it).
  */
 #include <criterion/criterion.h>
 #include <stdio.h>
 #include <string.h>
+#include <sys/stat.h>
+#include <time.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -214,4 +217,32 @@ Test(campaign_db, concurrent_first_opens_all_succeed, .timeout = 120)
         cr_assert_eq(failed, 0, "round %d: %d of %d concurrent opens failed", round, failed, NPROC);
         ct_rmrf(dir);
     }
+}
+
+Test(campaign_db, read_only_database_is_named, .timeout = 60)
+{
+    char dir[64], out[16384], db_path[128];
+    ct_mkdir(dir, sizeof dir);
+    cr_assert_eq(chmod(dir, 0755), 0);   /* the unprivileged run reads the study */
+    ct_write(0, dir, "ro.yaml", "name: ro\nbase: {fake: {x: 1}}\n");
+    cr_assert_eq(ct_cascade(dir, NULL, out, sizeof out, "run", "ro.yaml", "--solver", ct_standin(),
+                            NULL),
+                 0, "%s", out);
+    snprintf(db_path, sizeof db_path, "%s/cascade.db", dir);
+    cr_assert_eq(chmod(db_path, 0444), 0);
+    /* as root, file permissions stop nothing: the run drops to nobody, who
+     * may not write the database (nor create its journal in dir) */
+    struct timespec t0, t1;
+    clock_gettime(CLOCK_MONOTONIC, &t0);
+    int rc = ct_cascade_unprivileged(dir, out, sizeof out, "run", "ro.yaml", "--solver",
+                                     ct_standin(), NULL);
+    clock_gettime(CLOCK_MONOTONIC, &t1);
+    cr_assert_eq(rc, 1, "%s", out);
+    /* at once: waiting out the busy timeout would not make the file writable */
+    double took = (double)(t1.tv_sec - t0.tv_sec) + 1e-9 * (double)(t1.tv_nsec - t0.tv_nsec);
+    cr_assert_lt(took, 10.0, "took %.1f s", took);
+    char want[192];
+    snprintf(want, sizeof want, "database %s: cannot open for writing (read-only", db_path);
+    cr_assert_not_null(strstr(out, want), "%s", out);
+    ct_rmrf(dir);
 }
