@@ -164,7 +164,9 @@ int launch_mkdirs(const char *path, struct err *e)
     int err = mkdir_one(path, e);
     if (err == 0)
         return 0;
-    if (err != ENOENT)
+    /* a missing parent, or a file where a parent should be: walk down from
+     * the root, so the message names the component that is in the way */
+    if (err != ENOENT && err != ENOTDIR)
         return ERR_RUNTIME;
     char buf[4096];
     snprintf(buf, sizeof buf, "%s", path);

@@ -46,6 +46,9 @@ struct run_state {
     struct runner_summary *sum;
     struct err *e;
     int fatal;           /* a database error during recording */
+    int infra_streak;    /* infrastructure failures in a row */
+    int infra_stop;      /* stopped for them (e says why) */
+    double pause_until;  /* monotonic: start nothing before (backoff) */
 };
 
 static int push(struct run_state *r, long j, double at)
@@ -140,6 +143,38 @@ static const char *prep_dir(void *ctx, const char *key, struct err *e)
     return NULL;
 }
 
+/* An attempt at job j failed for reasons outside the job (recorded as
+ * such): pause, try the job again, or stop after too many in a row --
+ * a full disk or a missing solver fails every job the same way, and
+ * charging them would use up their retries in seconds. */
+static void infra_failure(struct run_state *r, long j, int attempt, const char *why)
+{
+    char lab[512];
+    label(r, j, lab, sizeof lab);
+    r->mem[j] = M_QUEUED;
+    r->infra_streak++;
+    if (r->infra_streak >= r->o->infra_limit) {
+        if (!r->infra_stop) {
+            r->infra_stop = 1;
+            r->stopping = 1;
+            err_set(r->e, ERR_RUNTIME,
+                    "stopped after %d infrastructure failures in a row (none was charged to a "
+                    "job; fix the cause and run again); the last, %s attempt %d: %s",
+                    r->infra_streak, r->p->jobs[j].key, attempt, why);
+            progress_view_note(&r->view, "%s", r->e->msg);
+        }
+        return;
+    }
+    double backoff = r->o->infra_backoff_s;
+    for (int k = 1; k < r->infra_streak; k++)
+        backoff *= 2;
+    r->pause_until = sys_mono() + backoff;
+    progress_view_note(&r->view, "%s (%s), attempt %d: infrastructure failure, not charged to "
+                                 "the job: %s; starting nothing for %.1f s",
+                       r->p->jobs[j].key, lab, attempt, why, backoff);
+    push(r, j, r->pause_until);
+}
+
 /* Try to start queue entry k; returns 1 when a slot was used. */
 static int try_start(struct run_state *r, long k, int slot)
 {
@@ -192,8 +227,8 @@ static int try_start(struct run_state *r, long k, int slot)
         return 0;
     case CLAIM_EXHAUSTED:
         qe->j = -1;
-        final_failure(r, j, "not run again: it diverged or failed as often as the study allows "
-                            "(cascade retry STUDY to run it anyway)");
+        final_failure(r, j, "not run again: it diverged, crashed the same way twice or failed "
+                            "as often as the study allows (cascade retry STUDY to run it anyway)");
         return 0;
     case CLAIM_OK:
         break;
@@ -208,19 +243,21 @@ static int try_start(struct run_state *r, long k, int slot)
         launch_free(&L);
     }
     if (rc) {
-        /* record the failure to start as the attempt's outcome */
+        /* record the failure to start as the attempt's outcome: the
+         * environment's failure, not the job's */
         struct outcome o;
-        memset(&o, 0, sizeof o);
-        o.status = RS_FAILED;
-        o.exit_code = -1;
-        o.started = o.finished = sys_now();
-        sys_hostname(o.host, sizeof o.host);
-        snprintf(o.message, sizeof o.message, "could not start: %s", r->e->msg);
+        outcome_start_failure(&o, r->e->msg);
+        err_clear(r->e);
         int lost;
-        if (store_finish(&r->store, r->job_ids[j], run_id, run_dir, &o, &lost, r->e) != 0)
-            r->fatal = 1;
         qe->j = -1;
-        final_failure(r, j, o.message);
+        if (store_finish(&r->store, r->job_ids[j], run_id, run_dir, &o, &lost, r->e) != 0) {
+            r->fatal = 1;
+        } else if (lost) {
+            r->mem[j] = M_ELSEWHERE;
+            push(r, j, sys_mono() + r->o->poll_s);
+        } else {
+            infra_failure(r, j, attempt, o.message);
+        }
         return 0;
     }
     qe->j = -1;
@@ -236,14 +273,22 @@ static int try_start(struct run_state *r, long k, int slot)
     return 1;
 }
 
+static int paused(const struct run_state *r, double now)
+{
+    return r->stopping || r->fatal || now < r->pause_until;
+}
+
 static void fill_slots(struct run_state *r)
 {
-    if (r->stopping || r->fatal)
-        return;
     double now = sys_mono();
+    if (paused(r, now))
+        return;
+    /* after an infrastructure failure one job at a time probes whether the
+     * machine works again, rather than every slot failing at once */
+    int limit = r->infra_streak > 0 ? 1 : r->b->nslots;
     while (r->head < r->qn && r->q[r->head].j < 0)
         r->head++;
-    for (long k = r->head; k < r->qn && r->running < r->b->nslots && !r->fatal; k++) {
+    for (long k = r->head; k < r->qn && r->running < limit && !paused(r, now); k++) {
         if (r->q[k].j < 0 || r->q[k].retry_at > now)
             continue;
         int slot = 0;
@@ -300,12 +345,17 @@ static void on_done(void *ctx, int slot, struct outcome *o)
     char lab[512];
     label(r, j, lab, sizeof lab);
     const char *status = run_status_name(o->status);
+    /* an attempt that ran to an outcome of its own shows the machine works */
+    if (!lost && o->failure != FC_INFRA && o->status != RS_CANCELLED)
+        r->infra_streak = 0;
     if (lost) {
         r->mem[j] = M_ELSEWHERE;
         if (!sl->lost)   /* else drop_lost_leases said so when it stopped the job */
             progress_view_note(&r->view, "%s: our lease expired and another runner took the "
                                          "job; this result is not recorded", r->p->jobs[j].key);
         push(r, j, sys_mono() + r->o->poll_s);
+    } else if (o->failure == FC_INFRA) {
+        infra_failure(r, j, sl->attempt, o->message);
     } else if (o->status == RS_DONE) {
         r->mem[j] = M_DONE;
         r->sum->done++;
@@ -443,6 +493,8 @@ int runner_run(const struct study *s, const struct plan *p, const struct solver 
         double now = sys_mono(), wait = 0.5;
         if (r.running == 0) {
             double t = next_retry(&r);
+            if (t >= 0 && t < r.pause_until)
+                t = r.pause_until;
             wait = t < 0 ? 0.1 : t - now;
             if (wait > 1.0)
                 wait = 1.0;
@@ -483,5 +535,5 @@ int runner_run(const struct study *s, const struct plan *p, const struct solver 
     free(r.dep_verdict);
     free(r.slots);
     free(r.q);
-    return r.fatal ? ERR_RUNTIME : 0;
+    return r.fatal || r.infra_stop ? ERR_RUNTIME : 0;
 }

@@ -51,7 +51,8 @@ enum claim_result {
     CLAIM_LEASED,     /* a live runner has it */
     CLAIM_WAIT,       /* a preparation job it needs is not done yet */
     CLAIM_BLOCKED,    /* a preparation job it needs failed for good */
-    CLAIM_EXHAUSTED,  /* failed as often as the study allows, or diverged */
+    CLAIM_EXHAUSTED,  /* failed as often as the study allows, diverged, or crashed
+                         deterministically (infrastructure failures never count) */
 };
 
 /* On CLAIM_OK: the new run's id, attempt number and directory (job_dir is
@@ -63,9 +64,12 @@ int store_claim(struct store *st, long long job_id, const char *job_dir, enum cl
 /* Record an outcome and point the job's `current` link at run_dir, in the
  * transaction (so the link follows the order in which attempts were
  * recorded).  *lost is set when the lease was no longer ours (the job was
- * taken over after our lease expired): nothing is recorded or linked then. */
+ * taken over after our lease expired): nothing is recorded or linked then.
+ * A crash that repeats an earlier one of the job is reclassified
+ * deterministic here (o->failure, o->message), as only the database knows
+ * the earlier runs. */
 int store_finish(struct store *st, long long job_id, long long run_id, const char *run_dir,
-                 const struct outcome *o, int *lost, struct err *e);
+                 struct outcome *o, int *lost, struct err *e);
 
 /* Extend this runner's leases. */
 int store_heartbeat(struct store *st, struct err *e);

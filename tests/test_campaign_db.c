@@ -177,6 +177,63 @@ Test(campaign_db, state_follows_latest_run_and_constraints_hold)
     ct_rmrf(dir);
 }
 
+/* Version 3 classes the failures recorded before it: a failure to start
+ * (now cancelled, so the job runs again) and a run whose runner went away
+ * were the infrastructure's, every other failure the job's. */
+Test(campaign_db, failure_classes_of_earlier_runs)
+{
+    char dir[64], path[128];
+    ct_mkdir(dir, sizeof dir);
+    snprintf(path, sizeof path, "%s/v2.db", dir);
+    sqlite3 *db;
+    cr_assert_eq(sqlite3_open(path, &db), SQLITE_OK);
+    int n;
+    const struct db_migration *list = db_migrations(&n);
+    cr_assert_geq(n, 3);
+    cr_assert_str_eq(list[2].name, "0003_failure_class.sql");
+    struct err e = {0};
+    cr_assert_eq(db_migrate(db, list, 2, &e), 0, "%s", e.msg);
+    cr_assert_eq(db_exec(db,
+                         "INSERT INTO studies (id, name, spec_path, spec_text, spec_hash, created, "
+                         "updated) VALUES (1, 's', '/s.yaml', 'x', 'h', 't', 't');"
+                         "INSERT INTO jobs (id, study_id, key, kind, seq, params, case_json) "
+                         "VALUES (1, 1, 'k', 'sweep', 0, '{}', '{}');"
+                         "INSERT INTO runs (job_id, attempt, status, message, started, host, "
+                         "runner, launcher, solver_version, solver_git, run_dir) VALUES "
+                         "(1, 1, 'failed', 'could not start: cannot write /r/case.yaml', 't', "
+                         "'h', 'r', 'local', 'v', 'g', '/d'),"
+                         "(1, 2, 'failed', 'exit 3: bad', 't', 'h', 'r', 'local', 'v', 'g', '/d'),"
+                         "(1, 3, 'crashed', 'crashed: killed by signal 11 (Segmentation fault)', "
+                         "'t', 'h', 'r', 'local', 'v', 'g', '/d'),"
+                         "(1, 4, 'cancelled', 'runner h:1:2 is gone (killed?); the job will run "
+                         "again', 't', 'h', 'r', 'local', 'v', 'g', '/d'),"
+                         "(1, 5, 'cancelled', 'cancelled: the runner was asked to stop', 't', "
+                         "'h', 'r', 'local', 'v', 'g', '/d'),"
+                         "(1, 6, 'done', NULL, 't', 'h', 'r', 'local', 'v', 'g', '/d');",
+                         &e),
+                 0, "%s", e.msg);
+    cr_assert_eq(db_migrate(db, list, n, &e), 0, "%s", e.msg);
+    const char *want[][2] = {{"cancelled", "infrastructure"}, {"failed", "job"},
+                             {"crashed", "job"},           {"cancelled", "infrastructure"},
+                             {"cancelled", ""},            {"done", ""}};
+    for (int a = 1; a <= 6; a++) {
+        char sql[128], got[64], expect[64];
+        snprintf(sql, sizeof sql,
+                 "SELECT status || ' ' || coalesce(failure_class, '') FROM runs WHERE attempt = %d",
+                 a);
+        ct_text(db, sql, got, sizeof got);
+        snprintf(expect, sizeof expect, "%s %s", want[a - 1][0], want[a - 1][1]);
+        cr_assert_str_eq(got, expect, "attempt %d", a);
+    }
+    /* the new column takes only the three classes; job_status shows it */
+    cr_assert_neq(db_exec(db, "UPDATE runs SET failure_class = 'weird' WHERE attempt = 1", &e), 0);
+    cr_assert_eq(ct_int(db, "SELECT count(*) FROM job_status WHERE failure_class IS NULL "
+                            "AND state = 'done'"),
+                 1);
+    sqlite3_close(db);
+    ct_rmrf(dir);
+}
+
 /* Runners started together race to create and convert the same file. */
 Test(campaign_db, concurrent_first_opens_all_succeed, .timeout = 120)
 {

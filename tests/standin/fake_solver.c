@@ -11,6 +11,11 @@
  *     action: ok | sleep | crash | hang | exit | diverge | fail_once | env | slow_once
  *     seconds: 0        # sleep first (every action)
  *     code: 3           # exit code for 'exit'
+ *     message: ""       # exit: a line for stderr before exiting
+ *     signal: 11        # crash: the signal it kills itself with
+ *     steps: 0          # crash: thermo.csv rows (a "step" column, 1..steps) written first
+ *     counter: ""       # crash: a file counting its runs; each earlier run adds a row,
+ *                       # so every attempt crashes at a later step
  *     x: 0.0, y: 0.0    # inputs of the metrics x_squared = x^2, sum = x + y
  *     metrics: 0        # extra metrics m0..m{n-1} (for the speed test)
  *     flag: ""          # fail_once: exit 3 unless this file exists (then create it... see below)
@@ -44,9 +49,9 @@ struct fake_case {
     long seed;
     int action;
     double seconds, x, y;
-    long code, metrics;
+    long code, metrics, signal, steps;
     int ignore_term;
-    const char *flag, *read, *write;
+    const char *flag, *read, *write, *message, *counter;
 };
 
 static int fake_read(struct cfg *c, json_t *doc, struct fake_case *fc)
@@ -61,6 +66,10 @@ static int fake_read(struct cfg *c, json_t *doc, struct fake_case *fc)
         (rc = cfg_enum(&f, "action", "ok", actions, &fc->action)) ||
         (rc = cfg_real(&f, "seconds", 0.0, CFG_GE(0), &fc->seconds)) ||
         (rc = cfg_int(&f, "code", 3, CFG_RANGE(0, 255), &fc->code)) ||
+        (rc = cfg_string(&f, "message", "", &fc->message)) ||
+        (rc = cfg_int(&f, "signal", SIGSEGV, CFG_RANGE(1, 64), &fc->signal)) ||
+        (rc = cfg_int(&f, "steps", 0, CFG_RANGE(0, 1000000), &fc->steps)) ||
+        (rc = cfg_string(&f, "counter", "", &fc->counter)) ||
         (rc = cfg_real(&f, "x", 0.0, CFG_ANY, &fc->x)) ||
         (rc = cfg_real(&f, "y", 0.0, CFG_ANY, &fc->y)) ||
         (rc = cfg_int(&f, "metrics", 0, CFG_RANGE(0, 1000000), &fc->metrics)) ||
@@ -227,11 +236,39 @@ static int cmd_run(int argc, char **argv)
     }
     if (!code) {
         switch (fc.action) {
-        case A_CRASH:
+        case A_CRASH: {
+            long steps = fc.steps;
+            if (fc.counter[0]) {
+                long runs = 0;
+                FILE *f = fopen(fc.counter, "r");
+                if (f) {
+                    if (fscanf(f, "%ld", &runs) != 1)
+                        runs = 0;
+                    fclose(f);
+                }
+                if ((f = fopen(fc.counter, "w"))) {
+                    fprintf(f, "%ld\n", runs + 1);
+                    fclose(f);
+                }
+                steps += runs;
+            }
+            if (steps > 0) {
+                /* as the solver writes it: a comment, the header, flushed rows */
+                char path[4096 + 32];
+                snprintf(path, sizeof path, "%s/thermo.csv", out);
+                FILE *f = fopen(path, "w");
+                if (f) {
+                    fprintf(f, "# fake-solver\ntime_ps,step,pe_eV\n");
+                    for (long k = 1; k <= steps; k++)
+                        fprintf(f, "%g,%ld,%g\n", 0.001 * (double)k, k, -1.0 * (double)k);
+                    fclose(f);
+                }
+            }
             fprintf(stderr, "fake-solver: crashing now\n");
-            signal(SIGSEGV, SIG_DFL);
-            kill(getpid(), SIGSEGV);
+            signal((int)fc.signal, SIG_DFL);
+            kill(getpid(), (int)fc.signal);
             break;
+        }
         case A_HANG: {
             if (fc.ignore_term)
                 signal(SIGTERM, SIG_IGN);
@@ -252,6 +289,8 @@ static int cmd_run(int argc, char **argv)
                 pause();
         }
         case A_EXIT:
+            if (fc.message[0])
+                fprintf(stderr, "%s\n", fc.message);
             fprintf(stderr, "fake-solver: exiting with code %ld as asked\n", fc.code);
             code = (int)fc.code;
             break;
