@@ -17,6 +17,9 @@
  * running jobs finish.
  * A job leased by another live runner is left to it and looked at again
  * later, so every runner of a study returns when the study is complete.
+ * A runner that finds at a heartbeat that it lost a lease (it was frozen
+ * past it and another runner took the job over) stops that attempt and
+ * records nothing of it; the attempt wrote only its own directory.
  *
  * Signals: the first SIGINT stops claiming and lets running jobs finish; a
  * second SIGINT, or SIGTERM/SIGHUP, cancels them (recorded 'cancelled').
