@@ -151,9 +151,12 @@ static int write_result(const char *dir, json_t *doc, const char *status, const 
     }
     char key[CANON_KEY_LEN + 1];
     canon_key(doc, key);
-    json_t *r = json_pack("{s:s, s:o, s:{s:s, s:s}, s:s, s:{s:f}}", "status", status, "metrics",
-                          metrics, "provenance", "version", version(), "git_hash", "standin",
-                          "case_key", key, "timing", "peak_rss_mib", 1.0);
+    /* like the solver's timings, the pid makes every run's file its own, so
+     * a file one attempt overwrote in another's directory would show */
+    json_t *r = json_pack("{s:s, s:o, s:{s:s, s:s}, s:s, s:{s:f, s:i}}", "status", status,
+                          "metrics", metrics, "provenance", "version", version(), "git_hash",
+                          "standin", "case_key", key, "timing", "peak_rss_mib", 1.0, "pid",
+                          (int)getpid());
     if (message)
         json_object_set_new(r, "message", json_string(message));
     char path[4096], tmp[4200];
