@@ -54,10 +54,9 @@ static int mpi_wait(struct backend *b, double max_wait, backend_done_fn done, vo
                 json_t *j = json_loads(text, 0, &je);
                 struct outcome o;
                 if (!j || outcome_from_json(&o, j, &e) != 0) {
-                    memset(&o, 0, sizeof o);
-                    o.status = RS_FAILED;
-                    o.exit_code = -1;
-                    snprintf(o.message, sizeof o.message, "bad result message from rank %d", src);
+                    char why[64];
+                    snprintf(why, sizeof why, "bad result message from rank %d", src);
+                    outcome_start_failure(&o, why);
                 }
                 json_decref(j);
                 m->busy[src - 1] = 0;
@@ -171,21 +170,13 @@ int backend_mpi_worker(void)
                 if (j && launch_from_json(&L, j, &e) == 0) {
                     if (exec_local_start(x, 0, &L, &e) != 0) {
                         struct outcome o;
-                        memset(&o, 0, sizeof o);
-                        o.status = RS_FAILED;
-                        o.exit_code = -1;
-                        o.started = o.finished = sys_now();
-                        sys_hostname(o.host, sizeof o.host);
-                        snprintf(o.message, sizeof o.message, "could not start: %s", e.msg);
+                        outcome_start_failure(&o, e.msg);
                         worker_done(&w, 0, &o);
                     }
                     launch_free(&L);
                 } else {
                     struct outcome o;
-                    memset(&o, 0, sizeof o);
-                    o.status = RS_FAILED;
-                    o.exit_code = -1;
-                    snprintf(o.message, sizeof o.message, "malformed job message");
+                    outcome_start_failure(&o, "malformed job message");
                     worker_done(&w, 0, &o);
                 }
                 json_decref(j);

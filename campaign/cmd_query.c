@@ -12,7 +12,8 @@ static const char *usage =
     "\n"
     "Runs SQL on a read-only connection to the results database and prints the\n"
     "rows as an aligned table (default), CSV or JSON lines.  Several statements\n"
-    "may be given; each prints its rows.  Named parameters (:name) take their\n"
+    "may be given; each prints its rows.  A statement that may write (VACUUM,\n"
+    "VACUUM INTO, a PRAGMA that sets) is refused before it runs.  Named parameters (:name) take their\n"
     "values from --param (numbers bind as numbers), so the saved queries in\n"
     "db/queries/ run as, for example:\n"
     "  cascade query -f db/queries/metric_vs_param.sql \\\n"
@@ -126,6 +127,17 @@ int cmd_query(int argc, char **argv)
         tail = next;
         if (!st)   /* only whitespace or comments left */
             break;
+        /* The connection is read-only, but SQLite refuses some writes only
+         * when they run: VACUUM INTO creates its output file first.  A
+         * statement that may write is therefore refused before its first
+         * step (EXPLAIN of one only describes it). */
+        if (!sqlite3_stmt_readonly(st) && !sqlite3_stmt_isexplain(st)) {
+            rc = err_set(&e, ERR_INPUT,
+                         "SQL: cascade query runs read-only statements; refused: %.120s",
+                         sqlite3_sql(st));
+            sqlite3_finalize(st);
+            break;
+        }
         for (int k = 1; k <= sqlite3_bind_parameter_count(st) && !rc; k++) {
             const char *pname = sqlite3_bind_parameter_name(st, k);
             int found = 0;

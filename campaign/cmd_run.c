@@ -15,10 +15,15 @@ static const char *usage =
     "       mpirun -np N cascade run STUDY.yaml [options]\n"
     "\n"
     "Runs every job of the study that is not yet done for the current solver\n"
-    "version (so running it again resumes), each in its own process group and\n"
-    "directory RUNS/<study>/<key>/ (case.yaml, stdout, stderr, result.json and\n"
-    "the solver's files), and records runs, metrics and files in the database.\n"
-    "Failed, crashed and timed-out jobs are retried as the study's 'retries' says.\n"
+    "version (so running it again resumes), each attempt in its own process group\n"
+    "and directory RUNS/<study>/<key>/attempt-N/ (case.yaml, stdout, stderr,\n"
+    "result.json and the solver's files; RUNS/<study>/<key>/current links to the\n"
+    "latest recorded attempt), and records runs, metrics and files in the database.\n"
+    "Failed, crashed and timed-out jobs are retried as the study's 'retries' says\n"
+    "(a crash that repeats at the same step is not).  Infrastructure failures (a\n"
+    "run directory that cannot be written, a full disk, a solver that cannot be\n"
+    "started) use up no retries: the runner pauses (0.5 s, doubling) and tries\n"
+    "again, one job at a time, and stops after 3 in a row, naming the cause.\n"
     "\n"
     "  --jobs N        jobs at a time (default: cores / (threads x mpirun ranks))\n"
     "  --db FILE       results database (default ./" CASCADE_DB_DEFAULT ")\n"
@@ -31,8 +36,9 @@ static const char *usage =
     "\n"
     "Ctrl-C once: no new jobs, running ones finish; twice: running jobs are\n"
     "cancelled.  Under mpirun, rank 0 alone opens the database and ranks 1..N-1\n"
-    "run the jobs.  Exit code 0 when every job is done, 1 when some failed, 2 on\n"
-    "bad input (nothing is written then), 130 when interrupted.\n";
+    "run the jobs.  Exit code 0 when every job is done, 1 when some failed or the\n"
+    "runner had to stop (infrastructure, database), 2 on bad input (nothing is\n"
+    "written then), 130 when interrupted.\n";
 
 struct run_args {
     const char *file, *db_path, *runs, *solver;
@@ -101,6 +107,8 @@ static int run_study(const struct run_args *a, int mpi_size)
     rc = study_run(&s, &o, &sum, &e);
     int code;
     if (rc) {
+        if (sum.total)   /* the runner ran, then stopped: say how far it got */
+            print_summary(&s, &sum, a->db_path);
         fprintf(stderr, "error: %s\n", e.msg);
         code = cli_exit_code(rc);
     } else {

@@ -11,7 +11,8 @@ static const char *usage =
     "\n"
     "Without STUDY: one line per study (jobs, done, failed, running, pending).\n"
     "With STUDY: its counts by state, the jobs running now and the jobs not done\n"
-    "with their reasons (failed counts failed, crashed, timeout and diverged).\n"
+    "with their reasons and failure classes (failed counts failed, crashed,\n"
+    "timeout and diverged; an infrastructure failure is cancelled and runs again).\n"
     "Jobs shown as running whose runner is gone will run again with the next\n"
     "'cascade run'.  The database is opened read-only.\n";
 
@@ -143,6 +144,7 @@ static int one_study(sqlite3 *db, const char *name, struct err *e)
         printf("\nnot done (first 20 of %ld):\n", total - done - running);
         if ((rc = db_prepare(db,
                              "SELECT j.key AS key, j.state AS state, r.attempt AS attempt, "
+                             "coalesce(r.failure_class, '') AS class, "
                              "j.params AS params, coalesce(r.message, '') AS reason FROM jobs j "
                              "LEFT JOIN runs r ON r.id = j.last_run_id WHERE j.study_id = ?1 "
                              "AND j.active = 1 AND j.state NOT IN ('done', 'running') "

@@ -2,6 +2,7 @@
 #include "db.h"
 
 #include <jansson.h>
+#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -11,16 +12,36 @@
 
 #define DB_BUSY_MS 30000
 
+const char *db_name(sqlite3 *db)
+{
+    const char *f = db ? sqlite3_db_filename(db, "main") : NULL;
+    return f && f[0] ? f : ":memory:";
+}
+
+/* Every message of this layer names the file: a campaign may use several
+ * databases (--db), and "attempt to write a readonly database" alone does
+ * not say which. */
+int db_err(sqlite3 *db, struct err *e, int code, const char *fmt, ...)
+{
+    char msg[ERR_MSG_MAX];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(msg, sizeof msg, fmt, ap);
+    va_end(ap);
+    return err_set(e, code, "database %s: %s", db_name(db), msg);
+}
+
 int db_fail(sqlite3 *db, struct err *e, const char *what)
 {
-    return err_set(e, ERR_RUNTIME, "database: %s: %s", what, db ? sqlite3_errmsg(db) : "no handle");
+    return db_err(db, e, ERR_RUNTIME, "%s: %s", what, db ? sqlite3_errmsg(db) : "no handle");
 }
 
 int db_exec(sqlite3 *db, const char *sql, struct err *e)
 {
     char *msg = NULL;
     if (sqlite3_exec(db, sql, NULL, NULL, &msg) != SQLITE_OK) {
-        int rc = err_set(e, ERR_RUNTIME, "database: %s (in: %.80s)", msg ? msg : "error", sql);
+        int rc = db_err(db, e, ERR_RUNTIME, "%s (in: %.80s)", msg ? msg : sqlite3_errmsg(db),
+                        sql);
         sqlite3_free(msg);
         return rc;
     }
@@ -30,7 +51,7 @@ int db_exec(sqlite3 *db, const char *sql, struct err *e)
 int db_prepare(sqlite3 *db, const char *sql, sqlite3_stmt **st, struct err *e)
 {
     if (sqlite3_prepare_v2(db, sql, -1, st, NULL) != SQLITE_OK)
-        return err_set(e, ERR_RUNTIME, "database: %s (in: %.80s)", sqlite3_errmsg(db), sql);
+        return db_err(db, e, ERR_RUNTIME, "%s (in: %.80s)", sqlite3_errmsg(db), sql);
     return 0;
 }
 
@@ -77,10 +98,9 @@ int db_migrate(sqlite3 *db, const struct db_migration *list, int n, struct err *
     }
     if (v > n) {
         db_rollback(db);
-        return err_set(e, ERR_INPUT,
-                       "the database has schema version %d, newer than this cascade knows (%d); "
-                       "use a newer cascade",
-                       v, n);
+        return db_err(db, e, ERR_INPUT,
+                      "schema version %d, newer than this cascade knows (%d); use a newer cascade",
+                      v, n);
     }
     for (; v < n; v++) {
         if ((rc = db_exec(db, list[v].sql, e))) {
@@ -98,16 +118,19 @@ int db_migrate(sqlite3 *db, const struct db_migration *list, int n, struct err *
 }
 
 /* The journal mode of the file ("wal", "delete", ...) into mode, or "" when
- * the pragma could not run (locked). */
-static void journal_mode(sqlite3 *db, const char *sql, char *mode, size_t len)
+ * the pragma could not run; returns the SQLite result (SQLITE_ROW when it
+ * ran). */
+static int journal_mode(sqlite3 *db, const char *sql, char *mode, size_t len)
 {
     sqlite3_stmt *st = NULL;
     mode[0] = '\0';
-    if (sqlite3_prepare_v2(db, sql, -1, &st, NULL) == SQLITE_OK && sqlite3_step(st) == SQLITE_ROW) {
+    int r = sqlite3_prepare_v2(db, sql, -1, &st, NULL);
+    if (r == SQLITE_OK && (r = sqlite3_step(st)) == SQLITE_ROW) {
         const unsigned char *m = sqlite3_column_text(st, 0);
         snprintf(mode, len, "%s", m ? (const char *)m : "");
     }
     sqlite3_finalize(st);
+    return r;
 }
 
 /* WAL is a property of the file: after the first runner converted it there
@@ -123,12 +146,16 @@ static int db_use_wal(sqlite3 *db, struct err *e)
         journal_mode(db, "PRAGMA journal_mode", mode, sizeof mode);
         if (strcmp(mode, "wal") == 0)
             return 0;
-        journal_mode(db, "PRAGMA journal_mode = WAL", mode, sizeof mode);
+        int r = journal_mode(db, "PRAGMA journal_mode = WAL", mode, sizeof mode);
         if (strcmp(mode, "wal") == 0)
             return 0;
-        if (waited_us >= (long)DB_BUSY_MS * 1000)
-            return err_set(e, ERR_RUNTIME, "database: cannot switch to WAL journal mode: %s",
-                           sqlite3_errmsg(db));
+        /* only another connection in the way is worth waiting for; a file
+         * that cannot be written (permissions, a read-only file system)
+         * stays so */
+        int busy = (r & 0xff) == SQLITE_BUSY || (r & 0xff) == SQLITE_LOCKED;
+        if (!busy || waited_us >= (long)DB_BUSY_MS * 1000)
+            return db_err(db, e, ERR_RUNTIME, "cannot switch to WAL journal mode: %s",
+                          sqlite3_errmsg(db));
         usleep((useconds_t)pause_us);
         waited_us += pause_us;
         if (pause_us < 100000)
@@ -154,8 +181,17 @@ int db_open(const char *path, sqlite3 **out, struct err *e)
     sqlite3 *db = NULL;
     *out = NULL;
     if (sqlite3_open_v2(path, &db, SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE, NULL) != SQLITE_OK) {
-        int rc = err_set(e, ERR_RUNTIME, "%s: cannot open database: %s", path,
+        int rc = err_set(e, ERR_RUNTIME, "database %s: cannot open: %s", path,
                          db ? sqlite3_errmsg(db) : "out of memory");
+        sqlite3_close(db);
+        return rc;
+    }
+    /* SQLite opens a file it may not write read-only without a word; every
+     * writing command would then fail on its first write, after the plan */
+    if (sqlite3_db_readonly(db, "main") == 1) {
+        int rc = db_err(db, e, ERR_RUNTIME,
+                        "cannot open for writing (read-only: check the permissions of the file "
+                        "and its directory)");
         sqlite3_close(db);
         return rc;
     }
@@ -166,7 +202,7 @@ int db_open(const char *path, sqlite3 **out, struct err *e)
         rc = db_migrate(db, list, n, e);
     if (rc) {
         sqlite3_close(db);
-        return err_prefix(e, "%s: ", path);
+        return rc;
     }
     *out = db;
     return 0;
@@ -180,7 +216,7 @@ int db_open_readonly(const char *path, sqlite3 **out, struct err *e)
         return err_set(e, ERR_INPUT, "%s: no such database (run 'cascade run STUDY.yaml' first, "
                                      "or give --db FILE)", path);
     if (sqlite3_open_v2(path, &db, SQLITE_OPEN_READONLY, NULL) != SQLITE_OK) {
-        int rc = err_set(e, ERR_RUNTIME, "%s: cannot open database: %s", path,
+        int rc = err_set(e, ERR_RUNTIME, "database %s: cannot open: %s", path,
                          db ? sqlite3_errmsg(db) : "out of memory");
         sqlite3_close(db);
         return rc;
@@ -191,12 +227,13 @@ int db_open_readonly(const char *path, sqlite3 **out, struct err *e)
     if (!rc)
         rc = db_user_version(db, &v, e);
     if (!rc && v > n)
-        rc = err_set(e, ERR_INPUT, "schema version %d is newer than this cascade knows (%d)", v, n);
+        rc = db_err(db, e, ERR_INPUT, "schema version %d is newer than this cascade knows (%d)", v,
+                    n);
     if (!rc && v == 0)
-        rc = err_set(e, ERR_INPUT, "not a Cascade database (schema version 0)");
+        rc = db_err(db, e, ERR_INPUT, "not a Cascade database (schema version 0)");
     if (rc) {
         sqlite3_close(db);
-        return err_prefix(e, "%s: ", path);
+        return rc;
     }
     *out = db;
     return 0;

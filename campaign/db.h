@@ -38,8 +38,14 @@ int db_user_version(sqlite3 *db, int *version, struct err *e);
 int db_exec(sqlite3 *db, const char *sql, struct err *e);
 /* Prepare one statement; on error the message names the SQL. */
 int db_prepare(sqlite3 *db, const char *sql, sqlite3_stmt **st, struct err *e);
+/* Every error of this layer reads "database PATH: ...". */
 /* Record the database's current error for `what`; returns ERR_RUNTIME. */
 int db_fail(sqlite3 *db, struct err *e, const char *what);
+/* Record an error about the database (printf-style); returns code. */
+int db_err(sqlite3 *db, struct err *e, int code, const char *fmt, ...)
+    __attribute__((format(printf, 4, 5)));
+/* The database's file name (absolute), ":memory:" for none. */
+const char *db_name(sqlite3 *db);
 
 /* BEGIN IMMEDIATE / COMMIT / ROLLBACK (rollback never fails loudly). */
 int db_begin(sqlite3 *db, struct err *e);

@@ -137,10 +137,26 @@ int exec_local_start(struct exec_local *x, int slot, const struct launch_spec *L
     find_program(L->argv[0], prog, sizeof prog);
     snprintf(out_path, sizeof out_path, "%s/stdout", L->run_dir);
     snprintf(err_path, sizeof err_path, "%s/stderr", L->run_dir);
+    /* opened here, not in the child: a child that cannot open them has no
+     * stderr to say why, and the runner must know the path that failed */
+    const char *paths[3] = {"/dev/null", out_path, err_path};
+    int fds[3] = {-1, -1, -1};
+    for (int k = 0; k < 3 && !rc; k++) {
+        fds[k] = open(paths[k], k ? O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC : O_RDONLY | O_CLOEXEC,
+                      0666);
+        if (fds[k] < 0)
+            rc = err_set(e, ERR_RUNTIME, "cannot create %s: %s", paths[k], strerror(errno));
+    }
     pid_t parent = getpid();
-    pid_t pid = fork();
-    if (pid < 0)
-        return err_set(e, ERR_RUNTIME, "fork: %s", strerror(errno));
+    pid_t pid = rc ? 0 : fork();
+    if (!rc && pid < 0)
+        rc = err_set(e, ERR_RUNTIME, "fork: %s", strerror(errno));
+    if (rc) {
+        for (int k = 0; k < 3; k++)
+            if (fds[k] >= 0)
+                close(fds[k]);
+        return rc;
+    }
     if (pid == 0) {
         setpgid(0, 0);
         prctl(PR_SET_PDEATHSIG, SIGKILL);
@@ -152,25 +168,20 @@ int exec_local_start(struct exec_local *x, int slot, const struct launch_spec *L
             signal(handled_signals[i], SIG_DFL);
         signal(SIGPIPE, SIG_DFL);
         sigprocmask(SIG_SETMASK, &none, NULL);
-        int in = open("/dev/null", O_RDONLY);
-        int out = open(out_path, O_WRONLY | O_CREAT | O_TRUNC, 0666);
-        int err = open(err_path, O_WRONLY | O_CREAT | O_TRUNC, 0666);
-        if (in < 0 || out < 0 || err < 0)
-            _exit(127);
-        dup2(in, 0);
-        dup2(out, 1);
-        dup2(err, 2);
-        if (in > 2)
-            close(in);
-        if (out > 2)
-            close(out);
-        if (err > 2)
-            close(err);
+        /* dup2 clears close-on-exec on the copies and the originals close at
+         * exec -- unless one already is its target (the runner started with
+         * that descriptor closed): then dup2 does nothing, so clear it here */
+        for (int k = 0; k < 3; k++) {
+            if (fds[k] == k ? fcntl(k, F_SETFD, 0) < 0 : dup2(fds[k], k) < 0)
+                _exit(127);
+        }
         if (chdir(L->cwd) != 0)
             child_fail(L->cwd);
         execve(prog, L->argv, x->env);
         child_fail(prog);
     }
+    for (int k = 0; k < 3; k++)
+        close(fds[k]);
     setpgid(pid, pid);   /* also here, so a kill(-pid) right away reaches it */
     memset(s, 0, sizeof *s);
     s->busy = 1;

@@ -13,17 +13,19 @@
 #include "util/yamldoc.h"
 
 struct subst_dirs {
-    const char *study_dir;    /* runs/<study> (absolute) */
-    char buf[4200];
+    launch_prep_fn prep_dir;
+    void *ctx;
+    struct err *e;
 };
 
 static const char *subst_dir(void *ctx, const char *name, int is_key)
 {
     struct subst_dirs *d = ctx;
-    if (!is_key)
+    if (!is_key) {
+        err_set(d->e, ERR_RUNTIME, "stored case holds ${prep.%s} unresolved", name);
         return NULL;
-    snprintf(d->buf, sizeof d->buf, "%s/%s", d->study_dir, name);
-    return d->buf;
+    }
+    return d->prep_dir(d->ctx, name, d->e);
 }
 
 static int add_arg(struct launch_spec *L, const char *a)
@@ -40,20 +42,24 @@ static int add_arg(struct launch_spec *L, const char *a)
 }
 
 int launch_build(struct launch_spec *L, const struct study *s, const struct solver *sv,
-                 const char *runs_root, const char *key, const char *case_json, struct err *e)
+                 const char *run_dir, const char *key, const char *case_json,
+                 launch_prep_fn prep_dir, void *ctx, struct err *e)
 {
     memset(L, 0, sizeof *L);
-    char study_dir[4096 + 160];
-    snprintf(study_dir, sizeof study_dir, "%s/%s", runs_root, s->name);
-    snprintf(L->run_dir, sizeof L->run_dir, "%s/%s", study_dir, key);
+    snprintf(L->run_dir, sizeof L->run_dir, "%s", run_dir);
     snprintf(L->cwd, sizeof L->cwd, "%s", s->dir);
     L->timeout = s->timeout;
     json_error_t je;
     json_t *doc = json_loads(case_json, 0, &je);
     if (!doc)
         return err_set(e, ERR_RUNTIME, "job %s: stored case is not JSON: %s", key, je.text);
-    struct subst_dirs d = {study_dir, ""};
-    docpath_refs_replace(doc, subst_dir, &d);
+    struct subst_dirs d = {prep_dir, ctx, e};
+    if (docpath_refs_replace(doc, subst_dir, &d) != 0) {
+        json_decref(doc);
+        if (!e->code)
+            err_nomem(e, "case");
+        return err_prefix(e, "job %s: ", key);
+    }
     size_t len = 0;
     FILE *f = open_memstream(&L->case_yaml, &len);
     if (!f) {
@@ -133,24 +139,51 @@ int launch_from_json(struct launch_spec *L, const json_t *j, struct err *e)
     return 0;
 }
 
+/* mkdir that accepts an existing directory, and only a directory; returns
+ * 0 or the errno (ENOTDIR for a file in the way), with e set. */
+static int mkdir_one(const char *path, struct err *e)
+{
+    if (mkdir(path, 0777) == 0)
+        return 0;
+    int err = errno;
+    struct stat sb;
+    if (err == EEXIST && stat(path, &sb) == 0 && S_ISDIR(sb.st_mode))
+        return 0;
+    if (err == EEXIST) {
+        err_set(e, ERR_RUNTIME, "cannot create directory %s: a file of that name is in the way",
+                path);
+        return ENOTDIR;
+    }
+    err_set(e, ERR_RUNTIME, "cannot create directory %s: %s", path, strerror(err));
+    return err;
+}
+
 int launch_mkdirs(const char *path, struct err *e)
 {
     /* usually only the last component is missing: try that first */
-    if (mkdir(path, 0777) == 0 || errno == EEXIST)
+    int err = mkdir_one(path, e);
+    if (err == 0)
         return 0;
+    /* a missing parent, or a file where a parent should be: walk down from
+     * the root, so the message names the component that is in the way */
+    if (err != ENOENT && err != ENOTDIR)
+        return ERR_RUNTIME;
     char buf[4096];
     snprintf(buf, sizeof buf, "%s", path);
     for (char *p = buf + 1; *p; p++) {
         if (*p != '/')
             continue;
         *p = '\0';
-        if (mkdir(buf, 0777) != 0 && errno != EEXIST)
-            return err_set(e, ERR_RUNTIME, "cannot create directory %s: %s", buf, strerror(errno));
+        if (mkdir_one(buf, e) != 0)
+            return ERR_RUNTIME;
         *p = '/';
     }
-    if (mkdir(buf, 0777) != 0 && errno != EEXIST)
-        return err_set(e, ERR_RUNTIME, "cannot create directory %s: %s", buf, strerror(errno));
-    return 0;
+    return mkdir_one(buf, e) ? ERR_RUNTIME : 0;
+}
+
+void launch_attempt_dir(const char *job_dir, int attempt, char *out, size_t len)
+{
+    snprintf(out, len, "%s/attempt-%d", job_dir, attempt);
 }
 
 int launch_setup_dir(const struct launch_spec *L, struct err *e)
@@ -158,7 +191,8 @@ int launch_setup_dir(const struct launch_spec *L, struct err *e)
     int rc = launch_mkdirs(L->run_dir, e);
     if (rc)
         return rc;
-    /* the directory holds the latest attempt only */
+    /* attempt numbers are unique in a database, but runs/ may have served
+     * another database (or one deleted since): start from an empty directory */
     DIR *d = opendir(L->run_dir);
     if (!d)
         return err_set(e, ERR_RUNTIME, "%s: %s", L->run_dir, strerror(errno));
@@ -181,5 +215,27 @@ int launch_setup_dir(const struct launch_spec *L, struct err *e)
     fputs(L->case_yaml, f);
     if (fclose(f) != 0)
         return err_set(e, ERR_RUNTIME, "cannot write %s", path);
+    return 0;
+}
+
+int launch_point_current(const char *run_dir, struct err *e)
+{
+    const char *base = strrchr(run_dir, '/');
+    struct stat sb;
+    if (!base || strncmp(base + 1, "attempt-", 8) != 0 || stat(run_dir, &sb) != 0 ||
+        !S_ISDIR(sb.st_mode))
+        return 0;
+    char link[4096 + 64], tmp[4096 + 96];
+    snprintf(link, sizeof link, "%.*s/current", (int)(base - run_dir), run_dir);
+    snprintf(tmp, sizeof tmp, "%s.%d", link, (int)getpid());
+    unlink(tmp);
+    /* relative, so the runs directory can be moved or mounted elsewhere */
+    if (symlink(base + 1, tmp) != 0)
+        return err_set(e, ERR_RUNTIME, "cannot create %s: %s", tmp, strerror(errno));
+    if (rename(tmp, link) != 0) {
+        int rc = err_set(e, ERR_RUNTIME, "cannot replace %s: %s", link, strerror(errno));
+        unlink(tmp);
+        return rc;
+    }
     return 0;
 }

@@ -3,11 +3,17 @@
  * travel to an MPI worker: the run directory, the case text, the command
  * and the time limit.
  *
- *   runs/<study>/<key>/case.yaml   the resolved case, ${prep:KEY} replaced by
- *                                  the preparation job's run directory
+ *   runs/<study>/<key>/attempt-<N>/   the directory of attempt N (runs.run_dir):
+ *        case.yaml                    the resolved case, ${prep:KEY} replaced by
+ *                                     the preparation job's recorded run directory
+ *   runs/<study>/<key>/current        symlink to the latest recorded attempt
  *   command: [mpirun -np K ...] SOLVER run case.yaml --out DIR --threads T
  *            --quiet --no-progress, started in the study file's directory
  *            (relative file names in cases are relative to the study)
+ *
+ * Each attempt writes only its own directory, so a solver left running by
+ * a runner that lost its lease cannot touch the files of the attempt that
+ * replaced it.
  */
 #ifndef CASCADE_CAMPAIGN_LAUNCH_H
 #define CASCADE_CAMPAIGN_LAUNCH_H
@@ -27,16 +33,32 @@ struct launch_spec {
     double timeout;       /* seconds, 0: none */
 };
 
+/* The recorded run directory of the preparation job with this key, or NULL
+ * (with e set) when it has none. */
+typedef const char *(*launch_prep_fn)(void *ctx, const char *key, struct err *e);
+
+/* run_dir: the attempt's directory (launch_attempt_dir). */
 int launch_build(struct launch_spec *L, const struct study *s, const struct solver *sv,
-                 const char *runs_root, const char *key, const char *case_json, struct err *e);
+                 const char *run_dir, const char *key, const char *case_json,
+                 launch_prep_fn prep_dir, void *ctx, struct err *e);
 void launch_free(struct launch_spec *L);
 
 json_t *launch_to_json(const struct launch_spec *L);
 int launch_from_json(struct launch_spec *L, const json_t *j, struct err *e);
 
-/* Create the run directory, remove the files of an earlier attempt, write
- * case.yaml. */
+/* The directory of attempt N of a job: job_dir/attempt-N (job_dir is
+ * runs/<study>/<key>). */
+void launch_attempt_dir(const char *job_dir, int attempt, char *out, size_t len);
+
+/* Create the attempt's directory (emptied, should an earlier database have
+ * used the same number) and write case.yaml. */
 int launch_setup_dir(const struct launch_spec *L, struct err *e);
+
+/* Point <job dir>/current at the attempt directory run_dir (an atomic
+ * rename of a new symlink).  Does nothing for a run directory that is not
+ * an attempt-N directory (runs recorded before attempts had their own) or
+ * that does not exist. */
+int launch_point_current(const char *run_dir, struct err *e);
 
 /* mkdir -p */
 int launch_mkdirs(const char *path, struct err *e);

@@ -7,7 +7,9 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <math.h>
 #include <sys/stat.h>
+#include <sys/statvfs.h>
 #include <sys/wait.h>
 
 #include "sysinfo.h"
@@ -24,6 +26,49 @@ const char *run_status_name(enum run_status s)
 int run_status_retryable(enum run_status s)
 {
     return s == RS_FAILED || s == RS_CRASHED || s == RS_TIMEOUT;
+}
+
+const char *failure_class_name(enum failure_class c)
+{
+    static const char *const names[] = {NULL, "job", "infrastructure", "deterministic"};
+    return names[c];
+}
+
+const char *outcome_signal_name(int sig, char *buf, size_t len)
+{
+    /* by macro, not number: the numbers differ between architectures */
+    static const struct {
+        int sig;
+        const char *name;
+    } names[] = {
+        {SIGHUP, "SIGHUP"},   {SIGINT, "SIGINT"},       {SIGQUIT, "SIGQUIT"}, {SIGILL, "SIGILL"},
+        {SIGTRAP, "SIGTRAP"}, {SIGABRT, "SIGABRT"},     {SIGBUS, "SIGBUS"},   {SIGFPE, "SIGFPE"},
+        {SIGKILL, "SIGKILL"}, {SIGUSR1, "SIGUSR1"},     {SIGSEGV, "SIGSEGV"}, {SIGUSR2, "SIGUSR2"},
+        {SIGPIPE, "SIGPIPE"}, {SIGALRM, "SIGALRM"},     {SIGTERM, "SIGTERM"}, {SIGCHLD, "SIGCHLD"},
+        {SIGCONT, "SIGCONT"}, {SIGSTOP, "SIGSTOP"},     {SIGTSTP, "SIGTSTP"}, {SIGTTIN, "SIGTTIN"},
+        {SIGTTOU, "SIGTTOU"}, {SIGURG, "SIGURG"},       {SIGXCPU, "SIGXCPU"}, {SIGXFSZ, "SIGXFSZ"},
+        {SIGVTALRM, "SIGVTALRM"}, {SIGPROF, "SIGPROF"}, {SIGWINCH, "SIGWINCH"}, {SIGSYS, "SIGSYS"},
+    };
+    for (size_t i = 0; i < sizeof names / sizeof names[0]; i++)
+        if (names[i].sig == sig)
+            return names[i].name;
+    if (sig >= SIGRTMIN && sig <= SIGRTMAX)
+        snprintf(buf, len, "SIGRTMIN+%d", sig - SIGRTMIN);
+    else
+        snprintf(buf, len, "signal %d", sig);
+    return buf;
+}
+
+void outcome_start_failure(struct outcome *o, const char *why)
+{
+    memset(o, 0, sizeof *o);
+    o->status = RS_CANCELLED;
+    o->failure = FC_INFRA;
+    o->exit_code = -1;
+    o->last_step = -1;
+    o->started = o->finished = sys_now();
+    sys_hostname(o->host, sizeof o->host);
+    snprintf(o->message, sizeof o->message, "could not start: %s", why);
 }
 
 void outcome_file_tail(const char *path, int maxlines, char *out, size_t len)
@@ -151,6 +196,82 @@ static json_t *read_result(const char *dir)
     return r;
 }
 
+/* The value of the "step" column in the last complete row of the run's
+ * thermo.csv (the solver flushes every row), or -1: how far a run that did
+ * not finish got, which tells a crash that repeats at the same step
+ * (deterministic) from one that does not. */
+static long thermo_last_step(const char *dir)
+{
+    char path[4096 + 32], line[8192];
+    snprintf(path, sizeof path, "%s/thermo.csv", dir);
+    FILE *f = fopen(path, "rb");
+    if (!f)
+        return -1;
+    int col = -1;
+    while (fgets(line, sizeof line, f)) {
+        if (line[0] == '#')
+            continue;
+        int k = 0;
+        char *save = NULL;
+        for (char *t = strtok_r(line, ",\r\n", &save); t; t = strtok_r(NULL, ",\r\n", &save), k++) {
+            while (*t == ' ')
+                t++;
+            if (strncmp(t, "step", 4) == 0 && (t[4] == '\0' || t[4] == ' '))
+                col = k;
+        }
+        break;
+    }
+    long step = -1;
+    char tail[16384];
+    if (col >= 0 && fseek(f, 0, SEEK_END) == 0) {
+        long size = ftell(f);
+        long from = size > (long)sizeof tail - 1 ? size - (long)sizeof tail + 1 : 0;
+        fseek(f, from, SEEK_SET);
+        size_t n = fread(tail, 1, sizeof tail - 1, f);
+        tail[n] = '\0';
+        /* a row is complete when its newline was written */
+        char *end = strrchr(tail, '\n');
+        if (end) {
+            *end = '\0';
+            char *start = strrchr(tail, '\n');
+            if (start || from == 0) {
+                char *row = start ? start + 1 : tail;
+                int k = 0;
+                char *save = NULL, *t = strtok_r(row, ",\r", &save);
+                while (t && k < col) {
+                    t = strtok_r(NULL, ",\r", &save);
+                    k++;
+                }
+                char *num_end = NULL;
+                double v = t ? strtod(t, &num_end) : NAN;
+                if (t && num_end != t && isfinite(v) && v == floor(v) && fabs(v) < 1e15)
+                    step = (long)v;
+            }
+        }
+    }
+    fclose(f);
+    return step;
+}
+
+/* Whether a failed job failed because its file system is full or gone
+ * read-only (why says so): that is the machine's fault, not the job's. */
+static int disk_trouble(const char *dir, const char *stderr_tail, char *why, size_t len)
+{
+    static const char *const words[] = {"No space left on device", "Disk quota exceeded",
+                                        "Read-only file system"};
+    for (size_t i = 0; i < sizeof words / sizeof words[0]; i++)
+        if (strstr(stderr_tail, words[i])) {
+            snprintf(why, len, "the solver reported '%s' in %s", words[i], dir);
+            return 1;
+        }
+    struct statvfs sv;
+    if (statvfs(dir, &sv) == 0 && (sv.f_bavail == 0 || (sv.f_files > 0 && sv.f_favail == 0))) {
+        snprintf(why, len, "no space left on the file system of %s", dir);
+        return 1;
+    }
+    return 0;
+}
+
 void outcome_collect(struct outcome *o, const char *dir, const struct exit_info *x)
 {
     double t0 = sys_mono();
@@ -178,23 +299,38 @@ void outcome_collect(struct outcome *o, const char *dir, const struct exit_info 
         o->exit_code = WEXITSTATUS(st);
     else if (WIFSIGNALED(st))
         o->signal = WTERMSIG(st);
+    char sname[32];
+    o->failure = FC_JOB;
     if (x->cancelled) {
         o->status = RS_CANCELLED;
+        o->failure = FC_NONE;
         snprintf(o->message, sizeof o->message, "cancelled: the runner was asked to stop");
     } else if (x->timed_out) {
         o->status = RS_TIMEOUT;
         snprintf(o->message, sizeof o->message,
                  "timeout: killed (process group) after the limit of %g s", x->timeout);
     } else if (x->exec_failed || o->exit_code == 127) {
-        o->status = RS_FAILED;
-        snprintf(o->message, sizeof o->message, "could not start the solver: %s", tail_line);
+        /* exec failed, or the child could not enter the study's directory */
+        o->status = RS_CANCELLED;
+        o->failure = FC_INFRA;
+        snprintf(o->message, sizeof o->message, "could not start the solver: %s",
+                 tail_line[0] ? tail_line : "exit 127 (command not found?)");
     } else if (o->signal) {
         o->status = RS_CRASHED;
         snprintf(o->message, sizeof o->message, "crashed: killed by signal %d (%s)", o->signal,
-                 strsignal(o->signal));
+                 outcome_signal_name(o->signal, sname, sizeof sname));
     } else if (o->exit_code == 4 || (rstatus && strcmp(rstatus, "diverged") == 0)) {
         o->status = RS_DIVERGED;
         snprintf(o->message, sizeof o->message, "%s", rmsg ? rmsg : tail_line);
+    } else if (o->exit_code > 128 && o->exit_code <= 128 + 64) {
+        /* a launcher (mpirun, a shell) reports a child killed by signal n
+         * as exit 128 + n, and the child had no chance to say anything */
+        o->status = RS_FAILED;
+        int sig = o->exit_code - 128;
+        snprintf(o->message, sizeof o->message,
+                 "exit %d (128 + %d: what it ran was killed by signal %d (%s))%s%s", o->exit_code,
+                 sig, sig, outcome_signal_name(sig, sname, sizeof sname),
+                 (rmsg || tail_line[0]) ? ": " : "", rmsg ? rmsg : tail_line);
     } else if (o->exit_code != 0) {
         o->status = RS_FAILED;
         snprintf(o->message, sizeof o->message, "exit %d: %s", o->exit_code,
@@ -208,8 +344,18 @@ void outcome_collect(struct outcome *o, const char *dir, const struct exit_info 
                  rstatus ? rstatus : "(none)", rmsg ? rmsg : "");
     } else {
         o->status = RS_DONE;
+        o->failure = FC_NONE;
         o->message[0] = '\0';
     }
+    char why[4096 + 128];
+    if (o->status == RS_FAILED && disk_trouble(dir, o->stderr_tail, why, sizeof why)) {
+        char was[OUTCOME_MSG_MAX];
+        snprintf(was, sizeof was, "%s", o->message);
+        o->status = RS_CANCELLED;
+        o->failure = FC_INFRA;
+        snprintf(o->message, sizeof o->message, "disk trouble: %s (%s)", why, was);
+    }
+    o->last_step = o->status == RS_DONE ? -1 : thermo_last_step(dir);
     json_decref(res);
     collect_artifacts(o, dir);
     o->collect_s = sys_mono() - t0;
@@ -233,12 +379,13 @@ json_t *outcome_to_json(const struct outcome *o)
                                               a->kind, "bytes", (json_int_t)a->bytes, "sha256",
                                               a->sha256));
     }
-    json_t *j = json_pack("{s:i, s:i, s:i, s:s, s:f, s:f, s:f, s:f, s:i, s:s, s:s, s:s, s:s, s:O?, s:o}",
+    json_t *j = json_pack("{s:i, s:i, s:i, s:s, s:f, s:f, s:f, s:f, s:i, s:s, s:s, s:s, s:s, s:O?, s:o, s:i, s:I}",
                      "status", (int)o->status, "exit_code", o->exit_code, "signal", o->signal,
                      "message", o->message, "started", o->started, "finished", o->finished,
                      "wall_s", o->wall_s, "peak_rss_mib", o->peak_rss_mib, "pid", o->pid, "host",
                      o->host, "stderr_tail", o->stderr_tail, "solver_version", o->solver_version,
-                     "solver_git", o->solver_git, "metrics", o->metrics, "artifacts", arts);
+                     "solver_git", o->solver_git, "metrics", o->metrics, "artifacts", arts,
+                     "failure", (int)o->failure, "last_step", (json_int_t)o->last_step);
     if (j)
         json_object_set_new(j, "collect_s", json_real(o->collect_s));
     return j;
@@ -258,6 +405,10 @@ int outcome_from_json(struct outcome *o, const json_t *j, struct err *e)
         json_integer_value(status) > RS_CANCELLED)
         return err_set(e, ERR_RUNTIME, "outcome message without a valid status");
     o->status = (enum run_status)json_integer_value(status);
+    json_int_t fc = json_integer_value(json_object_get(j, "failure"));
+    o->failure = fc >= FC_NONE && fc <= FC_DETERMINISTIC ? (enum failure_class)fc : FC_JOB;
+    json_t *ls = json_object_get(j, "last_step");
+    o->last_step = json_is_integer(ls) ? (long)json_integer_value(ls) : -1;
     o->exit_code = (int)json_integer_value(json_object_get(j, "exit_code"));
     o->signal = (int)json_integer_value(json_object_get(j, "signal"));
     o->started = json_number_value(json_object_get(j, "started"));

@@ -7,7 +7,16 @@
  * (non-zero exit, or no usable result.json), crashed (ended by a signal the
  * runner did not send), timeout (the runner killed it at the time limit),
  * diverged (exit 4 or result.json says diverged), cancelled (the runner
- * stopped it on request).
+ * stopped it on request, or an infrastructure failure called it off).
+ *
+ * Failure classes (runs.failure_class) say whom a failure is charged to:
+ * the job (failed, crashed, timeout, diverged: counts against the study's
+ * retries), or the infrastructure (the run directory could not be written,
+ * the disk is full, the solver could not be started, the runner went away:
+ * recorded as cancelled, never charged, the job runs again).  A crash that
+ * repeats an earlier one of the same job (the same signal at the same step,
+ * or the same signal when the step is unknown) is deterministic: it is not
+ * retried again (store_finish decides, as it needs the earlier runs).
  */
 #ifndef CASCADE_CAMPAIGN_OUTCOME_H
 #define CASCADE_CAMPAIGN_OUTCOME_H
@@ -19,6 +28,14 @@
 enum run_status { RS_RUNNING, RS_DONE, RS_FAILED, RS_CRASHED, RS_TIMEOUT, RS_DIVERGED, RS_CANCELLED };
 
 const char *run_status_name(enum run_status s);
+
+enum failure_class { FC_NONE, FC_JOB, FC_INFRA, FC_DETERMINISTIC };
+/* runs.failure_class: NULL (done, running, cancelled on request), "job",
+ * "infrastructure", "deterministic". */
+const char *failure_class_name(enum failure_class c);
+
+/* "SIGKILL" for 9, ... ("SIGRTMIN+n", "signal n" beyond). */
+const char *outcome_signal_name(int sig, char *buf, size_t len);
 /* Whether a status counts against the study's retries (and is retried). */
 int run_status_retryable(enum run_status s);
 
@@ -34,8 +51,10 @@ struct artifact {
 
 struct outcome {
     enum run_status status;
+    enum failure_class failure;
     int exit_code;              /* -1 when a signal ended it */
     int signal;                 /* 0 when it exited */
+    long last_step;             /* last step in its thermo.csv when it did not finish, -1: unknown */
     char message[OUTCOME_MSG_MAX];
     double started, finished;   /* Unix time */
     double wall_s;
@@ -62,6 +81,9 @@ struct exit_info {
 
 /* Classify and read run_dir (result.json, stderr, the files). */
 void outcome_collect(struct outcome *o, const char *run_dir, const struct exit_info *x);
+/* An attempt that could not be started (an infrastructure failure):
+ * o is reset and filled, with "could not start: <why>" as its message. */
+void outcome_start_failure(struct outcome *o, const char *why);
 void outcome_free(struct outcome *o);
 
 json_t *outcome_to_json(const struct outcome *o);

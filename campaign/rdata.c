@@ -63,8 +63,7 @@ static int load_axes(sqlite3 *db, struct rdata *d, struct err *e)
         a->values = json_loads((const char *)sqlite3_column_text(st, 3), JSON_DECODE_ANY, NULL);
         if (!json_is_array(a->values)) {
             json_decref(a->values);
-            rc = err_set(e, ERR_RUNTIME, "database: study_axes.vals of %s is not a JSON list",
-                         a->name);
+            rc = db_err(db, e, ERR_RUNTIME, "study_axes.vals of %s is not a JSON list", a->name);
             break;
         }
         d->naxes++;

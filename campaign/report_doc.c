@@ -118,15 +118,31 @@ void rdoc_figure(struct rdoc *d, const char *dir, const char *svg_name, const ch
     }
 }
 
-static void md_cell(FILE *f, const char *s)
+/* Text of any block as literal Markdown: swept string parameters reach
+ * headings, cells and captions, and Markdown passes raw HTML (<script>) and
+ * entities through, starts code spans at backticks, links at brackets and
+ * ends a table row or a heading at a newline.  So '<', '>' and '&' become
+ * entities, the other active characters get a backslash (a backslash too,
+ * so a value ending in one cannot escape what follows), and control
+ * characters (newlines) become spaces -- as the HTML page shows them. */
+static void md_text(FILE *f, const char *s)
 {
-    for (; *s; s++) {
-        if (*s == '|')
-            fputs("\\|", f);
-        else if (*s == '\n')
-            fputc(' ', f);
-        else
-            fputc(*s, f);
+    for (; s && *s; s++) {
+        unsigned char c = (unsigned char)*s;
+        switch (c) {
+        case '<': fputs("&lt;", f); break;
+        case '>': fputs("&gt;", f); break;
+        case '&': fputs("&amp;", f); break;
+        case '|':
+        case '`':
+        case '\\':
+        case '[':
+        case ']':
+            fputc('\\', f);
+            fputc(c, f);
+            break;
+        default: fputc(c < 0x20 || c == 0x7f ? ' ' : c, f);
+        }
     }
 }
 
@@ -135,22 +151,27 @@ int rdoc_write_markdown(const struct rdoc *d, const char *path, struct err *e)
     FILE *f = fopen(path, "w");
     if (!f)
         return err_set(e, ERR_RUNTIME, "%s: cannot write: %s", path, strerror(errno));
-    fprintf(f, "# %s\n\n", d->title);
+    fputs("# ", f);
+    md_text(f, d->title);
+    fputs("\n\n", f);
     for (int i = 0; i < d->n; i++) {
         const struct block *b = &d->b[i];
         switch (b->kind) {
         case B_HEADING:
-            fprintf(f, "%.*s %s\n\n", b->level + 1, "######", b->text);
+            fprintf(f, "%.*s ", b->level + 1, "######");
+            md_text(f, b->text);
+            fputs("\n\n", f);
             break;
         case B_PARA:
-            fprintf(f, "%s\n\n", b->text ? b->text : "");
+            md_text(f, b->text);
+            fputs("\n\n", f);
             break;
         case B_TABLE:
             for (int r = 0; r <= b->nrows; r++) {
                 fputc('|', f);
                 for (int c = 0; c < b->ncols; c++) {
                     fputc(' ', f);
-                    md_cell(f, b->cells[r * b->ncols + c]);
+                    md_text(f, b->cells[r * b->ncols + c]);
                     fputs(" |", f);
                 }
                 fputc('\n', f);
@@ -164,7 +185,12 @@ int rdoc_write_markdown(const struct rdoc *d, const char *path, struct err *e)
             fputc('\n', f);
             break;
         case B_FIGURE:
-            fprintf(f, "![%s](%s)\n\n*%s*\n\n", b->text, b->file, b->text);
+            /* the file name is the report's own (file_safe), not escaped */
+            fputs("![", f);
+            md_text(f, b->text);
+            fprintf(f, "](%s)\n\n*", b->file);
+            md_text(f, b->text);
+            fputs("*\n\n", f);
             break;
         }
     }

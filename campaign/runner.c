@@ -21,6 +21,8 @@ struct slot {
     long j;
     long long run_id;
     int attempt;
+    int lost;            /* our lease was taken over: stopped, not to be recorded */
+    char run_dir[4096];  /* the attempt's own directory */
 };
 
 struct run_state {
@@ -44,6 +46,9 @@ struct run_state {
     struct runner_summary *sum;
     struct err *e;
     int fatal;           /* a database error during recording */
+    int infra_streak;    /* infrastructure failures in a row */
+    int infra_stop;      /* stopped for them (e says why) */
+    double pause_until;  /* monotonic: start nothing before (backoff) */
 };
 
 static int push(struct run_state *r, long j, double at)
@@ -110,6 +115,66 @@ static void final_failure(struct run_state *r, long j, const char *why)
     progress_view_job(&r->view, "failed", r->p->jobs[j].key, lab, 0, why);
 }
 
+/* ${prep:KEY} of job j: the directory of the preparation job's recorded
+ * done run (the attempt whose files were checked in), looked up when the
+ * job starts. */
+struct prep_lookup {
+    struct run_state *r;
+    long j;
+    char dir[4096];
+};
+
+static const char *prep_dir(void *ctx, const char *key, struct err *e)
+{
+    struct prep_lookup *pl = ctx;
+    struct run_state *r = pl->r;
+    const struct plan_job *pj = &r->p->jobs[pl->j];
+    for (int d = 0; d < pj->ndeps; d++) {
+        long dj = pj->deps[d];
+        if (strcmp(r->p->jobs[dj].key, key) != 0)
+            continue;
+        if (store_done_dir(&r->store, r->job_ids[dj], pl->dir, sizeof pl->dir, e) != 0) {
+            err_prefix(e, "preparation job %s: ", key);
+            return NULL;
+        }
+        return pl->dir;
+    }
+    err_set(e, ERR_RUNTIME, "the case reads preparation job %s, which it does not depend on", key);
+    return NULL;
+}
+
+/* An attempt at job j failed for reasons outside the job (recorded as
+ * such): pause, try the job again, or stop after too many in a row --
+ * a full disk or a missing solver fails every job the same way, and
+ * charging them would use up their retries in seconds. */
+static void infra_failure(struct run_state *r, long j, int attempt, const char *why)
+{
+    char lab[512];
+    label(r, j, lab, sizeof lab);
+    r->mem[j] = M_QUEUED;
+    r->infra_streak++;
+    if (r->infra_streak >= r->o->infra_limit) {
+        if (!r->infra_stop) {
+            r->infra_stop = 1;
+            r->stopping = 1;
+            err_set(r->e, ERR_RUNTIME,
+                    "stopped after %d infrastructure failures in a row (none was charged to a "
+                    "job; fix the cause and run again); the last, %s attempt %d: %s",
+                    r->infra_streak, r->p->jobs[j].key, attempt, why);
+            progress_view_note(&r->view, "%s", r->e->msg);
+        }
+        return;
+    }
+    double backoff = r->o->infra_backoff_s;
+    for (int k = 1; k < r->infra_streak; k++)
+        backoff *= 2;
+    r->pause_until = sys_mono() + backoff;
+    progress_view_note(&r->view, "%s (%s), attempt %d: infrastructure failure, not charged to "
+                                 "the job: %s; starting nothing for %.1f s",
+                       r->p->jobs[j].key, lab, attempt, why, backoff);
+    push(r, j, r->pause_until);
+}
+
 /* Try to start queue entry k; returns 1 when a slot was used. */
 static int try_start(struct run_state *r, long k, int slot)
 {
@@ -127,13 +192,14 @@ static int try_start(struct run_state *r, long k, int slot)
         qe->retry_at = now + 0.05;
         return 0;
     }
-    char run_dir[4096 + 300];
-    snprintf(run_dir, sizeof run_dir, "%s/%s/%s", r->o->runs_root, r->s->name, pj->key);
+    char job_dir[4096], run_dir[4096];
+    snprintf(job_dir, sizeof job_dir, "%s/%s/%s", r->o->runs_root, r->s->name, pj->key);
     double t0 = sys_mono();
     enum claim_result res;
     long long run_id = 0;
     int attempt = 0;
-    if (store_claim(&r->store, r->job_ids[j], run_dir, &res, &run_id, &attempt, r->e) != 0) {
+    if (store_claim(&r->store, r->job_ids[j], job_dir, &res, &run_id, &attempt, run_dir,
+                    sizeof run_dir, r->e) != 0) {
         r->fatal = 1;
         return 0;
     }
@@ -161,14 +227,15 @@ static int try_start(struct run_state *r, long k, int slot)
         return 0;
     case CLAIM_EXHAUSTED:
         qe->j = -1;
-        final_failure(r, j, "not run again: it diverged or failed as often as the study allows "
-                            "(cascade retry STUDY to run it anyway)");
+        final_failure(r, j, "not run again: it diverged, crashed the same way twice or failed "
+                            "as often as the study allows (cascade retry STUDY to run it anyway)");
         return 0;
     case CLAIM_OK:
         break;
     }
     struct launch_spec L;
-    int rc = launch_build(&L, r->s, r->sv, r->o->runs_root, pj->key, pj->case_json, r->e);
+    struct prep_lookup pl = {r, j, ""};
+    int rc = launch_build(&L, r->s, r->sv, run_dir, pj->key, pj->case_json, prep_dir, &pl, r->e);
     if (!rc) {
         L.job_id = r->job_ids[j];
         L.run_id = run_id;
@@ -176,40 +243,52 @@ static int try_start(struct run_state *r, long k, int slot)
         launch_free(&L);
     }
     if (rc) {
-        /* record the failure to start as the attempt's outcome */
+        /* record the failure to start as the attempt's outcome: the
+         * environment's failure, not the job's */
         struct outcome o;
-        memset(&o, 0, sizeof o);
-        o.status = RS_FAILED;
-        o.exit_code = -1;
-        o.started = o.finished = sys_now();
-        sys_hostname(o.host, sizeof o.host);
-        snprintf(o.message, sizeof o.message, "could not start: %s", r->e->msg);
+        outcome_start_failure(&o, r->e->msg);
+        err_clear(r->e);
         int lost;
-        if (store_finish(&r->store, r->job_ids[j], run_id, &o, &lost, r->e) != 0)
-            r->fatal = 1;
         qe->j = -1;
-        final_failure(r, j, o.message);
+        if (store_finish(&r->store, r->job_ids[j], run_id, run_dir, &o, &lost, r->e) != 0) {
+            r->fatal = 1;
+        } else if (lost) {
+            r->mem[j] = M_ELSEWHERE;
+            push(r, j, sys_mono() + r->o->poll_s);
+        } else {
+            infra_failure(r, j, attempt, o.message);
+        }
         return 0;
     }
     qe->j = -1;
     r->sum->start_s += sys_mono() - t0;
     r->sum->started++;
     r->mem[j] = M_RUNNING;
-    r->slots[slot] = (struct slot){1, j, run_id, attempt};
+    struct slot *sl = &r->slots[slot];
+    *sl = (struct slot){1, j, run_id, attempt, 0, ""};
+    snprintf(sl->run_dir, sizeof sl->run_dir, "%s", run_dir);
     r->running++;
     r->view.running = r->running;
     progress_view_tick(&r->view, 1);
     return 1;
 }
 
+static int paused(const struct run_state *r, double now)
+{
+    return r->stopping || r->fatal || now < r->pause_until;
+}
+
 static void fill_slots(struct run_state *r)
 {
-    if (r->stopping || r->fatal)
-        return;
     double now = sys_mono();
+    if (paused(r, now))
+        return;
+    /* after an infrastructure failure one job at a time probes whether the
+     * machine works again, rather than every slot failing at once */
+    int limit = r->infra_streak > 0 ? 1 : r->b->nslots;
     while (r->head < r->qn && r->q[r->head].j < 0)
         r->head++;
-    for (long k = r->head; k < r->qn && r->running < r->b->nslots && !r->fatal; k++) {
+    for (long k = r->head; k < r->qn && r->running < limit && !paused(r, now); k++) {
         if (r->q[k].j < 0 || r->q[k].retry_at > now)
             continue;
         int slot = 0;
@@ -252,8 +331,10 @@ static void on_done(void *ctx, int slot, struct outcome *o)
     long j = sl->j;
     int lost = 0;
     double t0 = sys_mono();
-    if (store_finish(&r->store, r->job_ids[j], sl->run_id, o, &lost, r->e) != 0)
+    if (store_finish(&r->store, r->job_ids[j], sl->run_id, sl->run_dir, o, &lost, r->e) != 0)
         r->fatal = 1;
+    if (r->store.note[0])
+        progress_view_note(&r->view, "%s: %s", r->p->jobs[j].key, r->store.note);
     r->sum->record_s += sys_mono() - t0 + o->collect_s;
     if (!lost)
         r->sum->metric_rows += r->store.last_metric_rows;
@@ -264,11 +345,17 @@ static void on_done(void *ctx, int slot, struct outcome *o)
     char lab[512];
     label(r, j, lab, sizeof lab);
     const char *status = run_status_name(o->status);
+    /* an attempt that ran to an outcome of its own shows the machine works */
+    if (!lost && o->failure != FC_INFRA && o->status != RS_CANCELLED)
+        r->infra_streak = 0;
     if (lost) {
         r->mem[j] = M_ELSEWHERE;
-        progress_view_note(&r->view, "%s: our lease expired and another runner took the job; "
-                                     "this result is not recorded", r->p->jobs[j].key);
+        if (!sl->lost)   /* else drop_lost_leases said so when it stopped the job */
+            progress_view_note(&r->view, "%s: our lease expired and another runner took the "
+                                         "job; this result is not recorded", r->p->jobs[j].key);
         push(r, j, sys_mono() + r->o->poll_s);
+    } else if (o->failure == FC_INFRA) {
+        infra_failure(r, j, sl->attempt, o->message);
     } else if (o->status == RS_DONE) {
         r->mem[j] = M_DONE;
         r->sum->done++;
@@ -290,6 +377,33 @@ static void on_done(void *ctx, int slot, struct outcome *o)
         progress_view_job(&r->view, status, r->p->jobs[j].key, lab, o->wall_s, o->message);
     }
     outcome_free(o);
+}
+
+/* A runner frozen past its lease (SIGSTOP, a suspended VM, a long stall)
+ * may find on waking that another runner took its jobs over: their solvers
+ * are stopped at once and nothing of them is recorded (store_finish finds
+ * the lease gone).  They wrote only their own attempt directories. */
+static void drop_lost_leases(struct run_state *r)
+{
+    for (int i = 0; i < r->b->nslots; i++) {
+        struct slot *sl = &r->slots[i];
+        if (!sl->busy || sl->lost)
+            continue;
+        int held = 1;
+        struct err e = {0};
+        if (store_lease_held(&r->store, r->job_ids[sl->j], sl->run_id, &held, &e) != 0) {
+            progress_view_note(&r->view, "cannot check the lease of %s: %s",
+                               r->p->jobs[sl->j].key, e.msg);
+            continue;
+        }
+        if (held)
+            continue;
+        sl->lost = 1;
+        progress_view_note(&r->view, "%s: our lease expired and another runner took the job; "
+                                     "stopping attempt %d, nothing of it is recorded",
+                           r->p->jobs[sl->j].key, sl->attempt);
+        r->b->cancel(r->b, i);
+    }
 }
 
 static void cancel_all(struct run_state *r)
@@ -379,6 +493,8 @@ int runner_run(const struct study *s, const struct plan *p, const struct solver 
         double now = sys_mono(), wait = 0.5;
         if (r.running == 0) {
             double t = next_retry(&r);
+            if (t >= 0 && t < r.pause_until)
+                t = r.pause_until;
             wait = t < 0 ? 0.1 : t - now;
             if (wait > 1.0)
                 wait = 1.0;
@@ -396,6 +512,8 @@ int runner_run(const struct study *s, const struct plan *p, const struct solver 
             struct err he = {0};
             if (store_heartbeat(&r.store, &he) != 0)
                 progress_view_note(&r.view, "heartbeat failed: %s", he.msg);
+            else
+                drop_lost_leases(&r);
             next_beat = sys_mono() + o->lease_s / 3.0;
         }
         progress_view_tick(&r.view, 0);
@@ -417,5 +535,5 @@ int runner_run(const struct study *s, const struct plan *p, const struct solver 
     free(r.dep_verdict);
     free(r.slots);
     free(r.q);
-    return r.fatal ? ERR_RUNTIME : 0;
+    return r.fatal || r.infra_stop ? ERR_RUNTIME : 0;
 }

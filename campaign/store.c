@@ -7,6 +7,7 @@
 #include <unistd.h>
 
 #include "db.h"
+#include "launch.h"
 #include "sysinfo.h"
 
 enum {
@@ -23,6 +24,8 @@ enum {
     Q_ARTIFACT_INSERT,
     Q_LEASE_DELETE,
     Q_HEARTBEAT,
+    Q_DONE_DIR,
+    Q_SAME_CRASH,
     Q_COUNT
 };
 
@@ -31,8 +34,11 @@ static const char *const queries[Q_COUNT] = {
     [Q_RETRY_AFTER] = "SELECT retry_after FROM jobs WHERE id = ?1",
     [Q_DONE] = "SELECT 1 FROM runs WHERE job_id = ?1 AND status = 'done' AND solver_version = ?2 "
                "AND solver_git = ?3 AND attempt > ?4 LIMIT 1",
-    [Q_FAILS] = "SELECT count(*) FILTER (WHERE status IN ('failed', 'crashed', 'timeout')), "
-                "count(*) FILTER (WHERE status = 'diverged') FROM runs WHERE job_id = ?1 "
+    /* infrastructure failures are not the job's: they never count */
+    [Q_FAILS] = "SELECT count(*) FILTER (WHERE status IN ('failed', 'crashed', 'timeout') "
+                "AND failure_class IS NOT 'infrastructure'), "
+                "count(*) FILTER (WHERE status = 'diverged' OR failure_class = 'deterministic') "
+                "FROM runs WHERE job_id = ?1 "
                 "AND solver_version = ?2 AND solver_git = ?3 AND attempt > ?4",
     [Q_DEPS] = "SELECT needs_id FROM job_deps WHERE job_id = ?1",
     [Q_NEXT_ATTEMPT] = "SELECT coalesce(max(attempt), 0) + 1 FROM runs WHERE job_id = ?1",
@@ -43,14 +49,23 @@ static const char *const queries[Q_COUNT] = {
                        "VALUES (?1, ?2, ?3, ?4, ?5, ?6)",
     [Q_RUN_UPDATE] = "UPDATE runs SET status = ?2, exit_code = ?3, signal = ?4, message = ?5, "
                      "started = ?6, finished = ?7, wall_s = ?8, peak_rss_mib = ?9, host = ?10, "
-                     "pid = ?11, stderr_tail = ?12, solver_version = ?13, solver_git = ?14 "
-                     "WHERE id = ?1",
+                     "pid = ?11, stderr_tail = ?12, solver_version = ?13, solver_git = ?14, "
+                     "failure_class = ?15, last_step = ?16 WHERE id = ?1",
     [Q_METRIC_INSERT] = "INSERT OR REPLACE INTO metrics (run_id, name, value, unit) "
                         "VALUES (?1, ?2, ?3, ?4)",
     [Q_ARTIFACT_INSERT] = "INSERT OR REPLACE INTO artifacts (run_id, path, kind, bytes, sha256) "
                           "VALUES (?1, ?2, ?3, ?4, ?5)",
     [Q_LEASE_DELETE] = "DELETE FROM leases WHERE job_id = ?1 AND run_id = ?2",
     [Q_HEARTBEAT] = "UPDATE leases SET expires = ?2 WHERE runner = ?1",
+    [Q_DONE_DIR] = "SELECT run_dir FROM runs WHERE job_id = ?1 AND status = 'done' "
+                   "AND solver_version = ?2 AND solver_git = ?3 "
+                   "AND attempt > (SELECT retry_after FROM jobs WHERE id = ?1) "
+                   "ORDER BY attempt DESC LIMIT 1",
+    [Q_SAME_CRASH] = "SELECT attempt, last_step FROM runs WHERE job_id = ?1 AND id <> ?2 "
+                     "AND status = 'crashed' AND signal = ?3 AND solver_version = ?4 "
+                     "AND solver_git = ?5 "
+                     "AND attempt > (SELECT retry_after FROM jobs WHERE id = ?1) "
+                     "ORDER BY attempt DESC",
 };
 
 int store_init(struct store *st, sqlite3 *db, const struct study *s, const struct solver *sv,
@@ -270,7 +285,7 @@ static int job_retry_after(struct store *st, long long job_id, long long *ra, st
     sqlite3_bind_int64(s, 1, job_id);
     if (sqlite3_step(s) != SQLITE_ROW) {
         sqlite3_reset(s);
-        return err_set(e, ERR_RUNTIME, "database: no job %lld", job_id);
+        return db_err(st->db, e, ERR_RUNTIME, "no job %lld", job_id);
     }
     *ra = sqlite3_column_int64(s, 0);
     sqlite3_reset(s);
@@ -338,12 +353,13 @@ int store_job_verdict(struct store *st, long long job_id, enum claim_result *res
     return rc;
 }
 
+/* A run whose runner is gone or lost its lease: not the job's fault. */
 static int cancel_run(sqlite3 *db, long long run_id, const char *why, struct err *e)
 {
     sqlite3_stmt *s;
     int rc = db_prepare(db,
-                        "UPDATE runs SET status = 'cancelled', message = ?2, finished = ?3 "
-                        "WHERE id = ?1 AND status = 'running'",
+                        "UPDATE runs SET status = 'cancelled', message = ?2, finished = ?3, "
+                        "failure_class = 'infrastructure' WHERE id = ?1 AND status = 'running'",
                         &s, e);
     if (rc)
         return rc;
@@ -379,8 +395,9 @@ static int drop_lease(sqlite3 *db, long long job_id, struct err *e)
     return db_exec(db, sql, e);
 }
 
-int store_claim(struct store *st, long long job_id, const char *run_dir, enum claim_result *res,
-                long long *run_id, int *attempt, struct err *e)
+int store_claim(struct store *st, long long job_id, const char *job_dir, enum claim_result *res,
+                long long *run_id, int *attempt, char *run_dir, size_t run_dir_len,
+                struct err *e)
 {
     sqlite3 *db = st->db;
     int rc = db_begin(db, e);
@@ -419,6 +436,7 @@ int store_claim(struct store *st, long long job_id, const char *run_dir, enum cl
     sqlite3_step(s);
     *attempt = sqlite3_column_int(s, 0);
     sqlite3_reset(s);
+    launch_attempt_dir(job_dir, *attempt, run_dir, run_dir_len);
     char now[40];
     double t = sys_now();
     sys_iso_time(t, now, sizeof now);
@@ -469,12 +487,53 @@ static int wanted(const struct store *st, const char *name)
     return 0;
 }
 
-int store_finish(struct store *st, long long job_id, long long run_id, const struct outcome *o,
-                 int *lost, struct err *e)
+/* A crash the same as an earlier one of the job (same signal; same step
+ * when both are known) is deterministic: o is reclassified, its message
+ * says which attempt it repeats. */
+static int check_repeat_crash(struct store *st, long long job_id, long long run_id,
+                              struct outcome *o, struct err *e)
+{
+    if (o->status != RS_CRASHED || !o->signal)
+        return 0;
+    sqlite3_stmt *s = q(st, Q_SAME_CRASH);
+    sqlite3_bind_int64(s, 1, job_id);
+    sqlite3_bind_int64(s, 2, run_id);
+    sqlite3_bind_int(s, 3, o->signal);
+    bind_text(s, 4, o->solver_version[0] ? o->solver_version : st->solver_version);
+    bind_text(s, 5, o->solver_git[0] ? o->solver_git : st->solver_git);
+    int r;
+    while ((r = sqlite3_step(s)) == SQLITE_ROW) {
+        int attempt = sqlite3_column_int(s, 0);
+        int known = sqlite3_column_type(s, 1) != SQLITE_NULL && o->last_step >= 0;
+        if (known && sqlite3_column_int64(s, 1) != o->last_step)
+            continue;
+        o->failure = FC_DETERMINISTIC;
+        size_t used = strlen(o->message);
+        if (known)
+            snprintf(o->message + used, sizeof o->message - used,
+                     "; deterministic: the same signal at step %ld as attempt %d, not retried "
+                     "again",
+                     o->last_step, attempt);
+        else
+            snprintf(o->message + used, sizeof o->message - used,
+                     "; deterministic: the same signal as attempt %d (step unknown), not retried "
+                     "again",
+                     attempt);
+        break;
+    }
+    sqlite3_reset(s);
+    if (r != SQLITE_ROW && r != SQLITE_DONE)
+        return db_fail(st->db, e, "looking for earlier crashes");
+    return 0;
+}
+
+int store_finish(struct store *st, long long job_id, long long run_id, const char *run_dir,
+                 struct outcome *o, int *lost, struct err *e)
 {
     sqlite3 *db = st->db;
     *lost = 0;
     st->last_metric_rows = 0;
+    st->note[0] = '\0';
     int rc = db_begin(db, e);
     if (rc)
         return rc;
@@ -498,6 +557,10 @@ int store_finish(struct store *st, long long job_id, long long run_id, const str
                 snprintf(missing + used, sizeof missing - used, "%s%s",
                          used ? ", " : "result.json lacks the study's metrics: ", st->metrics[i]);
             }
+    if ((rc = check_repeat_crash(st, job_id, run_id, o, e)) != 0) {
+        db_rollback(db);
+        return rc;
+    }
     char t0[40], t1[40];
     sys_iso_time(o->started, t0, sizeof t0);
     sys_iso_time(o->finished, t1, sizeof t1);
@@ -520,6 +583,10 @@ int store_finish(struct store *st, long long job_id, long long run_id, const str
         bind_text(s, 12, o->stderr_tail);
     bind_text(s, 13, o->solver_version[0] ? o->solver_version : st->solver_version);
     bind_text(s, 14, o->solver_git[0] ? o->solver_git : st->solver_git);
+    if (failure_class_name(o->failure))
+        bind_text(s, 15, failure_class_name(o->failure));
+    if (o->last_step >= 0)
+        sqlite3_bind_int64(s, 16, o->last_step);
     if (sqlite3_step(s) != SQLITE_DONE)
         rc = db_fail(db, e, "recording the run");
     sqlite3_reset(s);
@@ -573,6 +640,12 @@ int store_finish(struct store *st, long long job_id, long long run_id, const str
             rc = db_fail(db, e, "releasing the lease");
         sqlite3_reset(s);
     }
+    /* The link is a convenience (runs.run_dir is the record): a failure to
+     * write it does not lose the outcome.  Written while this transaction
+     * holds the write lock, so no later attempt can be recorded before it. */
+    struct err le = {0};
+    if (!rc && run_dir && launch_point_current(run_dir, &le) != 0)
+        snprintf(st->note, sizeof st->note, "%s", le.msg);
     if (!rc)
         rc = db_commit(db, e);
     if (rc)
@@ -588,6 +661,40 @@ int store_heartbeat(struct store *st, struct err *e)
     int rc = sqlite3_step(s) == SQLITE_DONE ? 0 : db_fail(st->db, e, "heartbeat");
     sqlite3_reset(s);
     return rc;
+}
+
+int store_lease_held(struct store *st, long long job_id, long long run_id, int *held,
+                     struct err *e)
+{
+    sqlite3_stmt *s = q(st, Q_LEASE_GET);
+    sqlite3_bind_int64(s, 1, job_id);
+    int r = sqlite3_step(s);
+    if (r != SQLITE_ROW && r != SQLITE_DONE) {
+        sqlite3_reset(s);
+        return db_fail(st->db, e, "looking at a lease");
+    }
+    *held = r == SQLITE_ROW && strcmp((const char *)sqlite3_column_text(s, 0), st->runner) == 0 &&
+            sqlite3_column_int64(s, 2) == run_id;
+    sqlite3_reset(s);
+    return 0;
+}
+
+int store_done_dir(struct store *st, long long job_id, char *dir, size_t len, struct err *e)
+{
+    sqlite3_stmt *s = q(st, Q_DONE_DIR);
+    sqlite3_bind_int64(s, 1, job_id);
+    bind_text(s, 2, st->solver_version);
+    bind_text(s, 3, st->solver_git);
+    int r = sqlite3_step(s);
+    if (r == SQLITE_ROW)
+        snprintf(dir, len, "%s", (const char *)sqlite3_column_text(s, 0));
+    sqlite3_reset(s);
+    if (r == SQLITE_ROW)
+        return 0;
+    if (r != SQLITE_DONE)
+        return db_fail(st->db, e, "looking up a preparation job's run directory");
+    return db_err(st->db, e, ERR_RUNTIME, "the preparation job has no done run for this solver "
+                                          "(retried meanwhile?)");
 }
 
 int store_reap(struct store *st, int *n, struct err *e)

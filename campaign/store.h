@@ -33,6 +33,8 @@ struct store {
     int nmetrics;
     sqlite3_stmt *st[16];
     long last_metric_rows;        /* metric rows the last store_finish wrote */
+    char note[1024];              /* what the last store_finish could not do besides
+                                     recording (the `current` link), or "" */
 };
 
 int store_init(struct store *st, sqlite3 *db, const struct study *s, const struct solver *sv,
@@ -49,19 +51,35 @@ enum claim_result {
     CLAIM_LEASED,     /* a live runner has it */
     CLAIM_WAIT,       /* a preparation job it needs is not done yet */
     CLAIM_BLOCKED,    /* a preparation job it needs failed for good */
-    CLAIM_EXHAUSTED,  /* failed as often as the study allows, or diverged */
+    CLAIM_EXHAUSTED,  /* failed as often as the study allows, diverged, or crashed
+                         deterministically (infrastructure failures never count) */
 };
 
-int store_claim(struct store *st, long long job_id, const char *run_dir, enum claim_result *res,
-                long long *run_id, int *attempt, struct err *e);
+/* On CLAIM_OK: the new run's id, attempt number and directory (job_dir is
+ * runs/<study>/<key>; the attempt's is job_dir/attempt-N). */
+int store_claim(struct store *st, long long job_id, const char *job_dir, enum claim_result *res,
+                long long *run_id, int *attempt, char *run_dir, size_t run_dir_len,
+                struct err *e);
 
-/* Record an outcome.  *lost is set when the lease was no longer ours (the
- * job was taken over after our lease expired): nothing is recorded then. */
-int store_finish(struct store *st, long long job_id, long long run_id, const struct outcome *o,
-                 int *lost, struct err *e);
+/* Record an outcome and point the job's `current` link at run_dir, in the
+ * transaction (so the link follows the order in which attempts were
+ * recorded).  *lost is set when the lease was no longer ours (the job was
+ * taken over after our lease expired): nothing is recorded or linked then.
+ * A crash that repeats an earlier one of the job is reclassified
+ * deterministic here (o->failure, o->message), as only the database knows
+ * the earlier runs. */
+int store_finish(struct store *st, long long job_id, long long run_id, const char *run_dir,
+                 struct outcome *o, int *lost, struct err *e);
 
 /* Extend this runner's leases. */
 int store_heartbeat(struct store *st, struct err *e);
+/* Whether this runner still holds the lease of run_id of a job (a runner
+ * that was frozen past its lease may find that another runner took it). */
+int store_lease_held(struct store *st, long long job_id, long long run_id, int *held,
+                     struct err *e);
+/* The run directory of a job's latest done run for this solver (after any
+ * `cascade retry`), into dir; ERR_RUNTIME when it has none. */
+int store_done_dir(struct store *st, long long job_id, char *dir, size_t len, struct err *e);
 /* Reap expired and orphaned leases; *n the number reaped. */
 int store_reap(struct store *st, int *n, struct err *e);
 

@@ -47,7 +47,13 @@ int study_run(const struct study *s, const struct study_run_opts *o, struct runn
         }
     }
     if (!rc) {
-        struct runner_options ro = {runs_abs, o->lease, 1.0, o->quiet, stderr};
+        struct runner_options ro = {.runs_root = runs_abs,
+                                    .lease_s = o->lease,
+                                    .poll_s = 1.0,
+                                    .quiet = o->quiet,
+                                    .log = stderr,
+                                    .infra_backoff_s = 0.5,
+                                    .infra_limit = 3};
         rc = runner_run(s, &p, &sv, db, &b, &ro, sum, e);
     }
     if (b.destroy)

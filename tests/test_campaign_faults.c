@@ -7,12 +7,22 @@
  * stderr tail, while every other job of the campaign completes with its
  * metrics and checksummed files; a job that fails once is retried and then
  * succeeds (and with retries: 0 it is not); a new solver version runs the done jobs again.
+ *
+ * Whom a failure is charged to: a crash that repeats (same signal at the
+ * same step, or the same signal when the step is unknown) is not retried
+ * again while one at a new step is; a solver killed with SIGKILL says so by
+ * name, and so does exit 137.  Infrastructure failures -- a run directory
+ * that cannot be created, a solver that cannot be started, a full disk --
+ * use up no retries: the runner backs off, stops after three in a row with
+ * a message naming the path, marks no job failed, and once the cause is
+ * gone every job runs.
  */
 #include <criterion/criterion.h>
 #include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include "helpers/ct.h"
@@ -195,5 +205,202 @@ Test(campaign_faults, new_solver_version_reruns, .timeout = 60)
     cr_assert_eq(ct_int(db, "SELECT count(*) FROM runs"), 9);
     cr_assert_eq(ct_int(db, "SELECT count(*) FROM runs WHERE attempt = 3 AND status = 'done'"), 3);
     sqlite3_close(db);
+    ct_rmrf(dir);
+}
+
+Test(campaign_faults, repeated_crashes_are_deterministic, .timeout = 60)
+{
+    char dir[64], out[16384], text[1024];
+    ct_mkdir(dir, sizeof dir);
+    snprintf(text, sizeof text,
+             "name: det\n"
+             "base: {fake: {action: crash}}\n"
+             "sweep:\n"
+             "  zip:\n"
+             "    fake.x: [1, 2, 3, 4]\n"
+             "    fake.action: [crash, crash, crash, exit]\n"
+             "    fake.signal: [11, 11, 6, 11]\n"
+             "    fake.steps: [5, 5, 0, 0]\n"
+             "    fake.counter: ['', '%s/counter', '', '']\n"
+             "    fake.code: [3, 3, 3, 137]\n"
+             "retries: 3\n",
+             dir);
+    ct_write(0, dir, "det.yaml", text);
+    int rc = run_study(dir, "det.yaml", out, sizeof out);
+    cr_assert_eq(rc, 1, "%s", out);
+    sqlite3 *db = ct_db(dir);
+#define RUNS_OF(x, cond)                                                                           \
+    "SELECT count(*) FROM runs r JOIN job_params p ON p.job_id = r.job_id AND p.name = 'fake.x' " \
+    "WHERE p.value = " #x " AND " cond
+    /* the same signal at the same step twice: no third attempt */
+    cr_assert_eq(ct_int(db, RUNS_OF(1, "1")), 2);
+    cr_assert_eq(ct_int(db, RUNS_OF(1, "attempt = 2 AND status = 'crashed' AND signal = 11 AND "
+                                       "last_step = 5 AND failure_class = 'deterministic' AND "
+                                       "message LIKE '%same signal at step 5 as attempt 1%'")),
+                 1);
+    /* a new step every time: retried as the study allows (1 + 3 attempts) */
+    cr_assert_eq(ct_int(db, RUNS_OF(2, "status = 'crashed' AND failure_class = 'job'")), 4);
+    cr_assert_eq(ct_int(db, RUNS_OF(2, "attempt = 4 AND last_step = 8")), 1);
+    /* the step unknown (no thermo.csv): the same signal twice is enough */
+    cr_assert_eq(ct_int(db, RUNS_OF(3, "1")), 2);
+    cr_assert_eq(ct_int(db, RUNS_OF(3, "attempt = 2 AND last_step IS NULL AND "
+                                       "failure_class = 'deterministic' AND message LIKE "
+                                       "'crashed: killed by signal 6 (SIGABRT); deterministic: "
+                                       "the same signal as attempt 1 (step unknown)%'")),
+                 1);
+    /* exit 137 from what looks like a launcher names the signal; a plain
+     * failure, retried */
+    cr_assert_eq(ct_int(db, RUNS_OF(4, "status = 'failed' AND exit_code = 137 AND "
+                                       "message LIKE 'exit 137 (128 + 9:%signal 9 (SIGKILL))%'")),
+                 4);
+#undef RUNS_OF
+    sqlite3_close(db);
+    ct_rmrf(dir);
+}
+
+/* Read a pid from a file, waiting up to 10 s for it. */
+static int read_pid(const char *path)
+{
+    for (int i = 0; i < 1000; i++) {
+        FILE *f = fopen(path, "r");
+        int pid = 0;
+        if (f) {
+            int got = fscanf(f, "%d", &pid);
+            fclose(f);
+            if (got == 1 && pid > 0)
+                return pid;
+        }
+        usleep(10000);
+    }
+    cr_assert_fail("no pid in %s after 10 s", path);
+    return 0;
+}
+
+Test(campaign_faults, sigkill_of_a_solver_is_named, .timeout = 60)
+{
+    char dir[64], text[512];
+    ct_mkdir(dir, sizeof dir);
+    snprintf(text, sizeof text,
+             "name: killed\nbase: {fake: {action: slow_once, seconds: 30, flag: %s/flag}}\n"
+             "retries: 0\n",
+             dir);
+    ct_write(0, dir, "killed.yaml", text);
+    const char *argv[] = {ct_cascade_bin(), "run", "killed.yaml", "--solver", ct_standin(), NULL};
+    pid_t runner = ct_spawn(dir, NULL, argv, "run.log");
+    char pidfile[128];
+    snprintf(pidfile, sizeof pidfile, "%s/runs/killed", dir);
+    /* the one job's attempt directory: runs/killed/<key>/attempt-1 */
+    char path[512] = "";
+    for (int i = 0; i < 1000 && !path[0]; i++) {
+        char cmd[256];
+        snprintf(cmd, sizeof cmd, "ls -d %s/*/attempt-1 2>/dev/null", pidfile);
+        FILE *p = popen(cmd, "r");
+        if (p) {
+            if (fgets(path, sizeof path, p))
+                path[strcspn(path, "\n")] = '\0';
+            pclose(p);
+        }
+        if (!path[0])
+            usleep(10000);
+    }
+    cr_assert(path[0], "no attempt directory");
+    strncat(path, "/solver.pid", sizeof path - strlen(path) - 1);
+    int solver = read_pid(path);
+    cr_assert_eq(kill(solver, SIGKILL), 0);
+    cr_assert_eq(ct_wait(runner), 1, "the job failed: exit 1 (see %s/run.log)", dir);
+    sqlite3 *db = ct_db(dir);
+    cr_assert_eq(ct_int(db, "SELECT count(*) FROM runs WHERE status = 'crashed' AND signal = 9 "
+                            "AND failure_class = 'job' AND "
+                            "message = 'crashed: killed by signal 9 (SIGKILL)'"),
+                 1);
+    sqlite3_close(db);
+    ct_rmrf(dir);
+}
+
+/* What a stop for infrastructure failures leaves: n attempts, all recorded
+ * as the infrastructure's (cancelled, message LIKE like), no job failed,
+ * and a backoff between the first and the last (0.5 s, then 1 s, after
+ * failures one by one; 1 s after two at once -- then one job probes). */
+static void check_infra_stop(const char *dir, const char *out, int n, const char *like)
+{
+    cr_assert_not_null(strstr(out, "stopped after 3 infrastructure failures in a row"), "%s", out);
+    sqlite3 *db = ct_db(dir);
+    char sql[512];
+    cr_assert_eq(ct_int(db, "SELECT count(*) FROM runs"), n);
+    snprintf(sql, sizeof sql,
+             "SELECT count(*) FROM runs WHERE status = 'cancelled' AND "
+             "failure_class = 'infrastructure' AND message LIKE '%s'",
+             like);
+    cr_assert_eq(ct_int(db, sql), n, "%s", out);
+    cr_assert_eq(ct_int(db, "SELECT count(*) FROM jobs WHERE state IN ('failed', 'crashed', "
+                            "'timeout', 'diverged')"),
+                 0, "a job was marked failed");
+    cr_assert_eq(ct_int(db, "SELECT count(*) FROM runs WHERE failure_class IS NOT "
+                            "'infrastructure'"),
+                 0);
+    cr_assert_eq(ct_int(db, "SELECT count(*) FROM leases"), 0);
+    double span = ct_real(db, "SELECT (julianday(max(finished)) - julianday(min(started))) * "
+                              "86400 FROM runs");
+    cr_assert_geq(span, 0.95, "no backoff: %d failures in %.2f s", n, span);
+    sqlite3_close(db);
+}
+
+Test(campaign_faults, unwritable_run_directory_stops_without_charging_jobs, .timeout = 60)
+{
+    char dir[64], out[16384], runs[128], in_the_way[160];
+    ct_mkdir(dir, sizeof dir);
+    ct_write(0, dir, "infra.yaml",
+             "name: infra\n"
+             "base: {fake: {action: ok}}\n"
+             "sweep: {grid: {fake.x: [1, 2, 3, 4, 5, 6, 7, 8]}}\n"
+             "retries: 0\n");
+    /* runs/infra is a file: no run directory can be made under it (a
+     * permission would not stop root; a file in the way stops anyone) */
+    snprintf(runs, sizeof runs, "%s/runs", dir);
+    cr_assert_eq(mkdir(runs, 0755), 0);
+    snprintf(in_the_way, sizeof in_the_way, "%s/infra", runs);
+    ct_write(1, runs, "infra", "in the way\n");
+    int rc = run_study(dir, "infra.yaml", out, sizeof out);
+    cr_assert_eq(rc, 1, "%s", out);
+    char want[256];
+    snprintf(want, sizeof want, "cannot create directory %s: a file of that name is in the way",
+             in_the_way);
+    cr_assert_not_null(strstr(out, want), "the stop does not name %s: %s", in_the_way, out);
+    check_infra_stop(dir, out, 3, "could not start: cannot create directory %infra: a file%");
+    /* the cause gone, every job runs: retries: 0, yet none was used up */
+    cr_assert_eq(unlink(in_the_way), 0);
+    rc = run_study(dir, "infra.yaml", out, sizeof out);
+    cr_assert_eq(rc, 0, "%s", out);
+    sqlite3 *db = ct_db(dir);
+    cr_assert_eq(ct_int(db, "SELECT count(*) FROM jobs WHERE state = 'done'"), 8);
+    sqlite3_close(db);
+    ct_rmrf(dir);
+}
+
+Test(campaign_faults, solver_start_and_disk_failures_are_infrastructure, .timeout = 60)
+{
+    /* exit 127: the solver could not be started (as when exec fails) */
+    char dir[64], out[16384];
+    ct_mkdir(dir, sizeof dir);
+    ct_write(0, dir, "nostart.yaml",
+             "name: nostart\n"
+             "base: {fake: {action: exit, code: 127}}\n"
+             "sweep: {grid: {fake.x: [1, 2, 3, 4]}}\n");
+    int rc = run_study(dir, "nostart.yaml", out, sizeof out);
+    cr_assert_eq(rc, 1, "%s", out);
+    check_infra_stop(dir, out, 3, "could not start the solver: %");
+    ct_rmrf(dir);
+    /* a solver that ran out of disk: the machine's trouble, named with the
+     * attempt's directory */
+    ct_mkdir(dir, sizeof dir);
+    ct_write(0, dir, "full.yaml",
+             "name: full\n"
+             "base: {fake: {action: exit, code: 1,"
+             " message: 'error: result.json: No space left on device'}}\n"
+             "sweep: {grid: {fake.x: [1, 2, 3, 4]}}\n");
+    rc = run_study(dir, "full.yaml", out, sizeof out);
+    cr_assert_eq(rc, 1, "%s", out);
+    check_infra_stop(dir, out, 3, "disk trouble: the solver reported ''No space left on "
+                                  "device'' in %/runs/full/%/attempt-1 (exit 1: %");
     ct_rmrf(dir);
 }

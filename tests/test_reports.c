@@ -22,6 +22,7 @@
 #include <string.h>
 #include <sys/stat.h>
 
+#include "../campaign/db.h"
 #include "helpers/ct.h"
 
 static char *slurp(const char *dir, const char *name)
@@ -166,7 +167,9 @@ Test(reports, regress_fails_beyond_tolerance_and_names_the_metric, .timeout = 12
     char diff[4096];
     ct_text(db, "SELECT diff FROM regress_checks ORDER BY id DESC LIMIT 1", diff, sizeof diff);
     cr_assert_not_null(strstr(diff, "\"metric\":\"x_squared\""), "%s", diff);
-    cr_assert_eq(ct_int(db, "PRAGMA user_version"), 2);
+    int nmig;
+    db_migrations(&nmig);   /* regress migrated the database to the newest schema */
+    cr_assert_eq(ct_int(db, "PRAGMA user_version"), nmig);
     sqlite3_close(db);
     ct_rmrf(dir);
 }
@@ -364,5 +367,75 @@ Test(reports, swept_strings_never_run_as_gnuplot_commands, .timeout = 120)
         snprintf(p, sizeof p, "%s/%s", dir, names[i]);
         cr_assert_neq(stat(p, &sb), 0, "%s was created: a plot ran a command", p);
     }
+    ct_rmrf(dir);
+}
+
+/* Whether every row of every Markdown table has as many cell separators
+ * (unescaped '|') as the table's header: a raw newline or pipe in a cell
+ * would break a row. */
+static int md_tables_well_formed(const char *md, char *bad, size_t len)
+{
+    int header = -1;
+    for (const char *line = md; *line;) {
+        const char *eol = strchr(line, '\n');
+        size_t n = eol ? (size_t)(eol - line) : strlen(line);
+        if (n > 0 && line[0] == '|') {
+            int pipes = 0;
+            for (size_t i = 0; i < n; i++)
+                pipes += line[i] == '|' && (i == 0 || line[i - 1] != '\\');
+            if (header < 0)
+                header = pipes;
+            else if (pipes != header) {
+                snprintf(bad, len, "%.*s", (int)n, line);
+                return 0;
+            }
+        } else {
+            header = -1;
+        }
+        line += n + (eol ? 1 : 0);
+    }
+    return 1;
+}
+
+Test(reports, swept_strings_are_literal_in_markdown, .timeout = 120)
+{
+    char dir[64], out[65536], bad[1024] = "";
+    ct_mkdir(dir, sizeof dir);
+    ct_write(0, dir, "md.yaml",
+             "name: mdinj\n"
+             "base: {type: fake, fake: {x: 0.1, y: 1.0}}\n"
+             "sweep:\n"
+             "  grid:\n"
+             "    title: [\"<script>alert(1)</script>\", \"a|b\\nc\", \"`rm -rf x`\",\n"
+             "            \"x&amp;y [l](javascript:alert(1))\"]\n"
+             "    fake.x: [0.1, 0.2, 0.4]\n"
+             "metrics: [x_squared]\n"
+             "report: {resolution: fake.x}\n");
+    int rc = ct_cascade(dir, NULL, out, sizeof out, "run", "md.yaml", "--solver", ct_standin(),
+                        "--quiet", NULL);
+    cr_assert_eq(rc, 0, "%s", out);
+    rc = ct_cascade(dir, NULL, out, sizeof out, "report", "mdinj", NULL);
+    cr_assert_eq(rc, 0, "%s", out);
+    char rdir[128];
+    snprintf(rdir, sizeof rdir, "%s/reports/mdinj", dir);
+    char *md = slurp(rdir, "report.md");
+    /* the values are there, as text */
+    cr_assert_not_null(strstr(md, "&lt;script&gt;alert(1)&lt;/script&gt;"), "%s", md);
+    cr_assert_not_null(strstr(md, "x&amp;amp;y \\[l\\](javascript:alert(1))"), "%s", md);
+    cr_assert_not_null(strstr(md, "a\\|b c"), "%s", md);
+    cr_assert_not_null(strstr(md, "\\`rm -rf x\\`"), "%s", md);
+    /* and nothing of them is markup: no raw tag, link, code span or broken row */
+    cr_assert_null(strstr(md, "<script"), "%s", md);
+    cr_assert_null(strstr(md, "[l](javascript"), "%s", md);
+    for (const char *p = strchr(md, '`'); p; p = strchr(p + 1, '`'))
+        cr_assert(p > md && p[-1] == '\\', "a raw backtick: %.40s", p > md + 20 ? p - 20 : md);
+    cr_assert(md_tables_well_formed(md, bad, sizeof bad), "a broken table row: %s", bad);
+    /* a heading per series, each on one line */
+    cr_assert_not_null(strstr(md, "#### title=a\\|b c\n"), "%s", md);
+    char *html = slurp(rdir, "report.html");
+    cr_assert_null(strstr(html, "<script"));
+    cr_assert_not_null(strstr(html, "&lt;script&gt;"));
+    free(md);
+    free(html);
     ct_rmrf(dir);
 }

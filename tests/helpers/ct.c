@@ -5,6 +5,7 @@
 #include <criterion/criterion.h>
 #include <fcntl.h>
 #include <ftw.h>
+#include <grp.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -63,6 +64,16 @@ static void child_setup(const char *dir, const char *const *env)
         putenv((char *)env[i]);
 }
 
+/* Set between fork and exec in ct_cascade_unprivileged's child only. */
+static int drop_privileges(void)
+{
+    if (geteuid() != 0)
+        return 0;
+    if (setgroups(0, NULL) != 0 || setgid(65534) != 0 || setuid(65534) != 0)
+        return -1;
+    return 0;
+}
+
 int ct_wait(pid_t pid)
 {
     int status;
@@ -73,7 +84,8 @@ int ct_wait(pid_t pid)
     return WEXITSTATUS(status);
 }
 
-int ct_exec(const char *dir, const char *const *env, const char *const *argv, char *out, size_t len)
+static int exec_as(const char *dir, const char *const *env, const char *const *argv, char *out,
+                   size_t len, int unprivileged)
 {
     int p[2];
     cr_assert_eq(pipe(p), 0);
@@ -81,6 +93,8 @@ int ct_exec(const char *dir, const char *const *env, const char *const *argv, ch
     cr_assert(pid >= 0);
     if (pid == 0) {
         child_setup(dir, env);
+        if (unprivileged && drop_privileges() != 0)
+            _exit(125);
         dup2(p[1], 1);
         dup2(p[1], 2);
         close(p[0]);
@@ -105,6 +119,11 @@ int ct_exec(const char *dir, const char *const *env, const char *const *argv, ch
     return ct_wait(pid);
 }
 
+int ct_exec(const char *dir, const char *const *env, const char *const *argv, char *out, size_t len)
+{
+    return exec_as(dir, env, argv, out, len, 0);
+}
+
 int ct_cascade(const char *dir, const char *const *env, char *out, size_t len, ...)
 {
     const char *argv[64];
@@ -118,6 +137,21 @@ int ct_cascade(const char *dir, const char *const *env, char *out, size_t len, .
     va_end(ap);
     argv[n] = NULL;
     return ct_exec(dir, env, argv, out, len);
+}
+
+int ct_cascade_unprivileged(const char *dir, char *out, size_t len, ...)
+{
+    const char *argv[64];
+    int n = 0;
+    argv[n++] = ct_cascade_bin();
+    va_list ap;
+    va_start(ap, len);
+    const char *a;
+    while ((a = va_arg(ap, const char *)) && n < 63)
+        argv[n++] = a;
+    va_end(ap);
+    argv[n] = NULL;
+    return exec_as(dir, NULL, argv, out, len, 1);
 }
 
 pid_t ct_spawn(const char *dir, const char *const *env, const char *const *argv, const char *log)

@@ -25,6 +25,10 @@ const char *ct_write(int slot, const char *dir, const char *name, const char *te
  * stderr) into out; returns the exit status (128 + signal when killed).
  * `env` (may be NULL) is a NULL-ended list of extra NAME=VALUE entries. */
 int ct_cascade(const char *dir, const char *const *env, char *out, size_t len, ...);
+/* ct_cascade as an unprivileged user: as root (where file permissions do
+ * not stop a write), the child drops to uid/gid 65534 (nobody) first;
+ * otherwise the same as ct_cascade.  dir must be readable by that user. */
+int ct_cascade_unprivileged(const char *dir, char *out, size_t len, ...);
 /* The same for any argv (argv[0] a path). */
 int ct_exec(const char *dir, const char *const *env, const char *const *argv, char *out, size_t len);
 /* Start argv in dir in the background (stdout/stderr to dir/name.log). */

@@ -8,12 +8,19 @@
  * Case schema (every key optional):
  *   type: fake   seed: 1   title: ""
  *   fake:
- *     action: ok | sleep | crash | hang | exit | diverge | fail_once | env
+ *     action: ok | sleep | crash | hang | exit | diverge | fail_once | env | slow_once
  *     seconds: 0        # sleep first (every action)
  *     code: 3           # exit code for 'exit'
+ *     message: ""       # exit: a line for stderr before exiting
+ *     signal: 11        # crash: the signal it kills itself with
+ *     steps: 0          # crash: thermo.csv rows (a "step" column, 1..steps) written first
+ *     counter: ""       # crash: a file counting its runs; each earlier run adds a row,
+ *                       # so every attempt crashes at a later step
  *     x: 0.0, y: 0.0    # inputs of the metrics x_squared = x^2, sum = x + y
  *     metrics: 0        # extra metrics m0..m{n-1} (for the speed test)
  *     flag: ""          # fail_once: exit 3 unless this file exists (then create it... see below)
+ *                       # slow_once: sleep `seconds` only when it does not exist (creating
+ *                       # it first), so a second attempt is quick; writes solver.pid
  *     ignore_term: false  # hang: ignore SIGTERM too (the runner must escalate)
  *     read: ""          # a file that must exist; its size becomes metric read_bytes
  *     write: ""         # a file to write into the output directory
@@ -34,17 +41,17 @@
 
 extern char **environ;
 
-static const char *const actions[] = {"ok",      "sleep",     "crash", "hang", "exit",
-                                      "diverge", "fail_once", "env",   NULL};
-enum { A_OK, A_SLEEP, A_CRASH, A_HANG, A_EXIT, A_DIVERGE, A_FAIL_ONCE, A_ENV };
+static const char *const actions[] = {"ok",      "sleep",     "crash", "hang",      "exit",
+                                      "diverge", "fail_once", "env",   "slow_once", NULL};
+enum { A_OK, A_SLEEP, A_CRASH, A_HANG, A_EXIT, A_DIVERGE, A_FAIL_ONCE, A_ENV, A_SLOW_ONCE };
 
 struct fake_case {
     long seed;
     int action;
     double seconds, x, y;
-    long code, metrics;
+    long code, metrics, signal, steps;
     int ignore_term;
-    const char *flag, *read, *write;
+    const char *flag, *read, *write, *message, *counter;
 };
 
 static int fake_read(struct cfg *c, json_t *doc, struct fake_case *fc)
@@ -59,6 +66,10 @@ static int fake_read(struct cfg *c, json_t *doc, struct fake_case *fc)
         (rc = cfg_enum(&f, "action", "ok", actions, &fc->action)) ||
         (rc = cfg_real(&f, "seconds", 0.0, CFG_GE(0), &fc->seconds)) ||
         (rc = cfg_int(&f, "code", 3, CFG_RANGE(0, 255), &fc->code)) ||
+        (rc = cfg_string(&f, "message", "", &fc->message)) ||
+        (rc = cfg_int(&f, "signal", SIGSEGV, CFG_RANGE(1, 64), &fc->signal)) ||
+        (rc = cfg_int(&f, "steps", 0, CFG_RANGE(0, 1000000), &fc->steps)) ||
+        (rc = cfg_string(&f, "counter", "", &fc->counter)) ||
         (rc = cfg_real(&f, "x", 0.0, CFG_ANY, &fc->x)) ||
         (rc = cfg_real(&f, "y", 0.0, CFG_ANY, &fc->y)) ||
         (rc = cfg_int(&f, "metrics", 0, CFG_RANGE(0, 1000000), &fc->metrics)) ||
@@ -140,9 +151,12 @@ static int write_result(const char *dir, json_t *doc, const char *status, const 
     }
     char key[CANON_KEY_LEN + 1];
     canon_key(doc, key);
-    json_t *r = json_pack("{s:s, s:o, s:{s:s, s:s}, s:s, s:{s:f}}", "status", status, "metrics",
-                          metrics, "provenance", "version", version(), "git_hash", "standin",
-                          "case_key", key, "timing", "peak_rss_mib", 1.0);
+    /* like the solver's timings, the pid makes every run's file its own, so
+     * a file one attempt overwrote in another's directory would show */
+    json_t *r = json_pack("{s:s, s:o, s:{s:s, s:s}, s:s, s:{s:f, s:i}}", "status", status,
+                          "metrics", metrics, "provenance", "version", version(), "git_hash",
+                          "standin", "case_key", key, "timing", "peak_rss_mib", 1.0, "pid",
+                          (int)getpid());
     if (message)
         json_object_set_new(r, "message", json_string(message));
     char path[4096], tmp[4200];
@@ -192,8 +206,23 @@ static int cmd_run(int argc, char **argv)
     }
     mkdir(out, 0777);
     fprintf(stderr, "fake-solver: %s action %s\n", file, actions[fc.action]);
-    if (fc.seconds > 0)
-        nap(fc.seconds);
+    double seconds = fc.seconds;
+    if (fc.action == A_SLOW_ONCE) {
+        char path[4096 + 32];
+        snprintf(path, sizeof path, "%s/solver.pid", out);
+        FILE *f = fopen(path, "w");
+        if (f) {
+            fprintf(f, "%d\n", (int)getpid());
+            fclose(f);
+        }
+        if (access(fc.flag, F_OK) == 0) {
+            seconds = 0;
+        } else if ((f = fopen(fc.flag, "w"))) {
+            fclose(f);
+        }
+    }
+    if (seconds > 0)
+        nap(seconds);
     int code = 0;
     if (fc.read[0] && access(fc.read, R_OK) != 0) {
         fprintf(stderr, "error: %s: cannot read '%s'\n", file, fc.read);
@@ -210,11 +239,39 @@ static int cmd_run(int argc, char **argv)
     }
     if (!code) {
         switch (fc.action) {
-        case A_CRASH:
+        case A_CRASH: {
+            long steps = fc.steps;
+            if (fc.counter[0]) {
+                long runs = 0;
+                FILE *f = fopen(fc.counter, "r");
+                if (f) {
+                    if (fscanf(f, "%ld", &runs) != 1)
+                        runs = 0;
+                    fclose(f);
+                }
+                if ((f = fopen(fc.counter, "w"))) {
+                    fprintf(f, "%ld\n", runs + 1);
+                    fclose(f);
+                }
+                steps += runs;
+            }
+            if (steps > 0) {
+                /* as the solver writes it: a comment, the header, flushed rows */
+                char path[4096 + 32];
+                snprintf(path, sizeof path, "%s/thermo.csv", out);
+                FILE *f = fopen(path, "w");
+                if (f) {
+                    fprintf(f, "# fake-solver\ntime_ps,step,pe_eV\n");
+                    for (long k = 1; k <= steps; k++)
+                        fprintf(f, "%g,%ld,%g\n", 0.001 * (double)k, k, -1.0 * (double)k);
+                    fclose(f);
+                }
+            }
             fprintf(stderr, "fake-solver: crashing now\n");
-            signal(SIGSEGV, SIG_DFL);
-            kill(getpid(), SIGSEGV);
+            signal((int)fc.signal, SIG_DFL);
+            kill(getpid(), (int)fc.signal);
             break;
+        }
         case A_HANG: {
             if (fc.ignore_term)
                 signal(SIGTERM, SIG_IGN);
@@ -235,6 +292,8 @@ static int cmd_run(int argc, char **argv)
                 pause();
         }
         case A_EXIT:
+            if (fc.message[0])
+                fprintf(stderr, "%s\n", fc.message);
             fprintf(stderr, "fake-solver: exiting with code %ld as asked\n", fc.code);
             code = (int)fc.code;
             break;
