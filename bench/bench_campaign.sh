@@ -70,7 +70,7 @@ while [ $i -lt "$REPEAT" ]; do
     b=$(echo "($t1 - $t0) / 1000000000" | bc -l)
     if [ ! -f "$D/solo/case.yaml" ]; then
         mkdir -p "$D/solo"
-        cp "$(ls -d "$D"/runs/noop400/* | head -n1)/case.yaml" "$D/solo/case.yaml"
+        cp "$(ls -d "$D"/runs/noop400/* | head -n1)/current/case.yaml" "$D/solo/case.yaml"
     fi
     c=$(bare_s)
     echo "($b - $a) * 1000 / 300" | bc -l >> "$D/perjob"
