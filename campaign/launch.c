@@ -43,7 +43,7 @@ static int add_arg(struct launch_spec *L, const char *a)
 
 int launch_build(struct launch_spec *L, const struct study *s, const struct solver *sv,
                  const char *run_dir, const char *key, const char *case_json,
-                 launch_prep_fn prep_dir, void *ctx, struct err *e)
+                 launch_prep_fn prep_dir, void *ctx, const char *resume_dir, struct err *e)
 {
     memset(L, 0, sizeof *L);
     snprintf(L->run_dir, sizeof L->run_dir, "%s", run_dir);
@@ -87,11 +87,43 @@ int launch_build(struct launch_spec *L, const struct study *s, const struct solv
                           "--quiet", "--no-progress"};
     for (size_t i = 0; i < sizeof rest / sizeof rest[0] && !bad; i++)
         bad = add_arg(L, rest[i]);
+    if (resume_dir && !bad) {
+        bad = add_arg(L, "--resume");
+        if (!bad)
+            bad = add_arg(L, resume_dir);
+    }
     if (bad || !L->case_yaml) {
         launch_free(L);
         return err_nomem(e, "command line");
     }
     return 0;
+}
+
+static int has_checkpoint(const char *dir)
+{
+    DIR *d = opendir(dir);
+    if (!d)
+        return 0;
+    int found = 0;
+    struct dirent *de;
+    while (!found && (de = readdir(d)) != NULL) {
+        size_t n = strlen(de->d_name);
+        found = strncmp(de->d_name, "checkpoint-", 11) == 0 && n > 3 &&
+                strcmp(de->d_name + n - 3, ".h5") == 0;
+    }
+    closedir(d);
+    return found;
+}
+
+int launch_resume_dir(const char *job_dir, int attempt, char *out, size_t len)
+{
+    for (int a = attempt - 1; a >= 1; a--) {
+        launch_attempt_dir(job_dir, a, out, len);
+        if (has_checkpoint(out))
+            return 0;
+    }
+    out[0] = '\0';
+    return -1;
 }
 
 void launch_free(struct launch_spec *L)

@@ -8,7 +8,8 @@
  *                                     the preparation job's recorded run directory
  *   runs/<study>/<key>/current        symlink to the latest recorded attempt
  *   command: [mpirun -np K ...] SOLVER run case.yaml --out DIR --threads T
- *            --quiet --no-progress, started in the study file's directory
+ *            --quiet --no-progress [--resume EARLIER_ATTEMPT_DIR], started in
+ *            the study file's directory
  *            (relative file names in cases are relative to the study)
  *
  * Each attempt writes only its own directory, so a solver left running by
@@ -37,10 +38,17 @@ struct launch_spec {
  * (with e set) when it has none. */
 typedef const char *(*launch_prep_fn)(void *ctx, const char *key, struct err *e);
 
-/* run_dir: the attempt's directory (launch_attempt_dir). */
+/* run_dir: the attempt's directory (launch_attempt_dir).  resume_dir: an
+ * earlier attempt's directory with checkpoints (NULL: none); the solver
+ * continues from its newest valid checkpoint (--resume), or starts afresh
+ * when it has none of this case. */
 int launch_build(struct launch_spec *L, const struct study *s, const struct solver *sv,
                  const char *run_dir, const char *key, const char *case_json,
-                 launch_prep_fn prep_dir, void *ctx, struct err *e);
+                 launch_prep_fn prep_dir, void *ctx, const char *resume_dir, struct err *e);
+
+/* The newest earlier attempt of the job (job_dir/attempt-M, M < attempt)
+ * that left checkpoint files, into out; 0 when there is one, -1 when not. */
+int launch_resume_dir(const char *job_dir, int attempt, char *out, size_t len);
 void launch_free(struct launch_spec *L);
 
 json_t *launch_to_json(const struct launch_spec *L);

@@ -66,6 +66,7 @@ void outcome_start_failure(struct outcome *o, const char *why)
     o->failure = FC_INFRA;
     o->exit_code = -1;
     o->last_step = -1;
+    o->resumed_from_step = -1;
     o->started = o->finished = sys_now();
     sys_hostname(o->host, sizeof o->host);
     snprintf(o->message, sizeof o->message, "could not start: %s", why);
@@ -288,6 +289,8 @@ void outcome_collect(struct outcome *o, const char *dir, const struct exit_info 
         snprintf(o->solver_version, sizeof o->solver_version, "%s", v ? v : "");
         snprintf(o->solver_git, sizeof o->solver_git, "%s", g ? g : "");
     }
+    json_t *rfs = res ? json_object_get(res, "restarted_from_step") : NULL;
+    o->resumed_from_step = json_is_integer(rfs) ? (long)json_integer_value(rfs) : -1;
     json_t *metrics = res ? json_object_get(res, "metrics") : NULL;
     if (json_is_object(metrics))
         o->metrics = json_incref(metrics);
@@ -386,8 +389,10 @@ json_t *outcome_to_json(const struct outcome *o)
                      o->host, "stderr_tail", o->stderr_tail, "solver_version", o->solver_version,
                      "solver_git", o->solver_git, "metrics", o->metrics, "artifacts", arts,
                      "failure", (int)o->failure, "last_step", (json_int_t)o->last_step);
-    if (j)
+    if (j) {
         json_object_set_new(j, "collect_s", json_real(o->collect_s));
+        json_object_set_new(j, "resumed_from_step", json_integer(o->resumed_from_step));
+    }
     return j;
 }
 
@@ -409,6 +414,8 @@ int outcome_from_json(struct outcome *o, const json_t *j, struct err *e)
     o->failure = fc >= FC_NONE && fc <= FC_DETERMINISTIC ? (enum failure_class)fc : FC_JOB;
     json_t *ls = json_object_get(j, "last_step");
     o->last_step = json_is_integer(ls) ? (long)json_integer_value(ls) : -1;
+    json_t *rf = json_object_get(j, "resumed_from_step");
+    o->resumed_from_step = json_is_integer(rf) ? (long)json_integer_value(rf) : -1;
     o->exit_code = (int)json_integer_value(json_object_get(j, "exit_code"));
     o->signal = (int)json_integer_value(json_object_get(j, "signal"));
     o->started = json_number_value(json_object_get(j, "started"));

@@ -55,6 +55,7 @@ struct outcome {
     int exit_code;              /* -1 when a signal ended it */
     int signal;                 /* 0 when it exited */
     long last_step;             /* last step in its thermo.csv when it did not finish, -1: unknown */
+    long resumed_from_step;     /* the checkpoint step it continued from (result.json), -1: none */
     char message[OUTCOME_MSG_MAX];
     double started, finished;   /* Unix time */
     double wall_s;

@@ -235,7 +235,12 @@ static int try_start(struct run_state *r, long k, int slot)
     }
     struct launch_spec L;
     struct prep_lookup pl = {r, j, ""};
-    int rc = launch_build(&L, r->s, r->sv, run_dir, pj->key, pj->case_json, prep_dir, &pl, r->e);
+    /* a job that stopped early (timeout, node failure, killed runner)
+     * continues from the newest checkpoint an earlier attempt left */
+    char resume[4096];
+    int resuming = attempt > 1 && launch_resume_dir(job_dir, attempt, resume, sizeof resume) == 0;
+    int rc = launch_build(&L, r->s, r->sv, run_dir, pj->key, pj->case_json, prep_dir, &pl,
+                          resuming ? resume : NULL, r->e);
     if (!rc) {
         L.job_id = r->job_ids[j];
         L.run_id = run_id;

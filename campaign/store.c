@@ -50,7 +50,7 @@ static const char *const queries[Q_COUNT] = {
     [Q_RUN_UPDATE] = "UPDATE runs SET status = ?2, exit_code = ?3, signal = ?4, message = ?5, "
                      "started = ?6, finished = ?7, wall_s = ?8, peak_rss_mib = ?9, host = ?10, "
                      "pid = ?11, stderr_tail = ?12, solver_version = ?13, solver_git = ?14, "
-                     "failure_class = ?15, last_step = ?16 WHERE id = ?1",
+                     "failure_class = ?15, last_step = ?16, resumed_from_step = ?17 WHERE id = ?1",
     [Q_METRIC_INSERT] = "INSERT OR REPLACE INTO metrics (run_id, name, value, unit) "
                         "VALUES (?1, ?2, ?3, ?4)",
     [Q_ARTIFACT_INSERT] = "INSERT OR REPLACE INTO artifacts (run_id, path, kind, bytes, sha256) "
@@ -587,6 +587,8 @@ int store_finish(struct store *st, long long job_id, long long run_id, const cha
         bind_text(s, 15, failure_class_name(o->failure));
     if (o->last_step >= 0)
         sqlite3_bind_int64(s, 16, o->last_step);
+    if (o->resumed_from_step >= 0)
+        sqlite3_bind_int64(s, 17, o->resumed_from_step);
     if (sqlite3_step(s) != SQLITE_DONE)
         rc = db_fail(db, e, "recording the run");
     sqlite3_reset(s);

@@ -44,7 +44,7 @@ static const char *usage_main =
 
 static const char *usage_run =
     "usage: cascade-solver run CASE.yaml [--out DIR] [--threads N] [--quiet] [--no-progress]\n"
-    "                                    [--restart [DIR|FILE]]\n"
+    "                                    [--restart [DIR|FILE] | --resume DIR]\n"
     "\n"
     "Runs the case.  Writes DIR/result.json (metrics, status, timing), DIR/thermo.csv,\n"
     "DIR/fields.h5 + DIR/fields.xdmf (snapshots for ParaView) and, when asked,\n"
@@ -52,6 +52,8 @@ static const char *usage_run =
     "(output.checkpoint_every; the newest two are kept).\n"
     "\n"
     "  --out DIR      output directory (default: CASE-out next to the current directory)\n"
+    "  --resume DIR   continue from the newest valid checkpoint of this case in DIR when\n"
+    "                 there is one, else start from step 0 (the campaign's retries)\n"
     "  --restart [P]  continue from the newest valid checkpoint in directory P (default:\n"
     "                 the --out directory) or from checkpoint file P; the case must be\n"
     "                 the same (same job key).  Same final state as an uninterrupted run,\n"
@@ -309,6 +311,9 @@ static int cmd_run_inner(int argc, char **argv, const struct parallel *par)
         } else if (strncmp(argv[i], "--restart=", 10) == 0) {
             want_restart = 1;
             restart = argv[i] + 10;
+        } else if (strcmp(argv[i], "--resume") == 0 && i + 1 < argc) {
+            want_restart = 2;   /* from a checkpoint when there is one */
+            restart = argv[++i];
         } else if (strcmp(argv[i], "--restart") == 0) {
             want_restart = 1;
             /* an optional DIR or FILE: a checkpoint file, or a directory
@@ -366,7 +371,28 @@ static int cmd_run_inner(int argc, char **argv, const struct parallel *par)
         return exit_code(rc);
     }
     char ckpt_path[4096] = "";
-    if (want_restart) {
+    if (want_restart == 2) {
+        /* --resume DIR: the campaign's retry of an attempt that stopped
+         * early; a fresh start when DIR holds no checkpoint of this case */
+        char key[32];
+        canon_key(cd.doc, key);
+        struct err e3 = {0};
+        if (!cr.type->checkpoints ||
+            sim_find_checkpoint(restart, key, ckpt_path, sizeof ckpt_path, &e3) != 0) {
+            if (!quiet && par->rank == 0)
+                fprintf(stderr, "resume: starting from step 0 (%s)\n",
+                        cr.type->checkpoints ? e3.msg : "the case type writes no checkpoints");
+            ckpt_path[0] = '\0';
+            want_restart = 0;
+        }
+    }
+    if (want_restart == 2 && par->rank == 0 && (rc = keep_previous_outputs(out, ckpt_path, &e))) {
+        fprintf(stderr, "error: %s\n", e.msg);
+        case_resolved_free(&cr);
+        case_doc_free(&cd);
+        return exit_code(rc);
+    }
+    if (want_restart == 1) {
         if (!cr.type->checkpoints)
             rc = err_set(&e, ERR_INPUT, "%s: case type '%s' does not run on the engine with "
                                         "checkpoints yet: --restart is not available for it",

@@ -270,6 +270,9 @@ static int is_dir(const char *path)
 int sim_find_checkpoint(const char *path, const char *case_key, char *out, size_t len,
                         struct err *e)
 {
+    struct stat sb;
+    if (stat(path, &sb) != 0)
+        return err_set(e, ERR_INPUT, "%s: %s", path, strerror(errno));
     if (!is_dir(path)) {
         struct ckpt ck;
         int rc = ckpt_open(&ck, path, case_key, NULL, e);
@@ -415,8 +418,10 @@ int sim_run(struct sim *s, const char *restart, struct err *e)
             sync_models(s);
         }
         progress_update(pr, s->step);
-        if (r && !s->subrun && r->opt.kill_at_step == s->step)
-            raise(SIGKILL);   /* testing hook (run_options) */
+        /* testing hook (run_options): kills the run that starts from step 0,
+         * not the one that continues it */
+        if (r && !s->subrun && s->restarted_from < 0 && r->opt.kill_at_step == s->step)
+            raise(SIGKILL);
     }
     timer_stop(tm, TIMER_LOOP);
     progress_finish(pr, s->step);

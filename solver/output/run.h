@@ -28,8 +28,9 @@ struct run_options {
     int quiet;          /* only errors on stderr */
     int rank;           /* MPI rank: only rank 0 writes files and logs */
     const char *restart;/* checkpoint file to continue from (NULL: none) */
-    long kill_at_step;  /* testing: SIGKILL itself after this step (0: never);
-                         * from CASCADE_SOLVER_KILL_AT_STEP */
+    long kill_at_step;  /* testing: SIGKILL itself after this step (0: never)
+                         * unless it continues from a checkpoint; from
+                         * CASCADE_SOLVER_KILL_AT_STEP */
 };
 
 /* The `output` section of a case. */
