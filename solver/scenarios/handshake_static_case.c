@@ -27,7 +27,7 @@
 #include <string.h>
 
 #include "core/units.h"
-#include "couple/handshake_case.h"
+#include "scenarios/handshake_case.h"
 
 struct static_case {
     struct hs_case c;

@@ -42,7 +42,7 @@
 
 #include "analysis/wave_arrival.h"
 #include "core/units.h"
-#include "couple/handshake_case.h"
+#include "scenarios/handshake_case.h"
 
 struct wave_case {
     struct hs_case c;

@@ -1,6 +1,6 @@
 /* handshake_case: common sections, the bar model and the outputs of the
  * MPM/MD handshake case types (see handshake_case.h). */
-#include "couple/handshake_case.h"
+#include "scenarios/handshake_case.h"
 
 #include <math.h>
 #include <stdlib.h>
