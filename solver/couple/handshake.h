@@ -49,6 +49,7 @@
 
 #include "md/md.h"
 #include "mpm/mpm.h"
+#include "output/checkpoint.h"
 #include "util/err.h"
 
 enum {
@@ -182,6 +183,25 @@ int handshake_step(struct handshake *hs, struct err *e);
 /* The MPM half of a step: region I -> MPM, MPM step, II/III -> MD.  For
  * callers that run md_step themselves (call it before each md_step). */
 int handshake_advance_mpm(struct handshake *hs, struct err *e);
+
+/* The end of a step, after the MD's second half kick: the damping of the
+ * atoms (md_damping) and the step and time counters.  handshake_step is
+ * handshake_advance_mpm, md_step, handshake_finish_step; the engine runs
+ * the same sequence as stages (engine/model_handshake.c). */
+void handshake_finish_step(struct handshake *hs);
+
+/* Checkpoints (output/checkpoint.h): the MPM side (every material point
+ * array, the MPM's clock and energy sums) and the handshake's counters,
+ * under group `group`; the MD atoms are the MD model's.  The points are
+ * built from the case file first: a read replaces their state, not their
+ * number.  After a write (in the continuing run) and after a read (in the
+ * restarted one), handshake_checkpoint_sync puts both in the same state:
+ * the points are located afresh and region I and the copies indexed anew
+ * at the next step, as the MD rebuilds its lists (md->rebuild_next).  The
+ * cluster-impact boundary can use these with the MD model's checkpoint. */
+int handshake_checkpoint_write(const struct handshake *hs, struct ckpt *ck, const char *group);
+int handshake_checkpoint_read(struct handshake *hs, struct ckpt *ck, const char *group);
+void handshake_checkpoint_sync(struct handshake *hs);
 
 void handshake_free(struct handshake *hs);
 

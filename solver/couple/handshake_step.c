@@ -171,14 +171,9 @@ int handshake_advance_mpm(struct handshake *hs, struct err *e)
     return 0;
 }
 
-int handshake_step(struct handshake *hs, struct err *e)
+void handshake_finish_step(struct handshake *hs)
 {
     struct md *md = hs->md;
-    int rc = handshake_advance_mpm(hs, e);
-    if (!rc)
-        rc = md_step(md, e);
-    if (rc)
-        return rc;
     if (hs->md_damping > 0) {   /* quasi-static runs: -alpha m v on the atoms */
         double f = exp(-hs->md_damping * md->dt);
         struct particles *p = md->p;
@@ -189,6 +184,16 @@ int handshake_step(struct handshake *hs, struct err *e)
     }
     hs->step++;
     hs->time += md->dt;
+}
+
+int handshake_step(struct handshake *hs, struct err *e)
+{
+    int rc = handshake_advance_mpm(hs, e);
+    if (!rc)
+        rc = md_step(hs->md, e);
+    if (rc)
+        return rc;
+    handshake_finish_step(hs);
     return 0;
 }
 

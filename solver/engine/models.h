@@ -32,6 +32,15 @@ struct impact_boundary_model {
 extern const struct sim_model_ops sim_model_impact_boundary;
 extern const struct sim_model_ops sim_model_impact_boundary_stateful;
 
+/* The MPM/MD handshake (couple/handshake.h): one coupled step of the MPM
+ * and the MD with a common dt (model_handshake.c).  The self is a struct
+ * handshake_model; the MD is hs->md. */
+struct handshake;
+struct handshake_model {
+    struct handshake *hs;       /* borrowed from the case */
+};
+extern const struct sim_model_ops sim_model_handshake;
+
 /* The model named `name`, or NULL. */
 const struct sim_model_ops *sim_model_find(const char *name);
 

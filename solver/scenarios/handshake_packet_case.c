@@ -34,7 +34,7 @@
 #include <string.h>
 
 #include "core/units.h"
-#include "couple/handshake_case.h"
+#include "scenarios/handshake_case.h"
 
 struct packet_case {
     struct hs_case c;
@@ -42,6 +42,9 @@ struct packet_case {
     double measure_time;                      /* ps */
     double x0;                                /* Å */
     double e_init;                            /* eV */
+    long smeas;                               /* the step the energies are measured at */
+    double el, er, etr;                       /* measured (checkpointed): MD left and right
+                                                 of X0, MPM (eV) */
 };
 /* the shared callbacks (hs_case_destroy, ...) see the struct hs_case */
 _Static_assert(offsetof(struct packet_case, c) == 0, "hs_case first");
@@ -183,56 +186,70 @@ static void md_halves(const struct packet_case *w, double *left, double *right)
     }
 }
 
-static int packet_run(void *state, struct run *run, struct err *e)
+/* The energies at the measure time (or at the end of a run that stops
+ * before it), and the profile when it is due, at step `step`. */
+static int packet_sample(struct packet_case *w, struct run *run, long step, struct err *e)
+{
+    struct hs_case *c = &w->c;
+    if (step == w->smeas || (step == c->steps && w->smeas > c->steps)) {
+        struct handshake_energy en;
+        md_halves(w, &w->el, &w->er);
+        handshake_energy(&c->hs, &en);
+        w->etr = en.mpm_kinetic + en.mpm_strain;
+    }
+    if (!run_due(step, c->steps, c->profile_every))
+        return 0;
+    timer_start(&run->timers, TIMER_OUTPUT);
+    int rc = hs_case_profile(c, run, NULL, NULL, e);
+    timer_stop(&run->timers, TIMER_OUTPUT);
+    return rc;
+}
+
+static const char *const energy_cols[] = {"md_left_eV", "md_right_eV", "mpm_eV"};
+
+static int packet_begin(void *state, struct sim *s, struct err *e)
 {
     struct packet_case *w = state;
     struct hs_case *c = &w->c;
     struct handshake *hs = &c->hs;
-    c->md.timers = &run->timers;
-    hs->mpm.timers = &run->timers;
-    static const char *const extra[] = {"md_left_eV", "md_right_eV", "mpm_eV"};
-    int rc = hs_case_output_begin(c, run, extra, 3, e);
+    int rc = hs_case_output_begin(c, s->run, energy_cols, 3, e);
     if (rc)
         return rc;
-    run_log(run,
+    run_log(s->run,
             "handshake_packet: %ld atoms, %ld material points, sigma %g a, packet energy %.6g "
             "eV, measured at %.4g ps",
             hs->counts[HS_CORE] + hs->counts[HS_I], hs->mpm.pts.n, w->sigma, w->e_init,
             w->measure_time);
-    long smeas = (long)llround(w->measure_time / c->dt);
-    double el = 0, er = 0, etr = 0;
-    progress_start(&run->progress, stderr, c->steps, c->dt, run->opt.progress && !run->opt.quiet);
-    timer_start(&run->timers, TIMER_LOOP);
-    for (long s = 0; s <= c->steps && !rc; s++) {
-        if (s > 0 && (rc = handshake_step(hs, e)))
-            break;
-        int th = run_due(s, c->steps, run->out.thermo_every);
-        if (th || s == smeas) {
-            double l, r;
-            md_halves(w, &l, &r);
-            struct handshake_energy en;
-            handshake_energy(hs, &en);
-            if (s == smeas || (s == c->steps && smeas > c->steps)) {
-                el = l;
-                er = r;
-                etr = en.mpm_kinetic + en.mpm_strain;
-            }
-            if (th) {
-                double row[3] = {l, r, en.mpm_kinetic + en.mpm_strain};
-                hs_case_thermo(c, run, row, 3);
-            }
-        }
-        timer_start(&run->timers, TIMER_OUTPUT);
-        if (!rc && run_due(s, c->steps, c->profile_every))
-            rc = hs_case_profile(c, run, NULL, NULL, e);
-        if (!rc && run_due(s, c->steps, run->out.snapshot_every))
-            rc = hs_case_snapshot(c, run, e);
-        timer_stop(&run->timers, TIMER_OUTPUT);
-        progress_update(&run->progress, s);
+    return s->restarted_from < 0 ? packet_sample(w, s->run, 0, e) : 0;
+}
+
+static int packet_after_step(void *state, struct sim *s, struct err *e)
+{
+    return packet_sample(state, s->run, s->step, e);
+}
+
+static int packet_output(void *state, struct sim *s, unsigned due, struct err *e)
+{
+    struct packet_case *w = state;
+    int rc = 0;
+    if (due & SIM_DUE_THERMO) {
+        double l, r;
+        md_halves(w, &l, &r);
+        struct handshake_energy en;
+        handshake_energy(&w->c.hs, &en);
+        double row[3] = {l, r, en.mpm_kinetic + en.mpm_strain};
+        rc = hs_case_thermo(&w->c, s->run, row, 3, e);
     }
-    timer_stop(&run->timers, TIMER_LOOP);
-    progress_finish(&run->progress, hs->step);
-    struct result *res = &run->result;
+    if (!rc && (due & SIM_DUE_SNAPSHOT))
+        rc = hs_case_snapshot(&w->c, s->run, e);
+    return rc;
+}
+
+static int packet_report(void *state, struct sim *s, int run_rc, struct err *e)
+{
+    struct packet_case *w = state;
+    double el = w->el, er = w->er, etr = w->etr;
+    struct result *res = &s->run->result;
     result_metric(res, "sigma", w->sigma, "a");
     result_metric(res, "packet_energy", w->e_init, "eV");
     result_metric(res, "measure_time", w->measure_time, "ps");
@@ -243,13 +260,51 @@ static int packet_run(void *state, struct run *run, struct err *e)
     result_metric(res, "reflected_fraction", er > 0 ? el / er : NAN, "1");
     result_metric(res, "lost_fraction", er > 0 ? 1 - (etr + el) / er : NAN, "1");
     result_metric(res, "reference_fraction_of_packet", w->e_init > 0 ? er / w->e_init : NAN, "1");
-    int rc2 = hs_case_output_end(c, run, e);
-    return rc ? rc : rc2;
+    return hs_case_output_end(&w->c, s->run, e);
+}
+
+static int packet_checkpoint_write(void *state, struct ckpt *ck, struct err *e)
+{
+    struct packet_case *w = state;
+    double m[3] = {w->el, w->er, w->etr};
+    int rc = hs_case_checkpoint_write(&w->c, ck);
+    if (!rc) rc = ckpt_put_doubles(ck, "measured_energies", m, 3);
+    return rc;
+}
+
+static int packet_checkpoint_read(void *state, struct ckpt *ck, struct err *e)
+{
+    struct packet_case *w = state;
+    double m[3];
+    int rc = hs_case_checkpoint_read(&w->c, ck, e);
+    if (!rc) rc = ckpt_get_doubles(ck, "measured_energies", m, 3);
+    if (!rc) {
+        w->el = m[0];
+        w->er = m[1];
+        w->etr = m[2];
+    }
+    return rc;
+}
+
+static const struct sim_case_ops packet_ops = {
+    .begin = packet_begin,
+    .after_step = packet_after_step,
+    .output = packet_output,
+    .report = packet_report,
+    .checkpoint_write = packet_checkpoint_write,
+    .checkpoint_read = packet_checkpoint_read,
+};
+
+static int packet_run(void *state, struct run *run, struct err *e)
+{
+    struct packet_case *w = state;
+    w->smeas = (long)llround(w->measure_time / w->c.dt);
+    return hs_case_run(&w->c, run, &packet_ops, w, e);
 }
 
 const struct case_type handshake_packet_case_type = {
     "handshake_packet",
     "MPM/MD handshake: Gaussian wave packets from the MD into the MPM (Guo & Yang 2005, Fig. 9)",
     packet_read, packet_run, hs_case_destroy, hs_case_particles, hs_case_steps,
-    .checkpoints = 0,
+    .checkpoints = 1,
 };

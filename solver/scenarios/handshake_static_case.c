@@ -27,7 +27,7 @@
 #include <string.h>
 
 #include "core/units.h"
-#include "couple/handshake_case.h"
+#include "scenarios/handshake_case.h"
 
 struct static_case {
     struct hs_case c;
@@ -92,45 +92,57 @@ static double const_analytic(const void *ctx, double x)
     return ((const struct const_ctx *)ctx)->s0;
 }
 
-static int static_run(void *state, struct run *run, struct err *e)
+/* The profile at step `step` when it is due. */
+static int static_sample(struct static_case *w, struct run *run, long step, struct err *e)
+{
+    struct hs_case *c = &w->c;
+    if (!run_due(step, c->steps, c->profile_every))
+        return 0;
+    struct const_ctx an = {w->traction};
+    timer_start(&run->timers, TIMER_OUTPUT);
+    int rc = hs_case_profile(c, run, const_analytic, &an, e);
+    timer_stop(&run->timers, TIMER_OUTPUT);
+    return rc;
+}
+
+static int static_begin(void *state, struct sim *s, struct err *e)
 {
     struct static_case *w = state;
     struct hs_case *c = &w->c;
     struct handshake *hs = &c->hs;
-    c->md.timers = &run->timers;
-    hs->mpm.timers = &run->timers;
-    hs->ramp = w->ramp;
-    hs->md_damping = w->damping;
-    hs->mpm.damping = w->damping;
-    int rc = hs_apply_end_traction(hs, w->traction, e);
-    if (!rc)
-        rc = hs_case_output_begin(c, run, NULL, 0, e);
+    int rc = hs_case_output_begin(c, s->run, NULL, 0, e);
     if (rc)
         return rc;
-    const double G = UNITS_EVA3_TO_GPA;
-    struct const_ctx an = {w->traction};
-    run_log(run,
+    run_log(s->run,
             "handshake_static: %ld atoms, %ld material points, traction %.4g GPa ramped over %g "
             "ps, damping %g /ps",
-            hs->counts[HS_CORE] + hs->counts[HS_I], hs->mpm.pts.n, w->traction * G, w->ramp,
-            w->damping);
-    progress_start(&run->progress, stderr, c->steps, c->dt, run->opt.progress && !run->opt.quiet);
-    timer_start(&run->timers, TIMER_LOOP);
-    for (long s = 0; s <= c->steps && !rc; s++) {
-        if (s > 0 && (rc = handshake_step(hs, e)))
-            break;
-        timer_start(&run->timers, TIMER_OUTPUT);
-        if (run_due(s, c->steps, c->profile_every))
-            rc = hs_case_profile(c, run, const_analytic, &an, e);
-        if (!rc && run_due(s, c->steps, run->out.thermo_every))
-            hs_case_thermo(c, run, NULL, 0);
-        if (!rc && run_due(s, c->steps, run->out.snapshot_every))
-            rc = hs_case_snapshot(c, run, e);
-        timer_stop(&run->timers, TIMER_OUTPUT);
-        progress_update(&run->progress, s);
-    }
-    timer_stop(&run->timers, TIMER_LOOP);
-    progress_finish(&run->progress, hs->step);
+            hs->counts[HS_CORE] + hs->counts[HS_I], hs->mpm.pts.n,
+            w->traction * UNITS_EVA3_TO_GPA, w->ramp, w->damping);
+    return s->restarted_from < 0 ? static_sample(w, s->run, 0, e) : 0;
+}
+
+static int static_after_step(void *state, struct sim *s, struct err *e)
+{
+    return static_sample(state, s->run, s->step, e);
+}
+
+static int static_output(void *state, struct sim *s, unsigned due, struct err *e)
+{
+    struct static_case *w = state;
+    int rc = 0;
+    if (due & SIM_DUE_THERMO)
+        rc = hs_case_thermo(&w->c, s->run, NULL, 0, e);
+    if (!rc && (due & SIM_DUE_SNAPSHOT))
+        rc = hs_case_snapshot(&w->c, s->run, e);
+    return rc;
+}
+
+static int static_report(void *state, struct sim *s, int run_rc, struct err *e)
+{
+    struct static_case *w = state;
+    struct hs_case *c = &w->c;
+    struct handshake *hs = &c->hs;
+    const double G = UNITS_EVA3_TO_GPA;
     /* deviation from the applied traction over the last profile */
     struct hs_profile *pr = &c->prof;
     hs_profile_compute(pr, hs);
@@ -152,7 +164,7 @@ static int static_run(void *state, struct run *run, struct err *e)
             nmpm++;
         }
     }
-    struct result *res = &run->result;
+    struct result *res = &s->run->result;
     struct handshake_energy en;
     handshake_energy(hs, &en);
     result_metric(res, "traction", w->traction * G, "GPa");
@@ -163,13 +175,46 @@ static int static_run(void *state, struct run *run, struct err *e)
     result_metric(res, "sxx_mpm_mean", nmpm ? smpm / nmpm * G : NAN, "GPa");
     result_metric(res, "kinetic_residual", en.md_kinetic + en.mpm_kinetic, "eV");
     result_metric(res, "damping", w->damping, "1/ps");
-    int rc2 = hs_case_output_end(c, run, e);
-    return rc ? rc : rc2;
+    return hs_case_output_end(c, s->run, e);
+}
+
+/* Nothing accumulates but the rows written so far. */
+static int static_checkpoint_write(void *state, struct ckpt *ck, struct err *e)
+{
+    struct static_case *w = state;
+    return hs_case_checkpoint_write(&w->c, ck);
+}
+
+static int static_checkpoint_read(void *state, struct ckpt *ck, struct err *e)
+{
+    struct static_case *w = state;
+    return hs_case_checkpoint_read(&w->c, ck, e);
+}
+
+static const struct sim_case_ops static_ops = {
+    .begin = static_begin,
+    .after_step = static_after_step,
+    .output = static_output,
+    .report = static_report,
+    .checkpoint_write = static_checkpoint_write,
+    .checkpoint_read = static_checkpoint_read,
+};
+
+static int static_run(void *state, struct run *run, struct err *e)
+{
+    struct static_case *w = state;
+    struct hs_case *c = &w->c;
+    struct handshake *hs = &c->hs;
+    hs->ramp = w->ramp;
+    hs->md_damping = w->damping;
+    hs->mpm.damping = w->damping;
+    int rc = hs_apply_end_traction(hs, w->traction, e);
+    return rc ? rc : hs_case_run(c, run, &static_ops, w, e);
 }
 
 const struct case_type handshake_static_case_type = {
     "handshake_static",
     "MPM/MD handshake: quasi-static end-loaded bar with damping (Guo & Yang 2005, Fig. 8)",
     static_read, static_run, hs_case_destroy, hs_case_particles, hs_case_steps,
-    .checkpoints = 0,
+    .checkpoints = 1,
 };

@@ -1,6 +1,6 @@
 /* handshake_case: common sections, the bar model and the outputs of the
  * MPM/MD handshake case types (see handshake_case.h). */
-#include "couple/handshake_case.h"
+#include "scenarios/handshake_case.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -155,6 +155,8 @@ void hs_case_free(struct hs_case *c)
         fclose(c->profile_csv);
     free(c->ibuf);
     free(c->dbuf);
+    free(c->thermo);
+    free(c->profile);
 }
 
 void hs_case_destroy(void *state)
@@ -219,7 +221,95 @@ int hs_apply_end_traction(struct handshake *hs, double t, struct err *e)
     return 0;
 }
 
+/* --- the run on the engine ---------------------------------------------------- */
+
+int hs_case_run(struct hs_case *c, struct run *run, const struct sim_case_ops *ops, void *state,
+                struct err *e)
+{
+    c->md.timers = &run->timers;
+    c->hs.mpm.timers = &run->timers;
+    c->model = (struct handshake_model){&c->hs};
+    struct sim s;
+    sim_init(&s, run, c->steps, c->md.dt);
+    s.case_ops = ops;
+    s.case_state = state;
+    int rc = sim_add_model(&s, &sim_model_handshake, &c->model, e);
+    return rc ? rc : sim_run(&s, run->opt.restart, e);
+}
+
+/* Append a row of n values to a table of n-value rows. */
+static int keep_row(double **rows, long *nrows, long *cap, const double *row, int n,
+                    struct err *e)
+{
+    if (*nrows >= *cap) {
+        long nc = *cap ? 2 * *cap : 256;
+        double *r = realloc(*rows, (size_t)nc * n * sizeof *r);
+        if (!r)
+            return err_nomem(e, "handshake output rows");
+        *rows = r;
+        *cap = nc;
+    }
+    memcpy(*rows + *nrows * n, row, (size_t)n * sizeof *row);
+    (*nrows)++;
+    return 0;
+}
+
+int hs_case_checkpoint_write(const struct hs_case *c, struct ckpt *ck)
+{
+    int rc = ckpt_put_long(ck, "thermo_columns", c->ncols);
+    if (!rc) rc = ckpt_put_doubles(ck, "thermo_rows", c->thermo, c->nthermo * c->ncols);
+    if (!rc) rc = ckpt_put_doubles(ck, "profile_rows", c->profile, c->nprofile * HS_PROFILE_COLS);
+    return rc;
+}
+
+/* A stored table of rows of n values into *rows (replacing it). */
+static int get_rows(struct ckpt *ck, const char *name, int n, double **rows, long *nrows,
+                    long *cap, struct err *e)
+{
+    long nv = ckpt_len(ck, name);
+    if (nv < 0)
+        return ERR_INPUT;
+    if (n <= 0 || nv % n != 0)
+        return err_set(e, ERR_INPUT, "%s: checkpoint %s are not rows of %d values", ck->path,
+                       name, n);
+    double *r = malloc((size_t)(nv > 0 ? nv : 1) * sizeof *r);
+    if (!r)
+        return err_nomem(e, "handshake output rows");
+    int rc = ckpt_get_doubles(ck, name, r, nv);
+    if (rc) {
+        free(r);
+        return rc;
+    }
+    free(*rows);
+    *rows = r;
+    *nrows = *cap = nv / n;
+    return 0;
+}
+
+int hs_case_checkpoint_read(struct hs_case *c, struct ckpt *ck, struct err *e)
+{
+    long ncols = 0;
+    int rc = ckpt_get_long(ck, "thermo_columns", &ncols);
+    if (!rc && (ncols < 1 || ncols > 64))
+        rc = err_set(e, ERR_INPUT, "%s: checkpoint has %ld thermo columns", ck->path, ncols);
+    if (!rc) {
+        c->ncols = (int)ncols;
+        rc = get_rows(ck, "thermo_rows", c->ncols, &c->thermo, &c->nthermo, &c->thermo_cap, e);
+    }
+    if (!rc)
+        rc = get_rows(ck, "profile_rows", HS_PROFILE_COLS, &c->profile, &c->nprofile,
+                      &c->profile_cap, e);
+    return rc;
+}
+
 /* --- outputs ---------------------------------------------------------------- */
+
+static void print_profile_row(FILE *f, const double *r)
+{
+    fprintf(f, "%ld,%.6g,%.6g,%d,%ld,%.8g,%.8g,%.8g,%.8g,%.8g,%.8g,%.8g,%.8g,%.8g\n", (long)r[0],
+            r[1], r[2], (int)r[3], (long)r[4], r[5], r[6], r[7], r[8], r[9], r[10], r[11], r[12],
+            r[13]);
+}
 
 #define HS_BASE_COLS 7
 #define HS_MAX_COLS 24
@@ -237,6 +327,13 @@ int hs_case_output_begin(struct hs_case *c, struct run *run, const char *const *
         cols[n++] = extra[k];
     if (run_thermo_header(run, cols, n) != 0)
         return err_set(e, ERR_RUNTIME, "%s: cannot write thermo.csv", run->opt.out_dir);
+    /* the rows of a restored checkpoint have this case's columns */
+    if (c->nthermo > 0 && c->ncols != n)
+        return err_set(e, ERR_INPUT, "checkpoint thermo rows have %d columns, the case writes %d",
+                       c->ncols, n);
+    c->ncols = n;
+    for (long i = 0; i < c->nthermo; i++)
+        run_thermo_row(run, c->thermo + i * n, n);
     if (run->opt.rank == 0) {
         char path[4096];
         run_path(run, "profile.csv", path, sizeof path);
@@ -249,11 +346,14 @@ int hs_case_output_begin(struct hs_case *c, struct run *run, const char *const *
                 "step,time_ps,x_A,source,count,sxx_GPa,syy_GPa,szz_GPa,sxy_GPa,sxz_GPa,syz_GPa,"
                 "ux_A,vx_A_ps,sxx_analytic_GPa\n",
                 c->prof.width);
+        for (long i = 0; i < c->nprofile; i++)
+            print_profile_row(c->profile_csv, c->profile + i * HS_PROFILE_COLS);
     }
     return 0;
 }
 
-void hs_case_thermo(struct hs_case *c, struct run *run, const double *extra, int nextra)
+int hs_case_thermo(struct hs_case *c, struct run *run, const double *extra, int nextra,
+                   struct err *e)
 {
     struct handshake_energy en;
     handshake_energy(&c->hs, &en);
@@ -263,6 +363,7 @@ void hs_case_thermo(struct hs_case *c, struct run *run, const double *extra, int
     for (int k = 0; k < nextra && n < HS_MAX_COLS; k++)
         row[n++] = extra[k];
     run_thermo_row(run, row, n);
+    return keep_row(&c->thermo, &c->nthermo, &c->thermo_cap, row, n, e);
 }
 
 static int grow(struct hs_case *c, long n, struct err *e)
@@ -386,12 +487,15 @@ int hs_case_profile(struct hs_case *c, struct run *run, double (*analytic)(const
             u[r] = s->u;
             v[r] = s->v;
             an[r] = analytic ? analytic(ctx, x[r]) * G : NAN;
+            double row[HS_PROFILE_COLS] = {(double)c->hs.step, c->hs.time, x[r], src,
+                                           (double)s->n, s6[6 * r], s6[6 * r + 1],
+                                           s6[6 * r + 2], s6[6 * r + 3], s6[6 * r + 4],
+                                           s6[6 * r + 5], u[r], v[r], an[r]};
             if (c->profile_csv)
-                fprintf(c->profile_csv,
-                        "%ld,%.6g,%.6g,%d,%ld,%.8g,%.8g,%.8g,%.8g,%.8g,%.8g,%.8g,%.8g,%.8g\n",
-                        c->hs.step, c->hs.time, x[r], src, s->n, s6[6 * r], s6[6 * r + 1],
-                        s6[6 * r + 2], s6[6 * r + 3], s6[6 * r + 4], s6[6 * r + 5], u[r], v[r],
-                        an[r]);
+                print_profile_row(c->profile_csv, row);
+            if (!rc)
+                rc = keep_row(&c->profile, &c->nprofile, &c->profile_cap, row,
+                              HS_PROFILE_COLS, e);
             r++;
         }
     if (run->h5_open) {

@@ -26,6 +26,11 @@
  *              MPM parts left and right of the MD region (0 on the right:
  *              the MD reaches the end of the bar), the MD length, the
  *              square cross-section (periodic in MD, sliding in MPM)
+ *
+ * The case types run on the engine (engine/sim.h) with the handshake model
+ * (engine/model_handshake.c): each has case hooks and no loop of its own.
+ * The thermo rows and the profile.csv rows are kept in memory so that a
+ * checkpoint holds them and a restarted run writes both files whole.
  */
 #ifndef CASCADE_HANDSHAKE_CASE_H
 #define CASCADE_HANDSHAKE_CASE_H
@@ -34,7 +39,10 @@
 
 #include "couple/handshake.h"
 #include "couple/handshake_profile.h"
+#include "engine/models.h"
 #include "scenarios/case_type.h"
+
+#define HS_PROFILE_COLS 14   /* a profile.csv row */
 
 struct hs_case {
     /* read */
@@ -59,11 +67,19 @@ struct hs_case {
     struct md md;
     struct handshake hs;
     struct hs_profile prof;
+    struct handshake_model model;
     /* output */
     FILE *profile_csv;
     int64_t *ibuf;
     double *dbuf;
     long cap;
+    /* rows written so far (checkpointed): thermo rows of ncols values and
+     * profile.csv rows of HS_PROFILE_COLS */
+    double *thermo;
+    long nthermo, thermo_cap;
+    int ncols;
+    double *profile;
+    long nprofile, profile_cap;
 };
 
 /* Read crystal, potential, elastic, handshake, md, profile and bar. */
@@ -96,10 +112,23 @@ double hs_case_wave_speed(const struct hs_case *c, double c11);
  * point forces (scaled by the handshake's ramp). */
 int hs_apply_end_traction(struct handshake *hs, double t, struct err *e);
 
-/* Outputs.  `extra` names further thermo columns (with units in the name). */
+/* Run on the engine: the handshake model, c->steps steps of c->dt, the
+ * case hooks `ops` with `state` (the case type's struct, hs_case first);
+ * run->opt.restart continues from a checkpoint. */
+int hs_case_run(struct hs_case *c, struct run *run, const struct sim_case_ops *ops, void *state,
+                struct err *e);
+
+/* The rows written so far, in a checkpoint's /case group and back. */
+int hs_case_checkpoint_write(const struct hs_case *c, struct ckpt *ck);
+int hs_case_checkpoint_read(struct hs_case *c, struct ckpt *ck, struct err *e);
+
+/* Outputs.  `extra` names further thermo columns (with units in the name).
+ * After a restore, the rows of the checkpoint go to thermo.csv and
+ * profile.csv first. */
 int hs_case_output_begin(struct hs_case *c, struct run *run, const char *const *extra, int nextra,
                          struct err *e);
-void hs_case_thermo(struct hs_case *c, struct run *run, const double *extra, int nextra);
+int hs_case_thermo(struct hs_case *c, struct run *run, const double *extra, int nextra,
+                   struct err *e);
 int hs_case_snapshot(struct hs_case *c, struct run *run, struct err *e);
 /* Profile at the current step to profile.csv and the HDF5 file; analytic
  * (may be NULL) gives the analytical sigma_xx (eV/Å^3) at x (Å). */

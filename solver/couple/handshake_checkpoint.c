@@ -1,0 +1,110 @@
+/* handshake_checkpoint: the MPM side and the coupling state of a handshake
+ * in a checkpoint (handshake.h). */
+#include <string.h>
+
+#include "couple/handshake.h"
+
+/* Every per-point array, in the stored order (the handshake never reorders
+ * its points: their indices are the links of the MD copies). */
+static int put_points(struct ckpt *ck, const struct mpm_points *pt)
+{
+    long n = pt->n;
+    int rc = ckpt_put_long(ck, "points", n);
+    if (!rc) rc = ckpt_put_long(ck, "nstate", pt->nstate);
+    if (!rc) rc = ckpt_put_doubles(ck, "x", pt->x, 3 * n);
+    if (!rc) rc = ckpt_put_doubles(ck, "x0", pt->x0, 3 * n);
+    if (!rc) rc = ckpt_put_doubles(ck, "v", pt->v, 3 * n);
+    if (!rc) rc = ckpt_put_doubles(ck, "mass", pt->mass, n);
+    if (!rc) rc = ckpt_put_doubles(ck, "vol0", pt->vol0, n);
+    if (!rc) rc = ckpt_put_doubles(ck, "vol", pt->vol, n);
+    if (!rc) rc = ckpt_put_doubles(ck, "stress", pt->stress, 6 * n);
+    if (!rc) rc = ckpt_put_doubles(ck, "F", pt->F, 9 * n);
+    if (!rc) rc = ckpt_put_doubles(ck, "eint", pt->eint, n);
+    if (!rc) rc = ckpt_put_doubles(ck, "state", pt->state, (long)pt->nstate * n);
+    if (!rc) rc = ckpt_put_doubles(ck, "fext", pt->fext, pt->fext ? 3 * n : 0);
+    if (!rc) rc = ckpt_put_ints(ck, "body", (const int *)pt->body, n);
+    if (!rc) rc = ckpt_put_i64(ck, "id", pt->id, n);
+    if (!rc) rc = ckpt_put_u32(ck, "mask", pt->mask, n);
+    return rc;
+}
+
+static int get_points(struct ckpt *ck, struct mpm_points *pt)
+{
+    long n = 0, nstate = 0;
+    int rc = ckpt_get_long(ck, "points", &n);
+    if (!rc) rc = ckpt_get_long(ck, "nstate", &nstate);
+    /* the points are built from the case file: the checkpoint replaces
+     * their state, not their number */
+    if (!rc && (n != pt->n || nstate != pt->nstate))
+        rc = err_set(ck->e, ERR_INPUT,
+                     "%s: checkpoint has %ld material points with %ld state variables, the case "
+                     "builds %ld with %d",
+                     ck->path, n, nstate, pt->n, pt->nstate);
+    long nf = rc ? -1 : ckpt_len(ck, "fext");
+    if (!rc && nf != (pt->fext ? 3 * n : 0))
+        rc = err_set(ck->e, ERR_INPUT, "%s: checkpoint %s point loads do not match the case's",
+                     ck->path, nf > 0 ? "has" : "has no");
+    if (!rc) rc = ckpt_get_doubles(ck, "x", pt->x, 3 * n);
+    if (!rc) rc = ckpt_get_doubles(ck, "x0", pt->x0, 3 * n);
+    if (!rc) rc = ckpt_get_doubles(ck, "v", pt->v, 3 * n);
+    if (!rc) rc = ckpt_get_doubles(ck, "mass", pt->mass, n);
+    if (!rc) rc = ckpt_get_doubles(ck, "vol0", pt->vol0, n);
+    if (!rc) rc = ckpt_get_doubles(ck, "vol", pt->vol, n);
+    if (!rc) rc = ckpt_get_doubles(ck, "stress", pt->stress, 6 * n);
+    if (!rc) rc = ckpt_get_doubles(ck, "F", pt->F, 9 * n);
+    if (!rc) rc = ckpt_get_doubles(ck, "eint", pt->eint, n);
+    if (!rc) rc = ckpt_get_doubles(ck, "state", pt->state, (long)pt->nstate * n);
+    if (!rc && pt->fext) rc = ckpt_get_doubles(ck, "fext", pt->fext, 3 * n);
+    if (!rc) rc = ckpt_get_ints(ck, "body", (int *)pt->body, n);
+    if (!rc) rc = ckpt_get_i64(ck, "id", pt->id, n);
+    if (!rc) rc = ckpt_get_u32(ck, "mask", pt->mask, n);
+    return rc;
+}
+
+int handshake_checkpoint_write(const struct handshake *hs, struct ckpt *ck, const char *group)
+{
+    const struct mpm *m = &hs->mpm;
+    int rc = ckpt_enter(ck, group);
+    if (!rc) rc = ckpt_put_long(ck, "step", hs->step);
+    if (!rc) rc = ckpt_put_double(ck, "time", hs->time);
+    /* the MPM's clock and the sums of its last step: strain becomes the
+     * next step's strain_before, time sets the load ramp */
+    if (!rc) rc = ckpt_put_long(ck, "mpm_step", m->step);
+    if (!rc) rc = ckpt_put_double(ck, "mpm_time", m->time);
+    if (!rc) rc = ckpt_put_double(ck, "mpm_vmax", m->vmax);
+    if (!rc) rc = ckpt_put_double(ck, "mpm_ke", m->ke);
+    if (!rc) rc = ckpt_put_double(ck, "mpm_ke_centred", m->ke_centred);
+    if (!rc) rc = ckpt_put_double(ck, "mpm_strain", m->strain);
+    if (!rc) rc = ckpt_put_double(ck, "mpm_strain_before", m->strain_before);
+    if (!rc) rc = ckpt_put_double(ck, "mpm_fext_scale", m->fext_scale);
+    if (!rc) rc = put_points(ck, &m->pts);
+    return rc;
+}
+
+int handshake_checkpoint_read(struct handshake *hs, struct ckpt *ck, const char *group)
+{
+    struct mpm *m = &hs->mpm;
+    int rc = ckpt_enter(ck, group);
+    if (!rc) rc = ckpt_get_long(ck, "step", &hs->step);
+    if (!rc) rc = ckpt_get_double(ck, "time", &hs->time);
+    if (!rc) rc = ckpt_get_long(ck, "mpm_step", &m->step);
+    if (!rc) rc = ckpt_get_double(ck, "mpm_time", &m->time);
+    if (!rc) rc = ckpt_get_double(ck, "mpm_vmax", &m->vmax);
+    if (!rc) rc = ckpt_get_double(ck, "mpm_ke", &m->ke);
+    if (!rc) rc = ckpt_get_double(ck, "mpm_ke_centred", &m->ke_centred);
+    if (!rc) rc = ckpt_get_double(ck, "mpm_strain", &m->strain);
+    if (!rc) rc = ckpt_get_double(ck, "mpm_strain_before", &m->strain_before);
+    if (!rc) rc = ckpt_get_double(ck, "mpm_fext_scale", &m->fext_scale);
+    if (!rc) rc = get_points(ck, &m->pts);
+    return rc;
+}
+
+void handshake_checkpoint_sync(struct handshake *hs)
+{
+    /* the next step locates the points afresh instead of trusting the
+     * blocks the last step cached, and finds region I and the copies in the
+     * MD particle order anew (the restarted run's atoms come in the stored
+     * order, not the order of the build) */
+    mpm_points_moved(&hs->mpm);
+    hs->seen_builds = -1;
+}
