@@ -3,7 +3,7 @@
 
 #include <string.h>
 
-#include "couple/handshake_impact.h"
+#include "scenarios/handshake_impact.h"
 
 static int fixed_damped_read(struct cfg_obj *t, struct impact_boundary *b)
 {

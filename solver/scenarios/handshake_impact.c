@@ -1,6 +1,6 @@
 /* handshake_impact: the MPM/MD handshake around a cluster-impact target
  * (Guo & Yang 2005, section 3.2, Fig. 12; see handshake_impact.h). */
-#include "couple/handshake_impact.h"
+#include "scenarios/handshake_impact.h"
 
 #include <math.h>
 #include <stdlib.h>
