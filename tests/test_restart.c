@@ -176,28 +176,24 @@ Test(restart, cluster_impact_continues_bitwise, .timeout = 300)
     th_kill_and_restart(yaml, kills, 1, "particles", md_fields);
 }
 
-/* The handshake boundary keeps MPM layers of its own that checkpoints do
- * not hold yet: asked for checkpoints, the run refuses at its start. */
-Test(restart, handshake_boundary_refuses_checkpoints, .timeout = 120)
+/* The same impact with the MD target inside MPM layers (the handshake
+ * boundary): the material points, the handshake's counters and the atoms
+ * all continue exactly. */
+Test(restart, cluster_impact_with_handshake_boundary_continues_bitwise, .timeout = 300)
 {
-    char path[1024], text[8192];
-    snprintf(path, sizeof path, "%s/docs/examples/cu14_impact_handshake.yaml", th_root());
-    long n;
-    char *yaml = th_restart_slurp(path, &n);
-    char *out = strstr(yaml, "output:");
-    cr_assert_not_null(out, "the example has no output section");
-    *out = '\0';
-    snprintf(text, sizeof text, "%soutput: {hdf5: false, checkpoint_every: 10}\n", yaml);
-    free(yaml);
-    char *steps = strstr(text, "steps: 2000");
-    cr_assert_not_null(steps);
-    memcpy(steps, "steps: 20  ", 11);
-    const char *cpath = th_write_temp(1, "hs.yaml", text);
-    char msg[4096];
-    int rc = th_restart_solve("hs", cpath, NULL, NULL, msg, sizeof msg);
-    cr_assert_eq(rc, 2, "%s", msg);
-    cr_assert(strstr(msg, "model 'impact_boundary' of this case cannot write checkpoints"), "%s",
-              msg);
+    const char *yaml = "seed: 1\n"
+                       "type: cluster_impact\n"
+                       "target: {lattice: fcc, element: Cu, a: 3.615, cells: [10, 10, 8], "
+                       "temperature: 0, boundary: handshake,\n"
+                       "         handshake: {mpm: 6, regions: [2, 2, 2], cell: 1, fine: 4, "
+                       "levels: 1, coarsen: xyz, layer: 2}}\n"
+                       "cluster: {atoms: 14, speed: 10.0}\n"
+                       "potential: {style: eam/alloy, file: Cu_mishin1.eam.alloy}\n"
+                       "md: {timestep: 0.001, steps: 60}\n"
+                       "analysis: {every: 20, structure: {method: fixed}}\n"
+                       "output: {thermo_every: 10, snapshot_every: 30, checkpoint_every: 20}\n";
+    const char *const kills[] = {"45", "30", NULL};
+    th_kill_and_restart(yaml, kills, 1, "particles", md_fields);
 }
 
 static void key_of(const char *yaml, char *key, size_t len)

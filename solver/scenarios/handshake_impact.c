@@ -211,3 +211,22 @@ void handshake_impact_destroy(struct impact_boundary *b)
     free(h);
     b->data = NULL;
 }
+
+int handshake_impact_checkpoint_write(const struct impact_boundary *b, struct ckpt *ck,
+                                      const char *group)
+{
+    const struct hs_impact *h = b->data;
+    return handshake_checkpoint_write(&h->hs, ck, group);
+}
+
+int handshake_impact_checkpoint_read(struct impact_boundary *b, struct ckpt *ck, const char *group)
+{
+    struct hs_impact *h = b->data;
+    return handshake_checkpoint_read(&h->hs, ck, group);
+}
+
+void handshake_impact_checkpoint_sync(struct impact_boundary *b)
+{
+    struct hs_impact *h = b->data;
+    handshake_checkpoint_sync(&h->hs);
+}

@@ -37,5 +37,11 @@ int handshake_impact_pre_step(struct impact_boundary *b, struct md *md, struct e
 uint32_t handshake_impact_exclude(const struct impact_boundary *b);
 void handshake_impact_report(const struct impact_boundary *b, struct result *r);
 void handshake_impact_destroy(struct impact_boundary *b);
+/* The MPM layers and the handshake's counters in a checkpoint (the atoms
+ * are the MD model's): couple/handshake.h. */
+int handshake_impact_checkpoint_write(const struct impact_boundary *b, struct ckpt *ck,
+                                      const char *group);
+int handshake_impact_checkpoint_read(struct impact_boundary *b, struct ckpt *ck, const char *group);
+void handshake_impact_checkpoint_sync(struct impact_boundary *b);
 
 #endif

@@ -11,7 +11,7 @@
  *                 atoms back into the crater region.
  *   handshake     the MD target embedded in hierarchical MPM layers through
  *                 the MPM/MD handshake (Guo & Yang 2005, section 2.2 and
- *                 Fig. 12): solver/couple/handshake_impact.h.
+ *                 Fig. 12): solver/scenarios/handshake_impact.h.
  *
  * Extension point.  A treatment is a row of impact_boundaries[] with
  *   read(target, b)        its keys in the `target` section (state it
@@ -33,7 +33,9 @@
  *   report(b, result)      the treatment's own metrics (optional);
  *   destroy(b);
  *   stateless              checkpoints may be written (nothing of its own
- *                          changes during the run).
+ *                          changes during the run), or
+ *   checkpoint_write/read/sync  its own state in a checkpoint (the
+ *                          handshake: its material points and counters).
  * In the engine (engine/sim.h) the treatment is a model that runs pre_step
  * as its pre_force stage (before the md's) and step as its post_step
  * stage (after the md's integrate): engine/model_impact_boundary.c.
@@ -66,6 +68,7 @@ struct impact_boundary {
 };
 
 struct result;
+struct ckpt;
 
 struct impact_boundary_ops {
     const char *name;
@@ -80,9 +83,13 @@ struct impact_boundary_ops {
     int (*pre_step)(struct impact_boundary *b, struct md *md, struct err *e);
     void (*report)(const struct impact_boundary *b, struct result *r);
     /* 1: all the treatment's state is rebuilt from the case (a checkpoint
-     * of the md restores the run); 0: it has state of its own that
-     * checkpoints do not hold yet */
+     * of the md restores the run); 0: it has state of its own, which the
+     * three functions below store, read back and resynchronise (without
+     * them the treatment cannot be checkpointed) */
     int stateless;
+    int (*checkpoint_write)(const struct impact_boundary *b, struct ckpt *ck, const char *group);
+    int (*checkpoint_read)(struct impact_boundary *b, struct ckpt *ck, const char *group);
+    void (*checkpoint_sync)(struct impact_boundary *b);
 };
 
 extern const struct impact_boundary_ops impact_boundaries[];   /* NULL-name terminated */

@@ -11,7 +11,7 @@
  *     temperature: 0          K (Maxwell-Boltzmann velocities, and the bath
  *                             of the damped layer)
  *     boundary: fixed_damped  fixed_damped | handshake (impact_boundary.h;
- *                             handshake: solver/couple/handshake_impact.h)
+ *                             handshake: solver/scenarios/handshake_impact.h)
  *     fixed_thickness: 6.0    Å, at least the potential cutoff
  *     damped_thickness: 10.0  Å
  *     damping_time: 0.05      ps
@@ -519,8 +519,9 @@ static int impact_run(void *state, struct run *run, struct err *e)
     s.case_ops = &impact_case_ops;
     s.case_state = c;
     int rc = sim_add_model(&s,
-                           c->bnd.ops->stateless ? &sim_model_impact_boundary
-                                                 : &sim_model_impact_boundary_stateful,
+                           c->bnd.ops->stateless || c->bnd.ops->checkpoint_write
+                               ? &sim_model_impact_boundary
+                               : &sim_model_impact_boundary_stateful,
                            &c->bmodel, e);
     c->md_index = s.nmodels;
     if (!rc)
