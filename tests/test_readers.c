@@ -1,0 +1,271 @@
+/*
+ * The file readers of cascade-solver on bad input (issue 16, items 5 and
+ * 8): each kind of defect of each reader is refused by `check` with exit
+ * code 2 and a message naming file:line and the field; quoted file text is
+ * cut to 40 characters.
+ *
+ * Each table row takes a valid file, replaces one line and states the
+ * message expected; the valid file itself is checked first, so a row fails
+ * for its own defect only.
+ */
+#include <criterion/criterion.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "helpers/th.h"
+
+/* --- helpers ---------------------------------------------------------------- */
+
+static double now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return ts.tv_sec + 1e-9 * ts.tv_nsec;
+}
+
+/* cascade-solver <cmd> bad.yaml [extra] on the case text; exit code, output
+ * in out, wall time in *secs (may be NULL). */
+static int solver(const char *cmd, const char *yaml, const char *extra, char *out, size_t len,
+                  double *secs)
+{
+    const char *path = th_write_temp(1, "bad.yaml", yaml);
+    const char *argv[] = {th_solver(), cmd, path, extra, NULL};
+    double t0 = now();
+    int rc = th_run(argv, out, len);
+    if (secs)
+        *secs = now() - t0;
+    return rc;
+}
+
+/* text with line `line` (1-based) replaced by `repl` (NULL: text as is);
+ * `repl` may hold several lines.  Static storage, one at a time. */
+static const char *with_line(const char *text, int line, const char *repl)
+{
+    static char buf[65536];
+    if (!repl || line < 1) {
+        snprintf(buf, sizeof buf, "%s", text);
+        return buf;
+    }
+    const char *s = text;
+    for (int k = 1; k < line && s; k++) {
+        s = strchr(s, '\n');
+        if (s)
+            s++;
+    }
+    cr_assert_not_null(s, "line %d beyond the text", line);
+    const char *end = strchr(s, '\n');
+    snprintf(buf, sizeof buf, "%.*s%s%s", (int)(s - text), text, repl, end ? end : "\n");
+    return buf;
+}
+
+struct row {
+    int line;              /* line to replace */
+    const char *repl;      /* its new text */
+    const char *expect;    /* substring of the message */
+};
+
+/* Write the file `name` with each row's change, run check on the case made
+ * by case_fmt (one %s: the file's path) and assert exit 2 and the message.
+ * Row 0 of the caller's table is not special: the valid file is checked
+ * here first, with exit 0. */
+static void run_table(const char *name, const char *valid, const char *case_fmt,
+                      const struct row *rows, size_t nrows)
+{
+    char yaml[4096], out[8192];
+    const char *path = th_write_temp(2, name, valid);
+    snprintf(yaml, sizeof yaml, case_fmt, path);
+    int rc = solver("check", yaml, NULL, out, sizeof out, NULL);
+    cr_assert_eq(rc, 0, "the valid %s must pass: %s", name, out);
+    for (size_t k = 0; k < nrows; k++) {
+        th_write_temp(2, name, with_line(valid, rows[k].line, rows[k].repl));
+        rc = solver("check", yaml, NULL, out, sizeof out, NULL);
+        cr_assert_eq(rc, 2, "%s line %d '%.60s': exit %d: %s", name, rows[k].line, rows[k].repl,
+                     rc, out);
+        cr_assert(strstr(out, rows[k].expect), "%s line %d '%.60s':\n  expected: %s\n  got: %s",
+                  name, rows[k].line, rows[k].repl, rows[k].expect, out);
+        /* file text quoted in a message is cut short: no message grows with
+         * the file (the longest row below quotes 40 of 200 characters) */
+        cr_assert_lt(strlen(out), 700, "message too long: %s", out);
+    }
+}
+
+static char long_token[256];
+
+static void init_long_token(void)
+{
+    memset(long_token, 'x', 200);
+    long_token[0] = '1';
+    long_token[200] = '\0';
+}
+
+/* "1xxx...x" cut to 40 characters */
+#define LONG_EXCERPT "'1xxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxx...'"
+
+/* --- EAM: funcfl, setfl, fs --------------------------------------------------- */
+
+#define EAM_CASE(style)                                                                           \
+    "system:\n  lattice: {style: fcc, a: 3.615, cells: [2, 2, 2]}\n  element: Cu\n"              \
+    "potential:\n  style: " style "\n  file: %s\n  elements: [Cu]\n"
+
+/* 5-point tables, cutoff 3 Å */
+#define SETFL_OK                                                                                  \
+    "c1\nc2\nc3\n1 Cu\n5 0.01 5 0.75 3.0\n29 63.546 3.615 fcc\n0 -0.1 -0.2 -0.3 -0.4\n"          \
+    "0.5 0.4 0.3 0.2 0.1\n1.0 0.5 0.2 0.1 0.0\n"
+/* funcfl: 6 points (LAMMPS drops the last one) */
+#define FUNCFL_OK                                                                                 \
+    "Cu test\n29 63.546 3.615 fcc\n6 0.01 6 0.6 3.0\n0 -0.1 -0.2 -0.3 -0.4 -0.5\n"               \
+    "0.5 0.3 0.2 0.1 0.05 0.0\n0.5 0.4 0.3 0.2 0.1 0.0\n"
+/* two elements: F, rho(Cu,Cu), rho(Cu,Ag); F, rho(Ag,Cu), rho(Ag,Ag); phi */
+#define FS_OK                                                                                     \
+    "c1\nc2\nc3\n2 Cu Ag\n5 0.01 5 0.75 3.0\n29 63.546 3.615 fcc\n0 -0.1 -0.2 -0.3 -0.4\n"       \
+    "0.5 0.4 0.3 0.2 0.1\n0.5 0.4 0.3 0.2 0.1\n47 107.87 4.09 fcc\n0 -0.1 -0.2 -0.3 -0.4\n"      \
+    "0.5 0.4 0.3 0.2 0.1\n0.5 0.4 0.3 0.2 0.1\n1.0 0.5 0.2 0.1 0.0\n1.0 0.5 0.2 0.1 0.0\n"       \
+    "1.0 0.5 0.2 0.1 0.0\n"
+
+Test(readers, eam_setfl_bad_input)
+{
+    init_long_token();
+    char longline[300];
+    snprintf(longline, sizeof longline, "1.0 0.5 %s 0.1 0.0", long_token);
+    const struct row rows[] = {
+        {5, "5x 0.01 5 0.75 3.0", "x.eam.alloy:5: expected an integer for Nrho, found '5x'"},
+        {5, "5 nan 5 0.75 3.0", "x.eam.alloy:5: expected a number for drho, found 'nan'"},
+        {5, "5 0.01 5 0.75 0x3", "x.eam.alloy:5: expected a number for the cutoff, found '0x3'"},
+        {6, "29 63.5x 3.615 fcc", "x.eam.alloy:6: expected a number for the mass, found '63.5x'"},
+        {7, "0 -0.1 -0.2 1e999 -0.4", "x.eam.alloy:7: expected a number (value 4 of F(rho) of "
+                                      "Cu), found '1e999'"},
+        {8, "0.5 0.4 0.3abc 0.2 0.1", "x.eam.alloy:8: expected a number (value 3 of rho(r) of "
+                                      "Cu), found '0.3abc'"},
+        {9, longline, "x.eam.alloy:9: expected a number (value 3 of r*phi(r) of Cu-Cu), found "
+                      LONG_EXCERPT},
+        {4, "1 CuCuCuCuCuCuCuCuCu", "x.eam.alloy:4: element name 1 'CuCuCuCuCuCuCuCuCu' is "
+                                    "longer than 15 characters"},
+    };
+    run_table("x.eam.alloy", SETFL_OK, EAM_CASE("eam/alloy"), rows, sizeof rows / sizeof rows[0]);
+    /* the case key is named as well */
+    char yaml[2048], out[4096];
+    const char *path = th_write_temp(2, "x.eam.alloy", with_line(SETFL_OK, 5, "5x 0.01 5 0.75 3"));
+    snprintf(yaml, sizeof yaml, EAM_CASE("eam/alloy"), path);
+    cr_assert_eq(solver("check", yaml, NULL, out, sizeof out, NULL), 2);
+    cr_assert(strstr(out, "bad.yaml:6:9: potential.file: corrupt or unreadable EAM file: "), "%s",
+              out);
+    /* a Fortran exponent (old DYNAMO files) is a number */
+    th_write_temp(2, "x.eam.alloy", with_line(SETFL_OK, 7, "0 -1.0D-01 -0.2 -0.3 -0.4"));
+    cr_assert_eq(solver("check", yaml, NULL, out, sizeof out, NULL), 0, "%s", out);
+}
+
+Test(readers, eam_funcfl_bad_input)
+{
+    const struct row rows[] = {
+        {2, "29.5 63.546 3.615 fcc", "x.eam:2: expected an integer for the atomic number, found "
+                                     "'29.5'"},
+        {3, "6 0.01 6 0.6 3.0x", "x.eam:3: expected a number for the cutoff, found '3.0x'"},
+        {3, "5 0.01 5 0.6 3.0", "x.eam:3: tables need at least 6 points (Nrho = 5, Nr = 5)"},
+        {4, "0 -0.1 -0.2 -0.3 inf -0.5", "x.eam:4: expected a number (value 5 of F(rho)), found "
+                                         "'inf'"},
+        {6, "0.5 0.4 0.3 0.2 0.1x 0", "x.eam:6: expected a number (value 5 of rho(r)), found "
+                                      "'0.1x'"},
+        {6, "0.5 0.4 0.3", "x.eam:6: unexpected end of file: rho(r) needs 6 values, found 3"},
+    };
+    run_table("x.eam", FUNCFL_OK, EAM_CASE("eam"), rows, sizeof rows / sizeof rows[0]);
+}
+
+Test(readers, eam_fs_bad_input)
+{
+    const struct row rows[] = {
+        {9, "0.5 0.4 0.3 0.2 +-1", "x.eam.fs:9: expected a number (value 5 of rho(r) of Cu), "
+                                   "found '+-1'"},
+        {10, "47 107.87 4.09e fcc", "x.eam.fs:10: expected a number for the lattice constant, "
+                                    "found '4.09e'"},
+        {16, "1.0 0.5 0.2 0.1 NaN", "x.eam.fs:16: expected a number (value 5 of r*phi(r) of "
+                                    "Ag-Ag), found 'NaN'"},
+    };
+    run_table("x.eam.fs", FS_OK, EAM_CASE("eam/fs"), rows, sizeof rows / sizeof rows[0]);
+}
+
+/* --- Stillinger-Weber ------------------------------------------------------------ */
+
+#define SW_OK                                                                                     \
+    "# Si, Stillinger and Weber 1985\nSi Si Si 2.1683 2.0951 1.80 21.0 1.20 -0.333333333333\n"   \
+    "  7.049556277 0.6022245584 4.0 0.0 0.0\n"
+#define SW_CASE                                                                                   \
+    "system:\n  lattice: {style: diamond, a: 5.431, cells: [2, 2, 2]}\n  element: Si\n"          \
+    "potential:\n  style: sw\n  file: %s\n  elements: [Si]\n"
+
+Test(readers, sw_bad_input)
+{
+    init_long_token();
+    char longline[300];
+    snprintf(longline, sizeof longline, "Si Si Si %.70s 2.0951 1.80 21.0 1.20 -0.3", long_token);
+    const struct row rows[] = {
+        {2, "Si Si Si 2.1683 2.0951x 1.80 21.0 1.20 -0.333333333333",
+         "x.sw:2: field 5 (sigma): '2.0951x' is not a finite decimal number"},
+        {2, "Si Si Si 2.1683 -2 1.80 21.0 1.20 -0.333333333333",
+         "x.sw:2: field 5 (sigma) must be > 0, found -2"},
+        {2, "Si Si Si 2.1683 2.0951 1.80 -21.0 1.20 -0.333333333333",
+         "x.sw:2: field 7 (lambda) must be >= 0, found -21"},
+        {3, "  nan 0.6022245584 4.0 0.0 0.0", "x.sw:3: field 10 (A): 'nan' is not a finite "
+                                               "decimal number"},
+        {3, "  7.049556277 0.6022245584 4.0 0.0", "x.sw:3: incomplete Stillinger-Weber entry: 14 "
+                                                  "fields needed, 13 found"},
+        {3, "  7.049556277 0.6022245584 4.0 0.0 0.0\n"
+            "Si Si Si 2.1683 2.0951 1.80 21.0 1.20 -0.333333333333\n"
+            "  7.049556277 0.6022245584 4.0 0.0 0.0",
+         "x.sw:4: second entry for Si Si Si (the first is at line 2)"},
+        {2, longline, "x.sw:2: field 4 (epsilon): '1xxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxx...' "
+                      "is longer than 63 characters"},
+    };
+    run_table("x.sw", SW_OK, SW_CASE, rows, sizeof rows / sizeof rows[0]);
+}
+
+/* --- meam/spline ------------------------------------------------------------------ */
+
+#define MEAM_CASE                                                                                 \
+    "system:\n  lattice: {style: diamond, a: 5.431, cells: [2, 2, 2]}\n  element: Si\n"          \
+    "potential:\n  style: meam/spline\n  file: %s\n  elements: [Si]\n"
+
+Test(readers, meam_spline_bad_input)
+{
+    /* Debian's Si_1.meam.spline (old format): line 2 is phi's knot count
+     * (10), 3 its end slopes, 4 ignored, 5..14 its knots */
+    FILE *f = fopen("/usr/share/lammps/potentials/Si_1.meam.spline", "r");
+    cr_assert_not_null(f, "lammps-data's Si_1.meam.spline is needed");
+    static char text[32768];
+    size_t n = fread(text, 1, sizeof text - 1, f);
+    text[n] = '\0';
+    fclose(f);
+    const struct row rows[] = {
+        {2, "10x", "x.meam.spline:2: expected an integer for the knot count of spline phi, found "
+                   "'10x'"},
+        {3, "-4.266966781858503300e+01 nan", "x.meam.spline:3: expected a number (value 2 of the "
+                                             "end slopes of spline phi), found 'nan'"},
+        {5, "0x1p1 6.929943430771341000e+00 1.653321602557917600e+02",
+         "x.meam.spline:5: expected a number (value 1 of knot 1 of spline phi), found '0x1p1'"},
+        {6, "1.4 -4.399503747408950400e-01 3.941543472528634600e+01",
+         "x.meam.spline:14: spline phi: knots must increase (knot 2 at 1.4 after 1.5)"},
+    };
+    run_table("x.meam.spline", text, MEAM_CASE, rows, sizeof rows / sizeof rows[0]);
+}
+
+/* --- dpd_fit points CSV ----------------------------------------------------------------- */
+
+#define CSV_OK                                                                                    \
+    "# test isotherm\nlattice_constant_A,density_g_cm3,pressure_GPa\n3.40,10.74,47.33\n"          \
+    "3.50,9.84,20.57\n3.60,9.05,4.26\n3.70,8.33,-1.5\n3.80,7.70,-5.2\n"
+#define CSV_CASE                                                                                  \
+    "type: dpd_fit\nisotherm: {temperature: 298, points_file: %s}\n"                              \
+    "coarse_grain: {a: 7.23, cutoff: 10.845}\noutput_file: fitted.yaml\n"
+
+Test(readers, dpd_fit_points_csv_bad_input)
+{
+    const struct row rows[] = {
+        {3, "3.40,10.7x,47.33", "iso.csv:3: column 2: '10.7x' is not a finite decimal number"},
+        {3, "3.40,,47.33", "iso.csv:3: empty column"},
+        {3, "3.40,10.74,47.33,", "iso.csv:3: empty column"},
+        {3, "3.40,10.74,47.33,1", "iso.csv:3: more columns than the 3 of the header"},
+        {3, "3.40,10.74", "iso.csv:3: 2 columns, the header has 3"},
+    };
+    run_table("iso.csv", CSV_OK, CSV_CASE, rows, sizeof rows / sizeof rows[0]);
+}
