@@ -1,8 +1,9 @@
 /*
- * The file readers of cascade-solver on bad input (issue 16, items 5 and
- * 8): each kind of defect of each reader is refused by `check` with exit
- * code 2 and a message naming file:line and the field; quoted file text is
- * cut to 40 characters.
+ * The file readers of cascade-solver on bad input (issue 16, items 5, 6
+ * and 8): each kind of defect of each reader is refused by `check` with
+ * exit code 2 and a message naming file:line and the field; quoted file
+ * text is cut to 40 characters; cases that would build more particles than
+ * the limit are refused by `check` and `resolve` in well under a second.
  *
  * Each table row takes a valid file, replaces one line and states the
  * message expected; the valid file itself is checked first, so a row fails
@@ -268,4 +269,69 @@ Test(readers, dpd_fit_points_csv_bad_input)
         {3, "3.40,10.74", "iso.csv:3: 2 columns, the header has 3"},
     };
     run_table("iso.csv", CSV_OK, CSV_CASE, rows, sizeof rows / sizeof rows[0]);
+}
+
+/* --- limits: particle count ---------------------------------------------------------- */
+
+/* 4e15 atoms: refused by resolve (--key) and check before any is made. */
+Test(limits, huge_lattice_refused_quickly)
+{
+    static const struct {
+        const char *yaml;
+        const char *expect;
+    } cases[] = {
+        {"system:\n  lattice: {style: fcc, a: 3.615, cells: [100000, 100000, 100000]}\n"
+         "  element: Cu\npotential: {style: sutton_chen}\n",
+         "bad.yaml:2:42: system.lattice.cells: 100000 x 100000 x 100000 cells of 4 sites are "
+         "4e+15 atoms, more than system.max_particles = 20000000 (the default; set it to allow "
+         "more)"},
+        {"type: hugoniot\nhugoniot:\n  element: Cu\n  a: 3.615\n  cells: [100000, 100000, 100000]\n"
+         "  particle_velocities: [1.0]\npotential: {style: sutton_chen}\n",
+         "bad.yaml:5:10: hugoniot.cells: 100000 x 100000 x 100000 cells of 4 atoms are 4e+15 "
+         "atoms, more than hugoniot.max_particles = 20000000"},
+        {"type: cluster_impact\ntarget:\n  element: Cu\n  a: 3.615\n  cells: [10000, 10000, 10000]\n"
+         "cluster: {atoms: 14}\npotential: {style: sutton_chen}\n",
+         "bad.yaml:5:10: target.cells: 10000 x 10000 x 10000 cells of 4 sites and a cluster of 14 "
+         "are 4e+12 atoms, more than target.max_particles = 20000000"},
+    };
+    for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) {
+        char out[4096];
+        double secs;
+        int rc = solver("check", cases[k].yaml, NULL, out, sizeof out, &secs);
+        cr_assert_eq(rc, 2, "check %zu: %s", k, out);
+        cr_assert(strstr(out, cases[k].expect), "check %zu:\n  expected: %s\n  got: %s", k,
+                  cases[k].expect, out);
+        cr_assert_lt(secs, 1.0, "check %zu took %.2f s", k, secs);
+        rc = solver("resolve", cases[k].yaml, "--key", out, sizeof out, &secs);
+        cr_assert_eq(rc, 2, "resolve --key %zu: %s", k, out);
+        cr_assert(strstr(out, cases[k].expect), "resolve %zu:\n  expected: %s\n  got: %s", k,
+                  cases[k].expect, out);
+        cr_assert_lt(secs, 1.0, "resolve %zu took %.2f s", k, secs);
+    }
+}
+
+/* system.max_particles: the limit is the case's; the key appears in the
+ * resolved case only when given (job keys of other cases do not move). */
+Test(limits, max_particles_is_the_cases_limit)
+{
+    char out[16384];
+    const char *base = "system:\n  lattice: {style: fcc, a: 3.615, cells: [3, 3, 3]}\n"
+                       "  element: Cu\n%s"
+                       "potential: {style: sutton_chen}\n";
+    char yaml[1024];
+    snprintf(yaml, sizeof yaml, base, "  max_particles: 107\n");
+    cr_assert_eq(solver("check", yaml, NULL, out, sizeof out, NULL), 2, "%s", out);
+    cr_assert(strstr(out, "system.lattice.cells: 3 x 3 x 3 cells of 4 sites are 108 atoms, "
+                          "more than system.max_particles = 107\n"), "%s", out);
+    snprintf(yaml, sizeof yaml, base, "  max_particles: 5000\n");
+    cr_assert_eq(solver("check", yaml, NULL, out, sizeof out, NULL), 0, "%s", out);
+    cr_assert_eq(solver("resolve", yaml, NULL, out, sizeof out, NULL), 0, "%s", out);
+    cr_assert(strstr(out, "\"max_particles\":5000"), "%s", out);
+    snprintf(yaml, sizeof yaml, base, "");
+    cr_assert_eq(solver("resolve", yaml, NULL, out, sizeof out, NULL), 0, "%s", out);
+    cr_assert_null(strstr(out, "max_particles"), "default written into the case: %s", out);
+    snprintf(yaml, sizeof yaml, base, "  max_particles: 0\n");
+    cr_assert_eq(solver("resolve", yaml, NULL, out, sizeof out, NULL), 2, "%s", out);
+    cr_assert(strstr(out, "bad.yaml:4:18: system.max_particles: must be in [1, 1e+09] (got 0)"),
+              "%s", out);
 }

@@ -18,6 +18,11 @@
 #include "core/particles.h"
 #include "util/err.h"
 
+/* Default of system.max_particles: particle and neighbour-list indices
+ * are int, and a full neighbour list of ~100 entries per atom passes 2^31
+ * entries near 20 million atoms. */
+#define CONFIG_MAX_ATOMS_DEFAULT 20000000L
+
 int config_read_lammps_data(const char *path, const char *const *elements, int nelements,
                             struct particles *p, struct box *b, struct err *e);
 
