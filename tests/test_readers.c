@@ -104,6 +104,130 @@ static void init_long_token(void)
 /* "1xxx...x" cut to 40 characters */
 #define LONG_EXCERPT "'1xxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxx...'"
 
+/* --- LAMMPS data ------------------------------------------------------------ */
+
+/* lines 15-17 are the atoms, 21-23 the velocities */
+#define DATA_OK                                                                                   \
+    "title\n\n3 atoms\n1 atom types\n0 14 xlo xhi\n0 14 ylo yhi\n0 14 zlo zhi\n\nMasses\n\n"     \
+    "1 63.5 # Cu\n\nAtoms # atomic\n\n1 1 1 1 1\n2 1 3 3 3\n3 1 5 5 5\n\nVelocities\n\n"         \
+    "1 0 0 0\n2 0 0 0\n3 0 0 0\n"
+#define DATA_CASE "system:\n  read_data: %s\npotential: {style: sutton_chen}\n"
+
+Test(readers, lammps_data_bad_input)
+{
+    init_long_token();
+    char longline[300];
+    snprintf(longline, sizeof longline, "3 1 %s 5 5", long_token);
+    const struct row rows[] = {
+        /* ids unique, both lines named */
+        {16, "1 1 3 3 3", "m.data:16: Atoms: atom id 1 is given twice (also at line 15)"},
+        {17, "2 1 5 5 5", "m.data:17: Atoms: atom id 2 is given twice (also at line 16)"},
+        {22, "1 0 0 0", "m.data:22: Velocities: atom id 1 is given twice (also at line 21)"},
+        {22, "7 0 0 0", "m.data:22: velocity for unknown atom id 7"},
+        /* coordinates: within one box length of a periodic box */
+        {16, "2 1 1e300 3 3", "m.data:16: atom id 2: x = 1e+300 is more than one box length "
+                              "outside the box [0, 14) (periodic boundary along x)"},
+        {16, "2 1 3 -14.5 3", "m.data:16: atom id 2: y = -14.5 is more than one box length"},
+        {16, "2 1 3 3 28", "m.data:16: atom id 2: z = 28 is more than one box length"},
+        /* coincident atoms, also across the periodic boundary */
+        {16, "2 1 1 1 1", "m.data:16: atom id 2 at (1, 1, 1) is 0 Å from atom id 1 at line 15: "
+                          "atoms closer than 0.1 Å"},
+        {16, "2 1 1.05 1 1", "m.data:16: atom id 2 at (1.05, 1, 1) is 0.05 Å from atom id 1"},
+        {17, "3 1 14.98 1 1", "m.data:17: atom id 3 at (14.98, 1, 1) is 0.02 Å from atom id 1 "
+                              "at line 15"},
+        {17, "3 1 -12.95 14.95 1", "m.data:17: atom id 3 at (-12.95, 14.95, 1) is 0.0707 Å"},
+        /* numbers are whole decimal tokens */
+        {3, "3x atoms", "m.data:3: 'atoms' needs a count >= 0, found '3x'"},
+        {4, "1.0 atom types", "m.data:4: 'atom types' needs a count >= 0, found '1.0'"},
+        {3, "100000000 atoms", "m.data:3: 100000000 atoms are more than the limit of 20000000"},
+        {5, "0 1e999 xlo xhi", "m.data:5: xlo xhi: box bounds must be finite decimal numbers"},
+        {6, "0 14 ylo yhi extra", "m.data:6: unrecognised header line '0 14 ylo yhi extra'"},
+        {11, "1.5 63.5 # Cu", "m.data:11: Masses line must be 'type mass' with type 1..1"},
+        {11, "1 63.5 # CuCuCuCuCuCuCuCuCu", "m.data:11: Masses: type name 'CuCuCuCuCuCuCuCuCu' "
+                                            "is longer than 15 characters"},
+        {16, longline, "m.data:16: Atoms line: field 3 (x) must be a finite decimal number, "
+                       "found " LONG_EXCERPT},
+        {21, "1 0 0 0x1", "m.data:21: Velocities line: field 4 (vz) must be a finite decimal"},
+        {16, "2 1 3 3 3 0 0", "m.data:16: Atoms line must be 'id type x y z [ix iy iz]'"},
+    };
+    run_table("m.data", DATA_OK, DATA_CASE, rows, sizeof rows / sizeof rows[0]);
+}
+
+/* Fixed and free boundaries: the same file, other rules per axis. */
+Test(readers, lammps_data_boundaries)
+{
+    char yaml[1024], out[4096];
+    const char *data = th_write_temp(2, "m.data", with_line(DATA_OK, 16, "2 1 -0.5 3 3"));
+    /* periodic: half an Å below the box is an image (the run wraps it) */
+    snprintf(yaml, sizeof yaml, DATA_CASE, data);
+    cr_assert_eq(solver("check", yaml, NULL, out, sizeof out, NULL), 0, "%s", out);
+    /* free: within one box length as well */
+    snprintf(yaml, sizeof yaml,
+             "system:\n  read_data: %s\n  boundary: [free, periodic, periodic]\n"
+             "potential: {style: sutton_chen}\n", data);
+    cr_assert_eq(solver("check", yaml, NULL, out, sizeof out, NULL), 0, "%s", out);
+    /* fixed: inside [lo, hi] only */
+    snprintf(yaml, sizeof yaml,
+             "system:\n  read_data: %s\n  boundary: [fixed, periodic, periodic]\n"
+             "potential: {style: sutton_chen}\n", data);
+    cr_assert_eq(solver("check", yaml, NULL, out, sizeof out, NULL), 2, "%s", out);
+    cr_assert(strstr(out, "m.data:16: atom id 2: x = -0.5 is outside the box [0, 14] (fixed "
+                          "boundary along x)"), "%s", out);
+    /* free: across the boundary is not a neighbour (0.02 Å apart only
+     * through the periodic image along x) */
+    data = th_write_temp(2, "m.data", with_line(DATA_OK, 17, "3 1 14.98 1 1"));
+    snprintf(yaml, sizeof yaml,
+             "system:\n  read_data: %s\n  boundary: [free, periodic, periodic]\n"
+             "potential: {style: sutton_chen}\n", data);
+    cr_assert_eq(solver("check", yaml, NULL, out, sizeof out, NULL), 0, "%s", out);
+}
+
+/* --- extended XYZ ----------------------------------------------------------- */
+
+#define XYZ_OK                                                                                    \
+    "3\nLattice=\"10 0 0 0 10 0 0 0 10\" Properties=species:S:1:pos:R:3:id:I:1 "                \
+    "pbc=\"T T T\"\nCu 1 1 1 1\nCu 3 3 3 2\nCu 5 5 5 3\n"
+#define XYZ_CASE "system:\n  read_xyz: %s\npotential: {style: sutton_chen}\n"
+
+Test(readers, extxyz_bad_input)
+{
+    init_long_token();
+    char longline[300];
+    snprintf(longline, sizeof longline, "Cu 1 %s 1 1", long_token);
+    const struct row rows[] = {
+        /* a stray second comment line read as an atom: named with file:line */
+        {3, "Lattice=\"7.23 0 0 0 7.23 0 0 0 7.23\" Properties=species:S:1:pos:R:3:id:I:1",
+         "m.xyz:3: species (column 1): 'Lattice=\"7.23' is not a chemical element symbol "
+         "(line 1 says 3 atoms follow the comment line)"},
+        {3, "Qq 1 1 1 1", "m.xyz:3: species (column 1): 'Qq' is not a chemical element symbol"},
+        /* count line and atom lines disagree */
+        {1, "4", "m.xyz:5: file has 3 of the 4 atoms of line 1"},
+        {1, "2", "m.xyz:5: 'Cu 5 5 5 3' follows the 2 atoms that line 1 announces; expected the "
+                 "end of the file or the count line of a next frame"},
+        {1, "3 atoms", "m.xyz:1: first line must be the number of atoms (one integer >= 0)"},
+        {1, "30000000", "m.xyz:1: 30000000 atoms are more than the limit of 20000000"},
+        /* ids */
+        {4, "Cu 3 3 3 1", "m.xyz:4: id: atom id 1 is given twice (also at line 3)"},
+        {4, "Cu 3 3 3 2.0", "m.xyz:4: id (column 5): '2.0' is not a positive integer"},
+        /* coordinates */
+        {4, "Cu 3 3 -10.5 2", "m.xyz:4: atom id 2: z = -10.5 is more than one box length "
+                              "outside the box [0, 10) (periodic boundary along z)"},
+        {4, "Cu 10.99 1 1.01 2", "m.xyz:4: atom id 2 at (10.99, 1, 1.01) is 0.0141 Å from atom "
+                                 "id 1 at line 3"},
+        {4, longline, "m.xyz:4: pos (column 3): " LONG_EXCERPT " is not a finite decimal"},
+        /* columns and Properties */
+        {4, "Cu 3 3 3 2 7", "m.xyz:4: atom line has 6 columns, Properties says 5"},
+        {4, "Cu 3 3 2", "m.xyz:4: atom line has 4 columns, Properties says 5"},
+        {2, "Lattice=\"10 0 0 0 10 0 0 0 10\" Properties=species:S:1:pos:R:3:id:I:x",
+         "m.xyz:2: malformed Properties at 'id'"},
+        {2, "Lattice=\"10 0 0 0 10 0 0 0 10\" Properties=species:S:1:pos:R:2:id:I:2",
+         "m.xyz:2: Properties: pos must be pos:R:3, found pos:R:2"},
+        {2, "Lattice=\"10 0 0 0 10 0 0 0 10 10\" Properties=species:S:1:pos:R:3:id:I:1",
+         "m.xyz:2: Lattice needs 9 finite decimal numbers"},
+    };
+    run_table("m.xyz", XYZ_OK, XYZ_CASE, rows, sizeof rows / sizeof rows[0]);
+}
+
 /* --- EAM: funcfl, setfl, fs --------------------------------------------------- */
 
 #define EAM_CASE(style)                                                                           \
@@ -334,4 +458,12 @@ Test(limits, max_particles_is_the_cases_limit)
     cr_assert_eq(solver("resolve", yaml, NULL, out, sizeof out, NULL), 2, "%s", out);
     cr_assert(strstr(out, "bad.yaml:4:18: system.max_particles: must be in [1, 1e+09] (got 0)"),
               "%s", out);
+    /* a data file's count against it */
+    const char *data = th_write_temp(2, "m.data", DATA_OK);
+    snprintf(yaml, sizeof yaml,
+             "system:\n  read_data: %s\n  max_particles: 2\npotential: {style: sutton_chen}\n",
+             data);
+    cr_assert_eq(solver("check", yaml, NULL, out, sizeof out, NULL), 2, "%s", out);
+    cr_assert(strstr(out, "m.data:3: 3 atoms are more than the limit of 2 "
+                          "(system.max_particles)"), "%s", out);
 }

@@ -176,11 +176,15 @@ int md_system_read(struct cfg_obj *root, uint64_t seed, struct particles **pout,
             return cfg_error_at(s.cfg, keypath, "cannot read '%s'", file);
         }
         enum boundary keep[3] = {b->bc[0], b->bc[1], b->bc[2]};
+        struct config_rules rules = config_rules_default();
+        for (int d = 0; d < 3; d++)
+            rules.bc[d] = b->bc[d];
+        rules.max_atoms = info->max_particles;
         if (has_data) {
-            rc = config_read_lammps_data(path, elements, nelements, p, b, s.cfg->err);
+            rc = config_read_lammps_data(path, elements, nelements, &rules, p, b, s.cfg->err);
         } else {
             int pbc[3];
-            rc = config_read_extxyz(path, p, b, pbc, s.cfg->err);
+            rc = config_read_extxyz(path, &rules, p, b, pbc, s.cfg->err);
         }
         for (int d = 0; d < 3; d++)
             b->bc[d] = keep[d];
