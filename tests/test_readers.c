@@ -3,7 +3,9 @@
  * and 8): each kind of defect of each reader is refused by `check` with
  * exit code 2 and a message naming file:line and the field; quoted file
  * text is cut to 40 characters; cases that would build more particles than
- * the limit are refused by `check` and `resolve` in well under a second.
+ * the limit are refused by `check` and `resolve`, and cutoffs that would
+ * need astronomically many periodic images by `check`, in well under a
+ * second.
  *
  * Each table row takes a valid file, replaces one line and states the
  * message expected; the valid file itself is checked first, so a row fails
@@ -395,7 +397,7 @@ Test(readers, dpd_fit_points_csv_bad_input)
     run_table("iso.csv", CSV_OK, CSV_CASE, rows, sizeof rows / sizeof rows[0]);
 }
 
-/* --- limits: particle count ---------------------------------------------------------- */
+/* --- limits: particle count and interaction range ---------------------------------------- */
 
 /* 4e15 atoms: refused by resolve (--key) and check before any is made. */
 Test(limits, huge_lattice_refused_quickly)
@@ -434,8 +436,9 @@ Test(limits, huge_lattice_refused_quickly)
     }
 }
 
-/* system.max_particles: the limit is the case's; the key appears in the
- * resolved case only when given (job keys of other cases do not move). */
+/* system.max_particles: the limit is the case's, for the atoms and,
+ * separately, for their periodic images; the key appears in the resolved
+ * case only when given (job keys of other cases do not move). */
 Test(limits, max_particles_is_the_cases_limit)
 {
     char out[16384];
@@ -447,6 +450,12 @@ Test(limits, max_particles_is_the_cases_limit)
     cr_assert_eq(solver("check", yaml, NULL, out, sizeof out, NULL), 2, "%s", out);
     cr_assert(strstr(out, "system.lattice.cells: 3 x 3 x 3 cells of 4 sites are 108 atoms, "
                           "more than system.max_particles = 107\n"), "%s", out);
+    /* 108 atoms in a 10.8 Å box have about 3370 images within the
+     * Sutton-Chen cutoff plus skin (11.8 Å) */
+    snprintf(yaml, sizeof yaml, base, "  max_particles: 3000\n");
+    cr_assert_eq(solver("check", yaml, NULL, out, sizeof out, NULL), 2, "%s", out);
+    cr_assert(strstr(out, "needs about 3.37e+03 ghost atoms (periodic images), more than "
+                          "system.max_particles = 3000\n"), "%s", out);
     snprintf(yaml, sizeof yaml, base, "  max_particles: 5000\n");
     cr_assert_eq(solver("check", yaml, NULL, out, sizeof out, NULL), 0, "%s", out);
     cr_assert_eq(solver("resolve", yaml, NULL, out, sizeof out, NULL), 0, "%s", out);
@@ -466,4 +475,53 @@ Test(limits, max_particles_is_the_cases_limit)
     cr_assert_eq(solver("check", yaml, NULL, out, sizeof out, NULL), 2, "%s", out);
     cr_assert(strstr(out, "m.data:3: 3 atoms are more than the limit of 2 "
                           "(system.max_particles)"), "%s", out);
+}
+
+/* A Stillinger-Weber sigma of 2999999999 Å (cutoff 5.4e9 Å in a 10.9 Å
+ * box) kept check busy past 60 s building image layers; now the range is
+ * refused before any ghost is made, naming the case key and the line of
+ * the file.  The same for a cutoff or skin from the case. */
+Test(limits, huge_cutoff_refused_quickly)
+{
+    const char *sw = th_write_temp(2, "big.sw",
+                                   "Si Si Si 2.1683 2999999999 1.80 21.0 1.20 -0.333333333333\n"
+                                   "  7.049556277 0.6022245584 4.0 0.0 0.0\n");
+    char yaml[1024], out[4096];
+    snprintf(yaml, sizeof yaml, SW_CASE, sw);
+    double secs;
+    int rc = solver("check", yaml, NULL, out, sizeof out, &secs);
+    cr_assert_eq(rc, 2, "%s", out);
+    cr_assert(strstr(out, "bad.yaml:6:9: potential.file: cutoff 5.4e+09 Å (from ") &&
+                  strstr(out, "big.sw:1 (a * sigma of Si Si Si)) plus skin 1 Å against the "
+                              "10.862 x 10.862 x 10.862 Å box (periodic periodic periodic) needs "
+                              "about ") &&
+                  strstr(out, "ghost atoms (periodic images), more than system.max_particles = "
+                              "20000000"),
+              "%s", out);
+    cr_assert_lt(secs, 1.0, "check took %.2f s", secs);
+    static const struct {
+        const char *yaml;
+        const char *expect;
+    } cases[] = {
+        {"system:\n  lattice: {style: fcc, a: 3.615, cells: [3, 3, 3]}\n  element: Cu\n"
+         "potential: {style: lj, elements: [Cu], epsilon: [0.4], sigma: [2.3], cutoff: 1e5}\n",
+         "bad.yaml:4:78: potential.cutoff: cutoff 100000 Å plus skin 1 Å against the 10.845 x "
+         "10.845 x 10.845 Å box"},
+        {"system:\n  lattice: {style: fcc, a: 3.615, cells: [3, 3, 3]}\n  element: Cu\n"
+         "potential: {style: sutton_chen}\nmd: {skin: 1e6}\n",
+         "bad.yaml:5:12: md.skin: cutoff 10.83 Å plus skin 1e+06 Å"},
+        /* free boundaries: no images, but a list of every pair of a big box */
+        {"system:\n  lattice: {style: fcc, a: 3.615, cells: [40, 40, 40]}\n  element: Cu\n"
+         "  boundary: [free, free, free]\n"
+         "potential: {style: lj, elements: [Cu], epsilon: [0.4], sigma: [2.3], cutoff: 1e4}\n",
+         "bad.yaml:5:78: potential.cutoff: cutoff 10000 Å plus skin 1 Å: the neighbour list of "
+         "256000 atoms would hold about 3.28e+10 entries"},
+    };
+    for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) {
+        rc = solver("check", cases[k].yaml, NULL, out, sizeof out, &secs);
+        cr_assert_eq(rc, 2, "%zu: %s", k, out);
+        cr_assert(strstr(out, cases[k].expect), "%zu:\n  expected: %s\n  got: %s", k,
+                  cases[k].expect, out);
+        cr_assert_lt(secs, 1.0, "%zu took %.2f s", k, secs);
+    }
 }

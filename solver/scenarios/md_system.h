@@ -21,8 +21,9 @@
  * resolved case when absent) bounds the atoms of the system: a lattice's
  * cells times sites per cell, checked by `resolve` and `check` before
  * anything is allocated; a data or XYZ file's count line, checked when the
- * file is read.  The readers' other rules (unique ids, coordinates inside
- * the box, no coincident atoms): input/config_read.h.
+ * file is read.  md cases also hold the ghost atoms of the periodic images
+ * to it (md_check_range).  The readers' other rules (unique ids,
+ * coordinates inside the box, no coincident atoms): input/config_read.h.
  */
 #ifndef CASCADE_MD_SYSTEM_H
 #define CASCADE_MD_SYSTEM_H
