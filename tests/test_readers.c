@@ -510,12 +510,13 @@ Test(limits, huge_cutoff_refused_quickly)
         {"system:\n  lattice: {style: fcc, a: 3.615, cells: [3, 3, 3]}\n  element: Cu\n"
          "potential: {style: sutton_chen}\nmd: {skin: 1e6}\n",
          "bad.yaml:5:12: md.skin: cutoff 10.83 Å plus skin 1e+06 Å"},
-        /* free boundaries: no images, but a list of every pair of a big box */
-        {"system:\n  lattice: {style: fcc, a: 3.615, cells: [40, 40, 40]}\n  element: Cu\n"
+        /* free boundaries: no images, but a list of every pair (of
+         * 70304 atoms: 2.47e9 pairs, just past INT_MAX) */
+        {"system:\n  lattice: {style: fcc, a: 3.615, cells: [26, 26, 26]}\n  element: Cu\n"
          "  boundary: [free, free, free]\n"
          "potential: {style: lj, elements: [Cu], epsilon: [0.4], sigma: [2.3], cutoff: 1e4}\n",
          "bad.yaml:5:78: potential.cutoff: cutoff 10000 Å plus skin 1 Å: the neighbour list of "
-         "256000 atoms would hold about 3.28e+10 entries"},
+         "70304 atoms would hold about 2.47e+09 entries"},
     };
     for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) {
         rc = solver("check", cases[k].yaml, NULL, out, sizeof out, &secs);
