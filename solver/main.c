@@ -68,7 +68,8 @@ static const char *usage_check =
     "usage: cascade-solver check CASE.yaml\n"
     "\n"
     "Validates the case: unknown keys, types and ranges, potential and data files,\n"
-    "the time step against the stability bound.  Prints 'ok' or the first error as\n"
+    "the particle count and the cutoff against system.max_particles, the time step\n"
+    "against the stability bound.  Prints 'ok' or the first error as\n"
     "file:line:column: key: message; exit code 0 or 2.\n";
 
 static const char *usage_resolve =

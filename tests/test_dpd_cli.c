@@ -295,7 +295,7 @@ Test(dpd_cli, final_state_reads_back)
     struct particles *p = particles_create(16);
     struct box b;
     struct err e = {0};
-    cr_assert_eq(config_read_lammps_data(data, NULL, 0, p, &b, &e), 0, "%s", e.msg);
+    cr_assert_eq(config_read_lammps_data(data, NULL, 0, NULL, p, &b, &e), 0, "%s", e.msg);
     cr_assert_eq(p->n_owned, 108);
     particles_destroy(&p);
     snprintf(yaml, sizeof yaml,

@@ -60,7 +60,7 @@ static void compare(const struct lmp_ref *ref, int nthreads)
     struct particles *p = particles_create(300);
     struct box box;
     struct err e = {0};
-    cr_assert_eq(config_read_lammps_data(path, NULL, 0, p, &box, &e), 0, "%s", e.msg);
+    cr_assert_eq(config_read_lammps_data(path, NULL, 0, NULL, p, &box, &e), 0, "%s", e.msg);
     for (int d = 0; d < 3; d++)
         box.bc[d] = BOUNDARY_PERIODIC;
     cr_assert_eq(p->n_owned, 216);

@@ -84,7 +84,7 @@ Test(output, zero_step_run_writes_energy_forces_pressure)
     struct box b;
     int pbc[3];
     struct err e = {0};
-    cr_assert_eq(config_read_extxyz(xp, p, &b, pbc, &e), 0, "%s", e.msg);
+    cr_assert_eq(config_read_extxyz(xp, NULL, p, &b, pbc, &e), 0, "%s", e.msg);
     cr_assert_eq(p->n_owned, 108);
     cr_assert(pbc[0] && pbc[1] && pbc[2]);
     cr_assert_lt(fabs(b.hi[0] - 10.5), 1e-9);

@@ -3,6 +3,7 @@
 
 #include "core/parallel.h"
 
+#include <limits.h>
 #include <math.h>
 #include <string.h>
 
@@ -19,8 +20,24 @@ static int add_image(struct particles *p, int src, int d, int shift, double len,
     return 0;
 }
 
+double ghost_estimate(const struct box *b, long n, double range)
+{
+    double f = 1;
+    for (int d = 0; d < 3; d++)
+        if (b->bc[d] == BOUNDARY_PERIODIC)
+            f *= 1 + 2 * range / box_length(b, d);
+    return (double)n * (f - 1);
+}
+
 int ghost_build(struct particles *p, const struct box *b, double range, struct err *e)
 {
+    double est = ghost_estimate(b, p->n_owned, range);
+    if (!(est < INT_MAX / 2 - (double)p->n_owned))
+        return err_set(e, ERR_INPUT,
+                       "an interaction range of %g Å needs about %.3g periodic images of the %d "
+                       "particles in the %g x %g x %g Å box, more than particle indices hold",
+                       range, est, p->n_owned, box_length(b, 0), box_length(b, 1),
+                       box_length(b, 2));
     p->n_ghost = 0;
     for (int i = 0; i < p->n_owned; i++) {
         p->origin[i] = i;

@@ -20,6 +20,13 @@
  * shorter than `range`.  Existing ghosts are dropped first. */
 int ghost_build(struct particles *p, const struct box *b, double range, struct err *e);
 
+/* Ghosts ghost_build would make for n particles spread uniformly over the
+ * box: n (prod over periodic axes of (1 + 2 range / L) - 1).  ghost_build
+ * refuses (ERR_INPUT) a range whose estimate is beyond what int particle
+ * indices hold, before making any: a cutoff of 1e9 Å in a 16 Å box means
+ * 1e8 image layers per axis. */
+double ghost_estimate(const struct box *b, long n, double range);
+
 /* x[g] = x[origin[g]] + gshift[g] * L, for all ghosts; extra fields flagged
  * ghost_copy are copied as well. */
 void ghost_update_positions(struct particles *p, const struct box *b);

@@ -175,6 +175,14 @@ static int cell_sites(const struct lattice *l, double (**out)[3])
     return n;
 }
 
+int lattice_cell_sites(const struct lattice *l)
+{
+    double(*sites)[3] = NULL;
+    int ns = cell_sites(l, &sites);
+    free(sites);
+    return ns;
+}
+
 long lattice_fill(const struct lattice *l, const long n[3], const struct region *region,
                   struct particles *p, int type, int64_t *next_id, struct err *e)
 {

@@ -38,6 +38,10 @@ void lattice_cell(const struct lattice *l, double cell[3]);
 /* Number of basis sites and their fractional coordinates (max 8). */
 int lattice_basis(const struct lattice *l, double basis[8][3]);
 
+/* Sites in one repeating cell of lattice_cell (oriented lattices have
+ * more than the basis); -1 when out of memory. */
+int lattice_cell_sites(const struct lattice *l);
+
 /* Append sites of n[0] x n[1] x n[2] cells inside `region` (may be NULL) as
  * owned particles of `type`, ids continuing from *next_id.  Returns count
  * added or -1 (memory, recorded in e). */

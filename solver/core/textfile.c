@@ -11,9 +11,17 @@ int textfile_open(struct textfile *t, const char *path, struct err *e)
 {
     memset(t, 0, sizeof *t);
     snprintf(t->path, sizeof t->path, "%s", path);
+    t->cap = 256;
+    t->buf = calloc(t->cap, 1);
+    if (!t->buf)
+        return err_nomem(e, "line buffer");
     t->fp = fopen(path, "r");
-    if (!t->fp)
-        return err_set(e, ERR_INPUT, "%s: cannot open: %s", path, strerror(errno));
+    if (!t->fp) {
+        int code = err_set(e, ERR_INPUT, "%s: cannot open: %s", path, strerror(errno));
+        free(t->buf);
+        t->buf = NULL;
+        return code;
+    }
     t->cursor = t->buf;
     return 0;
 }
@@ -23,19 +31,26 @@ void textfile_close(struct textfile *t)
     if (t->fp)
         fclose(t->fp);
     t->fp = NULL;
+    free(t->buf);
+    t->buf = t->cursor = NULL;
+    t->cap = 0;
 }
 
 int textfile_next_line(struct textfile *t)
 {
-    if (!t->fp || !fgets(t->buf, sizeof t->buf, t->fp)) {
+    /* getline, not a fixed buffer: a long line cut in two would be read
+     * as two lines, its tokens split and the line numbers shifted */
+    ssize_t len = t->fp ? getline(&t->buf, &t->cap, t->fp) : -1;
+    if (len < 0) {
         t->eof = 1;
-        t->buf[0] = '\0';
+        if (t->buf)
+            t->buf[0] = '\0';
         t->cursor = t->buf;
         return -1;
     }
     t->line++;
-    size_t len = strlen(t->buf);
-    /* a line longer than the buffer: the rest is read as the next "line" */
+    /* a NUL inside the line ends it for every reader alike */
+    len = (ssize_t)strlen(t->buf);
     if (len > 0 && t->buf[len - 1] == '\n')
         t->buf[--len] = '\0';
     if (len > 0 && t->buf[len - 1] == '\r')
@@ -75,14 +90,51 @@ const char *textfile_token(struct textfile *t)
     }
 }
 
-int textfile_error(struct textfile *t, struct err *e, const char *fmt, ...)
+const char *text_excerpt(const char *s, char out[TEXT_EXCERPT_SIZE])
+{
+    size_t n = strlen(s), keep = n;
+    if (n > TEXT_EXCERPT_MAX) {
+        keep = TEXT_EXCERPT_MAX;
+        /* do not cut a UTF-8 sequence in two */
+        while (keep > 0 && ((unsigned char)s[keep] & 0xC0) == 0x80)
+            keep--;
+    }
+    for (size_t i = 0; i < keep; i++) {
+        unsigned char c = (unsigned char)s[i];
+        out[i] = c < 0x20 || c == 0x7f ? '?' : (char)c;
+    }
+    if (keep < n) {
+        memcpy(out + keep, "...", 4);
+    } else {
+        out[keep] = '\0';
+    }
+    return out;
+}
+
+static int vtextfile_error(struct textfile *t, int line, struct err *e, const char *fmt,
+                           va_list ap)
 {
     char what[ERR_MSG_MAX / 2];
+    vsnprintf(what, sizeof what, fmt, ap);
+    return err_set(e, ERR_INPUT, "%s:%d: %s", t->path, line, what);
+}
+
+int textfile_error(struct textfile *t, struct err *e, const char *fmt, ...)
+{
     va_list ap;
     va_start(ap, fmt);
-    vsnprintf(what, sizeof what, fmt, ap);
+    int rc = vtextfile_error(t, t->line, e, fmt, ap);
     va_end(ap);
-    return err_set(e, ERR_INPUT, "%s:%d: %s", t->path, t->line, what);
+    return rc;
+}
+
+int textfile_error_at(struct textfile *t, int line, struct err *e, const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    int rc = vtextfile_error(t, line, e, fmt, ap);
+    va_end(ap);
+    return rc;
 }
 
 int text_parse_real(const char *tok, double *out)
@@ -91,9 +143,10 @@ int text_parse_real(const char *tok, double *out)
     if (!tok || !*tok || strpbrk(tok, "xXpP"))
         return -1;
     char *end;
-    errno = 0;
     double v = strtod(tok, &end);
-    if (*end || end == tok || !isfinite(v) || errno == ERANGE)
+    /* overflow gives +-HUGE_VAL (not finite, refused); an underflow to 0 or
+     * a denormal is the number the file means, near enough */
+    if (*end || end == tok || !isfinite(v))
         return -1;
     *out = v;
     return 0;
@@ -112,42 +165,44 @@ int text_parse_long(const char *tok, long *out)
     return 0;
 }
 
+/* text_parse_real, also with a Fortran exponent letter (1.0D-03). */
+static int parse_real_fortran(const char *tok, double *out)
+{
+    const char *dpos = strpbrk(tok, "dD");
+    if (!dpos)
+        return text_parse_real(tok, out);
+    char tmp[64];
+    size_t len = strlen(tok);
+    if (len >= sizeof tmp || strpbrk(dpos + 1, "dD"))
+        return -1;
+    memcpy(tmp, tok, len + 1);
+    tmp[dpos - tok] = 'e';
+    return text_parse_real(tmp, out);
+}
+
 int textfile_double(struct textfile *t, double *out, const char *what, struct err *e)
 {
-    const char *tok = textfile_token(t);
-    if (!tok)
-        return textfile_error(t, e, "unexpected end of file while reading %s", what);
-    char *end;
-    errno = 0;
-    double v = strtod(tok, &end);
-    /* Fortran-style exponents (1.0D-03) appear in old DYNAMO files */
-    if (*end == 'D' || *end == 'd') {
-        char tmp[64];
-        snprintf(tmp, sizeof tmp, "%s", tok);
-        char *dpos = tmp + (end - tok);
-        *dpos = 'e';
-        v = strtod(tmp, &end);
-        end = (char *)tok + (end - tmp);
-    }
-    if (*end || end == tok || !isfinite(v))
-        return textfile_error(t, e, "expected a number for %s, found '%s'", what, tok);
-    *out = v;
-    return 0;
+    return textfile_doubles(t, out, 1, what, e);
 }
 
 int textfile_doubles(struct textfile *t, double *out, long n, const char *what, struct err *e)
 {
     for (long i = 0; i < n; i++) {
         const char *tok = textfile_token(t);
-        if (!tok)
+        if (!tok) {
+            if (n == 1)
+                return textfile_error(t, e, "unexpected end of file while reading %s", what);
             return textfile_error(t, e, "unexpected end of file: %s needs %ld values, found %ld",
                                   what, n, i);
-        char *end;
-        double v = strtod(tok, &end);
-        if (*end || end == tok || !isfinite(v))
+        }
+        if (parse_real_fortran(tok, &out[i]) != 0) {
+            char ex[TEXT_EXCERPT_SIZE];
+            if (n == 1)
+                return textfile_error(t, e, "expected a number for %s, found '%s'", what,
+                                      text_excerpt(tok, ex));
             return textfile_error(t, e, "expected a number (value %ld of %s), found '%s'", i + 1,
-                                  what, tok);
-        out[i] = v;
+                                  what, text_excerpt(tok, ex));
+        }
     }
     return 0;
 }
@@ -157,11 +212,10 @@ int textfile_int(struct textfile *t, long *out, const char *what, struct err *e)
     const char *tok = textfile_token(t);
     if (!tok)
         return textfile_error(t, e, "unexpected end of file while reading %s", what);
-    char *end;
-    errno = 0;
-    long v = strtol(tok, &end, 10);
-    if (*end || end == tok || errno)
-        return textfile_error(t, e, "expected an integer for %s, found '%s'", what, tok);
-    *out = v;
+    if (text_parse_long(tok, out) != 0) {
+        char ex[TEXT_EXCERPT_SIZE];
+        return textfile_error(t, e, "expected an integer for %s, found '%s'", what,
+                              text_excerpt(tok, ex));
+    }
     return 0;
 }

@@ -1,4 +1,4 @@
-/* config_read: LAMMPS data and extended XYZ readers. */
+/* config_read: LAMMPS data and extended XYZ readers (rules in config_read.h). */
 #include "input/config_read.h"
 
 #include <ctype.h>
@@ -9,6 +9,13 @@
 #include "core/textfile.h"
 #include "core/elements.h"
 
+struct config_rules config_rules_default(void)
+{
+    struct config_rules r = {{BOUNDARY_PERIODIC, BOUNDARY_PERIODIC, BOUNDARY_PERIODIC},
+                             CONFIG_MAX_ATOMS_DEFAULT, CONFIG_MIN_DISTANCE_DEFAULT};
+    return r;
+}
+
 static int starts_with_word(const char *line, const char *word)
 {
     const char *s = line + strspn(line, " \t");
@@ -18,26 +25,31 @@ static int starts_with_word(const char *line, const char *word)
 
 static int cmp_id_pair(const void *a, const void *b)
 {
-    int64_t x = ((const int64_t *)a)[0], y = ((const int64_t *)b)[0];
-    return (x > y) - (x < y);
+    const int64_t *x = a, *y = b;
+    if (x[0] != y[0])
+        return (x[0] > y[0]) - (x[0] < y[0]);
+    return (x[1] > y[1]) - (x[1] < y[1]);
 }
 
 /* Up to n whitespace-separated numbers of s, each parsed strictly
- * (text_parse_real).  Returns how many were read, or -(k+1) when token k is
- * not a finite decimal number (its text in *bad). */
+ * (text_parse_real).  Returns how many were read (n + 1 when s has more
+ * than n), or -(k+1) when token k is not a finite decimal number (its text
+ * in *bad). */
 static int parse_doubles(const char *s, double *out, int n, char *bad, size_t badlen)
 {
     int k = 0;
-    while (k < n) {
+    while (k <= n) {
         s += strspn(s, " \t\r");
         if (!*s)
             break;
+        if (k == n)
+            return n + 1;
         size_t len = strcspn(s, " \t\r");
         char tok[128];
         snprintf(tok, sizeof tok, "%.*s", (int)(len < sizeof tok ? len : sizeof tok - 1), s);
         if (len >= sizeof tok || text_parse_real(tok, &out[k]) != 0) {
             if (bad)
-                snprintf(bad, badlen, "%.40s", tok);
+                snprintf(bad, badlen, "%.40s%s", tok, len > 40 ? "..." : "");
             return -(k + 1);
         }
         s += len;
@@ -46,52 +58,350 @@ static int parse_doubles(const char *s, double *out, int n, char *bad, size_t ba
     return k;
 }
 
-int config_read_lammps_data(const char *path, const char *const *elements, int nelements,
-                            struct particles *p, struct box *b, struct err *e)
+/* Split s (modified) into at most max whitespace-separated tokens; returns
+ * their number, max + 1 when there are more. */
+static int split_tokens(char *s, char **tok, int max)
 {
+    int n = 0;
+    char *save = NULL;
+    for (char *w = strtok_r(s, " \t\r", &save); w; w = strtok_r(NULL, " \t\r", &save)) {
+        if (n == max)
+            return max + 1;
+        tok[n++] = w;
+    }
+    return n;
+}
+
+/* --- checks shared by both readers --------------------------------------- */
+
+/* The file line of each atom a reader added, for messages. */
+struct atom_lines {
+    int *line;
+    long n, cap;
+};
+
+static int atom_lines_push(struct atom_lines *al, int line, struct err *e)
+{
+    if (al->n == al->cap) {
+        long cap = al->cap ? 2 * al->cap : 1024;
+        int *nl = realloc(al->line, (size_t)cap * sizeof *nl);
+        if (!nl)
+            return err_nomem(e, "atom lines");
+        al->line = nl;
+        al->cap = cap;
+    }
+    al->line[al->n++] = line;
+    return 0;
+}
+
+/* The coordinate rule of config_read.h for one atom: names file:line, the
+ * atom and the box when it is broken.  Positions are not moved here: the
+ * first neighbour-list build wraps periodic axes (box_remap, counting the
+ * images), and set-ups that look at the configuration before (a flyer
+ * sized on the target's extent) see the file's numbers. */
+static int check_position(struct textfile *t, const struct config_rules *r, const struct box *b,
+                          long id, const double x[3], struct err *e)
+{
+    for (int d = 0; d < 3; d++) {
+        double lo = b->lo[d], hi = b->hi[d], len = hi - lo;
+        char ax = "xyz"[d];
+        if (r->bc[d] == BOUNDARY_FIXED) {
+            if (!(x[d] >= lo && x[d] <= hi))
+                return textfile_error(t, e, "atom id %ld: %c = %.10g is outside the box [%g, %g] "
+                                      "(fixed boundary along %c)", id, ax, x[d], lo, hi, ax);
+        } else if (!(x[d] >= lo - len && x[d] < hi + len)) {
+            return textfile_error(t, e, "atom id %ld: %c = %.10g is more than one box length "
+                                  "outside the box [%g, %g) (%s boundary along %c)",
+                                  id, ax, x[d], lo, hi, boundary_names[r->bc[d]], ax);
+        }
+    }
+    return 0;
+}
+
+/* Atom ids of particles base.. are unique; a repeat names both lines (the
+ * repeat met first in the file). */
+static int check_unique_ids(struct textfile *t, const struct particles *p, int base,
+                            const struct atom_lines *al, const char *what, struct err *e)
+{
+    long n = p->n_owned - base;
+    if (n < 2)
+        return 0;
+    int64_t (*pairs)[2] = malloc((size_t)n * sizeof *pairs);
+    if (!pairs)
+        return err_nomem(e, "atom id check");
+    for (long i = 0; i < n; i++) {
+        pairs[i][0] = p->id[base + i];
+        pairs[i][1] = i;
+    }
+    qsort(pairs, (size_t)n, sizeof *pairs, cmp_id_pair);
+    long first = -1, again = -1;
+    for (long k = 1; k < n; k++)
+        if (pairs[k][0] == pairs[k - 1][0] && (again < 0 || pairs[k][1] < again)) {
+            /* pairs are in file order within one id: [k-1] is the earlier */
+            again = (long)pairs[k][1];
+            first = (long)pairs[k - 1][1];
+        }
+    free(pairs);
+    if (again < 0)
+        return 0;
+    return textfile_error_at(t, al->line[again], e, "%s: atom id %lld is given twice (also at "
+                             "line %d)", what, (long long)p->id[base + again], al->line[first]);
+}
+
+/* Two atoms of base.. closer than r->min_distance (minimum image along
+ * periodic axes): a cell sort with cells of edge >= min_distance and about
+ * one atom each, so O(N).  Names the pair whose later atom comes first in
+ * the file. */
+static int check_close_atoms(struct textfile *t, const struct particles *p, int base,
+                             const struct box *b, const struct config_rules *r,
+                             const struct atom_lines *al, struct err *e)
+{
+    int n = p->n_owned - base;
+    double dmin = r->min_distance;
+    if (n < 2 || !(dmin > 0))
+        return 0;
+    const double *x = p->x + 3 * (size_t)base;
+    double lo[3], len[3], ext[3], vol = 1;
+    int per[3], nc[3];
+    for (int d = 0; d < 3; d++) {
+        per[d] = r->bc[d] == BOUNDARY_PERIODIC;
+        if (per[d]) {
+            lo[d] = b->lo[d];
+            len[d] = b->hi[d] - b->lo[d];
+        } else {   /* free or fixed: the atoms' own extent */
+            double mn = x[d], mx = x[d];
+            for (int i = 1; i < n; i++) {
+                mn = fmin(mn, x[3 * i + d]);
+                mx = fmax(mx, x[3 * i + d]);
+            }
+            lo[d] = mn;
+            len[d] = mx - mn;
+        }
+        ext[d] = fmax(len[d], dmin);
+        vol *= ext[d];
+    }
+    double w = fmax(dmin, cbrt(vol / n));
+    long ncell = 1;
+    for (int d = 0; d < 3; d++) {
+        /* floor(ext / w) cells of edge >= w >= dmin: the product is at
+         * most vol / w^3 <= n */
+        double q = floor(ext[d] / w);
+        nc[d] = q < 1 ? 1 : q > 1 << 20 ? 1 << 20 : (int)q;
+        ncell *= nc[d];
+    }
+    int *start = calloc((size_t)ncell + 1, sizeof *start);
+    int *cell = malloc((size_t)n * sizeof *cell);
+    int *order = malloc((size_t)n * sizeof *order);
+    if (!start || !cell || !order) {
+        free(start);
+        free(cell);
+        free(order);
+        return err_nomem(e, "close atom check");
+    }
+    for (int i = 0; i < n; i++) {
+        long c = 0;
+        for (int d = 2; d >= 0; d--) {
+            double u = x[3 * i + d] - lo[d];
+            if (per[d])   /* positions are not wrapped yet (up to a box length out) */
+                u -= len[d] * floor(u / len[d]);
+            double q = u / ext[d] * nc[d];
+            int k = q < 0 ? 0 : q >= nc[d] - 1 ? nc[d] - 1 : (int)q;
+            c = c * nc[d] + k;
+        }
+        cell[i] = (int)c;
+        start[c + 1]++;
+    }
+    for (long c = 0; c < ncell; c++)
+        start[c + 1] += start[c];
+    int *fill = malloc((size_t)ncell * sizeof *fill);
+    if (!fill) {
+        free(start);
+        free(cell);
+        free(order);
+        return err_nomem(e, "close atom check");
+    }
+    memcpy(fill, start, (size_t)ncell * sizeof *fill);
+    for (int i = 0; i < n; i++)
+        order[fill[cell[i]]++] = i;
+    free(fill);
+
+    int hit_i = -1, hit_j = -1;
+    double hit_r = 0;
+    for (int i = 0; i < n && hit_i < 0; i++) {
+        int ci[3];
+        long c = cell[i];
+        for (int d = 0; d < 3; d++) {
+            ci[d] = (int)(c % nc[d]);
+            c /= nc[d];
+        }
+        /* the distinct neighbour cells along each axis (fewer than 3 when
+         * the axis has fewer cells) */
+        int nb[3][3], nnb[3];
+        for (int d = 0; d < 3; d++) {
+            nnb[d] = 0;
+            for (int o = -1; o <= 1; o++) {
+                int k = ci[d] + o;
+                if (per[d])
+                    k = (k + nc[d]) % nc[d];
+                else if (k < 0 || k >= nc[d])
+                    continue;
+                int dup = 0;
+                for (int q = 0; q < nnb[d]; q++)
+                    dup |= nb[d][q] == k;
+                if (!dup)
+                    nb[d][nnb[d]++] = k;
+            }
+        }
+        for (int a = 0; a < nnb[2]; a++)
+            for (int bb = 0; bb < nnb[1]; bb++)
+                for (int cc = 0; cc < nnb[0]; cc++) {
+                    long cn = ((long)nb[2][a] * nc[1] + nb[1][bb]) * nc[0] + nb[0][cc];
+                    for (int s = start[cn]; s < start[cn + 1]; s++) {
+                        int j = order[s];
+                        if (j >= i || (hit_j >= 0 && j > hit_j))
+                            continue;
+                        double r2 = 0;
+                        for (int d = 0; d < 3; d++) {
+                            double dx = x[3 * i + d] - x[3 * j + d];
+                            if (per[d])
+                                dx -= len[d] * nearbyint(dx / len[d]);
+                            r2 += dx * dx;
+                        }
+                        if (r2 < dmin * dmin) {
+                            hit_i = i;
+                            hit_j = j;
+                            hit_r = sqrt(r2);
+                        }
+                    }
+                }
+    }
+    free(start);
+    free(cell);
+    free(order);
+    if (hit_i < 0)
+        return 0;
+    const double *xi = x + 3 * hit_i;
+    return textfile_error_at(t, al->line[hit_i], e, "atom id %lld at (%g, %g, %g) is %.3g Å from "
+                             "atom id %lld at line %d: atoms closer than %g Å are taken for a "
+                             "mistake", (long long)p->id[base + hit_i], xi[0], xi[1], xi[2], hit_r,
+                             (long long)p->id[base + hit_j], al->line[hit_j], dmin);
+}
+
+static int check_atom_count(struct textfile *t, long n, const struct config_rules *r,
+                            struct err *e)
+{
+    if (n > r->max_atoms)
+        return textfile_error(t, e, "%ld atoms are more than the limit of %ld "
+                              "(system.max_particles)", n, r->max_atoms);
+    return 0;
+}
+
+/* --- LAMMPS data ---------------------------------------------------------- */
+
+/* Header line "<count> words..." with the words given: 1 and the count, 0
+ * when the words differ, -1 when they match but the count is not an
+ * integer >= 0. */
+static int header_count(char **tok, int ntok, const char *w1, const char *w2, long *out)
+{
+    int want = w2 ? 3 : 2;
+    if (ntok != want || strcmp(tok[1], w1) != 0 || (w2 && strcmp(tok[2], w2) != 0))
+        return 0;
+    return text_parse_long(tok[0], out) == 0 && *out >= 0 ? 1 : -1;
+}
+
+int config_read_lammps_data(const char *path, const char *const *elements, int nelements,
+                            const struct config_rules *rules, struct particles *p, struct box *b,
+                            struct err *e)
+{
+    struct config_rules defrules = config_rules_default();
+    const struct config_rules *r = rules ? rules : &defrules;
     struct textfile t;
     int rc = textfile_open(&t, path, e);
     if (rc)
         return rc;
+    struct atom_lines al = {0};
+    int *vline = NULL;   /* line of each atom's velocity, to find a repeat */
+    const int base = p->n_owned;
     long natoms = -1, ntypes = -1;
     int have_box[3] = {0, 0, 0};
     double masses[PARTICLES_MAX_TYPES] = {0};
+    int mass_line[PARTICLES_MAX_TYPES] = {0};
     char names[PARTICLES_MAX_TYPES][16] = {{0}};
+    char ex[TEXT_EXCERPT_SIZE];
     textfile_next_line(&t);   /* title */
-    /* header */
+    /* header: "N atoms", "M atom types", "lo hi xlo xhi", ...; counts of
+     * molecular styles are read and ignored (atomic style has none) */
+    static const char *const molecular[][2] = {
+        {"bonds", NULL}, {"angles", NULL}, {"dihedrals", NULL}, {"impropers", NULL},
+        {"bond", "types"}, {"angle", "types"}, {"dihedral", "types"}, {"improper", "types"}};
     while (textfile_next_line(&t) == 0) {
         char *hash = strchr(t.buf, '#');
         if (hash)
             *hash = '\0';
-        const char *s = t.buf + strspn(t.buf, " \t");
+        const char *s = t.buf + strspn(t.buf, " \t\r");
         if (!*s)
             continue;
-        double v[3];
-        if (strstr(s, "xy xz yz")) {
+        if (isalpha((unsigned char)*s))
+            break;   /* first section keyword */
+        char line[256];
+        snprintf(line, sizeof line, "%s", s);
+        char *tok[8];
+        int ntok = split_tokens(t.buf, tok, 8);
+        long count;
+        int k;
+        if ((k = header_count(tok, ntok, "atoms", NULL, &count)) != 0) {
+            if (k < 0 || natoms >= 0) {
+                rc = k < 0 ? textfile_error(&t, e, "'atoms' needs a count >= 0, found '%s'",
+                                            text_excerpt(tok[0], ex))
+                           : textfile_error(&t, e, "a second 'atoms' line");
+                goto done;
+            }
+            natoms = count;
+            if ((rc = check_atom_count(&t, natoms, r, e)))
+                goto done;
+        } else if ((k = header_count(tok, ntok, "atom", "types", &count)) != 0) {
+            if (k < 0 || ntypes >= 0) {
+                rc = k < 0 ? textfile_error(&t, e, "'atom types' needs a count >= 0, found '%s'",
+                                            text_excerpt(tok[0], ex))
+                           : textfile_error(&t, e, "a second 'atom types' line");
+                goto done;
+            }
+            ntypes = count;
+        } else if (ntok >= 4 && strcmp(tok[ntok - 1], "yz") == 0) {
             rc = textfile_error(&t, e, "triclinic boxes are not supported");
             goto done;
-        }
-        if (strstr(s, "atom types")) {
-            ntypes = strtol(s, NULL, 10);
-        } else if (strstr(s, "atoms")) {
-            natoms = strtol(s, NULL, 10);
-        } else if (strstr(s, "xlo xhi") || strstr(s, "ylo yhi") || strstr(s, "zlo zhi")) {
-            int d = strstr(s, "xlo") ? 0 : strstr(s, "ylo") ? 1 : 2;
-            if (parse_doubles(s, v, 2, NULL, 0) != 2 || !(v[1] > v[0])) {
-                rc = textfile_error(&t, e, "box bounds need lo < hi");
+        } else if (ntok == 4 && tok[2][0] == tok[3][0] && tok[2][0] >= 'x' && tok[2][0] <= 'z' &&
+                   strcmp(tok[2] + 1, "lo") == 0 && strcmp(tok[3] + 1, "hi") == 0) {
+            int d = tok[2][0] - 'x';
+            double v[2];
+            if (text_parse_real(tok[0], &v[0]) != 0 || text_parse_real(tok[1], &v[1]) != 0 ||
+                !(v[1] > v[0])) {
+                rc = textfile_error(&t, e, "%clo %chi: box bounds must be finite decimal numbers "
+                                    "with lo < hi", tok[2][0], tok[2][0]);
+                goto done;
+            }
+            if (have_box[d]) {
+                rc = textfile_error(&t, e, "a second '%clo %chi' line", tok[2][0], tok[2][0]);
                 goto done;
             }
             b->lo[d] = v[0];
             b->hi[d] = v[1];
             have_box[d] = 1;
-        } else if (isalpha((unsigned char)*s)) {
-            break;   /* first section keyword */
-        } else if (strstr(s, "bonds") || strstr(s, "angles") || strstr(s, "types") ||
-                   strstr(s, "dihedrals") || strstr(s, "impropers")) {
-            continue;   /* molecular counts: ignored, atomic style has none */
         } else {
-            rc = textfile_error(&t, e, "unrecognised header line '%s'", s);
-            goto done;
+            int known = 0;
+            for (size_t m = 0; m < sizeof molecular / sizeof molecular[0] && !known; m++) {
+                k = header_count(tok, ntok, molecular[m][0], molecular[m][1], &count);
+                if (k < 0) {
+                    rc = textfile_error(&t, e, "'%s' needs a count >= 0, found '%s'",
+                                        molecular[m][0], text_excerpt(tok[0], ex));
+                    goto done;
+                }
+                known = k;
+            }
+            if (!known) {
+                rc = textfile_error(&t, e, "unrecognised header line '%s'", text_excerpt(line, ex));
+                goto done;
+            }
         }
     }
     if (natoms < 0 || ntypes < 1) {
@@ -109,7 +419,7 @@ int config_read_lammps_data(const char *path, const char *const *elements, int n
             goto done;
         }
     long natoms_read = 0;
-    int have_vel = 0;
+    int atoms_line = 0, vel_line = 0;
     /* sections; t.buf holds the first keyword line */
     do {
         char *hash = strchr(t.buf, '#');
@@ -118,7 +428,7 @@ int config_read_lammps_data(const char *path, const char *const *elements, int n
             snprintf(comment, sizeof comment, "%s", hash + 1);
             *hash = '\0';
         }
-        const char *s = t.buf + strspn(t.buf, " \t");
+        const char *s = t.buf + strspn(t.buf, " \t\r");
         if (!*s)
             continue;
         if (starts_with_word(s, "Masses")) {
@@ -133,22 +443,43 @@ int config_read_lammps_data(const char *path, const char *const *elements, int n
                     sscanf(h2 + 1, "%31s", nm);
                     *h2 = '\0';
                 }
-                double v[2];
-                if (t.buf[strspn(t.buf, " \t")] == '\0')
-                    continue;
-                if (parse_doubles(t.buf, v, 2, NULL, 0) != 2 || v[0] < 1 || v[0] > ntypes || !(v[1] > 0)) {
-                    rc = textfile_error(&t, e, "Masses line must be 'type mass' with mass > 0");
+                if (strlen(nm) >= sizeof names[0]) {
+                    /* cut to fit, it would name another element (or none) */
+                    rc = textfile_error(&t, e, "Masses: type name '%s' is longer than %zu "
+                                        "characters", text_excerpt(nm, ex), sizeof names[0] - 1);
                     goto done;
                 }
-                masses[(int)v[0] - 1] = v[1];
+                double v[2];
+                if (t.buf[strspn(t.buf, " \t\r")] == '\0')
+                    continue;
+                if (parse_doubles(t.buf, v, 2, NULL, 0) != 2 || !(v[0] >= 1 && v[0] <= ntypes) ||
+                    v[0] != floor(v[0]) || !(v[1] > 0)) {
+                    rc = textfile_error(&t, e, "Masses line must be 'type mass' with type 1..%ld "
+                                        "and mass > 0", ntypes);
+                    goto done;
+                }
+                int ty = (int)v[0] - 1;
+                if (mass_line[ty]) {
+                    rc = textfile_error(&t, e, "Masses: type %d is given twice (also at line %d)",
+                                        ty + 1, mass_line[ty]);
+                    goto done;
+                }
+                mass_line[ty] = t.line;
+                masses[ty] = v[1];
                 if (nm[0])
-                    snprintf(names[(int)v[0] - 1], sizeof names[0], "%s", nm);
+                    snprintf(names[ty], sizeof names[0], "%s", nm);
                 k++;
             }
         } else if (starts_with_word(s, "Atoms")) {
+            if (atoms_line) {
+                rc = textfile_error(&t, e, "a second Atoms section (the first is at line %d)",
+                                    atoms_line);
+                goto done;
+            }
+            atoms_line = t.line;
             if (comment[0] && !strstr(comment, "atomic")) {
                 rc = textfile_error(&t, e, "only atom_style atomic is supported (found '#%s')",
-                                    comment);
+                                    text_excerpt(comment, ex));
                 goto done;
             }
             /* type names: case elements, else Masses comments */
@@ -176,14 +507,14 @@ int config_read_lammps_data(const char *path, const char *const *elements, int n
                 char *h2 = strchr(t.buf, '#');
                 if (h2)
                     *h2 = '\0';
-                if (t.buf[strspn(t.buf, " \t")] == '\0')
+                if (t.buf[strspn(t.buf, " \t\r")] == '\0')
                     continue;
-                double v[9];
+                double v[8];
                 char bad[48];
-                int nv = parse_doubles(t.buf, v, 9, bad, sizeof bad);
+                int nv = parse_doubles(t.buf, v, 8, bad, sizeof bad);
                 if (nv < 0) {
                     static const char *const field[] = {"id", "type", "x", "y", "z",
-                                                        "ix", "iy", "iz", "extra"};
+                                                        "ix", "iy", "iz"};
                     rc = textfile_error(&t, e, "Atoms line: field %d (%s) must be a finite "
                                         "decimal number, found '%s'", -nv, field[-nv - 1], bad);
                     goto done;
@@ -202,38 +533,52 @@ int config_read_lammps_data(const char *path, const char *const *elements, int n
                                         v[1], ntypes);
                     goto done;
                 }
+                int image[3] = {0, 0, 0};
                 if (nv == 8)
-                    for (int d = 5; d < 8; d++)
+                    for (int d = 5; d < 8; d++) {
                         if (!(fabs(v[d]) < 1.0e9 && v[d] == floor(v[d]))) {
                             rc = textfile_error(&t, e, "Atoms line: image flag %.10g is not an "
                                                 "integer", v[d]);
                             goto done;
                         }
+                        image[d - 5] = (int)v[d];
+                    }
                 long type = (long)v[1];
                 double x[3] = {v[2], v[3], v[4]};
+                if ((rc = check_position(&t, r, b, (long)v[0], x, e)))
+                    goto done;
                 const char *nm = type - 1 < nelements ? elements[type - 1] : names[type - 1];
                 int ti = particles_type_index(p, nm, 0);
                 int idx = particles_add(p, x, NULL, ti, (int64_t)v[0]);
-                if (idx < 0) {
+                if (idx < 0 || atom_lines_push(&al, t.line, e)) {
                     rc = err_nomem(e, "atoms");
                     goto done;
                 }
-                if (nv == 8)
-                    for (int d = 0; d < 3; d++)
-                        p->image[3 * idx + d] = (int)v[5 + d];
+                for (int d = 0; d < 3; d++)
+                    p->image[3 * idx + d] = image[d];
                 natoms_read++;
             }
+            if ((rc = check_unique_ids(&t, p, base, &al, "Atoms", e)))
+                goto done;
         } else if (starts_with_word(s, "Velocities")) {
-            have_vel = 1;
-            /* map ids to indices: sorted (id, index) pairs, binary search */
-            long n_own = p->n_owned;
+            if (vel_line) {
+                rc = textfile_error(&t, e, "a second Velocities section (the first is at line %d)",
+                                    vel_line);
+                goto done;
+            }
+            vel_line = t.line;
+            /* map ids to indices: sorted (id, index) pairs, binary search
+             * (ids are unique: checked at the end of Atoms) */
+            long n_own = p->n_owned - base;
             int64_t (*pairs)[2] = malloc((size_t)(n_own ? n_own : 1) * sizeof *pairs);
-            if (!pairs) {
+            vline = calloc((size_t)(n_own ? n_own : 1), sizeof *vline);
+            if (!pairs || !vline) {
+                free(pairs);
                 rc = err_nomem(e, "velocity lookup");
                 goto done;
             }
             for (long i = 0; i < n_own; i++) {
-                pairs[i][0] = p->id[i];
+                pairs[i][0] = p->id[base + i];
                 pairs[i][1] = i;
             }
             qsort(pairs, (size_t)n_own, sizeof *pairs, cmp_id_pair);
@@ -243,16 +588,19 @@ int config_read_lammps_data(const char *path, const char *const *elements, int n
                     rc = textfile_error(&t, e, "Velocities section ends early");
                     goto done;
                 }
-                if (t.buf[strspn(t.buf, " \t")] == '\0')
+                char *h2 = strchr(t.buf, '#');
+                if (h2)
+                    *h2 = '\0';
+                if (t.buf[strspn(t.buf, " \t\r")] == '\0')
                     continue;
-                double v[5];
+                double v[4];
                 char bad[48];
-                int nv = parse_doubles(t.buf, v, 5, bad, sizeof bad);
+                int nv = parse_doubles(t.buf, v, 4, bad, sizeof bad);
                 if (nv < 0) {
                     free(pairs);
                     rc = textfile_error(&t, e, "Velocities line: field %d (%s) must be a finite "
                                         "decimal number, found '%s'", -nv,
-                                        (const char *const[]){"id", "vx", "vy", "vz", "extra"}[-nv - 1], bad);
+                                        (const char *const[]){"id", "vx", "vy", "vz"}[-nv - 1], bad);
                     goto done;
                 }
                 if (nv != 4) {
@@ -267,22 +615,37 @@ int config_read_lammps_data(const char *path, const char *const *elements, int n
                     goto done;
                 }
                 int64_t key[2] = {(int64_t)v[0], 0};
-                int64_t(*hit)[2] = bsearch(key, pairs, (size_t)n_own, sizeof *pairs, cmp_id_pair);
-                if (!hit) {
+                /* the lowest index with this id: compare ids only */
+                long lo = 0, hi = n_own;
+                while (lo < hi) {
+                    long mid = lo + (hi - lo) / 2;
+                    if (pairs[mid][0] < key[0])
+                        lo = mid + 1;
+                    else
+                        hi = mid;
+                }
+                if (lo >= n_own || pairs[lo][0] != key[0]) {
                     free(pairs);
                     rc = textfile_error(&t, e, "velocity for unknown atom id %.0f", v[0]);
                     goto done;
                 }
-                int found = (int)(*hit)[1];
+                long found = (long)pairs[lo][1];
+                if (vline[found]) {
+                    free(pairs);
+                    rc = textfile_error(&t, e, "Velocities: atom id %.0f is given twice (also at "
+                                        "line %d)", v[0], vline[found]);
+                    goto done;
+                }
+                vline[found] = t.line;
                 for (int d = 0; d < 3; d++)
-                    p->v[3 * found + d] = v[1 + d];
+                    p->v[3 * (base + found) + d] = v[1 + d];
                 k++;
             }
             free(pairs);
         } else {
             rc = textfile_error(&t, e, "unsupported section '%s' (atomic style: Masses, Atoms, "
                                        "Velocities)",
-                                s);
+                                text_excerpt(s, ex));
             goto done;
         }
     } while (textfile_next_line(&t) == 0);
@@ -291,11 +654,15 @@ int config_read_lammps_data(const char *path, const char *const *elements, int n
                      natoms, natoms_read);
         goto done;
     }
-    (void)have_vel;
+    rc = check_close_atoms(&t, p, base, b, r, &al, e);
 done:
+    free(al.line);
+    free(vline);
     textfile_close(&t);
     return rc;
 }
+
+/* --- extended XYZ ---------------------------------------------------------- */
 
 /* Value of key="..." or key=word in an extended XYZ comment line. */
 static int xyz_attr(const char *line, const char *key, char *out, size_t len)
@@ -320,19 +687,33 @@ static int xyz_attr(const char *line, const char *key, char *out, size_t len)
     return -1;
 }
 
-int config_read_extxyz(const char *path, struct particles *p, struct box *b, int pbc[3],
-                       struct err *e)
+/* A count line: one integer >= 0 and nothing else. */
+static int xyz_count_line(char *s, long *n)
 {
+    char *tok[2];
+    return split_tokens(s, tok, 1) == 1 && text_parse_long(tok[0], n) == 0 && *n >= 0 ? 0 : -1;
+}
+
+int config_read_extxyz(const char *path, const struct config_rules *rules, struct particles *p,
+                       struct box *b, int pbc[3], struct err *e)
+{
+    struct config_rules defrules = config_rules_default();
+    const struct config_rules *r = rules ? rules : &defrules;
     struct textfile t;
     int rc = textfile_open(&t, path, e);
     if (rc)
         return rc;
+    struct atom_lines al = {0};
+    const int base = p->n_owned;
+    char ex[TEXT_EXCERPT_SIZE];
     pbc[0] = pbc[1] = pbc[2] = 1;
     long n;
-    if (textfile_next_line(&t) != 0 || sscanf(t.buf, "%ld", &n) != 1 || n < 0) {
-        rc = textfile_error(&t, e, "first line must be the number of atoms");
+    if (textfile_next_line(&t) != 0 || xyz_count_line(t.buf, &n) != 0) {
+        rc = textfile_error(&t, e, "first line must be the number of atoms (one integer >= 0)");
         goto done;
     }
+    if ((rc = check_atom_count(&t, n, r, e)))
+        goto done;
     if (textfile_next_line(&t) != 0) {
         rc = textfile_error(&t, e, "missing comment line");
         goto done;
@@ -344,7 +725,7 @@ int config_read_extxyz(const char *path, struct particles *p, struct box *b, int
     }
     double L[9];
     if (parse_doubles(val, L, 9, NULL, 0) != 9) {
-        rc = textfile_error(&t, e, "Lattice needs 9 numbers");
+        rc = textfile_error(&t, e, "Lattice needs 9 finite decimal numbers");
         goto done;
     }
     if (L[1] != 0 || L[2] != 0 || L[3] != 0 || L[5] != 0 || L[6] != 0 || L[7] != 0) {
@@ -353,13 +734,13 @@ int config_read_extxyz(const char *path, struct particles *p, struct box *b, int
     }
     double origin[3] = {0, 0, 0};
     if (xyz_attr(t.buf, "Origin", val, sizeof val) == 0 && parse_doubles(val, origin, 3, NULL, 0) != 3) {
-        rc = textfile_error(&t, e, "Origin needs 3 numbers");
+        rc = textfile_error(&t, e, "Origin needs 3 finite decimal numbers");
         goto done;
     }
     for (int d = 0; d < 3; d++) {
         b->lo[d] = origin[d];
         b->hi[d] = origin[d] + L[4 * d];
-        if (!(L[4 * d] > 0)) {
+        if (!(L[4 * d] > 0) || !isfinite(b->hi[d])) {
             rc = textfile_error(&t, e, "Lattice vector %d has non-positive length", d + 1);
             goto done;
         }
@@ -380,16 +761,33 @@ int config_read_extxyz(const char *path, struct particles *p, struct box *b, int
         while (tok) {
             char *type = strtok_r(NULL, ":", &save);
             char *cnt = strtok_r(NULL, ":", &save);
-            if (!type || !cnt) {
-                rc = textfile_error(&t, e, "malformed Properties (name:type:count triples)");
+            long c;
+            if (!type || !cnt || text_parse_long(cnt, &c) != 0 || c < 1 || c > 64 ||
+                strlen(type) != 1 || !strchr("SRIL", type[0])) {
+                rc = textfile_error(&t, e, "malformed Properties at '%s' (name:type:count "
+                                    "triples, type S, R, I or L, count 1..64)",
+                                    text_excerpt(tok, ex));
                 goto done;
             }
-            int c = atoi(cnt);
-            if (strcmp(tok, "species") == 0) col_species = col;
-            else if (strcmp(tok, "pos") == 0) col_pos = col;
-            else if (strcmp(tok, "vel") == 0 || strcmp(tok, "velo") == 0 || strcmp(tok, "velocities") == 0) col_vel = col;
-            else if (strcmp(tok, "id") == 0) col_id = col;
-            col += c;
+            /* the columns this reader uses must have the shape it reads */
+            int *colp = NULL;
+            const char *shape = NULL;
+            if (strcmp(tok, "species") == 0) colp = &col_species, shape = "S:1";
+            else if (strcmp(tok, "pos") == 0) colp = &col_pos, shape = "R:3";
+            else if (strcmp(tok, "vel") == 0 || strcmp(tok, "velo") == 0 ||
+                     strcmp(tok, "velocities") == 0) colp = &col_vel, shape = "R:3";
+            else if (strcmp(tok, "id") == 0) colp = &col_id, shape = "I:1";
+            if (colp) {
+                char got[16];
+                snprintf(got, sizeof got, "%s:%ld", type, c);
+                if (strcmp(got, shape) != 0) {
+                    rc = textfile_error(&t, e, "Properties: %s must be %s:%s, found %s:%s",
+                                        tok, tok, shape, tok, got);
+                    goto done;
+                }
+                *colp = col;
+            }
+            col += (int)c;
             tok = strtok_r(NULL, ":", &save);
         }
         ncols = col;
@@ -397,54 +795,84 @@ int config_read_extxyz(const char *path, struct particles *p, struct box *b, int
             rc = textfile_error(&t, e, "Properties must include species:S:1 and pos:R:3");
             goto done;
         }
+        if (ncols > 64) {
+            rc = textfile_error(&t, e, "Properties: at most 64 columns, found %d", ncols);
+            goto done;
+        }
     }
+    int count_line = 1;
     for (long k = 0; k < n; k++) {
         if (textfile_next_line(&t) != 0) {
-            rc = textfile_error(&t, e, "file has %ld of %ld atoms", k, n);
+            rc = textfile_error(&t, e, "file has %ld of the %ld atoms of line %d", k, n,
+                                count_line);
             goto done;
         }
         char *cols[64];
-        int nc = 0;
-        char *save = NULL;
-        for (char *tok = strtok_r(t.buf, " \t", &save); tok && nc < 64;
-             tok = strtok_r(NULL, " \t", &save))
-            cols[nc++] = tok;
-        if (nc < ncols) {
-            rc = textfile_error(&t, e, "atom line has %d columns, Properties needs %d", nc, ncols);
+        int nc = split_tokens(t.buf, cols, 64);
+        /* the species first: a second comment line, or a count line that
+         * announces more atoms than there are, is read as an atom line */
+        const char *sp = col_species < nc ? cols[col_species] : "";
+        if (!element_known(sp)) {
+            rc = textfile_error(&t, e, "species (column %d): '%s' is not a chemical element "
+                                "symbol (line %d says %ld atoms follow the comment line)",
+                                col_species + 1, text_excerpt(sp, ex), count_line, n);
+            goto done;
+        }
+        if (nc != ncols) {
+            rc = textfile_error(&t, e, "atom line has %s%d columns, Properties says %d",
+                                nc > 64 ? "more than " : "", nc > 64 ? 64 : nc, ncols);
             goto done;
         }
         double x[3], v[3] = {0, 0, 0};
         for (int d = 0; d < 3; d++) {
             if (text_parse_real(cols[col_pos + d], &x[d]) != 0) {
-                rc = textfile_error(&t, e, "pos (column %d): '%.40s' is not a finite decimal "
-                                    "number", col_pos + d + 1, cols[col_pos + d]);
+                rc = textfile_error(&t, e, "pos (column %d): '%s' is not a finite decimal "
+                                    "number", col_pos + d + 1, text_excerpt(cols[col_pos + d], ex));
                 goto done;
             }
             if (col_vel >= 0 && text_parse_real(cols[col_vel + d], &v[d]) != 0) {
-                rc = textfile_error(&t, e, "velocities (column %d): '%.40s' is not a finite "
-                                    "decimal number", col_vel + d + 1, cols[col_vel + d]);
+                rc = textfile_error(&t, e, "velocities (column %d): '%s' is not a finite "
+                                    "decimal number", col_vel + d + 1,
+                                    text_excerpt(cols[col_vel + d], ex));
                 goto done;
             }
         }
-        const char *sp = cols[col_species];
         int ti = particles_type_index(p, sp, element_mass(sp));
         if (ti < 0) {
-            rc = textfile_error(&t, e, "too many species");
+            rc = textfile_error(&t, e, "too many species (at most %d)", PARTICLES_MAX_TYPES);
             goto done;
         }
         long idv = k + 1;
         if (col_id >= 0 && (text_parse_long(cols[col_id], &idv) != 0 || idv < 1)) {
-            rc = textfile_error(&t, e, "id (column %d): '%.40s' is not a positive integer",
-                                col_id + 1, cols[col_id]);
+            rc = textfile_error(&t, e, "id (column %d): '%s' is not a positive integer",
+                                col_id + 1, text_excerpt(cols[col_id], ex));
             goto done;
         }
-        int64_t id = (int64_t)idv;
-        if (particles_add(p, x, v, ti, id) < 0) {
+        if ((rc = check_position(&t, r, b, idv, x, e)))
+            goto done;
+        if (particles_add(p, x, v, ti, (int64_t)idv) < 0 || atom_lines_push(&al, t.line, e)) {
             rc = err_nomem(e, "atoms");
             goto done;
         }
     }
+    /* after the atoms: nothing, or the count line of a next frame.  Any
+     * other line means the count line and the atom lines disagree. */
+    if (textfile_next_content_line(&t) == 0) {
+        long n2;
+        char first[256];
+        snprintf(first, sizeof first, "%s", t.buf);
+        if (xyz_count_line(t.buf, &n2) != 0) {
+            rc = textfile_error(&t, e, "'%s' follows the %ld atoms that line %d announces; "
+                                "expected the end of the file or the count line of a next frame",
+                                text_excerpt(first + strspn(first, " \t"), ex), n, count_line);
+            goto done;
+        }
+    }
+    if ((rc = check_unique_ids(&t, p, base, &al, "id", e)))
+        goto done;
+    rc = check_close_atoms(&t, p, base, b, r, &al, e);
 done:
+    free(al.line);
     textfile_close(&t);
     return rc;
 }

@@ -8,8 +8,27 @@
  *
  *   Extended XYZ: count line, comment line with Lattice="..." (orthogonal),
  *   Properties=species:S:1:pos:R:3[:vel:R:3][:id:I:1 ...] and pbc="T T T".
+ *   The species are chemical element symbols.  After the atoms there may be
+ *   further frames (only the first is read), nothing else.
  *
- * Errors name the file and line.  Distances Å, velocities Å/ps (metal units).
+ * Both readers refuse, naming file:line and the field, as LAMMPS's
+ * read_data does:
+ *   - numbers that are not whole finite decimal tokens ("1.5x", "nan",
+ *     "0x10", "1e999"); ids, types, image flags and counts not integers;
+ *   - more atoms than rules->max_atoms (from the header, before reading on);
+ *   - an atom id given twice (both lines named), a velocity given twice;
+ *   - a coordinate outside the box, by this rule per axis (rules->bc):
+ *       periodic  within one box length of the box: lo - L <= x < hi + L;
+ *                 the run wraps it into [lo, hi) at its first neighbour
+ *                 list build, the image flag counting the wrap
+ *       free      within one box length of the box as well (the run
+ *                 shrink-wraps the box around the atoms)
+ *       fixed     inside [lo, hi], as the run requires
+ *     Positions are stored as the file gives them.
+ *   - two atoms closer than rules->min_distance (periodic images included;
+ *     both lines named), found with a cell sort in O(N).
+ *
+ * Distances Å, velocities Å/ps (metal units).
  */
 #ifndef CASCADE_CONFIG_READ_H
 #define CASCADE_CONFIG_READ_H
@@ -18,11 +37,31 @@
 #include "core/particles.h"
 #include "util/err.h"
 
-int config_read_lammps_data(const char *path, const char *const *elements, int nelements,
-                            struct particles *p, struct box *b, struct err *e);
+/* Default of rules.max_atoms (and of system.max_particles): particle and
+ * neighbour-list indices are int, and a full neighbour list of ~100
+ * entries per atom passes 2^31 entries near 20 million atoms. */
+#define CONFIG_MAX_ATOMS_DEFAULT 20000000L
+/* Default of rules.min_distance, Å: well below any bond (H2: 0.74 Å). */
+#define CONFIG_MIN_DISTANCE_DEFAULT 0.1
 
-/* pbc[d] is set from the file's pbc attribute (1 periodic), default all 1. */
-int config_read_extxyz(const char *path, struct particles *p, struct box *b, int pbc[3],
-                       struct err *e);
+struct config_rules {
+    enum boundary bc[3];   /* how coordinates outside the file's box are treated */
+    long max_atoms;        /* a larger file is refused before it is read on */
+    double min_distance;   /* Å: atoms closer than this are refused (0: not checked) */
+};
+
+/* All periodic, the default limits. */
+struct config_rules config_rules_default(void);
+
+/* rules may be NULL (config_rules_default()).  b->lo and b->hi come from
+ * the file; b->bc is left as it is. */
+int config_read_lammps_data(const char *path, const char *const *elements, int nelements,
+                            const struct config_rules *rules, struct particles *p, struct box *b,
+                            struct err *e);
+
+/* pbc[d] is set from the file's pbc attribute (1 periodic), default all 1;
+ * the coordinates are checked against rules->bc, not against pbc. */
+int config_read_extxyz(const char *path, const struct config_rules *rules, struct particles *p,
+                       struct box *b, int pbc[3], struct err *e);
 
 #endif

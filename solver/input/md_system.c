@@ -41,6 +41,28 @@ static int read_boundary(struct cfg_obj *s, struct box *b)
     return rc;
 }
 
+int md_read_max_particles(struct cfg_obj *o, long *max)
+{
+    /* max_particles bounds memory, not the physics: without the key the
+     * default is used but not written into the case, so the job keys of
+     * existing cases do not change */
+    int given;
+    *max = CONFIG_MAX_ATOMS_DEFAULT;
+    return cfg_int_opt(o, "max_particles", CFG_RANGE(1, MD_SYSTEM_MAX_PARTICLES_CAP), max,
+                       &given);
+}
+
+int md_check_count(struct cfg_obj *o, const char *key, double count, long max, const char *what)
+{
+    if (count <= (double)max)
+        return 0;
+    char kp[CFG_PATH_MAX];
+    snprintf(kp, sizeof kp, "%s.%s", o->path, key);
+    int given = json_object_get(o->node, "max_particles") != NULL;
+    return cfg_error_at(o->cfg, kp, "%s %.4g atoms, more than %s.max_particles = %ld%s", what,
+                        count, o->path, max, given ? "" : " (the default; set it to allow more)");
+}
+
 int md_system_read(struct cfg_obj *root, uint64_t seed, struct particles **pout, struct box *b,
                    struct md_system_info *info)
 {
@@ -65,7 +87,8 @@ int md_system_read(struct cfg_obj *root, uint64_t seed, struct particles **pout,
         return rc;
     double displace, mass;
     if ((rc = cfg_real(&s, "displace", 0.0, CFG_GE(0), &displace)) ||
-        (rc = cfg_real(&s, "mass", 0.0, CFG_GE(0), &mass)))
+        (rc = cfg_real(&s, "mass", 0.0, CFG_GE(0), &mass)) ||
+        (rc = md_read_max_particles(&s, &info->max_particles)))
         return rc;
     struct region region;
     int has_region;
@@ -100,6 +123,19 @@ int md_system_read(struct cfg_obj *root, uint64_t seed, struct particles **pout,
             snprintf(kp, sizeof kp, "%s.orient", lat.path);
             return cfg_error_at(s.cfg, kp, "%s", why);
         }
+        /* before anything is allocated, also in a shallow read (resolve):
+         * all the sites of the cells, as lattice_fill visits them before the
+         * region keeps some */
+        int ns = lattice_cell_sites(&info->lattice);
+        if (ns < 0)
+            return err_nomem(s.cfg->err, "lattice sites");
+        double nsites = (double)info->cells[0] * (double)info->cells[1] *
+                        (double)info->cells[2] * ns;
+        char what[128];
+        snprintf(what, sizeof what, "%ld x %ld x %ld cells of %d sites are", info->cells[0],
+                 info->cells[1], info->cells[2], ns);
+        if ((rc = md_check_count(&s, "lattice.cells", nsites, info->max_particles, what)))
+            return rc;
         if ((rc = cfg_close(&lat)))
             return rc;
         if ((rc = cfg_string(&s, "element", NULL, &element)))
@@ -140,11 +176,15 @@ int md_system_read(struct cfg_obj *root, uint64_t seed, struct particles **pout,
             return cfg_error_at(s.cfg, keypath, "cannot read '%s'", file);
         }
         enum boundary keep[3] = {b->bc[0], b->bc[1], b->bc[2]};
+        struct config_rules rules = config_rules_default();
+        for (int d = 0; d < 3; d++)
+            rules.bc[d] = b->bc[d];
+        rules.max_atoms = info->max_particles;
         if (has_data) {
-            rc = config_read_lammps_data(path, elements, nelements, p, b, s.cfg->err);
+            rc = config_read_lammps_data(path, elements, nelements, &rules, p, b, s.cfg->err);
         } else {
             int pbc[3];
-            rc = config_read_extxyz(path, p, b, pbc, s.cfg->err);
+            rc = config_read_extxyz(path, &rules, p, b, pbc, s.cfg->err);
         }
         for (int d = 0; d < 3; d++)
             b->bc[d] = keep[d];

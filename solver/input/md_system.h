@@ -12,9 +12,18 @@
  *     region: {shape: sphere, ...} # keep only lattice sites inside
  *     displace: 0.0                # random uniform displacement amplitude (Å)
  *     mass: 0                      # amu for the lattice element (0: standard)
+ *     max_particles: 20000000      # more atoms are refused before any is made
  *
  * Exactly one of lattice, read_data, read_xyz.  With a lattice the box is the
  * lattice cells (origin .. origin + cells * cell edge).
+ *
+ * max_particles (default CONFIG_MAX_ATOMS_DEFAULT, not written into the
+ * resolved case when absent) bounds the atoms of the system: a lattice's
+ * cells times sites per cell, checked by `resolve` and `check` before
+ * anything is allocated; a data or XYZ file's count line, checked when the
+ * file is read.  md cases also hold the ghost atoms of the periodic images
+ * to it (md_check_range).  The readers' other rules (unique ids,
+ * coordinates inside the box, no coincident atoms): input/config_read.h.
  */
 #ifndef CASCADE_MD_SYSTEM_H
 #define CASCADE_MD_SYSTEM_H
@@ -24,13 +33,27 @@
 #include "core/box.h"
 #include "core/lattice.h"
 #include "core/particles.h"
+#include "input/config_read.h"
 #include "util/cfg.h"
+
+/* Upper bound of system.max_particles: particle indices are int, ghosts
+ * come on top of the owned atoms. */
+#define MD_SYSTEM_MAX_PARTICLES_CAP 1000000000L
 
 struct md_system_info {
     int from_lattice;
     struct lattice lattice;
     long cells[3];
+    long max_particles;     /* system.max_particles (or its default) */
 };
+
+/* The key max_particles of a section that builds atoms (system, and the
+ * hugoniot and target sections of their case types): *max is its value or
+ * CONFIG_MAX_ATOMS_DEFAULT, which is not written into the case. */
+int md_read_max_particles(struct cfg_obj *o, long *max);
+/* Refuse `count` atoms (a double: cells multiply past a long) above
+ * o's max_particles, with the message at o's key `key`. */
+int md_check_count(struct cfg_obj *o, const char *key, double count, long max, const char *what);
 
 /* Reads `system`; unless shallow, builds *p (new) and *b. */
 int md_system_read(struct cfg_obj *root, uint64_t seed, struct particles **p, struct box *b,

@@ -444,6 +444,7 @@ static int eam_create_format(struct cfg_obj *o, struct potential **out, enum eam
     snprintf(m->base.description, sizeof m->base.description, "EAM (%s) from %s, cutoff %g Å",
              m->base.ops->style, path, d.cut);
     snprintf(m->base.source_path, sizeof m->base.source_path, "%s", path);
+    snprintf(m->base.cutoff_source, sizeof m->base.cutoff_source, "%s:%d", path, d.cut_line);
     eam_data_free(&d);
     *out = &m->base;
     return 0;

@@ -28,12 +28,14 @@ static double *alloc_table(long n, struct err *e)
     return t;
 }
 
+/* `min` points per table: 5 for the splines (eam_spline_build), one more
+ * for funcfl, whose last point is dropped. */
 static int check_grid(struct textfile *t, long nrho, double drho, long nr, double dr, double cut,
-                      struct err *e)
+                      long min, struct err *e)
 {
-    if (nrho < 5 || nr < 5)
-        return textfile_error(t, e, "tables need at least 5 points (Nrho = %ld, Nr = %ld)", nrho,
-                              nr);
+    if (nrho < min || nr < min)
+        return textfile_error(t, e, "tables need at least %ld points (Nrho = %ld, Nr = %ld)", min,
+                              nrho, nr);
     if (nrho > 10000000 || nr > 10000000)
         return textfile_error(t, e, "implausibly large tables (Nrho = %ld, Nr = %ld)", nrho, nr);
     if (!(drho > 0) || !(dr > 0) || !(cut > 0))
@@ -59,7 +61,8 @@ static int read_funcfl(struct textfile *t, struct eam_data *d, struct err *e)
         (rc = textfile_int(t, &nr, "Nr", e)) || (rc = textfile_double(t, &dr, "dr", e)) ||
         (rc = textfile_double(t, &cut, "the cutoff", e)))
         return rc;
-    if ((rc = check_grid(t, nrho, drho, nr, dr, cut, e)))
+    d->cut_line = t->line;
+    if ((rc = check_grid(t, nrho, drho, nr, dr, cut, 6, e)))
         return rc;
     if (!(mass > 0))
         return textfile_error(t, e, "mass must be positive, found %g", mass);
@@ -110,6 +113,12 @@ static int read_setfl_like(struct textfile *t, struct eam_data *d, int fs, struc
         const char *tok = textfile_token(t);
         if (!tok)
             return textfile_error(t, e, "missing element name %ld", k + 1);
+        if (strlen(tok) >= sizeof d->element[k]) {
+            /* cut to fit, it would name another element (or none) */
+            char ex[TEXT_EXCERPT_SIZE];
+            return textfile_error(t, e, "element name %ld '%s' is longer than %zu characters",
+                                  k + 1, text_excerpt(tok, ex), sizeof d->element[k] - 1);
+        }
         snprintf(d->element[k], sizeof d->element[k], "%s", tok);
     }
     long nrho, nr;
@@ -118,7 +127,8 @@ static int read_setfl_like(struct textfile *t, struct eam_data *d, int fs, struc
         (rc = textfile_int(t, &nr, "Nr", e)) || (rc = textfile_double(t, &dr, "dr", e)) ||
         (rc = textfile_double(t, &cut, "the cutoff", e)))
         return rc;
-    if ((rc = check_grid(t, nrho, drho, nr, dr, cut, e)))
+    d->cut_line = t->line;
+    if ((rc = check_grid(t, nrho, drho, nr, dr, cut, 5, e)))
         return rc;
     d->ne = (int)ne;
     d->nrho = (int)nrho;

@@ -26,6 +26,7 @@ struct eam_data {
     double mass[PARTICLES_MAX_TYPES];
     int nrho, nr;                     /* knots of the internal grid */
     double drho, dr, cut, rhomax;
+    int cut_line;                     /* line of the file that gives the cutoff */
     double *frho[PARTICLES_MAX_TYPES];                          /* F(rho) per element */
     double *rhor[PARTICLES_MAX_TYPES * PARTICLES_MAX_TYPES];    /* [a*ne+b]: density at a b-atom from an a-atom */
     double *z2r[PARTICLES_MAX_TYPES * PARTICLES_MAX_TYPES];     /* [a*ne+b] = r phi_ab(r), symmetric */

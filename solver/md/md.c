@@ -1,6 +1,7 @@
 /* md: velocity Verlet, neighbour and ghost management, observables. */
 #include "md/md.h"
 
+#include <limits.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -79,6 +80,38 @@ int md_compute_forces(struct md *md, struct err *e)
     return 0;
 }
 
+int md_range_ok(const struct potential *pot, const struct box *b, long n, double skin,
+                double max_ghosts, const char *limit, char *why, size_t len)
+{
+    double range = pot->cutoff + skin;
+    double ghosts = ghost_estimate(b, n, range);
+    double vol = box_volume(b);
+    double dens = vol > 0 ? (double)n / vol : 0;
+    double total = (double)n + ghosts;
+    double per_atom = fmin(total, dens * 4.0 / 3.0 * M_PI * range * range * range);
+    if (pot->list_kind == NLIST_HALF)   /* each pair once */
+        per_atom *= 0.5;
+    double entries = total * per_atom;
+    char from[700] = "";
+    if (pot->cutoff_source[0])
+        snprintf(from, sizeof from, " (from %s)", pot->cutoff_source);
+    if (!(ghosts <= max_ghosts)) {
+        snprintf(why, len, "cutoff %g Å%s plus skin %g Å against the %g x %g x %g Å box "
+                 "(%s %s %s) needs about %.3g ghost atoms (periodic images), more than %s = %.0f",
+                 pot->cutoff, from, skin, box_length(b, 0), box_length(b, 1), box_length(b, 2),
+                 boundary_names[b->bc[0]], boundary_names[b->bc[1]], boundary_names[b->bc[2]],
+                 ghosts, limit, max_ghosts);
+        return -1;
+    }
+    if (!(entries <= INT_MAX)) {
+        snprintf(why, len, "cutoff %g Å%s plus skin %g Å: the neighbour list of %ld atoms would "
+                 "hold about %.3g entries, more than its int offsets count (%d)", pot->cutoff,
+                 from, skin, n, entries, INT_MAX);
+        return -1;
+    }
+    return 0;
+}
+
 int md_init(struct md *md, struct particles *p, const struct box *box, struct potential *pot,
             double dt, double skin, int nthreads, struct err *e)
 {
@@ -99,6 +132,10 @@ int md_init(struct md *md, struct particles *p, const struct box *box, struct po
         if (box->bc[d] == BOUNDARY_PERIODIC && box_length(box, d) <= 0)
             return err_set(e, ERR_INPUT, "periodic box length along %c must be positive",
                            "xyz"[d]);
+    char why[1024];
+    if (md_range_ok(pot, box, p->n_owned, skin, INT_MAX / 2 - (double)p->n_owned,
+                    "what int particle indices hold", why, sizeof why) != 0)
+        return err_set(e, ERR_INPUT, "%s", why);
     int rc = potential_bind(pot, p, e);
     if (rc)
         return rc;

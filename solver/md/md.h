@@ -44,7 +44,19 @@ struct md {
     uint64_t seed;
 };
 
-/* Take ownership of p and pot, build ghosts and lists, compute forces. */
+/* The interaction range (cutoff + skin) against the box, before any ghost
+ * is made: at most max_ghosts periodic images (ghost_estimate) and at most
+ * INT_MAX neighbour-list entries, estimated as (n + ghosts) times the atoms
+ * within the range at the mean density, halved for a half list (the
+ * list's offsets are int).
+ * Returns 0, or -1 with the reason in why (the cutoff's source named,
+ * `limit` naming max_ghosts). */
+int md_range_ok(const struct potential *pot, const struct box *b, long n, double skin,
+                double max_ghosts, const char *limit, char *why, size_t len);
+
+/* Take ownership of p and pot, build ghosts and lists, compute forces.
+ * Refuses (ERR_INPUT) what md_range_ok refuses with the ghosts particle
+ * indices can hold; cases check their own limit first (md_check_range). */
 int md_init(struct md *md, struct particles *p, const struct box *box, struct potential *pot,
             double dt, double skin, int nthreads, struct err *e);
 void md_free(struct md *md);

@@ -46,3 +46,13 @@ int md_check_displacement(const struct md *md, double dnn, double frac, struct c
                             md->dt, vmax * 0.1, step, frac, dnn, limit / vmax);
     return 0;
 }
+
+int md_check_range(const struct potential *pot, const struct box *b, long n, double skin,
+                   long max_particles, struct cfg *c, const char *path)
+{
+    char why[1024];
+    if (md_range_ok(pot, b, n, skin, (double)max_particles, "system.max_particles", why,
+                    sizeof why) == 0)
+        return 0;
+    return cfg_error_at(c, path, "%s", why);
+}

@@ -26,4 +26,11 @@ int md_check_timestep(struct md *md, struct cfg *c, const char *path);
 int md_check_displacement(const struct md *md, double dnn, double frac, struct cfg *c,
                           const char *path);
 
+/* The interaction range against the box and the particle limit (the
+ * case's system.max_particles), before md_init builds anything: refuses
+ * what md_range_ok refuses with max_ghosts = max_particles.  The message
+ * goes to `path` (the potential's file or cutoff key, or md.skin). */
+int md_check_range(const struct potential *pot, const struct box *b, long n, double skin,
+                   long max_particles, struct cfg *c, const char *path);
+
 #endif

@@ -43,6 +43,7 @@ struct mspline {
     double d0, dn;        /* end slopes */
     double h, inv_h;      /* knot spacing when uniform */
     int uniform;
+    int last_line;        /* line of the file with the last knot */
 };
 
 enum { F_PHI, F_RHO, F_U, F_F, F_G, NFUNC };
@@ -336,9 +337,10 @@ static int read_spline(struct textfile *t, int newfmt, struct mspline *s, const 
     char what[64];
     if (newfmt) {
         const char *kind = textfile_token(t);
+        char ex[TEXT_EXCERPT_SIZE];
         if (!kind || strcmp(kind, "spline3eq") != 0)
             return textfile_error(t, e, "spline %s: expected 'spline3eq', found '%s'", name,
-                                  kind ? kind : "end of file");
+                                  kind ? text_excerpt(kind, ex) : "end of file");
     }
     long n;
     snprintf(what, sizeof what, "the knot count of spline %s", name);
@@ -372,7 +374,11 @@ static int read_spline(struct textfile *t, int newfmt, struct mspline *s, const 
         s->x[k] = v[0];
         s->y[k] = v[1];
     }
-    return mspline_prepare(s, e, name);
+    s->last_line = t->line;
+    rc = mspline_prepare(s, e, name);
+    if (rc == ERR_INPUT)   /* knots out of order: name the place */
+        err_prefix(e, "%s:%d: ", t->path, t->line);
+    return rc;
 }
 
 static int meam_spline_read_file(struct meam_spline *m, const char *path, struct err *e)
@@ -388,9 +394,10 @@ static int meam_spline_read_file(struct meam_spline *m, const char *path, struct
         newfmt = 1;
         const char *tok = textfile_token(&t);   /* "meam/spline" */
         tok = textfile_token(&t);
+        char ex[TEXT_EXCERPT_SIZE];
         if (!tok || strcmp(tok, "1") != 0)
             rc = textfile_error(&t, e, "only one-element meam/spline files are supported "
-                                       "(this one has %s)", tok ? tok : "none");
+                                       "(this one has %s)", tok ? text_excerpt(tok, ex) : "none");
         else
             t.cursor = t.buf + strlen(t.buf);   /* the element name follows; skip the line */
     } else {
@@ -437,8 +444,11 @@ int meam_spline_create(struct cfg_obj *o, struct potential **out)
     const int radial[3] = {F_PHI, F_RHO, F_F};
     for (int k = 0; k < 3; k++) {
         const struct mspline *s = &m->s[radial[k]];
-        if (s->x[s->n - 1] > cut)
+        if (s->x[s->n - 1] > cut) {
             cut = s->x[s->n - 1];
+            snprintf(m->base.cutoff_source, sizeof m->base.cutoff_source,
+                     "%s:%d (last knot of %s)", path, s->last_line, func_names[radial[k]]);
+        }
     }
     m->base.cutoff = cut;
     snprintf(m->base.description, sizeof m->base.description,

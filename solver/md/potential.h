@@ -46,6 +46,7 @@ struct potential {
     int type_map[PARTICLES_MAX_TYPES];  /* particle type -> element index (potential_bind) */
     char description[256];         /* one line for logs and provenance */
     char source_path[512];         /* the potential file used, if any */
+    char cutoff_source[600];       /* "file:line" the cutoff comes from ("": case keys) */
 };
 
 /* Read the `potential` section (style + the style's keys) and create the

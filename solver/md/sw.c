@@ -30,6 +30,7 @@ struct sw_entry {
     double eps, sigma, a, lambda, gamma, cos0, A, B, p, q;
     double cut, cutsq;
     int set;
+    int line;             /* of the file: where sigma is */
 };
 
 struct sw {
@@ -178,6 +179,11 @@ static void sw_destroy(struct potential *pot)
 
 static const struct potential_ops sw_ops = {"sw", sw_compute, sw_destroy};
 
+/* The 14 fields of an entry, for messages. */
+static const char *const sw_fields[14] = {"element 1", "element 2", "element 3", "epsilon",
+                                          "sigma", "a", "lambda", "gamma", "costheta0", "A",
+                                          "B", "p", "q", "tol"};
+
 static int sw_read_file(struct sw *s, const char *path, struct err *e)
 {
     struct textfile t;
@@ -185,13 +191,27 @@ static int sw_read_file(struct sw *s, const char *path, struct err *e)
     if (rc)
         return rc;
     t.strip_comments = 1;
+    int entry_line[NE][NE][NE] = {{{0}}};
     for (;;) {
-        /* an entry is 14 fields, possibly spread over several lines */
+        /* an entry is 14 fields, possibly spread over several lines; each
+         * field's line is kept for messages */
         char tok[14][64];
+        int line[14];
         int ntok = 0;
         const char *s1;
-        while (ntok < 14 && (s1 = textfile_token(&t)) != NULL)
+        char ex[TEXT_EXCERPT_SIZE];
+        while (ntok < 14 && (s1 = textfile_token(&t)) != NULL) {
+            line[ntok] = t.line;
+            if (strlen(s1) >= sizeof tok[0]) {
+                /* cut to fit it would be another number (or element) */
+                rc = textfile_error(&t, e, "field %d (%s): '%s' is longer than %zu characters",
+                                    ntok + 1, sw_fields[ntok], text_excerpt(s1, ex),
+                                    sizeof tok[0] - 1);
+                textfile_close(&t);
+                return rc;
+            }
             snprintf(tok[ntok++], sizeof tok[0], "%s", s1);
+        }
         if (ntok == 0)
             break;
         if (ntok < 14) {
@@ -209,27 +229,39 @@ static int sw_read_file(struct sw *s, const char *path, struct err *e)
         }
         double v[11];
         for (int k = 0; k < 11; k++) {
-            char *end;
-            v[k] = strtod(tok[3 + k], &end);
-            if (*end || end == tok[3 + k]) {
-                rc = textfile_error(&t, e, "expected a number in field %d, found '%s'", 4 + k,
-                                    tok[3 + k]);
+            if (text_parse_real(tok[3 + k], &v[k]) != 0) {
+                rc = textfile_error_at(&t, line[3 + k], e,
+                                       "field %d (%s): '%s' is not a finite decimal number",
+                                       4 + k, sw_fields[3 + k], text_excerpt(tok[3 + k], ex));
+                textfile_close(&t);
+                return rc;
+            }
+            /* LAMMPS's rule: every parameter but cos theta0 is >= 0; sigma
+             * and a set the cutoff a * sigma, which must be > 0 */
+            int positive = k == 1 || k == 2;
+            if (k != 5 && (positive ? !(v[k] > 0) : !(v[k] >= 0))) {
+                rc = textfile_error_at(&t, line[3 + k], e, "field %d (%s) must be %s, found %g",
+                                       4 + k, sw_fields[3 + k], positive ? "> 0" : ">= 0", v[k]);
                 textfile_close(&t);
                 return rc;
             }
         }
         if (idx[0] < 0 || idx[1] < 0 || idx[2] < 0)
             continue;   /* an entry for elements not in use */
-        struct sw_entry *P = &s->e[idx[0]][idx[1]][idx[2]];
-        P->eps = v[0]; P->sigma = v[1]; P->a = v[2]; P->lambda = v[3]; P->gamma = v[4];
-        P->cos0 = v[5]; P->A = v[6]; P->B = v[7]; P->p = v[8]; P->q = v[9];
-        if (!(P->eps >= 0) || !(P->sigma > 0) || !(P->a > 0)) {
-            rc = textfile_error(&t, e, "epsilon, sigma and a must be positive");
+        int *seen = &entry_line[idx[0]][idx[1]][idx[2]];
+        if (*seen) {
+            rc = textfile_error_at(&t, line[0], e, "second entry for %s %s %s (the first is at "
+                                   "line %d)", tok[0], tok[1], tok[2], *seen);
             textfile_close(&t);
             return rc;
         }
+        *seen = line[0];
+        struct sw_entry *P = &s->e[idx[0]][idx[1]][idx[2]];
+        P->eps = v[0]; P->sigma = v[1]; P->a = v[2]; P->lambda = v[3]; P->gamma = v[4];
+        P->cos0 = v[5]; P->A = v[6]; P->B = v[7]; P->p = v[8]; P->q = v[9];
         P->cut = P->a * P->sigma;
         P->cutsq = P->cut * P->cut;
+        P->line = line[4];
         P->set = 1;
     }
     textfile_close(&t);
@@ -272,8 +304,12 @@ int sw_create(struct cfg_obj *o, struct potential **out)
     int ne = s->base.nelements;
     for (int a = 0; a < ne; a++)
         for (int b = 0; b < ne; b++)
-            if (s->e[a][b][b].cut > cut)
+            if (s->e[a][b][b].cut > cut) {
                 cut = s->e[a][b][b].cut;
+                snprintf(s->base.cutoff_source, sizeof s->base.cutoff_source,
+                         "%s:%d (a * sigma of %s %s %s)", path, s->e[a][b][b].line,
+                         s->base.element[a], s->base.element[b], s->base.element[b]);
+            }
     s->base.cutoff = cut;
     snprintf(s->base.description, sizeof s->base.description,
              "Stillinger-Weber from %s, cutoff %g Å", path, cut);

@@ -57,6 +57,21 @@ struct fit_case {
     char source[512];
 };
 
+/* Whether a CSV line has an empty field (",,", or a comma first or last):
+ * the tokenizer would skip it and read the next column in its place. */
+static int csv_empty_field(const char *s)
+{
+    int prev_comma = 1;   /* the start of the line acts as a comma */
+    for (; *s; s++) {
+        if (*s == ' ' || *s == '\t' || *s == '\r')
+            continue;
+        if (*s == ',' && prev_comma)
+            return 1;
+        prev_comma = *s == ',';
+    }
+    return prev_comma;
+}
+
 /* Read a points CSV: a header line naming the columns, then numbers. */
 static int read_points_csv(const char *path, struct cg_fit_point **pts, int *npts, struct err *e)
 {
@@ -94,20 +109,27 @@ static int read_points_csv(const char *path, struct cg_fit_point **pts, int *npt
         const char *s = t.buf + strspn(t.buf, " \t\r");
         if (!*s || *s == '#')
             continue;
+        if (strchr(s, ',') && csv_empty_field(s)) {
+            rc = textfile_error(&t, e, "empty column");
+            goto done;
+        }
         double v[32];
         int nv = 0;
-        char *p = t.buf, *end;
-        while (nv < 32) {
-            p += strspn(p, ", \t\r");
-            if (!*p)
-                break;
-            v[nv] = strtod(p, &end);
-            if (end == p) {
-                rc = textfile_error(&t, e, "column %d is not a number", nv + 1);
+        char *save2 = NULL;
+        for (char *tok = strtok_r(t.buf, ", \t\r", &save2); tok;
+             tok = strtok_r(NULL, ", \t\r", &save2)) {
+            char ex[TEXT_EXCERPT_SIZE];
+            if (nv >= ncol || nv >= 32) {
+                rc = textfile_error(&t, e, "more columns than the %d of the header", ncol);
+                goto done;
+            }
+            /* the whole field, decimal and finite: "1.5x" is not 1.5 */
+            if (text_parse_real(tok, &v[nv]) != 0) {
+                rc = textfile_error(&t, e, "column %d: '%s' is not a finite decimal number",
+                                    nv + 1, text_excerpt(tok, ex));
                 goto done;
             }
             nv++;
-            p = end;
         }
         if (nv <= cd || nv <= cp || (cs >= 0 && nv <= cs)) {
             rc = textfile_error(&t, e, "%d columns, the header has %d", nv, ncol);

@@ -76,6 +76,7 @@
 #include "md/md_settings.h"
 #include "scenarios/case_type.h"
 #include "output/md_output.h"
+#include "input/md_system.h"
 #include "md/md_timestep.h"
 #include "scenarios/thermal_crystal.h"
 
@@ -127,7 +128,7 @@ static int hugoniot_read(struct cfg_obj *root, const struct case_common *common,
     double a, T, piston, bin, every, fstart, stop, tmax, teq, tau, c0, sref, dt, skin;
     static const long cells_def[3] = {100, 8, 8};
     static const double fit_def[2] = {1.5, 3.0};
-    long cells[3];
+    long cells[3], max_particles;
     double fit[2], *up = NULL;
     size_t nup = 0;
     if ((rc = cfg_section_required(root, "hugoniot", &ho)) ||
@@ -148,7 +149,17 @@ static int hugoniot_read(struct cfg_obj *root, const struct case_common *common,
         (rc = cfg_real(&ho, "bin", 0.0, CFG_GE(0), &bin)) ||
         (rc = cfg_real(&ho, "fit_start", 0.25, CFG_RANGE(0, 0.9), &fstart)) ||
         (rc = cfg_real(&ho, "stop_at", 0.85, CFG_RANGE(0.1, 0.98), &stop)) ||
-        (rc = cfg_real(&ho, "max_time", 30.0, CFG_GT(0), &tmax)) || (rc = cfg_close(&ho)))
+        (rc = cfg_real(&ho, "max_time", 30.0, CFG_GT(0), &tmax)) ||
+        (rc = md_read_max_particles(&ho, &max_particles)))
+        goto fail;
+    /* before anything is built, also for resolve */
+    char what[128];
+    snprintf(what, sizeof what, "%ld x %ld x %ld cells of %d atoms are", cells[0], cells[1],
+             cells[2], lat == 0 ? 4 : 2);
+    if ((rc = md_check_count(&ho, "cells", (double)cells[0] * (double)cells[1] *
+                                               (double)cells[2] * (lat == 0 ? 4 : 2),
+                             max_particles, what)) ||
+        (rc = cfg_close(&ho)))
         goto fail;
     if (!(stop > fstart + 0.1)) {
         rc = cfg_error_at(root->cfg, "hugoniot.stop_at",

@@ -57,6 +57,7 @@
 #include "scenarios/impact_boundary.h"
 #include "analysis/md_analysis.h"
 #include "output/md_output.h"
+#include "input/md_system.h"
 #include "md/md_timestep.h"
 
 struct impact {
@@ -92,6 +93,7 @@ struct impact_spec {
     const char *telement, *celement;
     double ta, ca, temperature, speed, gap, dt, skin, maxdisp;
     long cells[3], natoms, steps;
+    long max_particles;   /* target.max_particles */
     int has_center;
     double center[3];
 };
@@ -107,7 +109,8 @@ static int read_spec(struct cfg_obj *root, struct impact_spec *s, struct impact_
         (rc = cfg_real(&to, "a", CFG_REQUIRED, CFG_GT(0), &s->ta)) ||
         (rc = cfg_ints(&to, "cells", 3, cells_def, CFG_RANGE(1, 10000), s->cells)) ||
         (rc = cfg_real(&to, "temperature", 0.0, CFG_GE(0), &s->temperature)) ||
-        (rc = impact_boundary_read(&to, b)) || (rc = cfg_close(&to)))
+        (rc = md_read_max_particles(&to, &s->max_particles)) ||
+        (rc = impact_boundary_read(&to, b)))
         return rc;
     b->temperature = s->temperature;
     if ((rc = cfg_section_required(root, "cluster", &co)) ||
@@ -125,6 +128,19 @@ static int read_spec(struct cfg_obj *root, struct impact_spec *s, struct impact_
             return rc;
     }
     if ((rc = cfg_close(&co)))
+        return rc;
+    /* target and cluster, before anything is built (also for resolve) */
+    struct lattice tl = {impact_styles[s->tlat], s->ta, {0, 0, 0}, {{0}}};
+    int ns = lattice_cell_sites(&tl);
+    if (ns < 0)
+        return err_nomem(root->cfg->err, "lattice sites");
+    char what[160];
+    snprintf(what, sizeof what, "%ld x %ld x %ld cells of %d sites and a cluster of %ld are",
+             s->cells[0], s->cells[1], s->cells[2], ns, s->natoms);
+    if ((rc = md_check_count(&to, "cells", (double)s->cells[0] * (double)s->cells[1] *
+                                               (double)s->cells[2] * ns + (double)s->natoms,
+                             s->max_particles, what)) ||
+        (rc = cfg_close(&to)))
         return rc;
     /* the case's own default: the paper's 10 ps at 1 fs */
     struct md_settings def = md_settings_defaults, ms;

@@ -115,6 +115,19 @@ static int md_case_read(struct cfg_obj *root, const struct case_common *common, 
         }
     }
     p->par = common->par;
+    /* the key to blame: the skin when it is most of the range, else the
+     * potential's file or cutoff */
+    const char *rkey = ms.skin > pot->cutoff                  ? "md.skin"
+                       : pot->source_path[0]               ? "potential.file"
+                       : json_object_get(po.node, "cutoff") ? "potential.cutoff"
+                                                            : "potential";
+    if ((rc = md_check_range(pot, &box, p->n_owned, ms.skin, info.max_particles, root->cfg,
+                             rkey))) {
+        particles_destroy(&p);
+        potential_destroy(&pot);
+        free(c);
+        return rc;
+    }
     rc = md_init(&c->md, p, &box, pot, ms.timestep, ms.skin, common->nthreads, e);
     c->md.thermo = ms.thermostat;
     c->md.seed = common->seed;

@@ -214,24 +214,25 @@ int cfg_real(struct cfg_obj *o, const char *key, double def, struct cfg_bound b,
     return 0;
 }
 
-int cfg_int(struct cfg_obj *o, const char *key, long def, struct cfg_bound b, long *out)
+int cfg_int_opt(struct cfg_obj *o, const char *key, struct cfg_bound b, long *out, int *present)
 {
     cfg_allow(o, key);
     char path[CFG_PATH_MAX];
     child_path(o, key, path, sizeof path);
     json_t *v = json_object_get(o->node, key);
-    if (!v || json_is_null(v)) {
-        if (def == CFG_REQUIRED_INT)
-            return fail(o->cfg, o->path, 1, "missing required key '%s'", key);
-        *out = def;
-        json_object_set_new(o->node, key, json_integer(def));
+    *present = v && !json_is_null(v);
+    if (!*present) {
+        if (v)
+            json_object_del(o->node, key);
         return 0;
     }
     long x;
+    double r = json_is_real(v) ? json_real_value(v) : 0;
     if (json_is_integer(v)) {
         x = (long)json_integer_value(v);
-    } else if (json_is_real(v) && json_real_value(v) == (double)(long)json_real_value(v)) {
-        x = (long)json_real_value(v);
+    } else if (json_is_real(v) && fabs(r) < 9.0e18 && r == (double)(long)r) {
+        /* the range test first: (long) of a real beyond it is undefined */
+        x = (long)r;
         json_object_set_new(o->node, key, json_integer(x));
     } else {
         return fail(o->cfg, path, 0, "must be an integer, found %s", type_name(v));
@@ -240,6 +241,19 @@ int cfg_int(struct cfg_obj *o, const char *key, long def, struct cfg_bound b, lo
     if (rc)
         return rc;
     *out = x;
+    return 0;
+}
+
+int cfg_int(struct cfg_obj *o, const char *key, long def, struct cfg_bound b, long *out)
+{
+    int present;
+    int rc = cfg_int_opt(o, key, b, out, &present);
+    if (rc || present)
+        return rc;
+    if (def == CFG_REQUIRED_INT)
+        return fail(o->cfg, o->path, 1, "missing required key '%s'", key);
+    *out = def;
+    json_object_set_new(o->node, key, json_integer(def));
     return 0;
 }
 
@@ -410,7 +424,8 @@ int cfg_ints(struct cfg_obj *o, const char *key, int n, const long *def, struct 
         return rc;
     json_t *arr = json_array();
     for (int i = 0; i < n; i++) {
-        if (vals[i] != (double)(long)vals[i]) {
+        /* the range test first: (long) of a real beyond it is undefined */
+        if (!(fabs(vals[i]) < 9.0e18) || vals[i] != (double)(long)vals[i]) {
             json_decref(arr);
             char ipath[CFG_PATH_MAX];
             snprintf(ipath, sizeof ipath, "%s[%d]", path, i);

@@ -69,6 +69,7 @@ int cfg_bool(struct cfg_obj *o, const char *key, int def, int *out);
 int cfg_string(struct cfg_obj *o, const char *key, const char *def, const char **out);
 /* Optional scalars without a default: *present tells whether it was given. */
 int cfg_real_opt(struct cfg_obj *o, const char *key, struct cfg_bound b, double *out, int *present);
+int cfg_int_opt(struct cfg_obj *o, const char *key, struct cfg_bound b, long *out, int *present);
 int cfg_string_opt(struct cfg_obj *o, const char *key, const char **out, int *present);
 /* A string out of a fixed set; *out is the index in `choices` (NULL-ended). */
 int cfg_enum(struct cfg_obj *o, const char *key, const char *def, const char *const *choices,
