@@ -1,0 +1,95 @@
+/*
+ * fuzz_corpus: every input of the fuzz corpora (tests/fuzz/corpus/<reader>/)
+ * and every input that once crashed a reader (tests/fuzz/crashes/<reader>/)
+ * goes through the same harness as `make fuzz` uses (fuzz/fuzz_<reader>.c).
+ * The harness aborts on a reader failure without a message and on broken
+ * invariants; under `make test SANITIZE=1` any ASan/UBSan report fails the
+ * test too.  No fuzzing happens here, only the replay.
+ */
+#include <criterion/criterion.h>
+#include <dirent.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "fuzz/fuzz.h"
+#include "helpers/th.h"
+
+static int cmp_str(const void *a, const void *b)
+{
+    return strcmp(*(char *const *)a, *(char *const *)b);
+}
+
+static unsigned char *slurp(const char *path, size_t *size)
+{
+    FILE *f = fopen(path, "rb");
+    cr_assert_not_null(f, "cannot open %s", path);
+    size_t cap = 4096, n = 0, got;
+    unsigned char *buf = malloc(cap);
+    cr_assert_not_null(buf);
+    while ((got = fread(buf + n, 1, cap - n, f)) > 0) {
+        n += got;
+        if (n == cap) {
+            cap *= 2;
+            buf = realloc(buf, cap);
+            cr_assert_not_null(buf);
+        }
+    }
+    fclose(f);
+    *size = n;
+    return buf;
+}
+
+/* Run every regular file of dir through fn; returns how many there were. */
+static int replay_dir(const char *dir, int (*fn)(const uint8_t *, size_t))
+{
+    DIR *d = opendir(dir);
+    if (!d)
+        return 0;
+    char **names = NULL;
+    int n = 0;
+    struct dirent *de;
+    while ((de = readdir(d))) {
+        if (de->d_name[0] == '.')
+            continue;
+        names = realloc(names, (size_t)(n + 1) * sizeof *names);
+        cr_assert_not_null(names);
+        names[n++] = strdup(de->d_name);
+    }
+    closedir(d);
+    if (n)
+        qsort(names, (size_t)n, sizeof *names, cmp_str);
+    for (int i = 0; i < n; i++) {
+        char path[4096];
+        snprintf(path, sizeof path, "%s/%s", dir, names[i]);
+        size_t size;
+        unsigned char *data = slurp(path, &size);
+        /* a crash names the input through Criterion's log of the last file */
+        cr_log_info("%s", path);
+        cr_assert_eq(fn(data, size), 0, "%s", path);
+        free(data);
+        free(names[i]);
+    }
+    free(names);
+    return n;
+}
+
+static void replay(const char *reader, int (*fn)(const uint8_t *, size_t))
+{
+    char dir[4096];
+    snprintf(dir, sizeof dir, "%s/tests/fuzz/corpus/%s", th_root(), reader);
+    int n = replay_dir(dir, fn);
+    cr_assert_gt(n, 0, "no corpus in %s", dir);
+    snprintf(dir, sizeof dir, "%s/tests/fuzz/crashes/%s", th_root(), reader);
+    replay_dir(dir, fn);
+}
+
+Test(fuzz_corpus, case_yaml) { replay("case", fuzz_case_one); }
+Test(fuzz_corpus, study_yaml) { replay("study", fuzz_study_one); }
+Test(fuzz_corpus, lammps_data) { replay("lammps_data", fuzz_lammps_data_one); }
+Test(fuzz_corpus, extxyz) { replay("extxyz", fuzz_extxyz_one); }
+Test(fuzz_corpus, eam) { replay("eam", fuzz_eam_one); }
+Test(fuzz_corpus, stillinger_weber) { replay("sw", fuzz_sw_one); }
+Test(fuzz_corpus, meam_spline) { replay("meam_spline", fuzz_meam_spline_one); }
+Test(fuzz_corpus, result_json) { replay("result_json", fuzz_result_json_one); }
+Test(fuzz_corpus, baseline) { replay("baseline", fuzz_baseline_one); }
