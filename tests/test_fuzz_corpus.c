@@ -14,6 +14,7 @@
 
 #include "fuzz/fuzz.h"
 #include "helpers/th.h"
+#include "input/config_read.h"
 
 static int cmp_str(const void *a, const void *b)
 {
@@ -93,3 +94,33 @@ Test(fuzz_corpus, stillinger_weber) { replay("sw", fuzz_sw_one); }
 Test(fuzz_corpus, meam_spline) { replay("meam_spline", fuzz_meam_spline_one); }
 Test(fuzz_corpus, result_json) { replay("result_json", fuzz_result_json_one); }
 Test(fuzz_corpus, baseline) { replay("baseline", fuzz_baseline_one); }
+
+/* --- what the fixes of crashes found by fuzzing now say ---------------------- */
+
+static void read_xyz(const char *crash, int *rc, char *msg, size_t len)
+{
+    char path[4096];
+    snprintf(path, sizeof path, "%s/tests/fuzz/crashes/extxyz/%s", th_root(), crash);
+    struct particles *p = particles_create(8);
+    struct box b;
+    int pbc[3];
+    struct err e = {0};
+    *rc = config_read_extxyz(path, p, &b, pbc, &e);
+    snprintf(msg, len, "%s", e.msg);
+    particles_destroy(&p);
+}
+
+Test(fuzz_corpus, extxyz_property_columns_inside_the_line)
+{
+    int rc;
+    char msg[ERR_MSG_MAX];
+    /* vel:R:1 as the 63rd column: vel was read from columns 63 to 65 */
+    read_xyz("crash-vel-column-64", &rc, msg, sizeof msg);
+    cr_assert_eq(rc, ERR_INPUT);
+    cr_assert(strstr(msg, "crash-vel-column-64:2: Properties: vel needs 3 columns, found '1'"),
+              "%s", msg);
+    /* vel:R:0 on a 4-column line: vel was read past the end of the line */
+    read_xyz("crash-vel-count-0", &rc, msg, sizeof msg);
+    cr_assert_eq(rc, ERR_INPUT);
+    cr_assert(strstr(msg, "Properties: vel needs 3 columns, found '0'"), "%s", msg);
+}

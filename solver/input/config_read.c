@@ -384,11 +384,19 @@ int config_read_extxyz(const char *path, struct particles *p, struct box *b, int
                 rc = textfile_error(&t, e, "malformed Properties (name:type:count triples)");
                 goto done;
             }
-            int c = atoi(cnt);
-            if (strcmp(tok, "species") == 0) col_species = col;
-            else if (strcmp(tok, "pos") == 0) col_pos = col;
-            else if (strcmp(tok, "vel") == 0 || strcmp(tok, "velo") == 0 || strcmp(tok, "velocities") == 0) col_vel = col;
-            else if (strcmp(tok, "id") == 0) col_id = col;
+            int c = atoi(cnt), need = 0;
+            if (strcmp(tok, "species") == 0) col_species = col, need = 1;
+            else if (strcmp(tok, "pos") == 0) col_pos = col, need = 3;
+            else if (strcmp(tok, "vel") == 0 || strcmp(tok, "velo") == 0 || strcmp(tok, "velocities") == 0) col_vel = col, need = 3;
+            else if (strcmp(tok, "id") == 0) col_id = col, need = 1;
+            /* the columns read below must lie inside the atom lines */
+            if (need ? c != need : c < 1 || c > 64) {
+                rc = need ? textfile_error(&t, e, "Properties: %s needs %d columns, found '%s'",
+                                           tok, need, cnt)
+                          : textfile_error(&t, e, "Properties: %s has '%s' columns (1 to 64)",
+                                           tok, cnt);
+                goto done;
+            }
             col += c;
             tok = strtok_r(NULL, ":", &save);
         }
