@@ -12,6 +12,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "campaign/study.h"
 #include "fuzz/fuzz.h"
 #include "helpers/th.h"
 #include "input/config_read.h"
@@ -123,4 +124,22 @@ Test(fuzz_corpus, extxyz_property_columns_inside_the_line)
     read_xyz("crash-vel-count-0", &rc, msg, sizeof msg);
     cr_assert_eq(rc, ERR_INPUT);
     cr_assert(strstr(msg, "Properties: vel needs 3 columns, found '0'"), "%s", msg);
+}
+
+Test(fuzz_corpus, study_set_with_a_bad_key_path)
+{
+    /* the message was formatted from the freed settings (heap-use-after-free) */
+    char path[4096];
+    snprintf(path, sizeof path, "%s/tests/fuzz/crashes/study/crash-set-bad-key-path", th_root());
+    size_t size;
+    unsigned char *text = slurp(path, &size);
+    text = realloc(text, size + 1);
+    text[size] = '\0';
+    th_write_temp(0, "case.yaml", "system: {lattice: {style: fcc, a: 3.6}, element: Cu}\n");
+    const char *study = th_write_temp(1, "study.yaml", (const char *)text);
+    free(text);
+    struct study s;
+    struct err e = {0};
+    cr_assert_eq(study_load(&s, study, &e), ERR_INPUT);
+    cr_assert(strstr(e.msg, "study.yaml:3:7: set.$a: '$a' is not a case key path"), "%s", e.msg);
 }
