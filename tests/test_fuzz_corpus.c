@@ -143,3 +143,17 @@ Test(fuzz_corpus, study_set_with_a_bad_key_path)
     cr_assert_eq(study_load(&s, study, &e), ERR_INPUT);
     cr_assert(strstr(e.msg, "study.yaml:3:7: set.$a: '$a' is not a case key path"), "%s", e.msg);
 }
+
+Test(fuzz_corpus, study_report_order_null)
+{
+    /* cfg_real deleted the null entry while read_order iterated over the
+     * mapping, then named the freed key in its message (heap-use-after-free) */
+    th_write_temp(0, "case.yaml", "system: {lattice: {style: fcc, a: 3.6}, element: Cu}\n");
+    const char *study = th_write_temp(1, "study.yaml", "name: x\nbase: case.yaml\nreport:\n"
+                                                       "  order: {default: 2, pe: ~}\n");
+    struct study s;
+    struct err e = {0};
+    cr_assert_eq(study_load(&s, study, &e), ERR_INPUT);
+    cr_assert(strstr(e.msg, "study.yaml:4:27: report.order.pe: must be a number, found null"),
+              "%s", e.msg);
+}
