@@ -12,6 +12,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "campaign/outcome.h"
 #include "campaign/study.h"
 #include "fuzz/fuzz.h"
 #include "helpers/th.h"
@@ -156,4 +157,43 @@ Test(fuzz_corpus, study_report_order_null)
     cr_assert_eq(study_load(&s, study, &e), ERR_INPUT);
     cr_assert(strstr(e.msg, "study.yaml:4:27: report.order.pe: must be a number, found null"),
               "%s", e.msg);
+}
+
+Test(fuzz_corpus, outcome_message_cut_inside_a_character)
+{
+    /* result.json's message is cut to the outcome's 1023 bytes inside the
+     * 'Å' after 1022 'a': outcome_to_json returned NULL, so an MPI worker
+     * sent "{}" and rank 0 recorded "bad result message" instead */
+    char src[4096];
+    snprintf(src, sizeof src, "%s/tests/fuzz/crashes/result_json/crash-message-cut-in-utf8",
+             th_root());
+    size_t size;
+    unsigned char *text = slurp(src, &size);
+    text = realloc(text, size + 1);
+    text[size] = '\0';
+    const char *path = th_write_temp(0, "result.json", (const char *)text);
+    free(text);
+    char dir[4096];
+    snprintf(dir, sizeof dir, "%s", path);
+    *strrchr(dir, '/') = '\0';
+    struct outcome o;
+    memset(&o, 0, sizeof o);
+    struct exit_info x = {4 << 8, 0, 0, 0.0, 0};
+    outcome_collect(&o, dir, &x);
+    cr_assert_eq(o.status, RS_DIVERGED);
+    cr_assert_eq(strlen(o.message), OUTCOME_MSG_MAX - 1);
+    json_t *j = outcome_to_json(&o);
+    cr_assert_not_null(j, "the outcome must go into the worker's message");
+    struct outcome back;
+    struct err e = {0};
+    cr_assert_eq(outcome_from_json(&back, j, &e), 0, "%s", e.msg);
+    cr_assert_eq(back.status, RS_DIVERGED);
+    char want[OUTCOME_MSG_MAX];
+    memset(want, 'a', OUTCOME_MSG_MAX - 2);
+    want[OUTCOME_MSG_MAX - 2] = '?';
+    want[OUTCOME_MSG_MAX - 1] = '\0';
+    cr_assert_str_eq(back.message, want);
+    json_decref(j);
+    outcome_free(&back);
+    outcome_free(&o);
 }
