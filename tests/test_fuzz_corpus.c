@@ -13,6 +13,7 @@
 #include <string.h>
 
 #include "campaign/outcome.h"
+#include "core/ghost.h"
 #include "campaign/study.h"
 #include "fuzz/fuzz.h"
 #include "helpers/th.h"
@@ -196,4 +197,28 @@ Test(fuzz_corpus, outcome_message_cut_inside_a_character)
     json_decref(j);
     outcome_free(&back);
     outcome_free(&o);
+}
+
+Test(fuzz_corpus, periodic_box_far_below_the_range)
+{
+    /* a LAMMPS data file that reads (lo < hi) with a box of 1e-300 Å: the
+     * run's ghost build cast 1.2e301 image layers to int (UBSan:
+     * float-cast-overflow); now an input error */
+    struct particles *p = particles_create(8);
+    particles_add(p, (double[]){0, 5, 5}, NULL, particles_type_index(p, "Cu", 63.546), 1);
+    struct box b = {{0, 0, 0}, {1e-300, 10, 10}, {BOUNDARY_PERIODIC, BOUNDARY_PERIODIC,
+                                                  BOUNDARY_PERIODIC}};
+    struct err e = {0};
+    cr_assert_eq(ghost_build(p, &b, 11.83, &e), ERR_INPUT);
+    cr_assert(strstr(e.msg, "the periodic box is 1e-300 Å long along x, less than a hundredth "
+                            "of the interaction range 11.83 Å"), "%s", e.msg);
+    /* a box shorter than the range still gets its image layers: 3 along x */
+    b.hi[0] = 5.0;
+    cr_assert_eq(ghost_build(p, &b, 11.83, &e), 0, "%s", e.msg);
+    int maxshift = 0;
+    for (int g = p->n_owned; g < p->n_owned + p->n_ghost; g++)
+        if (p->gshift[3 * g] > maxshift)
+            maxshift = p->gshift[3 * g];
+    cr_assert_eq(maxshift, 3);
+    particles_destroy(&p);
 }
