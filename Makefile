@@ -5,6 +5,7 @@
 #   make SANITIZE=1      AddressSanitizer + UBSan into build/asan/bin/
 #   make WERROR=1        warnings are errors (CI sets this)
 #   make test | demo | bench | nightly | install PREFIX=... | clean | deps
+#   make fuzz FUZZ_SECONDS=N   libFuzzer on every input reader (docs/fuzzing.md)
 #
 # Objects of each variant live under build/<variant>/ so switching variants
 # never mixes objects compiled with different flags.
@@ -16,12 +17,15 @@ PREFIX   ?= /usr/local
 JOBS     ?= $(shell nproc 2>/dev/null || echo 2)
 
 CC       := mpicc
+FUZZ_CLANG ?= clang
 VERSION  := 0.1.0
 
 ifeq ($(SANITIZE),1)
   VARIANT := asan
 else ifeq ($(BUILD),release)
   VARIANT := release
+else ifeq ($(BUILD),fuzz)
+  VARIANT := fuzz
 else
   VARIANT := debug
 endif
@@ -36,12 +40,22 @@ OBJDIR := build/$(VARIANT)/obj
 OPT_debug   := -O2 -g
 OPT_release := -O3 -march=native -g
 OPT_asan    := -O1 -g -fno-omit-frame-pointer -fsanitize=address,undefined -fno-sanitize-recover=undefined
+# libFuzzer build (make fuzz): clang under mpicc, coverage instrumentation,
+# ASan + UBSan; the harnesses get their LLVMFuzzerTestOneInput
+OPT_fuzz    := -O1 -g -fno-omit-frame-pointer -fsanitize=fuzzer-no-link,address,undefined \
+               -fno-sanitize-recover=undefined -DCASCADE_LIBFUZZER
+ifeq ($(VARIANT),fuzz)
+  CC := OMPI_CC=$(FUZZ_CLANG) mpicc
+endif
 
 PKGS     := hdf5-openmpi jansson yaml-0.1 gsl sqlite3
 PKG_CFLAGS := $(shell pkg-config --cflags $(PKGS) 2>/dev/null)
 PKG_LIBS   := $(shell pkg-config --libs $(PKGS) 2>/dev/null)
 
 WARN     := -Wall -Wextra -Wshadow -Wno-unused-parameter -Wno-format-truncation
+ifeq ($(VARIANT),fuzz)
+  WARN += -Wno-unknown-warning-option   # clang lacks -Wformat-truncation
+endif
 ifeq ($(WERROR),1)
   WARN += -Werror
 endif
@@ -49,6 +63,7 @@ endif
 CFLAGS   := -std=c11 -D_POSIX_C_SOURCE=200809L -D_DEFAULT_SOURCE $(OPT_$(VARIANT)) $(WARN) -I. -Itests \
             -fopenmp -Isolver -I$(OBJDIR)/gen $(PKG_CFLAGS) -MMD -MP
 SAN_LD_asan := -fsanitize=address,undefined
+SAN_LD_fuzz := -fsanitize=address,undefined
 LDFLAGS  := -fopenmp $(SAN_LD_$(VARIANT))
 LDLIBS   := $(PKG_LIBS) -lm
 
@@ -58,6 +73,8 @@ SOLVER_SRC   := $(filter-out solver/main.c $(UTIL_SRC),$(shell find solver -name
 CAMPAIGN_SRC := $(filter-out campaign/main.c,$(wildcard campaign/*.c))
 TEST_SRC     := $(wildcard tests/test_*.c)
 TEST_HELPERS := $(wildcard tests/helpers/*.c)
+# fuzz harnesses: linked into the test binary too (it replays their corpora)
+FUZZ_SRC     := $(wildcard fuzz/*.c)
 
 obj = $(patsubst %.c,$(OBJDIR)/%.o,$(1))
 
@@ -72,7 +89,7 @@ STANDIN_BIN  := $(BINDIR)/fake-solver
 
 GEN_PROV     := $(OBJDIR)/gen/build_info.h
 
-.PHONY: all deps test demo bench nightly install clean check-werror
+.PHONY: all deps test demo bench nightly install clean check-werror fuzz fuzz-deps fuzz-build fuzz-cmin
 all: $(SOLVER_BIN) $(CAMPAIGN_BIN)
 
 # --- dependencies (Debian) -------------------------------------------------
@@ -133,7 +150,7 @@ $(CAMPAIGN_BIN): $(call obj,campaign/main.c) $(CAMPAIGN_LIB) $(UTIL_LIB)
 	@$(if $(Q),echo "  LD      $@")
 	$(Q)$(CC) $(LDFLAGS) -o $@ $^ $(LDLIBS)
 
-$(TEST_BIN): $(call obj,$(TEST_SRC) $(TEST_HELPERS)) $(SOLVER_LIB) $(CAMPAIGN_LIB) $(UTIL_LIB)
+$(TEST_BIN): $(call obj,$(TEST_SRC) $(TEST_HELPERS) $(FUZZ_SRC)) $(SOLVER_LIB) $(CAMPAIGN_LIB) $(UTIL_LIB)
 	@mkdir -p $(dir $@)
 	@$(if $(Q),echo "  LD      $@")
 	$(Q)$(CC) $(LDFLAGS) -o $@ $^ $(LDLIBS) -lcriterion
@@ -194,6 +211,69 @@ nightly: deps
 bench: deps
 	@$(MAKE) --no-print-directory BUILD=release all
 	sh bench/bench.sh $(abspath build/release/bin)
+
+# --- fuzzing (docs/fuzzing.md) ----------------------------------------------
+# One libFuzzer target per input reader, run one after the other (one
+# process) for FUZZ_SECONDS each over tests/fuzz/corpus/<reader>/; inputs
+# that add coverage are merged back into the corpus, crashing inputs land in
+# tests/fuzz/crashes/<reader>/ (make test replays both).  Logs and the
+# inputs of the session in build/fuzz/.
+FUZZ_SECONDS ?= 60
+FUZZ_MAX_LEN ?= 8192
+FUZZ_NAMES   := case study lammps_data extxyz eam sw meam_spline result_json baseline
+FUZZ_TARGETS ?= $(FUZZ_NAMES)
+FUZZ_ARGS    ?=
+FUZZ_BINDIR  := build/fuzz/bin
+FUZZ_DEB_PKGS := clang libclang-rt-14-dev libomp-14-dev
+
+fuzz-deps:
+	@$(MAKE) --no-print-directory deps DEB_PKGS="$(DEB_PKGS) $(FUZZ_DEB_PKGS)"
+
+fuzz-build: $(FUZZ_NAMES:%=$(FUZZ_BINDIR)/fuzz_%)
+
+$(FUZZ_BINDIR)/fuzz_%: $(OBJDIR)/fuzz/fuzz_%.o $(OBJDIR)/fuzz/common.o $(SOLVER_LIB) \
+                       $(CAMPAIGN_LIB) $(UTIL_LIB)
+	@mkdir -p $(dir $@)
+	@$(if $(Q),echo "  LD      $@")
+	$(Q)$(CC) $(LDFLAGS) -fsanitize=fuzzer -o $@ $^ $(LDLIBS)
+
+fuzz: fuzz-deps
+	@$(MAKE) --no-print-directory BUILD=fuzz fuzz-build
+	@mkdir -p build/fuzz/log; fail=""; \
+	for t in $(FUZZ_TARGETS); do \
+	    bin=$(FUZZ_BINDIR)/fuzz_$$t; corpus=tests/fuzz/corpus/$$t; new=build/fuzz/new/$$t; \
+	    log=build/fuzz/log/$$t.log; \
+	    mkdir -p $$corpus tests/fuzz/crashes/$$t $$new; \
+	    echo "== fuzz $$t: $(FUZZ_SECONDS) s ($$log)"; \
+	    LSAN_OPTIONS=suppressions=$(abspath tests/lsan.supp) OMP_NUM_THREADS=1 \
+	    $$bin -max_total_time=$(FUZZ_SECONDS) -max_len=$(FUZZ_MAX_LEN) -timeout=10 \
+	        -rss_limit_mb=2048 -print_final_stats=1 \
+	        -artifact_prefix=tests/fuzz/crashes/$$t/ $(FUZZ_ARGS) $$new $$corpus > $$log 2>&1 \
+	        || fail="$$fail $$t"; \
+	    grep -E '^#[0-9]+[[:space:]]+DONE|stat::number_of_executed_units|stat::average_exec_per_sec' $$log \
+	        | tr '\n' ' '; echo; \
+	    LSAN_OPTIONS=suppressions=$(abspath tests/lsan.supp) OMP_NUM_THREADS=1 \
+	    $$bin -merge=1 -max_len=$(FUZZ_MAX_LEN) -timeout=10 $$corpus $$new >> $$log 2>&1 \
+	        && rm -rf $$new; \
+	done; \
+	if [ -n "$$fail" ]; then \
+	    echo "fuzz: crashes or sanitizer reports in:$$fail (inputs in tests/fuzz/crashes/)" >&2; \
+	    exit 1; \
+	fi
+
+# Shrink each corpus to the inputs that keep its coverage (the seed-* files
+# of fuzz/seed.sh always stay).
+fuzz-cmin: fuzz-deps
+	@$(MAKE) --no-print-directory BUILD=fuzz fuzz-build
+	@for t in $(FUZZ_TARGETS); do \
+	    corpus=tests/fuzz/corpus/$$t; min=build/fuzz/cmin/$$t; \
+	    rm -rf $$min; mkdir -p $$min; cp $$corpus/seed-* $$min/ 2>/dev/null; \
+	    LSAN_OPTIONS=suppressions=$(abspath tests/lsan.supp) OMP_NUM_THREADS=1 \
+	    $(FUZZ_BINDIR)/fuzz_$$t -merge=1 -max_len=$(FUZZ_MAX_LEN) -timeout=10 $$min $$corpus \
+	        > build/fuzz/cmin/$$t.log 2>&1 || { echo "fuzz-cmin $$t failed" >&2; exit 1; }; \
+	    echo "fuzz-cmin $$t: $$(ls $$corpus | wc -l) -> $$(ls $$min | wc -l) files"; \
+	    rm -rf $$corpus; mv $$min $$corpus; \
+	done
 
 install: all
 	install -d $(DESTDIR)$(PREFIX)/bin $(DESTDIR)$(PREFIX)/share/cascade

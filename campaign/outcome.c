@@ -373,22 +373,56 @@ void outcome_free(struct outcome *o)
     o->nartifacts = 0;
 }
 
+/* A JSON string of s, which json_pack's "s" refuses unless it is UTF-8:
+ * bytes that are not (a character cut by a truncation to a fixed buffer,
+ * binary output on stderr) become '?'. */
+static json_t *jstr(const char *s)
+{
+    json_t *j = json_string(s);
+    if (j)
+        return j;
+    size_t n = strlen(s), k = 0;
+    char *t = malloc(n + 1);
+    if (!t)
+        return NULL;
+    for (size_t i = 0; i < n;) {
+        unsigned char c = (unsigned char)s[i];
+        size_t len = c < 0x80 ? 1 : (c & 0xE0) == 0xC0 ? 2 : (c & 0xF0) == 0xE0 ? 3
+                                  : (c & 0xF8) == 0xF0 ? 4 : 0;
+        json_t *one = len > 1 && i + len <= n ? json_stringn(s + i, len) : NULL;
+        if (len == 1 || one) {
+            memcpy(t + k, s + i, len);
+            k += len;
+            i += len;
+        } else {
+            t[k++] = '?';
+            i++;
+        }
+        json_decref(one);
+    }
+    t[k] = '\0';
+    j = json_string(t);
+    free(t);
+    return j;
+}
+
 json_t *outcome_to_json(const struct outcome *o)
 {
     json_t *arts = json_array();
     for (int i = 0; i < o->nartifacts; i++) {
         const struct artifact *a = &o->artifacts[i];
-        json_array_append_new(arts, json_pack("{s:s, s:s, s:I, s:s}", "path", a->path, "kind",
-                                              a->kind, "bytes", (json_int_t)a->bytes, "sha256",
-                                              a->sha256));
+        json_array_append_new(arts, json_pack("{s:o, s:s, s:I, s:s}", "path", jstr(a->path),
+                                              "kind", a->kind, "bytes", (json_int_t)a->bytes,
+                                              "sha256", a->sha256));
     }
-    json_t *j = json_pack("{s:i, s:i, s:i, s:s, s:f, s:f, s:f, s:f, s:i, s:s, s:s, s:s, s:s, s:O?, s:o, s:i, s:I}",
+    json_t *j = json_pack("{s:i, s:i, s:i, s:o, s:f, s:f, s:f, s:f, s:i, s:o, s:o, s:o, s:o, s:O?, s:o, s:i, s:I}",
                      "status", (int)o->status, "exit_code", o->exit_code, "signal", o->signal,
-                     "message", o->message, "started", o->started, "finished", o->finished,
+                     "message", jstr(o->message), "started", o->started, "finished", o->finished,
                      "wall_s", o->wall_s, "peak_rss_mib", o->peak_rss_mib, "pid", o->pid, "host",
-                     o->host, "stderr_tail", o->stderr_tail, "solver_version", o->solver_version,
-                     "solver_git", o->solver_git, "metrics", o->metrics, "artifacts", arts,
-                     "failure", (int)o->failure, "last_step", (json_int_t)o->last_step);
+                     jstr(o->host), "stderr_tail", jstr(o->stderr_tail), "solver_version",
+                     jstr(o->solver_version), "solver_git", jstr(o->solver_git), "metrics",
+                     o->metrics, "artifacts", arts, "failure", (int)o->failure, "last_step",
+                     (json_int_t)o->last_step);
     if (j) {
         json_object_set_new(j, "collect_s", json_real(o->collect_s));
         json_object_set_new(j, "resumed_from_step", json_integer(o->resumed_from_step));

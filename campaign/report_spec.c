@@ -126,6 +126,11 @@ static int read_order(struct cfg_obj *rep, struct report_spec *rs)
     json_object_foreach(o.node, key, val)
     {
         double p;
+        if (json_is_null(val)) {   /* cfg_real would delete it, key and all, mid-iteration */
+            char kp[CFG_PATH_MAX];
+            snprintf(kp, sizeof kp, "%s.%s", o.path, key);
+            return cfg_error_at(o.cfg, kp, "must be a number, found null");
+        }
         if ((rc = cfg_real(&o, key, NAN, CFG_GT(0), &p)))
             return rc;
         if (strcmp(key, "default") == 0) {

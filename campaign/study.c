@@ -202,12 +202,14 @@ static int read_settings(struct study *s, json_t *v, const char *where, struct s
         struct study_setting *st = &set[k];
         snprintf(st->where, sizeof st->where, "%s.%s", where, key);
         if (!docpath_valid(key)) {
+            /* the message names st->where: before set is freed */
+            int rc = fail_at(s, st->where, e,
+                             "'%s' is not a case key path (keys joined by dots, like md.timestep)",
+                             key);
             for (int i = 0; i < k; i++)
                 json_decref(set[i].value);
             free(set);
-            return fail_at(s, st->where, e,
-                           "'%s' is not a case key path (keys joined by dots, like md.timestep)",
-                           key);
+            return rc;
         }
         snprintf(st->path, sizeof st->path, "%s", key);
         st->value = json_incref(val);

@@ -47,6 +47,12 @@ int ghost_build(struct particles *p, const struct box *b, double range, struct e
         if (b->bc[d] != BOUNDARY_PERIODIC)
             continue;
         double lo = b->lo[d], hi = b->hi[d], len = hi - lo;
+        /* a box a hundred times shorter than the range is a broken input
+         * (a data file's box of 1e-300 Å): its layer count overflowed the
+         * int, and a million layers would not fit in memory either */
+        if (!(range / len <= 100.0))
+            return err_set(e, ERR_INPUT, "the periodic box is %g Å long along %c, less than "
+                           "a hundredth of the interaction range %g Å", len, "xyz"[d], range);
         int nlayers = (int)ceil(range / len);
         int nsrc = p->n_owned + p->n_ghost;   /* images of ghosts of earlier axes too */
         for (int s = 1; s <= nlayers; s++) {

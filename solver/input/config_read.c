@@ -347,6 +347,10 @@ int config_read_lammps_data(const char *path, const char *const *elements, int n
         snprintf(line, sizeof line, "%s", s);
         char *tok[8];
         int ntok = split_tokens(t.buf, tok, 8);
+        if (ntok > 8) {   /* no header line has more than 7 words (tok[] holds 8) */
+            rc = textfile_error(&t, e, "unrecognised header line '%s'", text_excerpt(line, ex));
+            goto done;
+        }
         long count;
         int k;
         if ((k = header_count(tok, ntok, "atoms", NULL, &count)) != 0) {
