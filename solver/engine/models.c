@@ -5,6 +5,7 @@
 
 static const struct sim_model_ops *const registry[] = {
     &sim_model_md,
+    &sim_model_mpm,
     NULL,
 };
 

@@ -7,6 +7,7 @@
 
 #include "engine/sim.h"
 #include "md/md.h"
+#include "mpm/mpm.h"
 
 /* MD: velocity Verlet with the md's potential and thermostat (md/md.h).
  * The model's self is a struct md_model. */
@@ -15,6 +16,21 @@ struct md_model {
     double max_energy_change;   /* eV/atom; NVE runs only (0: no check) */
 };
 extern const struct sim_model_ops sim_model_md;
+
+/* MPM: MUSL/USL steps of an mpm (mpm/mpm.h) -- force: s9 and s1-s3,
+ * integrate: s4-s14 -- on the case's time step rule, which the model owns
+ * (it sets s->dt).  The model's self is a struct mpm_model. */
+struct mpm_model {
+    struct mpm *m;              /* borrowed from the case */
+    double dt_fixed;            /* ps; 0: cfl x the explicit limit (mpm_stable_dt) */
+    double cfl;
+    int adaptive;               /* recompute the CFL step before every step */
+    double load_ramp;           /* ps: loads reach full value after this (0: at once) */
+    double max_energy_change;   /* relative; closed systems only (0: no check) */
+};
+extern const struct sim_model_ops sim_model_mpm;
+/* The time step the model takes from its current state (ps). */
+double mpm_model_timestep(const struct mpm_model *mm);
 
 /* The model named `name`, or NULL. */
 const struct sim_model_ops *sim_model_find(const char *name);
