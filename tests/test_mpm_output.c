@@ -157,3 +157,42 @@ Test(mpm_output, hierarchical_grid_nodes_as_points)
     cr_assert(s < -0.1 && s > -3.0, "mid-bar stress %g GPa (1 GPa load)", s);
     json_decref(r);
 }
+
+/* A closed system whose total energy moves beyond mpm.max_energy_change
+ * has diverged (the engine's check on the mpm model's observe): status,
+ * the step, the change and the limit in per cent of the initial energy,
+ * and the metrics of the steps done. */
+Test(mpm_output, energy_divergence_is_recorded)
+{
+    const char *path = th_write_temp(3, "div.yaml",
+                                     "type: mpm\nmpm:\n  grid: {cell: 4.0, cells: [24, 6, 6]}\n"
+                                     "  materials: [{name: al, law: linear_elastic, density: 2.7, "
+                                     "E: 70, nu: 0.3}]\n"
+                                     "  bodies:\n"
+                                     "    - {name: A, material: al, velocity: [5, 0, 0], region: "
+                                     "{shape: box, lo: [8, 4, 4], hi: [40, 20, 20]}}\n"
+                                     "    - {name: B, material: al, velocity: [-5, 0, 0], region: "
+                                     "{shape: box, lo: [44, 4, 4], hi: [80, 20, 20]}}\n"
+                                     "  cfl: 0.9\n  max_energy_change: 0.001\n  steps: 200\n"
+                                     "output: {hdf5: false}\n");
+    char dir[1024], out[8192];
+    snprintf(dir, sizeof dir, "%s/div-out", th_temp_dir());
+    const char *argv[] = {th_solver(), "run", path, "--out", dir, "--quiet", NULL};
+    cr_assert_eq(th_run(argv, out, sizeof out), 4, "%s", out);
+    char rpath[1100];
+    snprintf(rpath, sizeof rpath, "%s/result.json", dir);
+    json_t *r = json_load_file(rpath, 0, NULL);
+    cr_assert_not_null(r);
+    cr_assert_str_eq(json_string_value(json_object_get(r, "status")), "diverged");
+    const char *msg = json_string_value(json_object_get(r, "message"));
+    cr_assert(strstr(msg, "total energy changed by ") && strstr(msg, " % at step ") &&
+                  strstr(msg, "(limit mpm.max_energy_change = 0.1 %)"),
+              "%s", msg);
+    json_t *sd = json_object_get(json_object_get(r, "metrics"), "steps_done");
+    double steps = json_real_value(json_object_get(sd, "value"));
+    cr_assert(steps >= 1 && steps < 200, "stopped at step %g", steps);
+    json_t *de = json_object_get(json_object_get(r, "metrics"), "energy_change_max");
+    cr_assert_gt(json_real_value(json_object_get(de, "value")), 0.001,
+                 "the step that diverged is in energy_change_max");
+    json_decref(r);
+}

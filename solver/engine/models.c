@@ -7,6 +7,7 @@ static const struct sim_model_ops *const registry[] = {
     &sim_model_md,
     &sim_model_impact_boundary,
     &sim_model_handshake,
+    &sim_model_mpm,
     NULL,
 };
 

@@ -9,6 +9,8 @@
 #include "md/md.h"
 #include "scenarios/impact_boundary.h"
 
+#include "mpm/mpm.h"
+
 /* MD: velocity Verlet with the md's potential and thermostat (md/md.h).
  * The model's self is a struct md_model. */
 struct md_model {
@@ -40,6 +42,21 @@ struct handshake_model {
     struct handshake *hs;       /* borrowed from the case */
 };
 extern const struct sim_model_ops sim_model_handshake;
+
+/* MPM: MUSL/USL steps of an mpm (mpm/mpm.h) -- force: s9 and s1-s3,
+ * integrate: s4-s14 -- on the case's time step rule, which the model owns
+ * (it sets s->dt).  The model's self is a struct mpm_model. */
+struct mpm_model {
+    struct mpm *m;              /* borrowed from the case */
+    double dt_fixed;            /* ps; 0: cfl x the explicit limit (mpm_stable_dt) */
+    double cfl;
+    int adaptive;               /* recompute the CFL step before every step */
+    double load_ramp;           /* ps: loads reach full value after this (0: at once) */
+    double max_energy_change;   /* relative; closed systems only (0: no check) */
+};
+extern const struct sim_model_ops sim_model_mpm;
+/* The time step the model takes from its current state (ps). */
+double mpm_model_timestep(const struct mpm_model *mm);
 
 /* The model named `name`, or NULL. */
 const struct sim_model_ops *sim_model_find(const char *name);

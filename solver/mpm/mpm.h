@@ -182,8 +182,15 @@ void mpm_update_particles_and_map(struct mpm *m, double dt);
 int mpm_fusable(const struct mpm *m);
 
 /* One whole step; ERR_DIVERGED when a particle leaves the grid or a value
- * is not finite. */
+ * is not finite.  It is mpm_step_map then mpm_step_update, the two halves
+ * the engine runs as the model's force and integrate stages:
+ *   mpm_step_map     s9, then s1-s3 (mass, momentum, internal and external
+ *                    nodal forces) unless the last step's fused pass left
+ *                    them on the grid;
+ *   mpm_step_update  s4-s14 and the step's time and counter. */
 int mpm_step(struct mpm *m, double dt, struct err *e);
+int mpm_step_map(struct mpm *m, struct err *e);
+int mpm_step_update(struct mpm *m, double dt, struct err *e);
 
 /* Explicit stability limit (Courant number 1): smallest cell over the
  * largest wave speed plus the largest particle speed (ps). */

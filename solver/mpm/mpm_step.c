@@ -15,7 +15,7 @@ static void tstop(struct mpm *m, enum timer_id t)
         timer_stop(m->timers, t);
 }
 
-int mpm_step(struct mpm *m, double dt, struct err *e)
+int mpm_step_map(struct mpm *m, struct err *e)
 {
     tstart(m, TIMER_MPM_P2G);
     int rc = mpm_locate_particles(m, e);   /* s9 of the previous step */
@@ -23,14 +23,19 @@ int mpm_step(struct mpm *m, double dt, struct err *e)
         tstop(m, TIMER_MPM_P2G);
         return rc;
     }
-    int fused = mpm_fusable(m);
-    if (!(fused && m->fused_ready)) {
+    if (!(mpm_fusable(m) && m->fused_ready)) {
         mpm_clear_grid(m);
         mpm_map_to_grid(m, MPM_MAP_ALL);   /* s1-s3 (else done by the last step) */
     }
     m->fused_ready = 0;
     m->grid_fresh = 0;
     tstop(m, TIMER_MPM_P2G);
+    return 0;
+}
+
+int mpm_step_update(struct mpm *m, double dt, struct err *e)
+{
+    int fused = mpm_fusable(m);
     tstart(m, TIMER_MPM_GRID);
     mpm_update_grid(m, dt);                /* s4-s5 */
     tstop(m, TIMER_MPM_GRID);
@@ -53,4 +58,10 @@ int mpm_step(struct mpm *m, double dt, struct err *e)
     if (!isfinite(m->vmax))
         return err_set(e, ERR_DIVERGED, "non-finite particle velocity at step %ld", m->step);
     return 0;
+}
+
+int mpm_step(struct mpm *m, double dt, struct err *e)
+{
+    int rc = mpm_step_map(m, e);
+    return rc ? rc : mpm_step_update(m, dt, e);
 }

@@ -1,9 +1,12 @@
 /*
  * mpm_case: the material point method case (`type: mpm`) -- runs MUSL (or
- * USL) steps of the model built by mpm_case_read.c and reports, in the
- * case's units: kinetic, strain and total energy and their change, momentum,
- * mass, the time step chosen, reaction forces of rigid bodies, and the
- * kinetic energy at the `report_steps`.
+ * USL) steps of the model built by mpm_case_read.c on the engine (the mpm
+ * model, engine/model_mpm.c, which owns the CFL time step) and reports, in
+ * the case's units: kinetic, strain and total energy and their change,
+ * momentum, mass, the time step chosen, reaction forces of rigid bodies, and
+ * the kinetic energy at the `report_steps`.  Checkpoints hold the model's
+ * state and the run's accumulators (time step range, largest energy
+ * changes, kinetic energy at the report steps, thermo rows).
  */
 #include <math.h>
 #include <stdlib.h>
@@ -20,109 +23,87 @@ static int mpm_type_read(struct cfg_obj *root, const struct case_common *common,
     return rc;
 }
 
-static double case_dt(const struct mpm_case *c)
+/* --- the run on the engine (engine/sim.h) --------------------------------- */
+
+/* The accumulators of step m->step: time step range, largest energy
+ * changes, kinetic energy at the report steps. */
+static void accumulate(struct mpm_case *c, const struct sim *s)
 {
-    return c->dt_fixed > 0 ? c->dt_fixed : c->cfl * mpm_stable_dt(&c->m);
+    const struct mpm *m = &c->m;
+    double e0 = c->t0.kinetic + c->t0.strain;
+    c->dt_min = fmin(c->dt_min, s->dt);
+    c->dt_max = fmax(c->dt_max, s->dt);
+    /* energies summed by the kernels: no extra pass over the points */
+    double etot = m->ke + m->strain, ecen = mpm_energy_centred(m);
+    if (e0 > 0) {
+        c->de_max = fmax(c->de_max, fabs(etot - e0) / e0);
+        c->dec_max = fmax(c->dec_max, fabs(ecen - e0) / e0);
+    }
+    for (int k = 0; k < c->nreport; k++)
+        if (c->report_steps[k] == m->step)
+            c->ke_report[k] = m->ke;
+    c->acc_step = s->step;
 }
 
-static int mpm_type_run(void *state, struct run *run, struct err *e)
+static int mpm_case_begin(void *state, struct sim *s, struct err *e)
+{
+    struct mpm_case *c = state;
+    int rc = mpm_output_begin(&c->out, s->run, c, e);
+    if (!rc && s->restarted_from >= 0)
+        rc = mpm_output_resume(&c->out, s->run, c->restored_rows, c->nrestored,
+                               c->restored_cols, e);
+    free(c->restored_rows);
+    c->restored_rows = NULL;
+    return rc;
+}
+
+static int mpm_case_after_step(void *state, struct sim *s, struct err *e)
+{
+    (void)e;
+    accumulate(state, s);
+    return 0;
+}
+
+static int mpm_case_output(void *state, struct sim *s, unsigned due, struct err *e)
+{
+    struct mpm_case *c = state;
+    int rc = 0;
+    if (due & SIM_DUE_THERMO) {
+        struct mpm_totals t = c->t0;
+        if (s->step > 0)
+            mpm_totals(&c->m, &t);
+        rc = mpm_output_thermo(&c->out, s->run, c, s->dt, &t, e);
+    }
+    if (!rc && (due & SIM_DUE_SNAPSHOT))
+        rc = mpm_output_snapshot(&c->out, s->run, c, e);
+    return rc;
+}
+
+static int mpm_case_report(void *state, struct sim *s, int run_rc, struct err *e)
 {
     struct mpm_case *c = state;
     struct mpm *m = &c->m;
     const struct mpm_units *u = &c->u;
-    m->timers = &run->timers;
-    m->nthreads = run->opt.nthreads > 0 ? run->opt.nthreads : 1;
-    struct mpm_output *mo = calloc(1, sizeof *mo);
-    if (!mo)
-        return err_nomem(e, "mpm output");
-    int rc = mpm_output_begin(mo, run, c, e);
-    if (rc) {
-        free(mo);
-        return rc;
-    }
-    struct mpm_totals t0, t;
-    mpm_totals(m, &t0);
+    (void)run_rc;
+    /* a step the engine's divergence check stopped at (the model finished
+     * it) still counts in the extremes, as before the engine */
+    if (c->acc_step < s->step && m->step == s->step)
+        accumulate(c, s);
+    const struct mpm_totals t0 = c->t0;
     double e0 = t0.kinetic + t0.strain;
-    double dt = case_dt(c);
-    double dt_first = dt, dt_min = dt, dt_max = dt, de_max = 0, dec_max = 0;
-    /* energy is conserved only without driving or damping: no rigid body,
-     * load or damping, no fixed or sliding face; only then is a large
-     * energy change a sign of divergence */
-    int closed = !m->pts.fext && m->damping == 0 && m->grid.nbc == 0;
-    for (int b = 0; b < m->nbody; b++)
-        closed &= !m->body[b].rigid;
-    run_log(run,
-            "mpm: %ld points, %ld nodes (%s grid, %s), %s; time step %.6g %s from %s "
-            "(explicit limit %.6g %s, Courant number %.3g)",
-            m->pts.n, m->grid.nnodes, m->grid.kind == MPM_GRID_HIER ? "hierarchical" : "uniform",
-            m->grid.shape == MPM_SHAPE_GIMP ? "GIMP" : "linear",
-            m->algorithm == MPM_MUSL ? "MUSL" : "USL", dt / u->time, u->time_name,
-            c->dt_fixed > 0 ? "mpm.timestep" : "the CFL condition", mpm_stable_dt(m) / u->time,
-            u->time_name, dt / mpm_stable_dt(m));
-    timer_start(&run->timers, TIMER_OUTPUT);
-    if (run_due(0, c->steps, run->out.thermo_every))
-        rc = mpm_output_thermo(mo, run, c, dt, &t0, e);
-    if (!rc && run_due(0, c->steps, run->out.snapshot_every))
-        rc = mpm_output_snapshot(mo, run, c, e);
-    timer_stop(&run->timers, TIMER_OUTPUT);
-    double ke_report[MPM_CASE_MAX_REPORT];
-    for (int k = 0; k < c->nreport; k++)
-        ke_report[k] = c->report_steps[k] == 0 ? t0.kinetic : NAN;
-    progress_start(&run->progress, stderr, c->steps, dt, run->opt.progress && !run->opt.quiet);
-    for (long s = 1; s <= c->steps && !rc; s++) {
-        timer_start(&run->timers, TIMER_LOOP);
-        if (c->adaptive && c->dt_fixed <= 0)
-            dt = case_dt(c);   /* CFL with the current largest speed */
-        m->fext_scale = c->load_ramp > 0 ? fmin(1.0, (m->time + dt) / c->load_ramp) : 1.0;
-        rc = mpm_step(m, dt, e);
-        timer_stop(&run->timers, TIMER_LOOP);
-        if (rc)
-            break;
-        dt_min = fmin(dt_min, dt);
-        dt_max = fmax(dt_max, dt);
-        /* energies summed by the kernels: no extra pass over the points */
-        double etot = m->ke + m->strain, ecen = mpm_energy_centred(m);
-        if (e0 > 0) {
-            de_max = fmax(de_max, fabs(etot - e0) / e0);
-            dec_max = fmax(dec_max, fabs(ecen - e0) / e0);
-        }
-        if (!isfinite(etot))
-            rc = err_set(e, ERR_DIVERGED, "diverged: non-finite energy at step %ld", s);
-        else if (closed && c->energy_tolerance > 0 && e0 > 0 &&
-                 fabs(etot - e0) > c->energy_tolerance * e0)
-            rc = err_set(e, ERR_DIVERGED,
-                         "diverged: total energy changed by %.3g%% at step %ld (limit "
-                         "mpm.max_energy_change = %g): time step too large?",
-                         100 * (etot - e0) / e0, s, c->energy_tolerance);
-        for (int k = 0; k < c->nreport; k++)
-            if (c->report_steps[k] == s)
-                ke_report[k] = m->ke;
-        if (!rc && run_due(s, c->steps, run->out.thermo_every)) {
-            timer_start(&run->timers, TIMER_OUTPUT);
-            mpm_totals(m, &t);
-            rc = mpm_output_thermo(mo, run, c, dt, &t, e);
-            timer_stop(&run->timers, TIMER_OUTPUT);
-        }
-        if (!rc && run_due(s, c->steps, run->out.snapshot_every)) {
-            timer_start(&run->timers, TIMER_OUTPUT);
-            rc = mpm_output_snapshot(mo, run, c, e);
-            timer_stop(&run->timers, TIMER_OUTPUT);
-        }
-        progress_update(&run->progress, s);
-    }
-    progress_finish(&run->progress, m->step);
     /* metrics, in the case's units */
+    struct mpm_totals t;
     mpm_totals(m, &t);
-    struct result *res = &run->result;
+    struct result *res = &s->run->result;
     result_metric(res, "points", (double)m->pts.n, "1");
     result_metric(res, "nodes", (double)m->grid.nnodes, "1");
     result_metric(res, "steps_done", (double)m->step, "1");
     result_metric(res, "time", m->time / u->time, u->time_name);
-    result_metric(res, "timestep", dt_first / u->time, u->time_name);
-    result_metric(res, "timestep_min", dt_min / u->time, u->time_name);
-    result_metric(res, "timestep_max", dt_max / u->time, u->time_name);
-    result_metric(res, "courant_number", dt_first / (mpm_grid_min_cell(&m->grid) /
-                                                     (m->cmax + t0.vmax)), "1");
+    result_metric(res, "timestep", c->dt_first / u->time, u->time_name);
+    result_metric(res, "timestep_min", c->dt_min / u->time, u->time_name);
+    result_metric(res, "timestep_max", c->dt_max / u->time, u->time_name);
+    result_metric(res, "courant_number", c->dt_first / (mpm_grid_min_cell(&m->grid) /
+                                                        (m->cmax + t0.vmax)), "1");
     result_metric(res, "wave_speed", m->cmax / u->velocity, u->velocity_name);
     result_metric(res, "mass", t.mass / u->mass, u->mass_name);
     result_metric(res, "ke_initial", t0.kinetic / u->energy, u->energy_name);
@@ -134,8 +115,8 @@ static int mpm_type_run(void *state, struct run *run, struct err *e)
     /* largest |kinetic + strain - initial| / initial over all steps, and the
      * same for the time-centred energy (mpm.h), which the explicit step
      * conserves to O(dt^2) while the plain sum oscillates by O(dt) */
-    result_metric(res, "energy_change_max", de_max, "1");
-    result_metric(res, "energy_change_centred_max", dec_max, "1");
+    result_metric(res, "energy_change_max", c->de_max, "1");
+    result_metric(res, "energy_change_centred_max", c->dec_max, "1");
     for (int d = 0; d < 3; d++) {
         char name[32];
         snprintf(name, sizeof name, "momentum_%c", "xyz"[d]);
@@ -163,8 +144,8 @@ static int mpm_type_run(void *state, struct run *run, struct err *e)
     for (int k = 0; k < c->nreport; k++) {
         char name[48];
         snprintf(name, sizeof name, "ke_step_%ld", c->report_steps[k]);
-        if (isfinite(ke_report[k]))
-            result_metric(res, name, ke_report[k] / u->energy, u->energy_name);
+        if (isfinite(c->ke_report[k]))
+            result_metric(res, name, c->ke_report[k] / u->energy, u->energy_name);
     }
     /* mass-weighted mean velocity of every deformable body */
     for (int b = 0; b < m->nbody; b++) {
@@ -205,9 +186,99 @@ static int mpm_type_run(void *state, struct run *run, struct err *e)
     double bytes = mpm_points_bytes_per_point(&m->pts) * (double)m->pts.n +
                    mpm_grid_bytes(&m->grid);
     result_metric(res, "model_bytes_per_point", m->pts.n ? bytes / (double)m->pts.n : 0, "B");
-    int rc2 = mpm_output_end(mo, run, e);
-    free(mo);
-    return rc ? rc : rc2;
+    return mpm_output_end(&c->out, s->run, e);
+}
+
+static int mpm_case_checkpoint_write(void *state, struct ckpt *ck, struct err *e)
+{
+    struct mpm_case *c = state;
+    const struct mpm_totals *t = &c->t0;
+    double t0[7] = {t->mass, t->momentum[0], t->momentum[1], t->momentum[2], t->kinetic,
+                    t->strain, t->vmax};
+    (void)e;
+    int rc = ckpt_put_doubles(ck, "initial_totals", t0, 7);
+    if (!rc) rc = ckpt_put_double(ck, "dt_first", c->dt_first);
+    if (!rc) rc = ckpt_put_double(ck, "dt_min", c->dt_min);
+    if (!rc) rc = ckpt_put_double(ck, "dt_max", c->dt_max);
+    if (!rc) rc = ckpt_put_double(ck, "energy_change_max", c->de_max);
+    if (!rc) rc = ckpt_put_double(ck, "energy_change_centred_max", c->dec_max);
+    if (!rc) rc = ckpt_put_doubles(ck, "ke_report", c->ke_report, c->nreport);
+    if (!rc) rc = ckpt_put_long(ck, "accumulated_step", c->acc_step);
+    if (!rc) rc = ckpt_put_long(ck, "thermo_cols", c->out.ncols);
+    if (!rc) rc = ckpt_put_doubles(ck, "thermo_rows", c->out.series, c->out.nrows * c->out.ncols);
+    return rc;
+}
+
+static int mpm_case_checkpoint_read(void *state, struct ckpt *ck, struct err *e)
+{
+    struct mpm_case *c = state;
+    double t0[7];
+    long cols = 0;
+    int rc = ckpt_get_doubles(ck, "initial_totals", t0, 7);
+    if (!rc) rc = ckpt_get_double(ck, "dt_first", &c->dt_first);
+    if (!rc) rc = ckpt_get_double(ck, "dt_min", &c->dt_min);
+    if (!rc) rc = ckpt_get_double(ck, "dt_max", &c->dt_max);
+    if (!rc) rc = ckpt_get_double(ck, "energy_change_max", &c->de_max);
+    if (!rc) rc = ckpt_get_double(ck, "energy_change_centred_max", &c->dec_max);
+    if (!rc) rc = ckpt_get_doubles(ck, "ke_report", c->ke_report, c->nreport);
+    if (!rc) rc = ckpt_get_long(ck, "accumulated_step", &c->acc_step);
+    if (!rc) rc = ckpt_get_long(ck, "thermo_cols", &cols);
+    long nv = rc ? -1 : ckpt_len(ck, "thermo_rows");
+    if (!rc && (nv < 0 || cols <= 0 || cols > MPM_OUTPUT_MAX_COLS || nv % cols != 0))
+        rc = err_set(e, ERR_INPUT, "%s: checkpoint thermo rows are not %ld-column rows",
+                     ck->path, cols);
+    if (!rc) {
+        c->restored_rows = malloc((size_t)(nv > 0 ? nv : 1) * sizeof *c->restored_rows);
+        c->nrestored = nv / cols;
+        c->restored_cols = cols;
+        rc = c->restored_rows ? ckpt_get_doubles(ck, "thermo_rows", c->restored_rows, nv)
+                              : err_nomem(e, "thermo rows");
+    }
+    if (!rc)
+        c->t0 = (struct mpm_totals){t0[0], {t0[1], t0[2], t0[3]}, t0[4], t0[5], t0[6]};
+    return rc;
+}
+
+static const struct sim_case_ops mpm_case_ops = {
+    .begin = mpm_case_begin,
+    .after_step = mpm_case_after_step,
+    .output = mpm_case_output,
+    .report = mpm_case_report,
+    .checkpoint_write = mpm_case_checkpoint_write,
+    .checkpoint_read = mpm_case_checkpoint_read,
+};
+
+static int mpm_type_run(void *state, struct run *run, struct err *e)
+{
+    struct mpm_case *c = state;
+    struct mpm *m = &c->m;
+    const struct mpm_units *u = &c->u;
+    m->timers = &run->timers;
+    m->nthreads = run->opt.nthreads > 0 ? run->opt.nthreads : 1;
+    c->model = (struct mpm_model){m, c->dt_fixed, c->cfl, c->adaptive, c->load_ramp,
+                                  c->energy_tolerance};
+    /* the accumulators from the state at step 0 (a restart reads them back) */
+    mpm_totals(m, &c->t0);
+    double dt = mpm_model_timestep(&c->model);
+    c->dt_first = c->dt_min = c->dt_max = dt;
+    c->de_max = c->dec_max = 0;
+    for (int k = 0; k < c->nreport; k++)
+        c->ke_report[k] = c->report_steps[k] == 0 ? c->t0.kinetic : NAN;
+    c->acc_step = 0;
+    run_log(run,
+            "mpm: %ld points, %ld nodes (%s grid, %s), %s; time step %.6g %s from %s "
+            "(explicit limit %.6g %s, Courant number %.3g)",
+            m->pts.n, m->grid.nnodes, m->grid.kind == MPM_GRID_HIER ? "hierarchical" : "uniform",
+            m->grid.shape == MPM_SHAPE_GIMP ? "GIMP" : "linear",
+            m->algorithm == MPM_MUSL ? "MUSL" : "USL", dt / u->time, u->time_name,
+            c->dt_fixed > 0 ? "mpm.timestep" : "the CFL condition", mpm_stable_dt(m) / u->time,
+            u->time_name, dt / mpm_stable_dt(m));
+    struct sim s;
+    sim_init(&s, run, c->steps, dt);
+    s.case_ops = &mpm_case_ops;
+    s.case_state = c;
+    int rc = sim_add_model(&s, &sim_model_mpm, &c->model, e);
+    return rc ? rc : sim_run(&s, run->opt.restart, e);
 }
 
 static void mpm_type_destroy(void *state)
@@ -230,5 +301,5 @@ static long mpm_type_steps(const void *state)
 const struct case_type mpm_case_type = {
     "mpm", "material point method (MUSL/USL, uniform or hierarchical grid)",
     mpm_type_read, mpm_type_run, mpm_type_destroy, mpm_type_particles, mpm_type_steps,
-    .checkpoints = 0,
+    .checkpoints = 1,
 };

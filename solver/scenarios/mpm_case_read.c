@@ -159,6 +159,10 @@ void mpm_case_free(struct mpm_case *c)
     if (!c)
         return;
     mpm_free(&c->m);
+    free(c->out.buf);
+    free(c->out.ibuf);
+    free(c->out.series);
+    free(c->restored_rows);
     free(c);
 }
 

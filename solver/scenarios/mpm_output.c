@@ -137,6 +137,26 @@ int mpm_output_thermo(struct mpm_output *o, struct run *run, struct mpm_case *c,
     return 0;
 }
 
+int mpm_output_resume(struct mpm_output *o, struct run *run, const double *rows, long nrows,
+                      long ncols, struct err *e)
+{
+    if (nrows <= 0)
+        return 0;
+    if (ncols != o->ncols)
+        return err_set(e, ERR_INPUT, "checkpoint thermo rows have %ld columns, the case's %d",
+                       ncols, o->ncols);
+    double *sr = malloc((size_t)nrows * ncols * sizeof *sr);
+    if (!sr)
+        return err_nomem(e, "thermo series");
+    memcpy(sr, rows, (size_t)nrows * ncols * sizeof *sr);
+    free(o->series);
+    o->series = sr;
+    o->nrows = o->rcap = nrows;
+    for (long i = 0; i < nrows; i++)
+        run_thermo_row(run, rows + i * ncols, (int)ncols);
+    return 0;
+}
+
 static int reserve(struct mpm_output *o, long n, struct err *e)
 {
     if (n > o->cap) {
