@@ -5,6 +5,8 @@
 
 static const struct sim_model_ops *const registry[] = {
     &sim_model_md,
+    &sim_model_dpd,
+    &sim_model_dpd_ref,
     NULL,
 };
 
