@@ -89,7 +89,8 @@ static int refresh_neighbours(struct dpd *d, struct err *e)
 {
     tstart(d, TIMER_NEIGHBOR);
     int rc = 0;
-    if (nlist_needs_rebuild(d->nl, d->p)) {
+    if (d->rebuild_next || nlist_needs_rebuild(d->nl, d->p)) {
+        d->rebuild_next = 0;
         rc = rebuild(d, e);
         tstop(d, TIMER_NEIGHBOR);
     } else {
@@ -237,10 +238,14 @@ static void sync_bodies(struct dpd *d)
     }
 }
 
-int dpd_step(struct dpd *d, struct err *e)
+int dpd_step_sweep_drift(struct dpd *d, struct err *e)
 {
     struct particles *p = d->p;
     int rc = 0;
+    /* a checkpoint asked for ghosts and list rebuilt from the stored state:
+     * the sweep below walks the list */
+    if (d->rebuild_next && (rc = refresh_neighbours(d, e)))
+        return rc;
     /* 1. dissipative + random, pair by pair (positions at t, forces f(t) kept) */
     memset(d->body_impulse, 0, sizeof d->body_impulse);
     if (d->set.gamma > 0) {
@@ -251,9 +256,7 @@ int dpd_step(struct dpd *d, struct err *e)
         if (rc)
             return rc;
     }
-    double impulse[DPD_MAX_BODIES][3];
-    memcpy(impulse, d->body_impulse, sizeof impulse);
-    /* 2. velocity Verlet with the conservative forces */
+    /* 2. velocity Verlet with the conservative forces: half kick, drift */
     double F[DPD_MAX_BODIES][3];
     tstart(d, TIMER_INTEGRATE);
     body_forces(d, F);
@@ -263,9 +266,15 @@ int dpd_step(struct dpd *d, struct err *e)
         for (int c = 0; c < 3; c++)
             p->x[3 * i + c] += d->dt * p->v[3 * i + c];
     tstop(d, TIMER_INTEGRATE);
-    rc = dpd_compute_forces(d, e);
-    if (rc)
-        return rc;
+    return 0;
+}
+
+int dpd_step_forces(struct dpd *d, struct err *e) { return dpd_compute_forces(d, e); }
+
+void dpd_step_kick(struct dpd *d)
+{
+    struct particles *p = d->p;
+    double F[DPD_MAX_BODIES][3];
     tstart(d, TIMER_INTEGRATE);
     body_forces(d, F);
     half_kick(d, F);
@@ -273,12 +282,23 @@ int dpd_step(struct dpd *d, struct err *e)
     if (d->thermo.style == THERMOSTAT_BERENDSEN)
         thermostat_berendsen_rescale(&d->thermo, p, d->dt, dpd_temperature(d));
     sync_bodies(d);
+    /* the sweep's impulse (kept in d->body_impulse since stage 1) as a force */
     for (int b = 0; b < d->nbodies; b++)
         for (int c = 0; c < 3; c++)
-            d->body[b].force[c] = F[b][c] + impulse[b][c] * UNITS_MVV2E / d->dt;
+            d->body[b].force[c] = F[b][c] + d->body_impulse[b][c] * UNITS_MVV2E / d->dt;
     tstop(d, TIMER_INTEGRATE);
     d->step++;
     d->time += d->dt;
+}
+
+int dpd_step(struct dpd *d, struct err *e)
+{
+    int rc = dpd_step_sweep_drift(d, e);
+    if (!rc)
+        rc = dpd_step_forces(d, e);
+    if (rc)
+        return rc;
+    dpd_step_kick(d);
     return 0;
 }
 

@@ -99,6 +99,8 @@ struct dpd {
                                  * pair sweep visits a particle's pairs in the same
                                  * order whatever else is in the system (reference runs) */
     int peratom;                /* keep per-particle energy and virial current */
+    int rebuild_next;           /* rebuild ghosts and list before the next use of them
+                                 * (a checkpoint: engine/model_dpd.c) */
     /* For models that integrate the particles themselves (solver/couple):
      * particles with any bit of passive_mask are passive partners -- copies
      * of another model's particles near an interface (Chen 2014, Eqs.
@@ -116,7 +118,8 @@ struct dpd {
     int ufield;                 /* index of the internal-energy field (DPDE), else -1 */
     double epot;                /* eV: conservative energy, last force call */
     double virial[6];           /* eV: conservative virial, last force call */
-    double body_impulse[DPD_MAX_BODIES][3];   /* amu Å/ps from the last pair sweep */
+    double body_impulse[DPD_MAX_BODIES][3];   /* amu Å/ps from the last pair sweep (zero
+                                               * when the step had none) */
     long nrebuilds;
     struct timers *timers;      /* borrowed, may be NULL */
     /* scratch */
@@ -172,8 +175,19 @@ int dpd_pair_forces(struct dpd *d, double dt, double *f, struct err *e);
 int dpd_pair_heat(struct dpd *d, double dt, const double *w, double *heat, struct err *e);
 
 /* One step: pair sweep (dissipative + random, exact per pair), velocity
- * Verlet with the conservative forces, rigid bodies, optional thermostat. */
+ * Verlet with the conservative forces, rigid bodies, optional thermostat.
+ * The composition of the three stages below, which the engine calls one
+ * by one (engine/model_dpd.c). */
 int dpd_step(struct dpd *d, struct err *e);
+/* Stage 1, up to the force call: the pair sweep at the positions of t
+ * (after a rebuild of ghosts and list when d->rebuild_next asks), the
+ * first half kick with f(t) and the drift to t + dt. */
+int dpd_step_sweep_drift(struct dpd *d, struct err *e);
+/* Stage 2: conservative forces at t + dt (dpd_compute_forces). */
+int dpd_step_forces(struct dpd *d, struct err *e);
+/* Stage 3: the second half kick, the Berendsen rescaling, the bodies'
+ * forces of the step; d->step and d->time advance. */
+void dpd_step_kick(struct dpd *d);
 
 /* Observables of the owned particles (rigid-body particles included). */
 double dpd_kinetic_energy(const struct dpd *d);        /* eV */

@@ -8,6 +8,8 @@ static const struct sim_model_ops *const registry[] = {
     &sim_model_impact_boundary,
     &sim_model_handshake,
     &sim_model_mpm,
+    &sim_model_dpd,
+    &sim_model_dpd_ref,
     NULL,
 };
 

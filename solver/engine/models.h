@@ -6,6 +6,7 @@
 #define CASCADE_MODELS_H
 
 #include "engine/sim.h"
+#include "dpd/dpd.h"
 #include "md/md.h"
 #include "scenarios/impact_boundary.h"
 
@@ -57,6 +58,17 @@ struct mpm_model {
 extern const struct sim_model_ops sim_model_mpm;
 /* The time step the model takes from its current state (ps). */
 double mpm_model_timestep(const struct mpm_model *mm);
+
+/* DPD/DPDE: the Shardlow-split step of dpd/dpd.h as stages (model_dpd.c).
+ * The model's self is a struct dpd_model.  sim_model_dpd_ref is the same
+ * model under another checkpoint group, for a second DPD system of the same
+ * case (the reference run of an impact). */
+struct dpd_model {
+    struct dpd *d;              /* borrowed from the case */
+    int snapshots;              /* 1: per-particle energies when a snapshot is due */
+};
+extern const struct sim_model_ops sim_model_dpd;
+extern const struct sim_model_ops sim_model_dpd_ref;
 
 /* The model named `name`, or NULL. */
 const struct sim_model_ops *sim_model_find(const char *name);

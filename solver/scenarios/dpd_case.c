@@ -21,13 +21,22 @@
 
 #include "analysis/block_average.h"
 #include "core/units.h"
+#include "engine/models.h"
 #include "scenarios/dpd_output.h"
 #include "scenarios/dpd_setup.h"
 #include "input/md_system.h"
 
 struct dpd_case {
     struct dpd d;
+    struct dpd_model model;
     long steps;
+    /* the run's accumulators (checkpointed) */
+    struct dpd_output out;
+    double *plate, *tlate;       /* pressure (GPa) and temperature (K) samples of the
+                                  * second half of the run */
+    long nlate, ns;
+    double *restored_rows;       /* thermo rows read from a checkpoint */
+    long nrestored;
 };
 
 static int dpd_case_read(struct cfg_obj *root, const struct case_common *common, void **state)
@@ -71,54 +80,50 @@ static int all_periodic(const struct box *b)
            b->bc[2] == BOUNDARY_PERIODIC;
 }
 
-static int dpd_case_run(void *state, struct run *run, struct err *e)
+/* --- the run on the engine (engine/sim.h) --------------------------------- */
+
+static int dpd_case_begin(void *state, struct sim *s, struct err *e)
+{
+    struct dpd_case *c = state;
+    int rc = dpd_output_begin(&c->out, s->run, e);
+    if (!rc && s->restarted_from >= 0)
+        rc = dpd_output_resume(&c->out, s->run, c->restored_rows, c->nrestored, e);
+    free(c->restored_rows);
+    c->restored_rows = NULL;
+    return rc;
+}
+
+static int dpd_case_after_step(void *state, struct sim *s, struct err *e)
+{
+    (void)e;
+    struct dpd_case *c = state;
+    struct dpd *d = &c->d;
+    if (s->step > c->steps / 2 && c->ns < c->nlate) {
+        double P[6];
+        dpd_pressure_tensor(d, P);
+        c->plate[c->ns] = (P[0] + P[1] + P[2]) / 3.0 * UNITS_EVA3_TO_GPA;
+        c->tlate[c->ns++] = dpd_temperature(d);
+    }
+    return 0;
+}
+
+static int dpd_case_output(void *state, struct sim *s, unsigned due, struct err *e)
+{
+    struct dpd_case *c = state;
+    (void)due;   /* dpd_output_step reads the same schedule */
+    int rc = dpd_output_step(&c->out, s->run, &c->d, c->steps);
+    return rc ? err_set(e, ERR_RUNTIME, "%s: cannot write the outputs of step %ld",
+                        s->run->opt.out_dir, s->step)
+              : 0;
+}
+
+static int dpd_case_report(void *state, struct sim *s, int run_rc, struct err *e)
 {
     struct dpd_case *c = state;
     struct dpd *d = &c->d;
-    d->timers = &run->timers;
-    struct dpd_output out;
-    int rc = dpd_output_begin(&out, run, e);
-    if (rc)
-        return rc;
-    long nlate = c->steps - c->steps / 2;
-    double *plate = malloc((size_t)(nlate > 0 ? nlate : 1) * sizeof *plate);
-    double *tlate = malloc((size_t)(nlate > 0 ? nlate : 1) * sizeof *tlate);
-    long ns = 0;
-    if (!plate || !tlate) {
-        free(plate);
-        free(tlate);
-        return err_nomem(e, "samples");
-    }
-    d->peratom = run_due(0, c->steps, run->out.snapshot_every);
-    rc = dpd_compute_forces(d, e);
-    double e0 = dpd_total_energy(d);
-    if (!rc)
-        rc = dpd_output_step(&out, run, d, c->steps);
-    progress_start(&run->progress, stderr, c->steps, d->dt, run->opt.progress && !run->opt.quiet);
-    timer_start(&run->timers, TIMER_LOOP);
-    for (long s = 1; s <= c->steps && !rc; s++) {
-        d->peratom = run_due(s, c->steps, run->out.snapshot_every);
-        if ((rc = dpd_step(d, e)))
-            break;
-        double et = dpd_total_energy(d);
-        if (!isfinite(et)) {
-            rc = err_set(e, ERR_DIVERGED, "diverged: non-finite energy at step %ld", s);
-            break;
-        }
-        if (s > c->steps / 2 && ns < nlate) {
-            double P[6];
-            dpd_pressure_tensor(d, P);
-            plate[ns] = (P[0] + P[1] + P[2]) / 3.0 * UNITS_EVA3_TO_GPA;
-            tlate[ns++] = dpd_temperature(d);
-        }
-        rc = dpd_output_step(&out, run, d, c->steps);
-        progress_update(&run->progress, s);
-    }
-    timer_stop(&run->timers, TIMER_LOOP);
-    progress_finish(&run->progress, d->step);
-
-    struct result *res = &run->result;
-    long n = d->p->n_owned;
+    struct result *res = &s->run->result;
+    long n = d->p->n_owned, ns = c->ns;
+    double e0 = s->e0[0].total;
     double ke = dpd_kinetic_energy(d), u = dpd_internal_energy(d), P[6], mom[3];
     double et = d->epot + ke + u;
     dpd_pressure_tensor(d, P);
@@ -131,8 +136,8 @@ static int dpd_case_run(void *state, struct run *run, struct err *e)
     result_metric(res, "energy_drift", (et - e0) / fabs(e0 != 0 ? e0 : 1.0), "1");
     result_metric(res, "temperature", dpd_temperature(d), "K");
     double sem;
-    result_metric(res, "temperature_mean", ns ? block_average(tlate, ns, 10, NULL) : NAN, "K");
-    double pm = ns ? block_average(plate, ns, 10, &sem) : NAN;
+    result_metric(res, "temperature_mean", ns ? block_average(c->tlate, ns, 10, NULL) : NAN, "K");
+    double pm = ns ? block_average(c->plate, ns, 10, &sem) : NAN;
     result_metric(res, "pressure_mean", pm, "GPa");
     result_metric(res, "pressure_sem", ns ? sem : NAN, "GPa");
     if (all_periodic(&d->box))
@@ -142,12 +147,65 @@ static int dpd_case_run(void *state, struct run *run, struct err *e)
     result_metric(res, "momentum", sqrt(mom[0] * mom[0] + mom[1] * mom[1] + mom[2] * mom[2]),
                   "amu Å/ps");
     result_metric(res, "neighbor_rebuilds", (double)d->nrebuilds, "1");
-    free(plate);
-    free(tlate);
-    int rc2 = dpd_output_end(&out, run, e);
-    if (!rc && !rc2)
-        rc2 = run_write_final_state(run, d->p, &d->box, d->step, d->time, e);
-    return rc ? rc : rc2;
+    int rc = dpd_output_end(&c->out, s->run, e);
+    if (!run_rc && !rc)
+        rc = run_write_final_state(s->run, d->p, &d->box, d->step, d->time, e);
+    return rc;
+}
+
+static int dpd_case_checkpoint_write(void *state, struct ckpt *ck, struct err *e)
+{
+    (void)e;
+    struct dpd_case *c = state;
+    int rc = ckpt_put_doubles(ck, "pressure_samples", c->plate, c->ns);
+    if (!rc) rc = ckpt_put_doubles(ck, "temperature_samples", c->tlate, c->ns);
+    if (!rc) rc = dpd_output_checkpoint_write(&c->out, ck);
+    return rc;
+}
+
+static int dpd_case_checkpoint_read(void *state, struct ckpt *ck, struct err *e)
+{
+    struct dpd_case *c = state;
+    long ns = ckpt_len(ck, "pressure_samples");
+    int rc = ns < 0 ? ERR_INPUT : 0;
+    if (!rc && ns > c->nlate)
+        rc = err_set(e, ERR_INPUT, "%s: checkpoint has %ld pressure samples, at most %ld fit",
+                     ck->path, ns, c->nlate);
+    if (!rc) rc = ckpt_get_doubles(ck, "pressure_samples", c->plate, ns);
+    if (!rc) rc = ckpt_get_doubles(ck, "temperature_samples", c->tlate, ns);
+    if (!rc) {
+        c->ns = ns;
+        rc = dpd_output_checkpoint_read(ck, &c->restored_rows, &c->nrestored, e);
+    }
+    return rc;
+}
+
+static const struct sim_case_ops dpd_case_ops = {
+    .begin = dpd_case_begin,
+    .after_step = dpd_case_after_step,
+    .output = dpd_case_output,
+    .report = dpd_case_report,
+    .checkpoint_write = dpd_case_checkpoint_write,
+    .checkpoint_read = dpd_case_checkpoint_read,
+};
+
+static int dpd_case_run(void *state, struct run *run, struct err *e)
+{
+    struct dpd_case *c = state;
+    struct dpd *d = &c->d;
+    d->timers = &run->timers;
+    c->nlate = c->steps - c->steps / 2;
+    c->plate = malloc((size_t)(c->nlate > 0 ? c->nlate : 1) * sizeof *c->plate);
+    c->tlate = malloc((size_t)(c->nlate > 0 ? c->nlate : 1) * sizeof *c->tlate);
+    if (!c->plate || !c->tlate)
+        return err_nomem(e, "samples");
+    c->model = (struct dpd_model){d, 1};
+    struct sim s;
+    sim_init(&s, run, c->steps, d->dt);
+    s.case_ops = &dpd_case_ops;
+    s.case_state = c;
+    int rc = sim_add_model(&s, &sim_model_dpd, &c->model, e);
+    return rc ? rc : sim_run(&s, run->opt.restart, e);
 }
 
 static void dpd_case_destroy(void *state)
@@ -156,6 +214,9 @@ static void dpd_case_destroy(void *state)
     if (!c)
         return;
     dpd_free(&c->d);
+    free(c->plate);
+    free(c->tlate);
+    free(c->restored_rows);
     free(c);
 }
 
@@ -174,5 +235,5 @@ static long dpd_case_steps(const void *state)
 const struct case_type dpd_case_type = {
     "dpd", "DPD or DPDE dynamics of one configuration (equilibration, isotherm points)",
     dpd_case_read, dpd_case_run, dpd_case_destroy, dpd_case_particles, dpd_case_steps,
-    .checkpoints = 0,
+    .checkpoints = 1,
 };

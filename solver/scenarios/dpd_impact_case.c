@@ -71,6 +71,7 @@
 #include "analysis/wave_arrival.h"
 #include "core/lattice.h"
 #include "core/units.h"
+#include "engine/models.h"
 #include "scenarios/dpd_bar.h"
 #include "scenarios/dpd_impact_setup.h"
 #include "scenarios/dpd_output.h"
@@ -96,6 +97,20 @@ struct impact_case {
     int xref;                  /* displacement reference field */
     long n_target, n_flyer;
     struct dpd_structure st;   /* CNA of the flyer run (Fig. 4) */
+    struct dpd_model model[2]; /* the flyer run and the reference run on the engine */
+    /* the run's accumulators (checkpointed) */
+    struct dpd_output out;
+    long nsamp, ns;            /* samples: room for, taken */
+    double *ts, *s1, *s2, *es, *r1, *r2;   /* time, region displacements, energy, raw */
+    long count[2];             /* particles in the regions at the last sample */
+    int nbins;
+    double *prof;              /* nprofiles x nbins, NaN until taken */
+    double *pref;              /* scratch: the reference run's profile */
+    long *pstep;               /* step of each profile time */
+    double P0[3];              /* momentum at the start */
+    double demax;              /* largest |etotal - etotal(0)| so far */
+    double *restored_rows;     /* thermo rows read from a checkpoint */
+    long nrestored;
 };
 
 static int impact_read(struct cfg_obj *root, const struct case_common *common, void **state)
@@ -236,93 +251,89 @@ static double region_disp(const struct impact_case *c, int r, long *count, doubl
                                          NULL);
 }
 
-static int impact_run(void *state, struct run *run, struct err *e)
+/* Samples of step `step`: region displacements and energy every
+ * sample_every steps and at the end, profiles at their times. */
+static void impact_sample(struct impact_case *c, struct run *run, long step)
+{
+    struct dpd *d = &c->d;
+    timer_start(&run->timers, TIMER_ANALYSIS);
+    if (step % c->sample_every == 0 || step == c->steps) {
+        long ns = c->ns;
+        c->ts[ns] = d->time;
+        c->s1[ns] = region_disp(c, 0, &c->count[0], &c->r1[ns]);
+        c->s2[ns] = region_disp(c, 1, &c->count[1], &c->r2[ns]);
+        c->es[ns] = dpd_total_energy(d);
+        c->ns++;
+    }
+    for (size_t q = 0; q < c->nprofiles; q++) {
+        if (c->pstep[q] != step)
+            continue;
+        double *pq = c->prof + q * c->nbins;
+        displacement_profile(d->p, &d->box, c->xref, c->axis, c->face, c->profile_bin, c->nbins,
+                             FLYER_BIT, pq);
+        if (c->has_ref) {
+            displacement_profile(c->ref.p, &c->ref.box, c->xref_ref, c->axis, c->face,
+                                 c->profile_bin, c->nbins, 0, c->pref);
+            for (int b = 0; b < c->nbins; b++)
+                pq[b] -= c->pref[b];
+        }
+    }
+    timer_stop(&run->timers, TIMER_ANALYSIS);
+}
+
+/* --- the run on the engine (engine/sim.h) --------------------------------- */
+
+static int impact_begin(void *state, struct sim *s, struct err *e)
 {
     struct impact_case *c = state;
     struct dpd *d = &c->d;
-    d->timers = &run->timers;
-    struct dpd_output out;
-    int rc = dpd_output_begin(&out, run, e);
+    int rc = dpd_output_begin(&c->out, s->run, e);
+    if (!rc && s->restarted_from >= 0)
+        rc = dpd_output_resume(&c->out, s->run, c->restored_rows, c->nrestored, e);
+    free(c->restored_rows);
+    c->restored_rows = NULL;
+    if (rc || s->restarted_from >= 0)
+        return rc;
+    /* step 0: the state the conservation metrics and the structure start from */
+    dpd_momentum(d, c->P0);
+    if ((rc = dpd_structure_classify(&c->st, d, e)))
+        return rc;
+    impact_sample(c, s->run, 0);
+    return 0;
+}
+
+static int impact_after_step(void *state, struct sim *s, struct err *e)
+{
+    (void)e;
+    struct impact_case *c = state;
+    c->demax = fmax(c->demax, fabs(dpd_total_energy(&c->d) - s->e0[0].total));
+    impact_sample(c, s->run, s->step);
+    return 0;
+}
+
+static int impact_output(void *state, struct sim *s, unsigned due, struct err *e)
+{
+    struct impact_case *c = state;
+    (void)due;   /* dpd_output_step reads the same schedule */
+    int rc = dpd_structure_before_output(&c->st, s->run, &c->d, c->steps, e);
     if (rc)
         return rc;
-    long nsamp = c->steps / c->sample_every + 2;
-    int nbins = (int)ceil(c->length / c->profile_bin);
-    double *ts = malloc((size_t)nsamp * sizeof *ts), *s1 = malloc((size_t)nsamp * sizeof *s1),
-           *s2 = malloc((size_t)nsamp * sizeof *s2), *es = malloc((size_t)nsamp * sizeof *es);
-    double *r1 = malloc((size_t)nsamp * sizeof *r1), *r2 = malloc((size_t)nsamp * sizeof *r2);
-    double *prof = calloc((c->nprofiles ? c->nprofiles : 1) * (size_t)nbins, sizeof *prof);
-    double *pref = calloc((size_t)nbins, sizeof *pref);
-    long *pstep = malloc((c->nprofiles ? c->nprofiles : 1) * sizeof *pstep);
-    if (!ts || !s1 || !s2 || !es || !r1 || !r2 || !prof || !pref || !pstep) {
-        rc = err_nomem(e, "impact samples");
-        goto done;
-    }
-    for (size_t q = 0; q < c->nprofiles; q++) {
-        pstep[q] = lround(c->profile_times[q] / d->dt);
-        for (int b = 0; b < nbins; b++)
-            prof[q * nbins + b] = NAN;
-    }
-    long ns = 0, count[2] = {0, 0};
-    double P0[3], e0, demax = 0;
-    d->peratom = run_due(0, c->steps, run->out.snapshot_every);
-    if ((rc = dpd_compute_forces(d, e)))
-        goto done;
-    if (c->has_ref) {
-        c->ref.timers = NULL;
-        if ((rc = dpd_compute_forces(&c->ref, e)))
-            goto done;
-    }
-    dpd_momentum(d, P0);
-    e0 = dpd_total_energy(d);
-    if ((rc = dpd_structure_classify(&c->st, d, e)))
-        goto done;
-    rc = dpd_output_step(&out, run, d, c->steps);
-    progress_start(&run->progress, stderr, c->steps, d->dt, run->opt.progress && !run->opt.quiet);
-    timer_start(&run->timers, TIMER_LOOP);
-    for (long s = 0; s <= c->steps && !rc; s++) {
-        if (s > 0) {
-            d->peratom = run_due(s, c->steps, run->out.snapshot_every);
-            if ((rc = dpd_step(d, e)) || (c->has_ref && (rc = dpd_step(&c->ref, e))))
-                break;
-            double et = dpd_total_energy(d);
-            if (!isfinite(et)) {
-                rc = err_set(e, ERR_DIVERGED, "diverged: non-finite energy at step %ld", s);
-                break;
-            }
-            demax = fmax(demax, fabs(et - e0));
-            if ((rc = dpd_structure_before_output(&c->st, run, d, c->steps, e)))
-                break;
-            rc = dpd_output_step(&out, run, d, c->steps);
-            progress_update(&run->progress, s);
-        }
-        timer_start(&run->timers, TIMER_ANALYSIS);
-        if (s % c->sample_every == 0 || s == c->steps) {
-            ts[ns] = d->time;
-            s1[ns] = region_disp(c, 0, &count[0], &r1[ns]);
-            s2[ns] = region_disp(c, 1, &count[1], &r2[ns]);
-            es[ns] = dpd_total_energy(d);
-            ns++;
-        }
-        for (size_t q = 0; q < c->nprofiles; q++) {
-            if (pstep[q] != s)
-                continue;
-            double *pq = prof + q * nbins;
-            displacement_profile(d->p, &d->box, c->xref, c->axis, c->face, c->profile_bin, nbins,
-                                 FLYER_BIT, pq);
-            if (c->has_ref) {
-                displacement_profile(c->ref.p, &c->ref.box, c->xref_ref, c->axis, c->face,
-                                     c->profile_bin, nbins, 0, pref);
-                for (int b = 0; b < nbins; b++)
-                    pq[b] -= pref[b];
-            }
-        }
-        timer_stop(&run->timers, TIMER_ANALYSIS);
-    }
-    timer_stop(&run->timers, TIMER_LOOP);
-    progress_finish(&run->progress, d->step);
-    if (!rc)
-        rc = dpd_structure_finish(&c->st, run, d, e);
+    rc = dpd_output_step(&c->out, s->run, &c->d, c->steps);
+    return rc ? err_set(e, ERR_RUNTIME, "%s: cannot write the outputs of step %ld",
+                        s->run->opt.out_dir, s->step)
+              : 0;
+}
 
+static int impact_report(void *state, struct sim *s, int run_rc, struct err *e)
+{
+    struct impact_case *c = state;
+    struct dpd *d = &c->d;
+    struct run *run = s->run;
+    int rc = run_rc ? 0 : dpd_structure_finish(&c->st, run, d, e);
+    const long ns = c->ns;
+    const int nbins = c->nbins;
+    const double *ts = c->ts, *s1 = c->s1, *s2 = c->s2;
+    double e0 = s->e0[0].total;
     struct result *res = &run->result;
     double t1 = wave_arrival_time(ts, s1, ns, c->threshold);
     double t2 = wave_arrival_time(ts, s2, ns, c->threshold);
@@ -333,14 +344,15 @@ static int impact_run(void *state, struct run *run, struct err *e)
         m2 = fmax(m2, s2[q]);
     }
     double P1[3], et = dpd_total_energy(d);
+    const double *P0 = c->P0;
     dpd_momentum(d, P1);
     double dP = sqrt((P1[0] - P0[0]) * (P1[0] - P0[0]) + (P1[1] - P0[1]) * (P1[1] - P0[1]) +
                      (P1[2] - P0[2]) * (P1[2] - P0[2]));
     result_metric(res, "wave_speed", speed * UNITS_APS_TO_MS, "m/s");
     result_metric(res, "arrival_time_1", t1, "ps");
     result_metric(res, "arrival_time_2", t2, "ps");
-    result_metric(res, "region_particles_1", (double)count[0], "1");
-    result_metric(res, "region_particles_2", (double)count[1], "1");
+    result_metric(res, "region_particles_1", (double)c->count[0], "1");
+    result_metric(res, "region_particles_2", (double)c->count[1], "1");
     result_metric(res, "displacement_max_1", m1, "Å");
     result_metric(res, "displacement_max_2", m2, "Å");
     result_metric(res, "flyer_velocity_final", d->body[0].v[c->axis], "Å/ps");
@@ -348,15 +360,15 @@ static int impact_run(void *state, struct run *run, struct err *e)
     result_metric(res, "flyer_particles", (double)c->n_flyer, "1");
     result_metric(res, "target_length", c->length, "Å");
     result_metric(res, "energy_drift", (et - e0) / fabs(e0), "1");
-    result_metric(res, "energy_deviation_max", demax / fabs(e0), "1");
+    result_metric(res, "energy_deviation_max", c->demax / fabs(e0), "1");
     result_metric(res, "momentum_change", dP, "amu Å/ps");
     result_metric(res, "temperature", dpd_temperature(d), "K");
     result_series(res, "time_ps", ts, (int)ns, "ps");
     result_series(res, "displacement_region_1", s1, (int)ns, "Å");
     result_series(res, "displacement_region_2", s2, (int)ns, "Å");
     if (c->has_ref) {
-        result_series(res, "raw_displacement_region_1", r1, (int)ns, "Å");
-        result_series(res, "raw_displacement_region_2", r2, (int)ns, "Å");
+        result_series(res, "raw_displacement_region_1", c->r1, (int)ns, "Å");
+        result_series(res, "raw_displacement_region_2", c->r2, (int)ns, "Å");
     }
     {
         /* how the speed depends on the arrival threshold */
@@ -370,7 +382,7 @@ static int impact_run(void *state, struct run *run, struct err *e)
         result_series(res, "arrival_thresholds", th, nth, "Å");
         result_series(res, "wave_speed_scan", vs, nth, "m/s");
     }
-    result_series(res, "etotal", es, (int)ns, "eV");
+    result_series(res, "etotal", c->es, (int)ns, "eV");
     if (c->nprofiles) {
         double *xc = malloc((size_t)nbins * sizeof *xc);
         if (xc) {
@@ -382,25 +394,111 @@ static int impact_run(void *state, struct run *run, struct err *e)
         for (size_t q = 0; q < c->nprofiles; q++) {
             char name[64];
             snprintf(name, sizeof name, "profile_t%gps", c->profile_times[q]);
-            result_series(res, name, prof + q * nbins, nbins, "Å");
+            result_series(res, name, c->prof + q * nbins, nbins, "Å");
         }
     }
     run_log(run, "wave arrival: region 1 at %.4f ps, region 2 at %.4f ps -> %.0f m/s", t1, t2,
             speed * UNITS_APS_TO_MS);
-done:
-    free(ts);
-    free(s1);
-    free(s2);
-    free(es);
-    free(r1);
-    free(r2);
-    free(pref);
-    free(prof);
-    free(pstep);
-    int rc2 = dpd_output_end(&out, run, e);
-    if (!rc && !rc2)
+    int rc2 = dpd_output_end(&c->out, run, e);
+    if (!run_rc && !rc && !rc2)
         rc2 = run_write_final_state(run, d->p, &d->box, d->step, d->time, e);
     return rc ? rc : rc2;
+}
+
+static int impact_checkpoint_write(void *state, struct ckpt *ck, struct err *e)
+{
+    (void)e;
+    struct impact_case *c = state;
+    const long ns = c->ns;
+    int rc = ckpt_put_doubles(ck, "time", c->ts, ns);
+    if (!rc) rc = ckpt_put_doubles(ck, "displacement_1", c->s1, ns);
+    if (!rc) rc = ckpt_put_doubles(ck, "displacement_2", c->s2, ns);
+    if (!rc) rc = ckpt_put_doubles(ck, "raw_displacement_1", c->r1, ns);
+    if (!rc) rc = ckpt_put_doubles(ck, "raw_displacement_2", c->r2, ns);
+    if (!rc) rc = ckpt_put_doubles(ck, "etotal", c->es, ns);
+    if (!rc) rc = ckpt_put_doubles(ck, "profiles", c->prof, (long)c->nprofiles * c->nbins);
+    if (!rc) rc = ckpt_put_doubles(ck, "momentum_start", c->P0, 3);
+    if (!rc) rc = ckpt_put_double(ck, "energy_deviation_max", c->demax);
+    if (!rc) rc = ckpt_put_i64(ck, "region_particles", (const int64_t[2]){c->count[0], c->count[1]}, 2);
+    if (!rc) rc = dpd_structure_checkpoint_write(&c->st, ck);
+    if (!rc) rc = dpd_output_checkpoint_write(&c->out, ck);
+    return rc;
+}
+
+static int impact_checkpoint_read(void *state, struct ckpt *ck, struct err *e)
+{
+    struct impact_case *c = state;
+    long ns = ckpt_len(ck, "time");
+    int rc = ns < 0 ? ERR_INPUT : 0;
+    if (!rc && ns > c->nsamp)
+        rc = err_set(e, ERR_INPUT, "%s: checkpoint has %ld samples, at most %ld fit", ck->path,
+                     ns, c->nsamp);
+    int64_t count[2];
+    if (!rc) rc = ckpt_get_doubles(ck, "time", c->ts, ns);
+    if (!rc) rc = ckpt_get_doubles(ck, "displacement_1", c->s1, ns);
+    if (!rc) rc = ckpt_get_doubles(ck, "displacement_2", c->s2, ns);
+    if (!rc) rc = ckpt_get_doubles(ck, "raw_displacement_1", c->r1, ns);
+    if (!rc) rc = ckpt_get_doubles(ck, "raw_displacement_2", c->r2, ns);
+    if (!rc) rc = ckpt_get_doubles(ck, "etotal", c->es, ns);
+    if (!rc) rc = ckpt_get_doubles(ck, "profiles", c->prof, (long)c->nprofiles * c->nbins);
+    if (!rc) rc = ckpt_get_doubles(ck, "momentum_start", c->P0, 3);
+    if (!rc) rc = ckpt_get_double(ck, "energy_deviation_max", &c->demax);
+    if (!rc) rc = ckpt_get_i64(ck, "region_particles", count, 2);
+    if (!rc) {
+        c->ns = ns;
+        c->count[0] = (long)count[0];
+        c->count[1] = (long)count[1];
+        rc = dpd_structure_checkpoint_read(&c->st, ck);
+    }
+    if (!rc) rc = dpd_output_checkpoint_read(ck, &c->restored_rows, &c->nrestored, e);
+    return rc;
+}
+
+static const struct sim_case_ops impact_ops = {
+    .begin = impact_begin,
+    .after_step = impact_after_step,
+    .output = impact_output,
+    .report = impact_report,
+    .checkpoint_write = impact_checkpoint_write,
+    .checkpoint_read = impact_checkpoint_read,
+};
+
+static int impact_run(void *state, struct run *run, struct err *e)
+{
+    struct impact_case *c = state;
+    struct dpd *d = &c->d;
+    d->timers = &run->timers;
+    long nsamp = c->nsamp = c->steps / c->sample_every + 2;
+    int nbins = c->nbins = (int)ceil(c->length / c->profile_bin);
+    size_t np = c->nprofiles ? c->nprofiles : 1;
+    c->ts = malloc((size_t)nsamp * sizeof *c->ts);
+    c->s1 = malloc((size_t)nsamp * sizeof *c->s1);
+    c->s2 = malloc((size_t)nsamp * sizeof *c->s2);
+    c->es = malloc((size_t)nsamp * sizeof *c->es);
+    c->r1 = malloc((size_t)nsamp * sizeof *c->r1);
+    c->r2 = malloc((size_t)nsamp * sizeof *c->r2);
+    c->prof = calloc(np * (size_t)nbins, sizeof *c->prof);
+    c->pref = calloc((size_t)nbins, sizeof *c->pref);
+    c->pstep = malloc(np * sizeof *c->pstep);
+    if (!c->ts || !c->s1 || !c->s2 || !c->es || !c->r1 || !c->r2 || !c->prof || !c->pref ||
+        !c->pstep)
+        return err_nomem(e, "impact samples");
+    for (size_t q = 0; q < c->nprofiles; q++) {
+        c->pstep[q] = lround(c->profile_times[q] / d->dt);
+        for (int b = 0; b < nbins; b++)
+            c->prof[q * nbins + b] = NAN;
+    }
+    /* the reference run keeps no per-particle energies (it is not written) */
+    c->model[0] = (struct dpd_model){d, 1};
+    c->model[1] = (struct dpd_model){&c->ref, 0};
+    struct sim s;
+    sim_init(&s, run, c->steps, d->dt);
+    s.case_ops = &impact_ops;
+    s.case_state = c;
+    int rc = sim_add_model(&s, &sim_model_dpd, &c->model[0], e);
+    if (!rc && c->has_ref)
+        rc = sim_add_model(&s, &sim_model_dpd_ref, &c->model[1], e);
+    return rc ? rc : sim_run(&s, run->opt.restart, e);
 }
 
 static void impact_destroy(void *state)
@@ -413,6 +511,16 @@ static void impact_destroy(void *state)
         dpd_free(&c->ref);
     dpd_structure_free(&c->st);
     free(c->profile_times);
+    free(c->ts);
+    free(c->s1);
+    free(c->s2);
+    free(c->es);
+    free(c->r1);
+    free(c->r2);
+    free(c->prof);
+    free(c->pref);
+    free(c->pstep);
+    free(c->restored_rows);
     free(c);
 }
 
@@ -435,5 +543,5 @@ static long impact_steps(const void *state)
 const struct case_type dpd_impact_case_type = {
     "dpd_impact", "DPD flyer/target impact: wave arrival at reference regions, wave speed",
     impact_read, impact_run, impact_destroy, impact_particles, impact_steps,
-    .checkpoints = 0,
+    .checkpoints = 1,
 };

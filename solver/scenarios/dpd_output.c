@@ -25,6 +25,50 @@ int dpd_output_begin(struct dpd_output *o, struct run *run, struct err *e)
     return 0;
 }
 
+int dpd_output_resume(struct dpd_output *o, struct run *run, const double *rows, long nrows,
+                      struct err *e)
+{
+    if (nrows <= 0)
+        return 0;
+    double *sr = malloc((size_t)nrows * DPD_THERMO_COLS * sizeof *sr);
+    if (!sr)
+        return err_nomem(e, "thermo series");
+    memcpy(sr, rows, (size_t)nrows * DPD_THERMO_COLS * sizeof *sr);
+    free(o->series);
+    o->series = sr;
+    o->nrows = o->cap = nrows;
+    for (long i = 0; i < nrows; i++)
+        run_thermo_row(run, rows + i * DPD_THERMO_COLS, DPD_THERMO_COLS);
+    return 0;
+}
+
+int dpd_output_checkpoint_write(const struct dpd_output *o, struct ckpt *ck)
+{
+    return ckpt_put_doubles(ck, "thermo_rows", o->series, o->nrows * DPD_THERMO_COLS);
+}
+
+int dpd_output_checkpoint_read(struct ckpt *ck, double **rows, long *nrows, struct err *e)
+{
+    long nv = ckpt_len(ck, "thermo_rows");
+    if (nv < 0)
+        return ERR_INPUT;
+    if (nv % DPD_THERMO_COLS != 0)
+        return err_set(e, ERR_INPUT, "%s: checkpoint thermo rows are not %d-column rows",
+                       ck->path, DPD_THERMO_COLS);
+    double *r = malloc((size_t)(nv > 0 ? nv : 1) * sizeof *r);
+    if (!r)
+        return err_nomem(e, "thermo rows");
+    int rc = ckpt_get_doubles(ck, "thermo_rows", r, nv);
+    if (rc) {
+        free(r);
+        return rc;
+    }
+    free(*rows);
+    *rows = r;
+    *nrows = nv / DPD_THERMO_COLS;
+    return 0;
+}
+
 static int thermo_row(struct dpd_output *o, struct run *run, struct dpd *d)
 {
     double P[6];

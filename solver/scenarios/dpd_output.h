@@ -14,6 +14,7 @@
 #define CASCADE_DPD_OUTPUT_H
 
 #include "dpd/dpd.h"
+#include "output/checkpoint.h"
 #include "output/run.h"
 
 #define DPD_THERMO_COLS 8
@@ -26,6 +27,15 @@ struct dpd_output {
 };
 
 int dpd_output_begin(struct dpd_output *o, struct run *run, struct err *e);
+/* A restarted run: the thermo rows of the steps before the checkpoint
+ * (nrows rows of DPD_THERMO_COLS, as o->series held them) back into the
+ * series and thermo.csv.  Call after dpd_output_begin. */
+int dpd_output_resume(struct dpd_output *o, struct run *run, const double *rows, long nrows,
+                      struct err *e);
+/* Checkpoint the thermo rows so far (group entered by the caller) / read
+ * them back into a new buffer *rows (owned by the caller) of *nrows rows. */
+int dpd_output_checkpoint_write(const struct dpd_output *o, struct ckpt *ck);
+int dpd_output_checkpoint_read(struct ckpt *ck, double **rows, long *nrows, struct err *e);
 /* Act on d->step if due (thermo, snapshot, xyz). */
 int dpd_output_step(struct dpd_output *o, struct run *run, struct dpd *d, long total_steps);
 int dpd_output_snapshot(struct dpd_output *o, struct run *run, struct dpd *d);

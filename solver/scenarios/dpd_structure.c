@@ -108,6 +108,33 @@ int dpd_structure_finish(struct dpd_structure *s, struct run *run, struct dpd *d
     return 0;
 }
 
+int dpd_structure_checkpoint_write(const struct dpd_structure *s, struct ckpt *ck)
+{
+    int64_t v[2 * STRUCT_NCLASSES + 2];
+    for (int k = 0; k < STRUCT_NCLASSES; k++) {
+        v[k] = s->counts[k];
+        v[STRUCT_NCLASSES + k] = s->start[k];
+    }
+    v[2 * STRUCT_NCLASSES] = s->counted;
+    v[2 * STRUCT_NCLASSES + 1] = s->classified_step;
+    return ckpt_put_i64(ck, "structure_counts", v, 2 * STRUCT_NCLASSES + 2);
+}
+
+int dpd_structure_checkpoint_read(struct dpd_structure *s, struct ckpt *ck)
+{
+    int64_t v[2 * STRUCT_NCLASSES + 2];
+    int rc = ckpt_get_i64(ck, "structure_counts", v, 2 * STRUCT_NCLASSES + 2);
+    if (rc)
+        return rc;
+    for (int k = 0; k < STRUCT_NCLASSES; k++) {
+        s->counts[k] = (long)v[k];
+        s->start[k] = (long)v[STRUCT_NCLASSES + k];
+    }
+    s->counted = (long)v[2 * STRUCT_NCLASSES];
+    s->classified_step = (long)v[2 * STRUCT_NCLASSES + 1];
+    return 0;
+}
+
 void dpd_structure_free(struct dpd_structure *s)
 {
     frame_free(&s->fr);

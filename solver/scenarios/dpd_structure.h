@@ -30,6 +30,7 @@
 #include "analysis/frame.h"
 #include "analysis/structure.h"
 #include "dpd/dpd.h"
+#include "output/checkpoint.h"
 #include "output/run.h"
 #include "util/cfg.h"
 
@@ -63,6 +64,12 @@ int dpd_structure_before_output(struct dpd_structure *s, struct run *run, struct
 
 /* Classify the final state (unless just done) and write the metrics. */
 int dpd_structure_finish(struct dpd_structure *s, struct run *run, struct dpd *d, struct err *e);
+
+/* The counts at the start and of the last classification, and its step,
+ * for a restarted run (the classes themselves are the particle field,
+ * checkpointed with the particles). */
+int dpd_structure_checkpoint_write(const struct dpd_structure *s, struct ckpt *ck);
+int dpd_structure_checkpoint_read(struct dpd_structure *s, struct ckpt *ck);
 
 void dpd_structure_free(struct dpd_structure *s);
 

@@ -36,11 +36,19 @@
  */
 #include <stdlib.h>
 
+#include "engine/models.h"
+#include "scenarios/dpd_output.h"
 #include "scenarios/dpd_tensile_setup.h"
 
 struct tensile_case {
     struct dpd d;
     struct dpd_tensile t;
+    struct dpd_model model;
+    /* the run's accumulators (checkpointed) */
+    struct dpd_output out;
+    struct dpd_tensile_curve cv;
+    double *restored_rows;       /* thermo rows read from a checkpoint */
+    long nrestored;
 };
 
 static int tensile_read(struct cfg_obj *root, const struct case_common *common, void **state)
@@ -57,12 +65,88 @@ static int tensile_read(struct cfg_obj *root, const struct case_common *common, 
     return 0;
 }
 
-static int dpd_only_step(void *ctx, struct err *e) { return dpd_step(ctx, e); }
+/* --- the run on the engine (engine/sim.h) --------------------------------- */
+
+static int tensile_begin(void *state, struct sim *s, struct err *e)
+{
+    struct tensile_case *c = state;
+    int rc = dpd_output_begin(&c->out, s->run, e);
+    if (!rc && s->restarted_from >= 0)
+        rc = dpd_output_resume(&c->out, s->run, c->restored_rows, c->nrestored, e);
+    free(c->restored_rows);
+    c->restored_rows = NULL;
+    return rc;
+}
+
+static int tensile_after_step(void *state, struct sim *s, struct err *e)
+{
+    (void)e;
+    struct tensile_case *c = state;
+    dpd_tensile_curve_add(&c->cv, &c->t, &c->d, s->step == c->t.steps);
+    return 0;
+}
+
+static int tensile_output(void *state, struct sim *s, unsigned due, struct err *e)
+{
+    struct tensile_case *c = state;
+    (void)due;   /* dpd_output_step reads the same schedule */
+    int rc = dpd_output_step(&c->out, s->run, &c->d, c->t.steps);
+    return rc ? err_set(e, ERR_RUNTIME, "%s: cannot write the outputs of step %ld",
+                        s->run->opt.out_dir, s->step)
+              : 0;
+}
+
+static int tensile_report(void *state, struct sim *s, int run_rc, struct err *e)
+{
+    struct tensile_case *c = state;
+    struct dpd *d = &c->d;
+    dpd_tensile_curve_report(&c->cv, &c->t, d, s->run);
+    int rc = dpd_output_end(&c->out, s->run, e);
+    if (!run_rc && !rc)
+        rc = run_write_final_state(s->run, d->p, &d->box, d->step, d->time, e);
+    return rc;
+}
+
+static int tensile_checkpoint_write(void *state, struct ckpt *ck, struct err *e)
+{
+    (void)e;
+    struct tensile_case *c = state;
+    int rc = dpd_tensile_curve_checkpoint_write(&c->cv, ck);
+    if (!rc) rc = dpd_output_checkpoint_write(&c->out, ck);
+    return rc;
+}
+
+static int tensile_checkpoint_read(void *state, struct ckpt *ck, struct err *e)
+{
+    struct tensile_case *c = state;
+    int rc = dpd_tensile_curve_checkpoint_read(&c->cv, ck, e);
+    if (!rc) rc = dpd_output_checkpoint_read(ck, &c->restored_rows, &c->nrestored, e);
+    return rc;
+}
+
+static const struct sim_case_ops tensile_ops = {
+    .begin = tensile_begin,
+    .after_step = tensile_after_step,
+    .output = tensile_output,
+    .report = tensile_report,
+    .checkpoint_write = tensile_checkpoint_write,
+    .checkpoint_read = tensile_checkpoint_read,
+};
 
 static int tensile_run(void *state, struct run *run, struct err *e)
 {
     struct tensile_case *c = state;
-    return dpd_tensile_run(&c->d, &c->t, dpd_only_step, &c->d, run, e);
+    c->d.timers = &run->timers;
+    int rc = dpd_tensile_curve_init(&c->cv, &c->t, e);
+    if (rc)
+        return rc;
+    c->model = (struct dpd_model){&c->d, 1};
+    struct sim s;
+    sim_init(&s, run, c->t.steps, c->d.dt);
+    s.case_ops = &tensile_ops;
+    s.case_state = c;
+    rc = sim_add_model(&s, &sim_model_dpd, &c->model, e);
+    return rc ? rc : sim_run(&s, run->opt.restart, e);
 }
 
 static void tensile_destroy(void *state)
@@ -71,6 +155,8 @@ static void tensile_destroy(void *state)
     if (!c)
         return;
     dpd_free(&c->d);
+    dpd_tensile_curve_free(&c->cv);
+    free(c->restored_rows);
     free(c);
 }
 
@@ -89,5 +175,5 @@ static long tensile_steps(const void *state)
 const struct case_type dpd_tensile_case_type = {
     "dpd_tensile", "DPD tensile rod pulled by rigid ends: stress-strain curve and peak stress",
     tensile_read, tensile_run, tensile_destroy, tensile_particles, tensile_steps,
-    .checkpoints = 0,
+    .checkpoints = 1,
 };

@@ -99,6 +99,103 @@ int dpd_tensile_read(struct cfg_obj *root, const struct case_common *common, str
     return 0;
 }
 
+int dpd_tensile_curve_init(struct dpd_tensile_curve *cv, const struct dpd_tensile *t,
+                           struct err *e)
+{
+    memset(cv, 0, sizeof *cv);
+    cv->cap = t->steps / t->sample_every + 2;
+    cv->strain = malloc((size_t)cv->cap * sizeof *cv->strain);
+    cv->stress = malloc((size_t)cv->cap * sizeof *cv->stress);
+    cv->times = malloc((size_t)cv->cap * sizeof *cv->times);
+    if (!cv->strain || !cv->stress || !cv->times) {
+        dpd_tensile_curve_free(cv);
+        return err_nomem(e, "stress-strain samples");
+    }
+    return 0;
+}
+
+void dpd_tensile_curve_add(struct dpd_tensile_curve *cv, const struct dpd_tensile *c,
+                           const struct dpd *d, int last)
+{
+    /* Chen 2014 Sec. 4.1.2: stress from the rigid-end forces */
+    cv->fsum += 0.5 * (d->body[0].force[c->axis] - d->body[1].force[c->axis]);
+    cv->tsum += d->time;
+    cv->nacc++;
+    if (cv->nacc == c->sample_every || last) {
+        double t = cv->tsum / cv->nacc;
+        cv->times[cv->n] = t;
+        cv->strain[cv->n] = 2.0 * c->v * t / c->L0;
+        cv->stress[cv->n] = cv->fsum / cv->nacc / c->area * UNITS_EVA3_TO_GPA;
+        cv->n++;
+        cv->fsum = cv->tsum = 0;
+        cv->nacc = 0;
+    }
+}
+
+void dpd_tensile_curve_report(const struct dpd_tensile_curve *cv, const struct dpd_tensile *c,
+                              const struct dpd *d, struct run *run)
+{
+    struct result *res = &run->result;
+    const long ns = cv->n;
+    const double *strain = cv->strain, *stress = cv->stress;
+    long kpk = -1;
+    for (long k = 0; k < ns; k++)
+        if (kpk < 0 || stress[k] > stress[kpk])
+            kpk = k;
+    result_metric(res, "peak_stress", kpk >= 0 ? stress[kpk] : NAN, "GPa");
+    result_metric(res, "strain_at_peak", kpk >= 0 ? strain[kpk] : NAN, "1");
+    result_metric(res, "strain_rate", 2.0 * c->v / c->L0, "1/ps");
+    result_metric(res, "strain_final", 2.0 * c->v * d->time / c->L0, "1");
+    result_metric(res, "rod_length", c->L0, "Å");
+    result_metric(res, "area", c->area, "Å^2");
+    result_metric(res, "particles", (double)d->p->n_owned, "1");
+    result_metric(res, "grip_particles", (double)c->ngrip, "1");
+    result_metric(res, "temperature", dpd_temperature(d), "K");
+    result_series(res, "time_ps", cv->times, (int)ns, "ps");
+    result_series(res, "strain", strain, (int)ns, "1");
+    result_series(res, "stress", stress, (int)ns, "GPa");
+    if (kpk >= 0)
+        run_log(run, "peak stress %.3f GPa at strain %.4f", stress[kpk], strain[kpk]);
+}
+
+int dpd_tensile_curve_checkpoint_write(const struct dpd_tensile_curve *cv, struct ckpt *ck)
+{
+    int rc = ckpt_put_doubles(ck, "strain", cv->strain, cv->n);
+    if (!rc) rc = ckpt_put_doubles(ck, "stress", cv->stress, cv->n);
+    if (!rc) rc = ckpt_put_doubles(ck, "time", cv->times, cv->n);
+    if (!rc) rc = ckpt_put_double(ck, "force_sum", cv->fsum);
+    if (!rc) rc = ckpt_put_double(ck, "time_sum", cv->tsum);
+    if (!rc) rc = ckpt_put_long(ck, "steps_summed", cv->nacc);
+    return rc;
+}
+
+int dpd_tensile_curve_checkpoint_read(struct dpd_tensile_curve *cv, struct ckpt *ck,
+                                      struct err *e)
+{
+    long n = ckpt_len(ck, "strain");
+    int rc = n < 0 ? ERR_INPUT : 0;
+    if (!rc && n > cv->cap)
+        rc = err_set(e, ERR_INPUT, "%s: checkpoint has %ld stress-strain points, at most %ld fit",
+                     ck->path, n, cv->cap);
+    if (!rc) rc = ckpt_get_doubles(ck, "strain", cv->strain, n);
+    if (!rc) rc = ckpt_get_doubles(ck, "stress", cv->stress, n);
+    if (!rc) rc = ckpt_get_doubles(ck, "time", cv->times, n);
+    if (!rc) rc = ckpt_get_double(ck, "force_sum", &cv->fsum);
+    if (!rc) rc = ckpt_get_double(ck, "time_sum", &cv->tsum);
+    if (!rc) rc = ckpt_get_long(ck, "steps_summed", &cv->nacc);
+    if (!rc)
+        cv->n = n;
+    return rc;
+}
+
+void dpd_tensile_curve_free(struct dpd_tensile_curve *cv)
+{
+    free(cv->strain);
+    free(cv->stress);
+    free(cv->times);
+    memset(cv, 0, sizeof *cv);
+}
+
 int dpd_tensile_run(struct dpd *d, const struct dpd_tensile *c,
                     int (*step)(void *ctx, struct err *e), void *ctx, struct run *run,
                     struct err *e)
@@ -108,22 +205,14 @@ int dpd_tensile_run(struct dpd *d, const struct dpd_tensile *c,
     int rc = dpd_output_begin(&out, run, e);
     if (rc)
         return rc;
-    long nmax = c->steps / c->sample_every + 2;
-    double *strain = malloc((size_t)nmax * sizeof *strain);
-    double *stress = malloc((size_t)nmax * sizeof *stress);
-    double *times = malloc((size_t)nmax * sizeof *times);
-    long ns = 0;
-    if (!strain || !stress || !times) {
-        rc = err_nomem(e, "stress-strain samples");
+    struct dpd_tensile_curve cv;
+    if ((rc = dpd_tensile_curve_init(&cv, c, e)))
         goto done;
-    }
     d->peratom = run_due(0, c->steps, run->out.snapshot_every);
     if ((rc = dpd_compute_forces(d, e)) || (rc = dpd_output_step(&out, run, d, c->steps)))
         goto done;
     progress_start(&run->progress, stderr, c->steps, d->dt, run->opt.progress && !run->opt.quiet);
     timer_start(&run->timers, TIMER_LOOP);
-    double fsum = 0, tsum = 0;
-    long nacc = 0;
     for (long s = 1; s <= c->steps && !rc; s++) {
         d->peratom = run_due(s, c->steps, run->out.snapshot_every);
         if ((rc = step(ctx, e)))
@@ -132,49 +221,15 @@ int dpd_tensile_run(struct dpd *d, const struct dpd_tensile *c,
             rc = err_set(e, ERR_DIVERGED, "diverged: non-finite energy at step %ld", s);
             break;
         }
-        /* Chen 2014 Sec. 4.1.2: stress from the rigid-end forces */
-        fsum += 0.5 * (d->body[0].force[c->axis] - d->body[1].force[c->axis]);
-        tsum += d->time;
-        nacc++;
-        if (nacc == c->sample_every || s == c->steps) {
-            double t = tsum / nacc;
-            times[ns] = t;
-            strain[ns] = 2.0 * c->v * t / c->L0;
-            stress[ns] = fsum / nacc / c->area * UNITS_EVA3_TO_GPA;
-            ns++;
-            fsum = tsum = 0;
-            nacc = 0;
-        }
+        dpd_tensile_curve_add(&cv, c, d, s == c->steps);
         rc = dpd_output_step(&out, run, d, c->steps);
         progress_update(&run->progress, s);
     }
     timer_stop(&run->timers, TIMER_LOOP);
     progress_finish(&run->progress, d->step);
-    {
-        struct result *res = &run->result;
-        long kpk = -1;
-        for (long k = 0; k < ns; k++)
-            if (kpk < 0 || stress[k] > stress[kpk])
-                kpk = k;
-        result_metric(res, "peak_stress", kpk >= 0 ? stress[kpk] : NAN, "GPa");
-        result_metric(res, "strain_at_peak", kpk >= 0 ? strain[kpk] : NAN, "1");
-        result_metric(res, "strain_rate", 2.0 * c->v / c->L0, "1/ps");
-        result_metric(res, "strain_final", 2.0 * c->v * d->time / c->L0, "1");
-        result_metric(res, "rod_length", c->L0, "Å");
-        result_metric(res, "area", c->area, "Å^2");
-        result_metric(res, "particles", (double)d->p->n_owned, "1");
-        result_metric(res, "grip_particles", (double)c->ngrip, "1");
-        result_metric(res, "temperature", dpd_temperature(d), "K");
-        result_series(res, "time_ps", times, (int)ns, "ps");
-        result_series(res, "strain", strain, (int)ns, "1");
-        result_series(res, "stress", stress, (int)ns, "GPa");
-        if (kpk >= 0)
-            run_log(run, "peak stress %.3f GPa at strain %.4f", stress[kpk], strain[kpk]);
-    }
+    dpd_tensile_curve_report(&cv, c, d, run);
 done:
-    free(strain);
-    free(stress);
-    free(times);
+    dpd_tensile_curve_free(&cv);
     {
         int rc2 = dpd_output_end(&out, run, e);
         if (!rc && !rc2)

@@ -29,6 +29,8 @@
 #define CASCADE_DPD_TENSILE_SETUP_H
 
 #include "dpd/dpd.h"
+#include "output/checkpoint.h"
+#include "output/run.h"
 #include "scenarios/case_type.h"
 #include "scenarios/dpd_bar.h"
 
@@ -50,10 +52,36 @@ struct dpd_tensile {
 int dpd_tensile_read(struct cfg_obj *root, const struct case_common *common, struct dpd *d,
                      struct dpd_tensile *t);
 
+/* The stress-strain curve as the run samples it: the pieces a case type
+ * on the engine calls from its hooks (dpd_tensile_case.c), checkpointed. */
+struct dpd_tensile_curve {
+    double *strain, *stress, *times;   /* 1, GPa, ps per point */
+    long n, cap;
+    double fsum, tsum;                 /* grip force (eV/Å) and time (ps) summed over
+                                        * the steps of the point being sampled */
+    long nacc;                         /* steps summed */
+};
+
+int dpd_tensile_curve_init(struct dpd_tensile_curve *cv, const struct dpd_tensile *t,
+                           struct err *e);
+/* After a step: the grips' forces into the current point, which is closed
+ * every sample_every steps and at the last step (`last`). */
+void dpd_tensile_curve_add(struct dpd_tensile_curve *cv, const struct dpd_tensile *t,
+                           const struct dpd *d, int last);
+/* Metrics and series into run->result (and the peak into the log). */
+void dpd_tensile_curve_report(const struct dpd_tensile_curve *cv, const struct dpd_tensile *t,
+                              const struct dpd *d, struct run *run);
+/* Into / from the group the caller entered. */
+int dpd_tensile_curve_checkpoint_write(const struct dpd_tensile_curve *cv, struct ckpt *ck);
+int dpd_tensile_curve_checkpoint_read(struct dpd_tensile_curve *cv, struct ckpt *ck,
+                                      struct err *e);
+void dpd_tensile_curve_free(struct dpd_tensile_curve *cv);
+
 /* Run t->steps steps of `step` (which advances d by one step), sampling
  * the grips' forces into the stress-strain curve; metrics and series into
  * run->result, thermo and snapshots on the output schedule, the final
- * state when asked. */
+ * state when asked.  A private loop, left for dpd_grid_tensile until that
+ * case type runs on the engine (dpd_tensile does: dpd_tensile_case.c). */
 int dpd_tensile_run(struct dpd *d, const struct dpd_tensile *t,
                     int (*step)(void *ctx, struct err *e), void *ctx, struct run *run,
                     struct err *e);

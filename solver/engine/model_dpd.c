@@ -1,0 +1,173 @@
+/*
+ * model_dpd: DPD and DPDE (dpd/dpd.h) as engine stages (models.h).
+ *
+ *   pre_force  the Shardlow pair sweep at the positions of t (dissipative +
+ *              random forces, exact per pair; DPDE moves their energy into
+ *              the internal energies), the first half kick, the drift
+ *   force      conservative forces at t + dt (ghosts and list refreshed)
+ *   integrate  the second half kick, the Berendsen rescaling, the rigid
+ *              bodies' forces of the step
+ *
+ * What a restarted step needs, and where it is: positions, velocities,
+ * forces f(t) (the first half kick uses them), ids, masks, images and every
+ * per-particle field -- the DPDE internal energies u_i among them -- with the
+ * particles; the box (free boundaries follow the particles); the step
+ * counter, which keys every pair's random number with the seed and the two
+ * ids (dpd_pair.h), so no random stream is stored; the conservative energy
+ * and virial of the last force call; the rigid bodies' velocities (free
+ * flyers) and last forces; the rebuild counter (it schedules the spatial
+ * sort).  Not stored: ghosts and the neighbour list.  The sweep visits the
+ * pairs in list order and each pair sees the velocities the previous ones
+ * left, so the list order is part of the arithmetic: at every checkpoint
+ * the continuing run and the restarted one both rebuild ghosts and list
+ * from the stored state before the next sweep (checkpoint_sync), and go on
+ * with the same list.  Body impulses, densities and accumulators are
+ * scratch of one step.
+ */
+#include <stdio.h>
+#include <string.h>
+
+#include "engine/models.h"
+
+static int dpd_model_init(void *self, struct sim *s, struct err *e)
+{
+    struct dpd_model *m = self;
+    if (m->snapshots)
+        m->d->peratom = s->peratom;
+    return dpd_compute_forces(m->d, e);
+}
+
+static int dpd_model_pre_force(void *self, struct sim *s, struct err *e)
+{
+    struct dpd_model *m = self;
+    if (m->snapshots)
+        m->d->peratom = s->peratom;
+    return dpd_step_sweep_drift(m->d, e);
+}
+
+static int dpd_model_force(void *self, struct sim *s, struct err *e)
+{
+    (void)s;
+    struct dpd_model *m = self;
+    return dpd_step_forces(m->d, e);
+}
+
+static int dpd_model_integrate(void *self, struct sim *s, struct err *e)
+{
+    (void)s;
+    (void)e;
+    struct dpd_model *m = self;
+    dpd_step_kick(m->d);
+    return 0;
+}
+
+static void dpd_model_observe(void *self, const struct sim *s, struct sim_energy *en)
+{
+    (void)s;
+    struct dpd_model *m = self;
+    const struct dpd *d = m->d;
+    /* kinetic + potential + internal: conserved by DPDE without a thermostat
+     * and without prescribed bodies (which do work on the system).  No case
+     * key limits its change (limit 0): only finiteness is checked. */
+    en->total = d->epot + dpd_kinetic_energy(d) + dpd_internal_energy(d);
+    int prescribed = 0;
+    for (int b = 0; b < d->nbodies; b++)
+        prescribed |= d->body[b].kind == DPD_BODY_PRESCRIBED;
+    en->conserved = d->set.variant == DPD_ENERGY && d->thermo.style == THERMOSTAT_NONE &&
+                    !prescribed;
+    en->scale = d->p->n_owned > 0 ? d->p->n_owned : 1;
+    en->limit = 0;
+    en->limit_key = NULL;
+    en->unit = "eV/particle";
+}
+
+static int dpd_model_checkpoint_write(void *self, struct ckpt *ck, struct err *e)
+{
+    (void)e;
+    struct dpd_model *m = self;
+    const struct dpd *d = m->d;
+    char g[160], box[200], parts[200];
+    snprintf(g, sizeof g, "%s", ck->where);   /* model/<name>, entered by the engine */
+    snprintf(box, sizeof box, "%s/box", g);
+    snprintf(parts, sizeof parts, "%s/particles", g);
+    double bv[3 * DPD_MAX_BODIES], bf[3 * DPD_MAX_BODIES];
+    for (int b = 0; b < d->nbodies; b++)
+        for (int c = 0; c < 3; c++) {
+            bv[3 * b + c] = d->body[b].v[c];
+            bf[3 * b + c] = d->body[b].force[c];
+        }
+    int rc = ckpt_put_long(ck, "step", d->step);
+    if (!rc) rc = ckpt_put_double(ck, "time", d->time);
+    if (!rc) rc = ckpt_put_long(ck, "nrebuilds", d->nrebuilds);
+    if (!rc) rc = ckpt_put_double(ck, "energy", d->epot);
+    if (!rc) rc = ckpt_put_doubles(ck, "virial", d->virial, 6);
+    if (!rc) rc = ckpt_put_long(ck, "nbodies", d->nbodies);
+    if (!rc) rc = ckpt_put_doubles(ck, "body_velocity", bv, 3 * d->nbodies);
+    if (!rc) rc = ckpt_put_doubles(ck, "body_force", bf, 3 * d->nbodies);
+    if (!rc) rc = ckpt_put_box(ck, box, &d->box);
+    if (!rc) rc = ckpt_put_particles(ck, parts, d->p);
+    return rc;
+}
+
+static int dpd_model_checkpoint_read(void *self, struct ckpt *ck, struct err *e)
+{
+    struct dpd_model *m = self;
+    struct dpd *d = m->d;
+    char g[160], box[200], parts[200];
+    snprintf(g, sizeof g, "%s", ck->where);
+    snprintf(box, sizeof box, "%s/box", g);
+    snprintf(parts, sizeof parts, "%s/particles", g);
+    long nbodies = 0;
+    double bv[3 * DPD_MAX_BODIES], bf[3 * DPD_MAX_BODIES];
+    int rc = ckpt_get_long(ck, "step", &d->step);
+    if (!rc) rc = ckpt_get_double(ck, "time", &d->time);
+    if (!rc) rc = ckpt_get_long(ck, "nrebuilds", &d->nrebuilds);
+    if (!rc) rc = ckpt_get_double(ck, "energy", &d->epot);
+    if (!rc) rc = ckpt_get_doubles(ck, "virial", d->virial, 6);
+    if (!rc) rc = ckpt_get_long(ck, "nbodies", &nbodies);
+    if (!rc && nbodies != d->nbodies)
+        rc = err_set(e, ERR_INPUT, "%s: checkpoint has %ld rigid bodies in %s, the case has %d",
+                     ck->path, nbodies, g, d->nbodies);
+    if (!rc) rc = ckpt_get_doubles(ck, "body_velocity", bv, 3 * nbodies);
+    if (!rc) rc = ckpt_get_doubles(ck, "body_force", bf, 3 * nbodies);
+    for (int b = 0; !rc && b < d->nbodies; b++)
+        for (int c = 0; c < 3; c++) {
+            d->body[b].v[c] = bv[3 * b + c];
+            d->body[b].force[c] = bf[3 * b + c];
+        }
+    if (!rc) rc = ckpt_get_box(ck, box, &d->box);
+    if (!rc) rc = ckpt_get_particles(ck, parts, d->p);
+    return rc;
+}
+
+/* Ghosts and list rebuilt from the stored state before the next sweep, in
+ * the continuing run as in the restarted one. */
+static void dpd_model_checkpoint_sync(void *self)
+{
+    struct dpd_model *m = self;
+    m->d->rebuild_next = 1;
+}
+
+const struct sim_model_ops sim_model_dpd = {
+    .name = "dpd",
+    .init = dpd_model_init,
+    .pre_force = dpd_model_pre_force,
+    .force = dpd_model_force,
+    .integrate = dpd_model_integrate,
+    .observe = dpd_model_observe,
+    .checkpoint_write = dpd_model_checkpoint_write,
+    .checkpoint_read = dpd_model_checkpoint_read,
+    .checkpoint_sync = dpd_model_checkpoint_sync,
+};
+
+const struct sim_model_ops sim_model_dpd_ref = {
+    .name = "dpd_ref",
+    .init = dpd_model_init,
+    .pre_force = dpd_model_pre_force,
+    .force = dpd_model_force,
+    .integrate = dpd_model_integrate,
+    .observe = dpd_model_observe,
+    .checkpoint_write = dpd_model_checkpoint_write,
+    .checkpoint_read = dpd_model_checkpoint_read,
+    .checkpoint_sync = dpd_model_checkpoint_sync,
+};
