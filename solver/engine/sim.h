@@ -54,7 +54,8 @@ struct sim_energy {
 /* A physics engine as stages.  NULL stages are skipped. */
 struct sim_model_ops {
     const char *name;        /* also the checkpoint group: /model/<name> */
-    /* forces and energies at step 0 (not called on a restart) */
+    /* forces and energies at step 0; on a restart it runs too, before the
+     * checkpoint is read, which then replaces the state */
     int (*init)(void *self, struct sim *s, struct err *e);
     int (*pre_force)(void *self, struct sim *s, struct err *e);
     int (*force)(void *self, struct sim *s, struct err *e);
