@@ -22,38 +22,6 @@ static const char *const md_fields[] = {"position", "velocity", "force", "pe", "
 static const char *const point_fields[] = {"position", "displacement", "velocity", "stress",
                                            "volume", NULL};
 
-/* A dataset of the last snapshot of /collection in out/fields.h5. */
-static double *last_snapshot(const char *out, const char *collection, const char *dataset,
-                             long *n)
-{
-    char path[512];
-    snprintf(path, sizeof path, "%s/%s/fields.h5", th_temp_dir(), out);
-    hid_t f = H5Fopen(path, H5F_ACC_RDONLY, H5P_DEFAULT);
-    cr_assert_geq(f, 0, "cannot open %s", path);
-    hid_t g = H5Gopen2(f, collection, H5P_DEFAULT);
-    cr_assert_geq(g, 0, "%s has no /%s", path, collection);
-    H5G_info_t info;
-    H5Gget_info(g, &info);
-    cr_assert_gt(info.nlinks, 0);
-    char name[64];
-    H5Lget_name_by_idx(g, ".", H5_INDEX_NAME, H5_ITER_INC, info.nlinks - 1, name, sizeof name,
-                       H5P_DEFAULT);
-    hid_t s = H5Gopen2(g, name, H5P_DEFAULT);
-    hid_t ds = H5Dopen2(s, dataset, H5P_DEFAULT);
-    cr_assert_geq(ds, 0, "%s: no %s/%s/%s", path, collection, name, dataset);
-    hid_t sp = H5Dget_space(ds);
-    hssize_t np = H5Sget_simple_extent_npoints(sp);
-    double *d = malloc((size_t)np * sizeof *d);
-    cr_assert_geq(H5Dread(ds, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, d), 0);
-    H5Sclose(sp);
-    H5Dclose(ds);
-    H5Gclose(s);
-    H5Gclose(g);
-    H5Fclose(f);
-    *n = (long)np;
-    return d;
-}
-
 /* The material points of the last snapshot and profile.csv, restarted
  * against uninterrupted (th_kill_and_restart compares the rest). */
 static void assert_same_points_and_profile(const char *const *kills)
@@ -61,17 +29,7 @@ static void assert_same_points_and_profile(const char *const *kills)
     for (int k = 0; kills[k]; k++) {
         char out[32];
         snprintf(out, sizeof out, "killed-%s", kills[k]);
-        for (int d = 0; point_fields[d]; d++) {
-            long na, nb;
-            double *a = last_snapshot("full", "points", point_fields[d], &na);
-            double *b = last_snapshot(out, "points", point_fields[d], &nb);
-            cr_assert_eq(na, nb);
-            cr_assert_eq(memcmp(a, b, (size_t)na * sizeof *a), 0,
-                         "points: last snapshot's %s differs after a kill at step %s",
-                         point_fields[d], kills[k]);
-            free(a);
-            free(b);
-        }
+        th_restart_assert_same_snapshot("full", out, "points", point_fields);
         char pa[512], pb[512];
         snprintf(pa, sizeof pa, "%s/full/profile.csv", th_temp_dir());
         snprintf(pb, sizeof pb, "%s/%s/profile.csv", th_temp_dir(), out);

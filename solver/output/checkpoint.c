@@ -295,6 +295,31 @@ int ckpt_get_long(struct ckpt *c, const char *name, long *v)
     return rc;
 }
 
+int ckpt_get_rows(struct ckpt *c, const char *name, int ncols, double **rows, long *nrows)
+{
+    long nv = ckpt_len(c, name);
+    if (nv < 0)
+        return ERR_INPUT;
+    if (ncols <= 0 || nv % ncols != 0) {
+        char what[96];
+        snprintf(what, sizeof what, "%ld values are not rows of %d", nv, ncols);
+        fail(c, what, name);
+        return ERR_INPUT;
+    }
+    double *r = malloc((size_t)(nv > 0 ? nv : 1) * sizeof *r);
+    if (!r)
+        return err_nomem(c->e, "checkpoint rows");
+    int rc = ckpt_get_doubles(c, name, r, nv);
+    if (rc) {
+        free(r);
+        return rc;
+    }
+    free(*rows);
+    *rows = r;
+    *nrows = nv / ncols;
+    return 0;
+}
+
 int ckpt_put_particles(struct ckpt *c, const char *name, const struct particles *p)
 {
     int rc = ckpt_enter(c, name);

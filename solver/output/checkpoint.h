@@ -73,6 +73,10 @@ int ckpt_get_u32(struct ckpt *c, const char *name, uint32_t *d, long n);
 int ckpt_get_double(struct ckpt *c, const char *name, double *v);
 int ckpt_get_long(struct ckpt *c, const char *name, long *v);
 
+/* A table stored as rows of ncols values (thermo rows, series): a new
+ * array into *rows (the old one freed) and the row count into *nrows. */
+int ckpt_get_rows(struct ckpt *c, const char *name, int ncols, double **rows, long *nrows);
+
 /* A particle set's owned particles (positions, velocities, forces, types,
  * ids, masks, images, per-particle energies and virials, extra fields) and
  * its type table, under group `name`. */

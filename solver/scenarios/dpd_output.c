@@ -49,24 +49,8 @@ int dpd_output_checkpoint_write(const struct dpd_output *o, struct ckpt *ck)
 
 int dpd_output_checkpoint_read(struct ckpt *ck, double **rows, long *nrows, struct err *e)
 {
-    long nv = ckpt_len(ck, "thermo_rows");
-    if (nv < 0)
-        return ERR_INPUT;
-    if (nv % DPD_THERMO_COLS != 0)
-        return err_set(e, ERR_INPUT, "%s: checkpoint thermo rows are not %d-column rows",
-                       ck->path, DPD_THERMO_COLS);
-    double *r = malloc((size_t)(nv > 0 ? nv : 1) * sizeof *r);
-    if (!r)
-        return err_nomem(e, "thermo rows");
-    int rc = ckpt_get_doubles(ck, "thermo_rows", r, nv);
-    if (rc) {
-        free(r);
-        return rc;
-    }
-    free(*rows);
-    *rows = r;
-    *nrows = nv / DPD_THERMO_COLS;
-    return 0;
+    (void)e;   /* ckpt_get_rows reports through the checkpoint's err */
+    return ckpt_get_rows(ck, "thermo_rows", DPD_THERMO_COLS, rows, nrows);
 }
 
 static int thermo_row(struct dpd_output *o, struct run *run, struct dpd *d)

@@ -489,27 +489,11 @@ static int impact_checkpoint_read(void *state, struct ckpt *ck, struct err *e)
     if (!rc) rc = ckpt_get_bytes(ck, "analysis_crater", &a->crater, (long)sizeof a->crater);
     a->displaced = latest[0];
     a->counted = latest[1];
-    long nv = rc ? -1 : ckpt_len(ck, "analysis_rows");
-    if (!rc && (nv < 0 || a->ncols <= 0 || nv % a->ncols != 0))
-        rc = err_set(e, ERR_INPUT, "%s: checkpoint analysis rows are not %d-column rows",
-                     ck->path, a->ncols);
-    if (!rc) {
-        free(a->rows);
-        a->rows = malloc((size_t)(nv > 0 ? nv : 1) * sizeof *a->rows);
-        a->nrows = a->caprows = a->rows ? nv / a->ncols : 0;
-        rc = a->rows ? ckpt_get_doubles(ck, "analysis_rows", a->rows, nv)
-                     : err_nomem(e, "analysis rows");
-    }
-    nv = rc ? -1 : ckpt_len(ck, "thermo_rows");
-    if (!rc && (nv < 0 || nv % MD_THERMO_COLS != 0))
-        rc = err_set(e, ERR_INPUT, "%s: checkpoint thermo rows are not %d-column rows",
-                     ck->path, MD_THERMO_COLS);
-    if (!rc) {
-        c->restored_rows = malloc((size_t)(nv > 0 ? nv : 1) * sizeof *c->restored_rows);
-        c->nrestored = nv / MD_THERMO_COLS;
-        rc = c->restored_rows ? ckpt_get_doubles(ck, "thermo_rows", c->restored_rows, nv)
-                              : err_nomem(e, "thermo rows");
-    }
+    if (!rc)
+        rc = ckpt_get_rows(ck, "analysis_rows", a->ncols, &a->rows, &a->nrows);
+    a->caprows = a->nrows;
+    if (!rc)
+        rc = ckpt_get_rows(ck, "thermo_rows", MD_THERMO_COLS, &c->restored_rows, &c->nrestored);
     return rc;
 }
 

@@ -267,16 +267,8 @@ static int md_case_checkpoint_read(void *state, struct ckpt *ck, struct err *e)
         c->np = np;
         rc = ckpt_get_doubles(ck, "pressure_samples", c->plate, np);
     }
-    long nv = rc ? -1 : ckpt_len(ck, "thermo_rows");
-    if (!rc && (nv < 0 || nv % MD_THERMO_COLS != 0))
-        rc = err_set(e, ERR_INPUT, "%s: checkpoint thermo rows are not %d-column rows",
-                     ck->path, MD_THERMO_COLS);
-    if (!rc) {
-        c->restored_rows = malloc((size_t)(nv > 0 ? nv : 1) * sizeof *c->restored_rows);
-        c->nrestored = nv / MD_THERMO_COLS;
-        rc = c->restored_rows ? ckpt_get_doubles(ck, "thermo_rows", c->restored_rows, nv)
-                              : err_nomem(e, "thermo rows");
-    }
+    if (!rc)
+        rc = ckpt_get_rows(ck, "thermo_rows", MD_THERMO_COLS, &c->restored_rows, &c->nrestored);
     return rc;
 }
 

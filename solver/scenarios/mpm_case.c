@@ -223,17 +223,12 @@ static int mpm_case_checkpoint_read(void *state, struct ckpt *ck, struct err *e)
     if (!rc) rc = ckpt_get_doubles(ck, "ke_report", c->ke_report, c->nreport);
     if (!rc) rc = ckpt_get_long(ck, "accumulated_step", &c->acc_step);
     if (!rc) rc = ckpt_get_long(ck, "thermo_cols", &cols);
-    long nv = rc ? -1 : ckpt_len(ck, "thermo_rows");
-    if (!rc && (nv < 0 || cols <= 0 || cols > MPM_OUTPUT_MAX_COLS || nv % cols != 0))
-        rc = err_set(e, ERR_INPUT, "%s: checkpoint thermo rows are not %ld-column rows",
-                     ck->path, cols);
-    if (!rc) {
-        c->restored_rows = malloc((size_t)(nv > 0 ? nv : 1) * sizeof *c->restored_rows);
-        c->nrestored = nv / cols;
-        c->restored_cols = cols;
-        rc = c->restored_rows ? ckpt_get_doubles(ck, "thermo_rows", c->restored_rows, nv)
-                              : err_nomem(e, "thermo rows");
-    }
+    if (!rc && (cols <= 0 || cols > MPM_OUTPUT_MAX_COLS))
+        rc = err_set(e, ERR_INPUT, "%s: checkpoint has %ld thermo columns, at most %d",
+                     ck->path, cols, MPM_OUTPUT_MAX_COLS);
+    if (!rc)
+        rc = ckpt_get_rows(ck, "thermo_rows", (int)cols, &c->restored_rows, &c->nrestored);
+    c->restored_cols = cols;
     if (!rc)
         c->t0 = (struct mpm_totals){t0[0], {t0[1], t0[2], t0[3]}, t0[4], t0[5], t0[6]};
     return rc;

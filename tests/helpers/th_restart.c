@@ -130,8 +130,8 @@ static double *last_snapshot(const char *out_name, const char *collection, const
     return d;
 }
 
-static void assert_same_snapshot(const char *a, const char *b, const char *collection,
-                                 const char *const *datasets)
+void th_restart_assert_same_snapshot(const char *a, const char *b, const char *collection,
+                                     const char *const *datasets)
 {
     for (int k = 0; datasets[k]; k++) {
         long na, nb;
@@ -168,7 +168,7 @@ void th_kill_and_restart(const char *yaml, const char *const *kill_steps, int th
         if (thermo_csv)
             assert_same_thermo("full", out);
         if (collection)
-            assert_same_snapshot("full", out, collection, datasets);
+            th_restart_assert_same_snapshot("full", out, collection, datasets);
     }
 }
 

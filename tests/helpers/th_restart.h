@@ -19,6 +19,11 @@ int th_restart_solve(const char *out_name, const char *case_path, const char *ki
 /* Whole file into a new buffer (*len its size, may be NULL). */
 char *th_restart_slurp(const char *path, long *len);
 
+/* The listed datasets of the last snapshot of /collection in the runs'
+ * fields.h5 files (th_temp_dir()/a and /b) are bitwise equal. */
+void th_restart_assert_same_snapshot(const char *a, const char *b, const char *collection,
+                                     const char *const *datasets);
+
 /* Run `yaml` uninterrupted (out "full"); then for each step of kill_steps
  * (NULL-ended) run it killed at that step and restarted (out
  * "killed-STEP"), and assert: exit 137 then 0, restarted_from_step in
