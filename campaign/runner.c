@@ -481,6 +481,7 @@ int runner_run(const struct study *s, const struct plan *p, const struct solver 
         if (push(&r, j, 0) != 0)
             rc = err_nomem(e, "queue");
     if (rc) {
+        sum->not_run = sum->total;   /* the summary says so, not "0 done, 0 failed" */
         store_fini(&r.store);
         free(r.job_ids);
         free(r.mem);
