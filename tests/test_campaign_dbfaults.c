@@ -191,7 +191,7 @@ static void sweep(const char *var, const char *hook, const char *template_dir, l
 
 Test(campaign_dbfaults, io_errors_on_a_new_database, .timeout = 120)
 {
-    sweep("CASCADE_FAULT_IO", "io", NULL, 100, 4);
+    sweep("CASCADE_FAULT_IO", "io", NULL, 70, 4);
 }
 
 Test(campaign_dbfaults, io_errors_while_running, .timeout = 120)
@@ -199,7 +199,7 @@ Test(campaign_dbfaults, io_errors_while_running, .timeout = 120)
     char tmpl[64];
     ct_mkdir(tmpl, sizeof tmpl);
     make_template(tmpl);
-    sweep("CASCADE_FAULT_IO", "io", tmpl, 100, 4);
+    sweep("CASCADE_FAULT_IO", "io", tmpl, 70, 4);
     ct_rmrf(tmpl);
 }
 
