@@ -5,6 +5,7 @@
 #   make SANITIZE=1      AddressSanitizer + UBSan into build/asan/bin/
 #   make WERROR=1        warnings are errors (CI sets this)
 #   make test | demo | bench | nightly | install PREFIX=... | clean | deps
+#   make soak [SOAK_JOBS=N SOAK_KILLS=N SOAK_RUNNERS=N SOAK_SECONDS=S]   runner soak test
 #   make fuzz FUZZ_SECONDS=N   libFuzzer on every input reader (docs/fuzzing.md)
 #
 # Objects of each variant live under build/<variant>/ so switching variants
@@ -89,7 +90,7 @@ STANDIN_BIN  := $(BINDIR)/fake-solver
 
 GEN_PROV     := $(OBJDIR)/gen/build_info.h
 
-.PHONY: all deps test demo bench nightly install clean check-werror fuzz fuzz-deps fuzz-build fuzz-cmin
+.PHONY: all deps test demo bench nightly soak install clean check-werror fuzz fuzz-deps fuzz-build fuzz-cmin
 all: $(SOLVER_BIN) $(CAMPAIGN_BIN)
 
 # --- dependencies (Debian) -------------------------------------------------
@@ -207,6 +208,18 @@ nightly: deps
 	        --db $(NIGHTLY_DIR)/cascade.db --runs $(NIGHTLY_DIR)/runs --out reports/$$n \
 	        $(NIGHTLY_ARGS) || fail=1; \
 	done; exit $$fail
+
+# The runner soak test (docs/campaign.md, "Soak test"): a few hundred
+# stand-in jobs, several runners on one study, kill -9s of runners and
+# solvers, frozen runners; then every job done exactly once, no lease left,
+# the database consistent and every artifact's checksum right.  Not part of
+# make test (a few minutes).  SOAK_JOBS, SOAK_KILLS, SOAK_RUNNERS,
+# SOAK_SECONDS, SOAK_FREEZES, SOAK_LEASE, SOAK_SEED come from the environment
+# or the make command line.
+export SOAK_JOBS SOAK_KILLS SOAK_RUNNERS SOAK_SECONDS SOAK_FREEZES SOAK_LEASE SOAK_SEED
+soak: deps
+	@$(MAKE) --no-print-directory $(CAMPAIGN_BIN) $(STANDIN_BIN)
+	bash bench/soak.sh $(abspath $(BINDIR))
 
 bench: deps
 	@$(MAKE) --no-print-directory BUILD=release all

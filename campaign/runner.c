@@ -336,12 +336,14 @@ static void on_done(void *ctx, int slot, struct outcome *o)
     long j = sl->j;
     int lost = 0;
     double t0 = sys_mono();
-    if (store_finish(&r->store, r->job_ids[j], sl->run_id, sl->run_dir, o, &lost, r->e) != 0)
+    int unrecorded = store_finish(&r->store, r->job_ids[j], sl->run_id, sl->run_dir, o, &lost,
+                                  r->e) != 0;
+    if (unrecorded)
         r->fatal = 1;
     if (r->store.note[0])
         progress_view_note(&r->view, "%s: %s", r->p->jobs[j].key, r->store.note);
     r->sum->record_s += sys_mono() - t0 + o->collect_s;
-    if (!lost)
+    if (!lost && !unrecorded)
         r->sum->metric_rows += r->store.last_metric_rows;
     sl->busy = 0;
     r->running--;
@@ -351,9 +353,16 @@ static void on_done(void *ctx, int slot, struct outcome *o)
     label(r, j, lab, sizeof lab);
     const char *status = run_status_name(o->status);
     /* an attempt that ran to an outcome of its own shows the machine works */
-    if (!lost && o->failure != FC_INFRA && o->status != RS_CANCELLED)
+    if (!lost && !unrecorded && o->failure != FC_INFRA && o->status != RS_CANCELLED)
         r->infra_streak = 0;
-    if (lost) {
+    if (unrecorded) {
+        /* the transaction rolled back: the run is still 'running' under our
+         * lease, which the next runner reaps; the job is not done */
+        r->mem[j] = M_QUEUED;
+        progress_view_note(&r->view, "%s (%s), attempt %d: %s, but the outcome could not be "
+                                     "recorded; the job will run again",
+                           r->p->jobs[j].key, lab, sl->attempt, status);
+    } else if (lost) {
         r->mem[j] = M_ELSEWHERE;
         if (!sl->lost)   /* else drop_lost_leases said so when it stopped the job */
             progress_view_note(&r->view, "%s: our lease expired and another runner took the "
@@ -472,6 +481,7 @@ int runner_run(const struct study *s, const struct plan *p, const struct solver 
         if (push(&r, j, 0) != 0)
             rc = err_nomem(e, "queue");
     if (rc) {
+        sum->not_run = sum->total;   /* the summary says so, not "0 done, 0 failed" */
         store_fini(&r.store);
         free(r.job_ids);
         free(r.mem);
