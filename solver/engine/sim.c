@@ -35,12 +35,24 @@ static struct timers *sim_timers(struct sim *s)
     return s->run ? &s->run->timers : &s->own_timers;
 }
 
-int sim_add_model(struct sim *s, const struct sim_model_ops *ops, void *self, struct err *e)
+int sim_add_model_named(struct sim *s, const struct sim_model_ops *ops, void *self,
+                        const char *name, struct err *e)
 {
     if (s->nmodels >= SIM_MAX_MODELS)
         return err_set(e, ERR_RUNTIME, "at most %d models in one simulation", SIM_MAX_MODELS);
-    s->model[s->nmodels++] = (struct sim_model){ops, self};
+    /* each model's state has its own checkpoint group */
+    for (int k = 0; k < s->nmodels; k++)
+        if (strcmp(s->model[k].name, name) == 0)
+            return err_set(e, ERR_RUNTIME, "two models named %s in one simulation: give the "
+                                           "instances distinct names (sim_add_model_named)",
+                           name);
+    s->model[s->nmodels++] = (struct sim_model){ops, self, name};
     return 0;
+}
+
+int sim_add_model(struct sim *s, const struct sim_model_ops *ops, void *self, struct err *e)
+{
+    return sim_add_model_named(s, ops, self, ops->name, e);
 }
 
 int sim_add_phase(struct sim *s, const char *name, long steps, struct err *e)
@@ -210,7 +222,7 @@ static int write_checkpoint(struct sim *s, struct err *e)
         if (!m->ops->checkpoint_write)
             continue;
         char g[96];
-        snprintf(g, sizeof g, "model/%s", m->ops->name);
+        snprintf(g, sizeof g, "model/%s", m->name);
         if (!(rc = ckpt_enter(&ck, g)))
             rc = m->ops->checkpoint_write(m->self, &ck, e);
     }
@@ -241,7 +253,7 @@ static int read_checkpoint(struct sim *s, const char *path, struct err *e)
         if (!m->ops->checkpoint_read)
             continue;
         char g[96];
-        snprintf(g, sizeof g, "model/%s", m->ops->name);
+        snprintf(g, sizeof g, "model/%s", m->name);
         if (!(rc = ckpt_enter(&ck, g)))
             rc = m->ops->checkpoint_read(m->self, &ck, e);
     }
@@ -347,7 +359,7 @@ static int check_checkpointable(const struct sim *s, struct err *e)
             return err_set(e, ERR_INPUT,
                            "output.checkpoint_every / --restart: model '%s' of this case cannot "
                            "write checkpoints yet",
-                           s->model[k].ops->name);
+                           s->model[k].name);
     return 0;
 }
 

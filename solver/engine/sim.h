@@ -53,7 +53,7 @@ struct sim_energy {
 
 /* A physics engine as stages.  NULL stages are skipped. */
 struct sim_model_ops {
-    const char *name;        /* also the checkpoint group: /model/<name> */
+    const char *name;        /* also the checkpoint group /model/<name> (sim_add_model) */
     /* forces and energies at step 0; on a restart it runs too, before the
      * checkpoint is read, which then replaces the state */
     int (*init)(void *self, struct sim *s, struct err *e);
@@ -76,6 +76,9 @@ struct sim_model_ops {
 struct sim_model {
     const struct sim_model_ops *ops;
     void *self;              /* owned by the case type */
+    const char *name;        /* checkpoint group /model/<name>: ops->name, or the
+                              * instance's own name when one model runs more than
+                              * once (a reference run beside the run) */
 };
 
 /* A named stretch of the schedule. */
@@ -147,6 +150,10 @@ struct sim {
 void sim_init(struct sim *s, struct run *r, long steps, double dt);
 void sim_init_subrun(struct sim *s, struct run *r, long steps, double dt);
 int sim_add_model(struct sim *s, const struct sim_model_ops *ops, void *self, struct err *e);
+/* The same with an instance name (a static string) for the model's
+ * checkpoint group: the instances of one model need distinct names. */
+int sim_add_model_named(struct sim *s, const struct sim_model_ops *ops, void *self,
+                        const char *name, struct err *e);
 /* Replace the single phase by declared phases (their steps add up). */
 int sim_add_phase(struct sim *s, const char *name, long steps, struct err *e);
 
