@@ -284,7 +284,7 @@ static void interpolate(const struct dpd_mpm *c, const double *x, double *w, dou
     memcpy(dv, s + 4, 3 * sizeof *s);
 }
 
-int dpd_mpm_step(struct dpd_mpm *c, struct err *e)
+int dpd_mpm_step_forces(struct dpd_mpm *c, struct err *e)
 {
     struct dpd *d = c->d;
     struct mpm *m = &c->m;
@@ -313,7 +313,7 @@ int dpd_mpm_step(struct dpd_mpm *c, struct err *e)
         mpm_points_moved(m);
     }
     /* rigid bodies: the total pair force on each */
-    double F[DPD_MAX_BODIES][3], vold[DPD_MAX_BODIES][3];
+    double F[DPD_MAX_BODIES][3];
     memset(F, 0, sizeof F);
     for (long i = nfree; i < n; i++) {
         int b = body_of(d, p->mask[i]);
@@ -322,11 +322,24 @@ int dpd_mpm_step(struct dpd_mpm *c, struct err *e)
     }
     for (int b = 0; b < d->nbodies; b++) {
         memcpy(d->body[b].force, F[b], sizeof F[b]);
-        memcpy(vold[b], d->body[b].v, sizeof vold[b]);
+        memcpy(c->body_vold[b], d->body[b].v, sizeof c->body_vold[b]);
         if (d->body[b].kind == DPD_BODY_FREE)
             for (int q = 0; q < 3; q++)
                 d->body[b].v[q] += F[b][q] / d->body[b].mass * UNITS_FTM2V * dt;
     }
+    return 0;
+}
+
+int dpd_mpm_step_update(struct dpd_mpm *c, struct err *e)
+{
+    struct dpd *d = c->d;
+    struct mpm *m = &c->m;
+    const double dt = d->dt;
+    const int dpde = d->set.variant == DPD_ENERGY && d->ufield >= 0;
+    struct particles *p = d->p;
+    const long n = p->n_owned, nfree = c->ncarried + c->npartner;
+    double (*vold)[3] = c->body_vold;
+    int rc;
     /* MUSL, Chen 2014 s1-s11 */
     update_view(c);
     if (m->timers)
@@ -413,6 +426,12 @@ int dpd_mpm_step(struct dpd_mpm *c, struct err *e)
     if (!isfinite(m->vmax) || !isfinite(c->ke_centred))
         return err_set(e, ERR_DIVERGED, "non-finite velocity at step %ld", d->step);
     return 0;
+}
+
+int dpd_mpm_step(struct dpd_mpm *c, struct err *e)
+{
+    int rc = dpd_mpm_step_forces(c, e);
+    return rc ? rc : dpd_mpm_step_update(c, e);
 }
 
 /* --- observables ---------------------------------------------------------------- */

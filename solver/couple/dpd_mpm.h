@@ -106,6 +106,9 @@ struct dpd_mpm {
     double ke_centred;          /* eV: DPD particles (not partners), sum 1/2 m v(t-dt).v(t) */
     double epot_before;         /* eV: DPD conservative energy at the start of the last step */
     double uint_before;         /* eV: internal energy at the start of the last step */
+    double body_vold[DPD_MAX_BODIES][3];   /* Å/ps: body velocities before the step
+                                              (scratch of dpd_mpm_step_forces for
+                                              dpd_mpm_step_update) */
 };
 
 /* Energies after a step (eV).  `total` is kinetic + conservative + internal
@@ -143,8 +146,17 @@ int dpd_mpm_add_points(struct dpd_mpm *c, struct mpm_material *mat, long n, cons
 int dpd_mpm_prepare(struct dpd_mpm *c, struct err *e);
 
 /* One step of d->dt (see the top of this file); ERR_DIVERGED when a
- * particle leaves the grid or a value is not finite. */
+ * particle leaves the grid or a value is not finite.  It is the two halves
+ * below, in this order (the engine's force and integrate stages):
+ *   dpd_mpm_step_forces   the s3b input: the DPD pair forces at x(t), v(t)
+ *                         (partners at their points), their reaction on the
+ *                         partners' material points (Eq. (3.1)), the total
+ *                         force on each rigid body and the free bodies' kick
+ *   dpd_mpm_step_update   MUSL s1-s14 on the grid, the DPDE heat, the rigid
+ *                         bodies' drift, step and time */
 int dpd_mpm_step(struct dpd_mpm *c, struct err *e);
+int dpd_mpm_step_forces(struct dpd_mpm *c, struct err *e);
+int dpd_mpm_step_update(struct dpd_mpm *c, struct err *e);
 
 void dpd_mpm_energy(const struct dpd_mpm *c, struct dpd_mpm_energy *en);
 
