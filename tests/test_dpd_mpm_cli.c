@@ -282,6 +282,32 @@ Test(dpd_mpm_cli, concurrent_snapshots_hold_the_material_points, .timeout = 240)
     cr_assert(umax[1] > 1e-4 && umax[1] < 1.0, "displacement %g Å after 0.2 ps", umax[1]);
 }
 
+/* Without a reference run the all-DPD comparison runs alone beside the
+ * concurrent run (the run list has a gap where the reference was: it
+ * crashed before the engine port). */
+Test(dpd_mpm_cli, concurrent_compare_without_reference_runs, .timeout = 240)
+{
+    char yaml[2048], out[8192], dir[512];
+    snprintf(dir, sizeof dir, "%s/conc-noref", th_temp_dir());
+    impact_case(yaml, sizeof yaml, "dpd_mpm_impact", "  cell: 4.0\n",
+                "concurrent:\n  dpd: [-10, 45.2]\n  mpm: [45.2, 100]\n  monitor: 15\n"
+                "output: {hdf5: false, thermo_every: 0}\n");
+    char *p = strstr(yaml, "steps: 240");
+    memcpy(p, "steps:  40", strlen("steps:  40"));
+    p = strstr(yaml, "  sample_every: 1\n");
+    char rest[2048];
+    snprintf(rest, sizeof rest, "%s", p + strlen("  sample_every: 1\n"));
+    snprintf(p, (size_t)(yaml + sizeof yaml - p), "  sample_every: 1\n  reference: false\n%s",
+             rest);
+    int rc = solver("run", yaml, out, sizeof out, dir);
+    cr_assert_eq(rc, 0, "%s", out);
+    json_t *r = metrics(dir);
+    cr_assert(metric(r, "material_points") > 100);
+    cr_assert(metric(r, "momentum_change") < 1e-6, "momentum changed by %g",
+              metric(r, "momentum_change"));
+    json_decref(r);
+}
+
 /* Common neighbour analysis of the DPD particles at the coarse lattice
  * constant (Chen 2014, Fig. 4): the 12 x 3 x 3 cell bar (432 particles),
  * periodic across, at 100 K is fcc except the (100) plane at its far free

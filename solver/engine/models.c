@@ -10,6 +10,7 @@ static const struct sim_model_ops *const registry[] = {
     &sim_model_mpm,
     &sim_model_dpd,
     &sim_model_dpd_ref,
+    &sim_model_dpd_mpm,
     NULL,
 };
 

@@ -5,6 +5,7 @@
 #ifndef CASCADE_MODELS_H
 #define CASCADE_MODELS_H
 
+#include "couple/dpd_mpm.h"
 #include "engine/sim.h"
 #include "dpd/dpd.h"
 #include "md/md.h"
@@ -69,6 +70,17 @@ struct dpd_model {
 };
 extern const struct sim_model_ops sim_model_dpd;
 extern const struct sim_model_ops sim_model_dpd_ref;
+
+/* DPD particles carried by the MPM grid, with or without material points:
+ * the DPD/MPM-grid and the concurrent DPD/MPM models of Chen 2014
+ * (couple/dpd_mpm.h).  The model's self is a struct dpd_mpm_model; several
+ * instances (a run and its reference run) go in with sim_add_model_named. */
+struct dpd_mpm_model {
+    struct dpd_mpm *c;          /* borrowed from the case */
+    int snapshots;              /* 1: per-particle energies when a snapshot is due (the
+                                 * run whose particles are written) */
+};
+extern const struct sim_model_ops sim_model_dpd_mpm;
 
 /* The model named `name`, or NULL. */
 const struct sim_model_ops *sim_model_find(const char *name);

@@ -12,6 +12,11 @@
  * (dpd_tensile_setup.h), grid (dpd_mpm_setup.h; the automatic margin leaves
  * room for the ends' travel over the run).
  *
+ * On the engine (engine/sim.h): the rod is one instance of the dpd_mpm
+ * model (engine/model_dpd_mpm.c); the stress samples are the case's
+ * after_step hook and go into the checkpoints (output.checkpoint_every,
+ * run --restart) with the partial sum of the sample in progress.
+ *
  * Metrics: those of dpd_tensile (peak_stress, strain_at_peak, ...) and cell
  * (Å), grid_nodes, heat_dr, heat_grid (eV given to the internal energies by
  * the D + R forces and by the grid), internal_temperature (K).
@@ -21,7 +26,9 @@
 #include <string.h>
 
 #include "core/units.h"
+#include "engine/models.h"
 #include "scenarios/dpd_mpm_setup.h"
+#include "scenarios/dpd_output.h"
 #include "scenarios/dpd_tensile_setup.h"
 
 #define PARTNER_BIT (1u << 6)
@@ -31,6 +38,13 @@ struct grid_tensile_case {
     struct dpd_mpm c;
     struct dpd_tensile t;
     int has_d, has_c;
+    struct dpd_mpm_model model;
+    /* the run's accumulators (checkpointed) */
+    struct dpd_output out;
+    int out_open;
+    struct dpd_tensile_curve cv;       /* the stress-strain curve so far */
+    double *restored_rows;             /* thermo rows read from a checkpoint */
+    long nrestored;
 };
 
 static void gt_destroy(void *state)
@@ -42,6 +56,8 @@ static void gt_destroy(void *state)
         dpd_mpm_free(&c->c);
     if (c->has_d)
         dpd_free(&c->d);
+    dpd_tensile_curve_free(&c->cv);
+    free(c->restored_rows);
     free(c);
 }
 
@@ -91,28 +107,112 @@ static int gt_read(struct cfg_obj *root, const struct case_common *common, void 
     return 0;
 }
 
-static int gt_step(void *ctx, struct err *e) { return dpd_mpm_step(ctx, e); }
+/* --- the run on the engine (engine/sim.h) ------------------------------------ */
 
-static int gt_run(void *state, struct run *run, struct err *e)
+static int gt_begin(void *state, struct sim *s, struct err *e)
 {
     struct grid_tensile_case *c = state;
-    c->c.m.timers = &run->timers;
-    int rc = dpd_tensile_run(&c->d, &c->t, gt_step, &c->c, run, e);
+    int rc = dpd_output_begin(&c->out, s->run, e);
+    c->out_open = !rc;
+    if (!rc && s->restarted_from >= 0)
+        rc = dpd_output_resume(&c->out, s->run, c->restored_rows, c->nrestored, e);
+    free(c->restored_rows);
+    c->restored_rows = NULL;
+    return rc;
+}
+
+/* Chen 2014 Sec. 4.1.2: the stress from the forces on the rigid ends (as
+ * dpd_tensile). */
+static int gt_after_step(void *state, struct sim *s, struct err *e)
+{
+    struct grid_tensile_case *c = state;
+    (void)e;
+    dpd_tensile_curve_add(&c->cv, &c->t, &c->d, s->step == c->t.steps);
+    return 0;
+}
+
+static int gt_output(void *state, struct sim *s, unsigned due, struct err *e)
+{
+    struct grid_tensile_case *c = state;
+    (void)due;   /* dpd_output_step reads the same schedule */
+    return dpd_output_step(&c->out, s->run, &c->d, c->t.steps)
+               ? err_set(e, ERR_RUNTIME, "%s: cannot write the outputs of step %ld",
+                         s->run->opt.out_dir, s->step)
+               : 0;
+}
+
+static int gt_report(void *state, struct sim *s, int rc, struct err *e)
+{
+    struct grid_tensile_case *c = state;
+    struct dpd *d = &c->d;
+    struct run *run = s->run;
     struct result *res = &run->result;
+    dpd_tensile_curve_report(&c->cv, &c->t, d, run);
+    if (c->out_open) {
+        c->out_open = 0;
+        int rc2 = dpd_output_end(&c->out, run, e);
+        if (!rc && !rc2)
+            rc2 = run_write_final_state(run, d->p, &d->box, d->step, d->time, e);
+        rc = rc ? rc : rc2;
+    }
+    /* and the grid's */
     result_metric(res, "cell", c->c.m.grid.h, "Å");
     result_metric(res, "grid_nodes", (double)c->c.m.grid.nnodes, "1");
     result_metric(res, "heat_dr", c->c.heat, "eV");
     result_metric(res, "heat_grid", c->c.subgrid_heat, "eV");
     double T = NAN;
-    if (c->d.ufield >= 0 && c->c.ncarried > 0) {
-        const double *u = c->d.p->fields[c->d.ufield].data;
-        double s = 0;
+    if (d->ufield >= 0 && c->c.ncarried > 0) {
+        const double *u = d->p->fields[d->ufield].data;
+        double sum = 0;
         for (long i = 0; i < c->c.ncarried; i++)
-            s += u[i];
-        T = s / (double)c->c.ncarried / (c->d.set.heat_capacity * UNITS_KB);
+            sum += u[i];
+        T = sum / (double)c->c.ncarried / (d->set.heat_capacity * UNITS_KB);
     }
     result_metric(res, "internal_temperature", T, "K");
     return rc;
+}
+
+static int gt_checkpoint_write(void *state, struct ckpt *ck, struct err *e)
+{
+    struct grid_tensile_case *c = state;
+    (void)e;
+    int rc = dpd_tensile_curve_checkpoint_write(&c->cv, ck);
+    if (!rc) rc = dpd_output_checkpoint_write(&c->out, ck);
+    return rc;
+}
+
+static int gt_checkpoint_read(void *state, struct ckpt *ck, struct err *e)
+{
+    struct grid_tensile_case *c = state;
+    int rc = dpd_tensile_curve_checkpoint_read(&c->cv, ck, e);
+    if (!rc) rc = dpd_output_checkpoint_read(ck, &c->restored_rows, &c->nrestored, e);
+    return rc;
+}
+
+static const struct sim_case_ops gt_ops = {
+    .begin = gt_begin,
+    .after_step = gt_after_step,
+    .output = gt_output,
+    .report = gt_report,
+    .checkpoint_write = gt_checkpoint_write,
+    .checkpoint_read = gt_checkpoint_read,
+};
+
+static int gt_run(void *state, struct run *run, struct err *e)
+{
+    struct grid_tensile_case *c = state;
+    c->d.timers = &run->timers;
+    c->c.m.timers = &run->timers;
+    int rc = dpd_tensile_curve_init(&c->cv, &c->t, e);
+    if (rc)
+        return rc;
+    c->model = (struct dpd_mpm_model){&c->c, 1};
+    struct sim s;
+    sim_init(&s, run, c->t.steps, c->d.dt);
+    s.case_ops = &gt_ops;
+    s.case_state = c;
+    rc = sim_add_model(&s, &sim_model_dpd_mpm, &c->model, e);
+    return rc ? rc : sim_run(&s, run->opt.restart, e);
 }
 
 static long gt_particles(const void *state)
@@ -131,5 +231,5 @@ const struct case_type dpd_grid_tensile_case_type = {
     "dpd_grid_tensile",
     "DPD/MPM-grid tensile rod pulled by rigid ends: stress-strain curve and peak stress",
     gt_read, gt_run, gt_destroy, gt_particles, gt_steps,
-    .checkpoints = 0,
+    .checkpoints = 1,
 };

@@ -67,6 +67,12 @@
  * (collection "points": position, displacement, velocity, stress in GPa,
  * id).
  *
+ * On the engine (engine/sim.h): each run -- flyer, reference, all-DPD flyer
+ * and reference -- is an instance of the dpd_mpm model
+ * (engine/model_dpd_mpm.c); the sampling, the energy extremes and the
+ * structure analysis are the case's after_step hook, and they go into the
+ * checkpoints (output.checkpoint_every, run --restart).
+ *
  * Metrics (besides dpd_impact's wave_speed, arrival_time_1/2,
  * region_particles_1/2, displacement_max_1/2, flyer_velocity_final,
  * target_particles, flyer_particles, target_length, momentum_change,
@@ -90,6 +96,7 @@
 #include "analysis/wave_arrival.h"
 #include "core/units.h"
 #include "dpd/cg_lattice.h"
+#include "engine/models.h"
 #include "scenarios/dpd_bar.h"
 #include "scenarios/dpd_impact_setup.h"
 #include "scenarios/dpd_mpm_setup.h"
@@ -123,6 +130,33 @@ struct conc_keys {
     int compare;
 };
 
+struct samples {
+    double *t, *s1, *s2, *es, *mc, *mh, *h2;
+    long n, cap;
+};
+
+static int samples_alloc(struct samples *s, long cap, struct err *e)
+{
+    memset(s, 0, sizeof *s);
+    s->cap = cap;
+    double **a[] = {&s->t, &s->s1, &s->s2, &s->es, &s->mc, &s->mh, &s->h2};
+    for (size_t k = 0; k < sizeof a / sizeof a[0]; k++)
+        if (!(*a[k] = calloc((size_t)cap, sizeof(double))))
+            return err_nomem(e, "impact samples");
+    return 0;
+}
+
+static void samples_free(struct samples *s)
+{
+    free(s->t);
+    free(s->s1);
+    free(s->s2);
+    free(s->es);
+    free(s->mc);
+    free(s->mh);
+    free(s->h2);
+}
+
 struct impact_case {
     int concurrent;
     struct coupled r[MAX_RUNS];   /* flyer, reference, all-DPD flyer, all-DPD reference */
@@ -134,6 +168,20 @@ struct impact_case {
     double face, length, cell;
     long n_target, n_flyer, nodes;
     struct dpd_structure st;      /* CNA of the flyer run's DPD particles (Fig. 4) */
+    /* on the engine: one model instance per run */
+    struct dpd_mpm_model model[MAX_RUNS];
+    /* the run's accumulators (checkpointed) */
+    struct dpd_output out;
+    int out_open;
+    struct samples S;             /* region signals every sample_every steps */
+    double *prof, *pref;          /* profiles at the profile times (nptimes x nbins) */
+    long *cnt;
+    int nbins;
+    double bin;
+    double P0[3];                 /* total momentum at step 0 */
+    double e0, demax, et;         /* centred energy after step 1, largest change, last */
+    double *restored_rows;        /* thermo rows read from a checkpoint */
+    long nrestored;
 };
 
 static int read_concurrent(struct cfg_obj *root, struct conc_keys *k)
@@ -541,33 +589,6 @@ static int points_snapshot(struct run *run, const struct coupled *m, struct err 
     return rc;
 }
 
-struct samples {
-    double *t, *s1, *s2, *es, *mc, *mh, *h2;
-    long n, cap;
-};
-
-static int samples_alloc(struct samples *s, long cap, struct err *e)
-{
-    memset(s, 0, sizeof *s);
-    s->cap = cap;
-    double **a[] = {&s->t, &s->s1, &s->s2, &s->es, &s->mc, &s->mh, &s->h2};
-    for (size_t k = 0; k < sizeof a / sizeof a[0]; k++)
-        if (!(*a[k] = calloc((size_t)cap, sizeof(double))))
-            return err_nomem(e, "impact samples");
-    return 0;
-}
-
-static void samples_free(struct samples *s)
-{
-    free(s->t);
-    free(s->s1);
-    free(s->s2);
-    free(s->es);
-    free(s->mc);
-    free(s->mh);
-    free(s->h2);
-}
-
 /* Velocity of a slab from its displacement samples: central differences
  * over +-w ps (NAN where the window leaves the run). */
 static void slab_velocity(const double *t, const double *u, long n, double w, double *v)
@@ -586,8 +607,8 @@ static void slab_velocity(const double *t, const double *u, long n, double w, do
     }
 }
 
-static void report(struct impact_case *c, struct run *run, const struct samples *S,
-                   double demax, double e0, double et, const double P0[3])
+static void impact_metrics(struct impact_case *c, struct run *run, const struct samples *S,
+                           double demax, double e0, double et, const double P0[3])
 {
     struct result *res = &run->result;
     struct coupled *m = &c->r[0];
@@ -704,6 +725,195 @@ static void report(struct impact_case *c, struct run *run, const struct samples 
     free(v2h);
 }
 
+/* The regions' signals at this step (every sample_every steps and the
+ * last), and the displacement profiles at the profile times. */
+static void impact_sample(struct impact_case *c, struct run *run, long step)
+{
+    struct coupled *m = &c->r[0];
+    const struct dpd *d = &m->d;
+    struct samples *S = &c->S;
+    const double lo1 = c->k.regions[0] - c->k.half, hi1 = c->k.regions[0] + c->k.half;
+    const double lo2 = c->k.regions[1] - c->k.half, hi2 = c->k.regions[1] + c->k.half;
+    const double mlo = c->ck.monitor - c->ck.mhalf, mhi = c->ck.monitor + c->ck.mhalf;
+    timer_start(&run->timers, TIMER_ANALYSIS);
+    if (step % c->k.sample_every == 0 || step == c->steps) {
+        long q = S->n++;
+        S->t[q] = d->time;
+        S->s1[q] = signal(c, 0, 1, lo1, hi1, NULL);
+        S->s2[q] = signal(c, 0, 1, lo2, hi2, NULL);
+        S->es[q] = step > 0 ? c->et : NAN;
+        if (c->has_hom) {
+            S->mc[q] = signal(c, 0, 1, mlo, mhi, NULL);
+            S->mh[q] = signal(c, 2, 3, mlo, mhi, NULL);
+            S->h2[q] = signal(c, 2, 3, lo2, hi2, NULL);
+        }
+    }
+    for (size_t q = 0; q < c->k.nptimes; q++) {
+        if (lround(c->k.ptimes[q] / d->dt) != step)
+            continue;
+        double *pq = c->prof + q * c->nbins;
+        profile(m, c->k.axis, c->face, c->bin, c->nbins, pq, c->cnt);
+        if (c->has_ref) {
+            profile(&c->r[1], c->k.axis, c->face, c->bin, c->nbins, c->pref, c->cnt);
+            for (int b = 0; b < c->nbins; b++)
+                pq[b] -= c->pref[b];
+        }
+    }
+    timer_stop(&run->timers, TIMER_ANALYSIS);
+}
+
+/* --- the run on the engine (engine/sim.h) ------------------------------------ */
+
+static int impact_begin(void *state, struct sim *s, struct err *e)
+{
+    struct impact_case *c = state;
+    struct coupled *m = &c->r[0];
+    int rc = dpd_output_begin(&c->out, s->run, e);
+    c->out_open = !rc;
+    if (!rc && s->restarted_from >= 0)
+        rc = dpd_output_resume(&c->out, s->run, c->restored_rows, c->nrestored, e);
+    free(c->restored_rows);
+    c->restored_rows = NULL;
+    if (rc || s->restarted_from >= 0)
+        return rc;
+    /* step 0 */
+    dpd_mpm_momentum(&m->c, c->P0);
+    if ((rc = dpd_structure_classify(&c->st, &m->d, e)))
+        return rc;
+    impact_sample(c, s->run, 0);
+    return 0;
+}
+
+static int impact_after_step(void *state, struct sim *s, struct err *e)
+{
+    struct impact_case *c = state;
+    struct coupled *m = &c->r[0];
+    struct dpd_mpm_energy en;
+    dpd_mpm_energy(&m->c, &en);
+    c->et = en.centred;
+    if (s->step == 1)
+        c->e0 = c->et;
+    c->demax = fmax(c->demax, fabs(c->et - c->e0));
+    int rc = dpd_structure_before_output(&c->st, s->run, &m->d, c->steps, e);
+    if (!rc)
+        impact_sample(c, s->run, s->step);
+    return rc;
+}
+
+static int impact_output(void *state, struct sim *s, unsigned due, struct err *e)
+{
+    struct impact_case *c = state;
+    struct coupled *m = &c->r[0];
+    /* dpd_output_step reads the same schedule */
+    if (dpd_output_step(&c->out, s->run, &m->d, c->steps))
+        return err_set(e, ERR_RUNTIME, "%s: cannot write the outputs of step %ld",
+                       s->run->opt.out_dir, s->step);
+    return (due & SIM_DUE_SNAPSHOT) ? points_snapshot(s->run, m, e) : 0;
+}
+
+static int impact_report(void *state, struct sim *s, int rc, struct err *e)
+{
+    struct impact_case *c = state;
+    struct coupled *m = &c->r[0];
+    struct run *run = s->run;
+    struct dpd *d = &m->d;
+    /* a run that stopped on a non-finite energy reports that energy */
+    if (rc == ERR_DIVERGED && s->diverged[0]) {
+        struct dpd_mpm_energy en;
+        dpd_mpm_energy(&m->c, &en);
+        c->et = en.centred;
+    }
+    if (!rc)
+        rc = dpd_structure_finish(&c->st, run, d, e);
+    if (!rc || rc == ERR_DIVERGED) {
+        impact_metrics(c, run, &c->S, c->demax, c->e0, c->et, c->P0);
+        if (c->k.nptimes) {
+            double *xc = malloc((size_t)c->nbins * sizeof *xc);
+            if (xc) {
+                for (int b = 0; b < c->nbins; b++)
+                    xc[b] = (b + 0.5) * c->bin;
+                result_series(&run->result, "profile_x", xc, c->nbins, "Å");
+                free(xc);
+            }
+            for (size_t q = 0; q < c->k.nptimes; q++) {
+                char name[64];
+                snprintf(name, sizeof name, "profile_t%gps", c->k.ptimes[q]);
+                result_series(&run->result, name, c->prof + q * c->nbins, c->nbins, "Å");
+            }
+        }
+    }
+    if (!c->out_open)
+        return rc;
+    c->out_open = 0;
+    int rc2 = dpd_output_end(&c->out, run, e);
+    if (!rc && !rc2)
+        rc2 = run_write_final_state(run, d->p, &d->box, d->step, d->time, e);
+    return rc ? rc : rc2;
+}
+
+static int impact_checkpoint_write(void *state, struct ckpt *ck, struct err *e)
+{
+    struct impact_case *c = state;
+    const struct samples *S = &c->S;
+    (void)e;
+    int rc = ckpt_put_doubles(ck, "momentum_start", c->P0, 3);
+    if (!rc) rc = ckpt_put_double(ck, "energy_start", c->e0);
+    if (!rc) rc = ckpt_put_double(ck, "energy_deviation_max", c->demax);
+    if (!rc) rc = ckpt_put_double(ck, "energy_last", c->et);
+    if (!rc) rc = ckpt_put_doubles(ck, "sample_time", S->t, S->n);
+    if (!rc) rc = ckpt_put_doubles(ck, "sample_region_1", S->s1, S->n);
+    if (!rc) rc = ckpt_put_doubles(ck, "sample_region_2", S->s2, S->n);
+    if (!rc) rc = ckpt_put_doubles(ck, "sample_energy", S->es, S->n);
+    if (!rc) rc = ckpt_put_doubles(ck, "sample_monitor_concurrent", S->mc, S->n);
+    if (!rc) rc = ckpt_put_doubles(ck, "sample_monitor_homogeneous", S->mh, S->n);
+    if (!rc) rc = ckpt_put_doubles(ck, "sample_region_2_homogeneous", S->h2, S->n);
+    if (!rc) rc = ckpt_put_doubles(ck, "profiles", c->prof, (long)c->k.nptimes * c->nbins);
+    if (!rc) rc = dpd_structure_checkpoint_write(&c->st, ck);
+    if (!rc) rc = dpd_output_checkpoint_write(&c->out, ck);
+    return rc;
+}
+
+static int impact_checkpoint_read(void *state, struct ckpt *ck, struct err *e)
+{
+    struct impact_case *c = state;
+    struct samples *S = &c->S;
+    int rc = ckpt_get_doubles(ck, "momentum_start", c->P0, 3);
+    if (!rc) rc = ckpt_get_double(ck, "energy_start", &c->e0);
+    if (!rc) rc = ckpt_get_double(ck, "energy_deviation_max", &c->demax);
+    if (!rc) rc = ckpt_get_double(ck, "energy_last", &c->et);
+    long n = rc ? -1 : ckpt_len(ck, "sample_time");
+    if (!rc && (n < 0 || n > S->cap))
+        rc = err_set(e, ERR_INPUT, "%s: checkpoint has %ld samples, at most %ld fit", ck->path,
+                     n, S->cap);
+    if (!rc) {
+        S->n = n;
+        rc = ckpt_get_doubles(ck, "sample_time", S->t, n);
+    }
+    if (!rc) rc = ckpt_get_doubles(ck, "sample_region_1", S->s1, n);
+    if (!rc) rc = ckpt_get_doubles(ck, "sample_region_2", S->s2, n);
+    if (!rc) rc = ckpt_get_doubles(ck, "sample_energy", S->es, n);
+    if (!rc) rc = ckpt_get_doubles(ck, "sample_monitor_concurrent", S->mc, n);
+    if (!rc) rc = ckpt_get_doubles(ck, "sample_monitor_homogeneous", S->mh, n);
+    if (!rc) rc = ckpt_get_doubles(ck, "sample_region_2_homogeneous", S->h2, n);
+    if (!rc) rc = ckpt_get_doubles(ck, "profiles", c->prof, (long)c->k.nptimes * c->nbins);
+    if (!rc) rc = dpd_structure_checkpoint_read(&c->st, ck);
+    if (!rc) rc = dpd_output_checkpoint_read(ck, &c->restored_rows, &c->nrestored, e);
+    return rc;
+}
+
+static const struct sim_case_ops impact_ops = {
+    .begin = impact_begin,
+    .after_step = impact_after_step,
+    .output = impact_output,
+    .report = impact_report,
+    .checkpoint_write = impact_checkpoint_write,
+    .checkpoint_read = impact_checkpoint_read,
+};
+
+/* Checkpoint groups of the runs (model/<name>). */
+static const char *const run_names[MAX_RUNS] = {"dpd_mpm", "dpd_mpm_reference", "dpd_mpm_all_dpd",
+                                                "dpd_mpm_all_dpd_reference"};
+
 static int impact_run(void *state, struct run *run, struct err *e)
 {
     struct impact_case *c = state;
@@ -711,117 +921,32 @@ static int impact_run(void *state, struct run *run, struct err *e)
     struct dpd *d = &m->d;
     d->timers = &run->timers;
     m->c.m.timers = &run->timers;
-    struct dpd_output out;
-    int rc = dpd_output_begin(&out, run, e);
-    if (rc)
-        return rc;
-    struct samples S;
     long nsamp = c->steps / c->k.sample_every + 2;
-    double bin = c->k.bin > 0 ? c->k.bin : 0.5 * d->prm.lattice_constant;
-    int nbins = (int)ceil(c->length / bin);
+    c->bin = c->k.bin > 0 ? c->k.bin : 0.5 * d->prm.lattice_constant;
+    c->nbins = (int)ceil(c->length / c->bin);
     size_t np = c->k.nptimes;
-    double *prof = calloc((np ? np : 1) * (size_t)nbins, sizeof *prof);
-    double *pref = calloc((size_t)nbins, sizeof *pref);
-    long *cnt = calloc((size_t)nbins, sizeof *cnt);
-    if ((rc = samples_alloc(&S, nsamp, e)) || !prof || !pref || !cnt) {
-        rc = rc ? rc : err_nomem(e, "profiles");
-        goto done;
+    c->prof = calloc((np ? np : 1) * (size_t)c->nbins, sizeof *c->prof);
+    c->pref = calloc((size_t)c->nbins, sizeof *c->pref);
+    c->cnt = calloc((size_t)c->nbins, sizeof *c->cnt);
+    int rc = samples_alloc(&c->S, nsamp, e);
+    if (rc || !c->prof || !c->pref || !c->cnt)
+        return rc ? rc : err_nomem(e, "profiles");
+    for (size_t q = 0; q < np * (size_t)c->nbins; q++)
+        c->prof[q] = NAN;
+    c->e0 = c->et = NAN;
+    c->demax = 0;
+    struct sim s;
+    sim_init(&s, run, c->steps, d->dt);
+    s.case_ops = &impact_ops;
+    s.case_state = c;
+    for (int r = 0; r < c->nruns && !rc; r++) {
+        if (!c->r[r].has_c)
+            continue;
+        /* the flyer run's particles are the ones written */
+        c->model[r] = (struct dpd_mpm_model){&c->r[r].c, r == 0};
+        rc = sim_add_model_named(&s, &sim_model_dpd_mpm, &c->model[r], run_names[r], e);
     }
-    for (size_t q = 0; q < np * (size_t)nbins; q++)
-        prof[q] = NAN;
-    const double lo1 = c->k.regions[0] - c->k.half, hi1 = c->k.regions[0] + c->k.half;
-    const double lo2 = c->k.regions[1] - c->k.half, hi2 = c->k.regions[1] + c->k.half;
-    const double mlo = c->ck.monitor - c->ck.mhalf, mhi = c->ck.monitor + c->ck.mhalf;
-    double P0[3], e0 = NAN, demax = 0, et = NAN;
-    dpd_mpm_momentum(&m->c, P0);
-    d->peratom = run_due(0, c->steps, run->out.snapshot_every);
-    if ((rc = dpd_compute_forces(d, e)) || (rc = dpd_structure_classify(&c->st, d, e)) ||
-        (rc = dpd_output_step(&out, run, d, c->steps)) || (rc = points_snapshot(run, m, e)))
-        goto done;
-    progress_start(&run->progress, stderr, c->steps, d->dt, run->opt.progress && !run->opt.quiet);
-    timer_start(&run->timers, TIMER_LOOP);
-    for (long s = 0; s <= c->steps && !rc; s++) {
-        if (s > 0) {
-            d->peratom = run_due(s, c->steps, run->out.snapshot_every);
-            for (int r = 0; r < c->nruns && !rc; r++)
-                rc = dpd_mpm_step(&c->r[r].c, e);
-            if (rc)
-                break;
-            struct dpd_mpm_energy en;
-            dpd_mpm_energy(&m->c, &en);
-            et = en.centred;
-            if (!isfinite(et)) {
-                rc = err_set(e, ERR_DIVERGED, "diverged: non-finite energy at step %ld", s);
-                break;
-            }
-            if (s == 1)
-                e0 = et;
-            demax = fmax(demax, fabs(et - e0));
-            if ((rc = dpd_structure_before_output(&c->st, run, d, c->steps, e)))
-                break;
-            rc = dpd_output_step(&out, run, d, c->steps);
-            if (!rc && run_due(s, c->steps, run->out.snapshot_every))
-                rc = points_snapshot(run, m, e);
-            progress_update(&run->progress, s);
-        }
-        timer_start(&run->timers, TIMER_ANALYSIS);
-        if (s % c->k.sample_every == 0 || s == c->steps) {
-            long q = S.n++;
-            S.t[q] = d->time;
-            S.s1[q] = signal(c, 0, 1, lo1, hi1, NULL);
-            S.s2[q] = signal(c, 0, 1, lo2, hi2, NULL);
-            S.es[q] = s > 0 ? et : NAN;
-            if (c->has_hom) {
-                S.mc[q] = signal(c, 0, 1, mlo, mhi, NULL);
-                S.mh[q] = signal(c, 2, 3, mlo, mhi, NULL);
-                S.h2[q] = signal(c, 2, 3, lo2, hi2, NULL);
-            }
-        }
-        for (size_t q = 0; q < np; q++) {
-            if (lround(c->k.ptimes[q] / d->dt) != s)
-                continue;
-            double *pq = prof + q * nbins;
-            profile(m, c->k.axis, c->face, bin, nbins, pq, cnt);
-            if (c->has_ref) {
-                profile(&c->r[1], c->k.axis, c->face, bin, nbins, pref, cnt);
-                for (int b = 0; b < nbins; b++)
-                    pq[b] -= pref[b];
-            }
-        }
-        timer_stop(&run->timers, TIMER_ANALYSIS);
-    }
-    timer_stop(&run->timers, TIMER_LOOP);
-    progress_finish(&run->progress, d->step);
-    if (!rc)
-        rc = dpd_structure_finish(&c->st, run, d, e);
-    if (!rc || rc == ERR_DIVERGED) {
-        report(c, run, &S, demax, e0, et, P0);
-        if (np) {
-            double *xc = malloc((size_t)nbins * sizeof *xc);
-            if (xc) {
-                for (int b = 0; b < nbins; b++)
-                    xc[b] = (b + 0.5) * bin;
-                result_series(&run->result, "profile_x", xc, nbins, "Å");
-                free(xc);
-            }
-            for (size_t q = 0; q < np; q++) {
-                char name[64];
-                snprintf(name, sizeof name, "profile_t%gps", c->k.ptimes[q]);
-                result_series(&run->result, name, prof + q * nbins, nbins, "Å");
-            }
-        }
-    }
-done:
-    samples_free(&S);
-    free(prof);
-    free(pref);
-    free(cnt);
-    {
-        int rc2 = dpd_output_end(&out, run, e);
-        if (!rc && !rc2)
-            rc2 = run_write_final_state(run, d->p, &d->box, d->step, d->time, e);
-        return rc ? rc : rc2;
-    }
+    return rc ? rc : sim_run(&s, run->opt.restart, e);
 }
 
 static void impact_destroy(void *state)
@@ -835,6 +960,11 @@ static void impact_destroy(void *state)
     free(c->pts.id);
     free(c->k.ptimes);
     dpd_structure_free(&c->st);
+    samples_free(&c->S);
+    free(c->prof);
+    free(c->pref);
+    free(c->cnt);
+    free(c->restored_rows);
     free(c);
 }
 
@@ -860,12 +990,12 @@ const struct case_type dpd_grid_impact_case_type = {
     "dpd_grid_impact",
     "DPD/MPM-grid flyer/target impact: DPD forces on the MPM grid, wave arrival, wave speed",
     grid_impact_read, impact_run, impact_destroy, impact_particles, impact_steps,
-    .checkpoints = 0,
+    .checkpoints = 1,
 };
 
 const struct case_type dpd_mpm_impact_case_type = {
     "dpd_mpm_impact",
     "concurrent DPD/MPM flyer/target impact: wave across the interface, reflection",
     concurrent_impact_read, impact_run, impact_destroy, impact_particles, impact_steps,
-    .checkpoints = 0,
+    .checkpoints = 1,
 };

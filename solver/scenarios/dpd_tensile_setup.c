@@ -1,4 +1,4 @@
-/* dpd_tensile_setup: the tensile rod, its grips and its stress-strain run. */
+/* dpd_tensile_setup: the tensile rod, its grips and its stress-strain curve. */
 #include "scenarios/dpd_tensile_setup.h"
 
 #include <math.h>
@@ -6,7 +6,6 @@
 #include <string.h>
 
 #include "core/units.h"
-#include "scenarios/dpd_output.h"
 #include "scenarios/dpd_setup.h"
 #include "input/md_system.h"
 
@@ -194,46 +193,4 @@ void dpd_tensile_curve_free(struct dpd_tensile_curve *cv)
     free(cv->stress);
     free(cv->times);
     memset(cv, 0, sizeof *cv);
-}
-
-int dpd_tensile_run(struct dpd *d, const struct dpd_tensile *c,
-                    int (*step)(void *ctx, struct err *e), void *ctx, struct run *run,
-                    struct err *e)
-{
-    d->timers = &run->timers;
-    struct dpd_output out;
-    int rc = dpd_output_begin(&out, run, e);
-    if (rc)
-        return rc;
-    struct dpd_tensile_curve cv;
-    if ((rc = dpd_tensile_curve_init(&cv, c, e)))
-        goto done;
-    d->peratom = run_due(0, c->steps, run->out.snapshot_every);
-    if ((rc = dpd_compute_forces(d, e)) || (rc = dpd_output_step(&out, run, d, c->steps)))
-        goto done;
-    progress_start(&run->progress, stderr, c->steps, d->dt, run->opt.progress && !run->opt.quiet);
-    timer_start(&run->timers, TIMER_LOOP);
-    for (long s = 1; s <= c->steps && !rc; s++) {
-        d->peratom = run_due(s, c->steps, run->out.snapshot_every);
-        if ((rc = step(ctx, e)))
-            break;
-        if (!isfinite(d->epot)) {
-            rc = err_set(e, ERR_DIVERGED, "diverged: non-finite energy at step %ld", s);
-            break;
-        }
-        dpd_tensile_curve_add(&cv, c, d, s == c->steps);
-        rc = dpd_output_step(&out, run, d, c->steps);
-        progress_update(&run->progress, s);
-    }
-    timer_stop(&run->timers, TIMER_LOOP);
-    progress_finish(&run->progress, d->step);
-    dpd_tensile_curve_report(&cv, c, d, run);
-done:
-    dpd_tensile_curve_free(&cv);
-    {
-        int rc2 = dpd_output_end(&out, run, e);
-        if (!rc && !rc2)
-            rc2 = run_write_final_state(run, d->p, &d->box, d->step, d->time, e);
-        return rc ? rc : rc2;
-    }
 }

@@ -2,7 +2,8 @@
  * dpd_tensile_setup: the tensile rod of Chen et al. 2014, Sec. 4.1.2, as
  * the DPD-only (dpd_tensile) and DPD/MPM-grid (dpd_grid_tensile) case types
  * share it: the `tensile` section, the rod with its rigid grips, and the
- * run that turns the grips' forces into the stress-strain curve.
+ * stress-strain curve sampled from the grips' forces (both case types run
+ * on the engine and call the curve from their hooks).
  *
  *   tensile:
  *     axis: x                   the rod axis
@@ -77,13 +78,5 @@ int dpd_tensile_curve_checkpoint_read(struct dpd_tensile_curve *cv, struct ckpt 
                                       struct err *e);
 void dpd_tensile_curve_free(struct dpd_tensile_curve *cv);
 
-/* Run t->steps steps of `step` (which advances d by one step), sampling
- * the grips' forces into the stress-strain curve; metrics and series into
- * run->result, thermo and snapshots on the output schedule, the final
- * state when asked.  A private loop, left for dpd_grid_tensile until that
- * case type runs on the engine (dpd_tensile does: dpd_tensile_case.c). */
-int dpd_tensile_run(struct dpd *d, const struct dpd_tensile *t,
-                    int (*step)(void *ctx, struct err *e), void *ctx, struct run *run,
-                    struct err *e);
 
 #endif

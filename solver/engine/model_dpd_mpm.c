@@ -1,0 +1,319 @@
+/*
+ * model_dpd_mpm: DPD particles carried by the MPM grid as engine stages
+ * (models.h; the physics is couple/dpd_mpm.h, Chen et al. 2014, Sec. 3).
+ *
+ * One table serves both models of the paper: the DPD/MPM-grid model (every
+ * free DPD particle carried by the grid, its pair forces mapped to the
+ * nodes with N_i, Eq. (s3b)) and the concurrent DPD/MPM model (the same
+ * grid also carrying material points with a constitutive law, nodal force
+ * Eq. (3.1)) -- the concurrent model is the grid model with material
+ * points, and dpd_mpm_step treats both.
+ *
+ * Stages of one step (MUSL, Supplement s1-s14):
+ *   force      dpd_mpm_step_forces: the DPD pair forces (C + D + R) at x(t),
+ *              v(t) with the partners at their material points, their
+ *              reaction on those points, the force on each rigid body and
+ *              the free bodies' kick
+ *   integrate  dpd_mpm_step_update: s1-s14 on the grid, the DPDE heat of the
+ *              D + R forces and of the grid's smoothing, the bodies' drift
+ * Energy for the divergence check: the time-centred total of dpd_mpm.h
+ * (kinetic + conservative + internal + strain), which must stay finite;
+ * no limit on its change (the grid model is not a conserving integrator in
+ * the engine's sense: the isothermal variant loses the grid's share).
+ *
+ * Checkpoint: the DPD model's particles in their fixed order ([carried |
+ * partners | bodies], couple/dpd_mpm.h) with every field (internal energy,
+ * reference positions, structure classes), box, step, time, bodies; the
+ * coupling's accumulated heats and last-step energies; the material points
+ * (every array) and the grid's energies; the positions at the last build
+ * of the neighbour list.  Not stored: the grid's nodes (cleared and
+ * refilled every step) and the per-step scratch of the coupling.
+ *
+ * The ghosts and the neighbour list are not stored either, but a restarted
+ * run rebuilds them exactly as the continuing run has them: from the
+ * positions of their last build, in the fixed particle order (no spatial
+ * sorting in these models) and with the box of that build (a free
+ * boundary's box changes only at builds).  So a run is the same with and
+ * without checkpoints, bitwise -- which a rebuild at every checkpoint
+ * would not give here: a rebuild wraps particles across a periodic
+ * boundary, and the MPM grid is not periodic, so when a particle is
+ * wrapped changes which nodes carry it.
+ */
+#include "engine/models.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+static int dpd_mpm_model_init(void *self, struct sim *s, struct err *e)
+{
+    struct dpd_mpm_model *m = self;
+    /* the forces at step 0 are those of the build (dpd_mpm_order); the run
+     * whose particles are written recomputes them with the per-particle
+     * energies of the first snapshot */
+    if (!m->snapshots)
+        return 0;
+    m->c->d->peratom = s->peratom;
+    return dpd_compute_forces(m->c->d, e);
+}
+
+static int dpd_mpm_model_pre_force(void *self, struct sim *s, struct err *e)
+{
+    struct dpd_mpm_model *m = self;
+    (void)e;
+    if (m->snapshots)
+        m->c->d->peratom = s->peratom;
+    return 0;
+}
+
+static int dpd_mpm_model_force(void *self, struct sim *s, struct err *e)
+{
+    struct dpd_mpm_model *m = self;
+    (void)s;
+    return dpd_mpm_step_forces(m->c, e);
+}
+
+static int dpd_mpm_model_integrate(void *self, struct sim *s, struct err *e)
+{
+    struct dpd_mpm_model *m = self;
+    (void)s;
+    return dpd_mpm_step_update(m->c, e);
+}
+
+static void dpd_mpm_model_observe(void *self, const struct sim *s, struct sim_energy *en)
+{
+    struct dpd_mpm_model *m = self;
+    (void)s;
+    struct dpd_mpm_energy de;
+    dpd_mpm_energy(m->c, &de);
+    en->total = de.centred;
+    en->conserved = 0;
+    en->scale = 1;
+    en->unit = "eV";
+}
+
+/* --- checkpoint --------------------------------------------------------- */
+
+/* Datasets of a subgroup `sub` of the model's group `base`. */
+static int enter(struct ckpt *ck, const char *base, const char *sub)
+{
+    char g[sizeof ck->where + 32];
+    snprintf(g, sizeof g, "%s%s%s", base, sub[0] ? "/" : "", sub);
+    return ckpt_enter(ck, g);
+}
+
+static int put_points(struct ckpt *ck, const struct mpm_points *p)
+{
+    long n = p->n;
+    int rc = ckpt_put_long(ck, "n", n);
+    if (!rc) rc = ckpt_put_long(ck, "nstate", p->nstate);
+    if (!rc) rc = ckpt_put_doubles(ck, "x", p->x, 3 * n);
+    if (!rc) rc = ckpt_put_doubles(ck, "x0", p->x0, 3 * n);
+    if (!rc) rc = ckpt_put_doubles(ck, "v", p->v, 3 * n);
+    if (!rc) rc = ckpt_put_doubles(ck, "mass", p->mass, n);
+    if (!rc) rc = ckpt_put_doubles(ck, "vol0", p->vol0, n);
+    if (!rc) rc = ckpt_put_doubles(ck, "vol", p->vol, n);
+    if (!rc) rc = ckpt_put_doubles(ck, "stress", p->stress, 6 * n);
+    if (!rc) rc = ckpt_put_doubles(ck, "F", p->F, 9 * n);
+    if (!rc) rc = ckpt_put_doubles(ck, "eint", p->eint, n);
+    if (!rc) rc = ckpt_put_doubles(ck, "state", p->state, (long)p->nstate * n);
+    if (!rc && p->fext) rc = ckpt_put_doubles(ck, "fext", p->fext, 3 * n);
+    if (!rc) rc = ckpt_put_ints(ck, "body", p->body, n);
+    if (!rc) rc = ckpt_put_i64(ck, "id", p->id, n);
+    if (!rc) rc = ckpt_put_u32(ck, "mask", p->mask, n);
+    return rc;
+}
+
+/* The points were built from the same case: the same number, replaced. */
+static int get_points(struct ckpt *ck, struct mpm_points *p, struct err *e)
+{
+    long n = 0, nstate = 0;
+    int rc = ckpt_get_long(ck, "n", &n);
+    if (!rc) rc = ckpt_get_long(ck, "nstate", &nstate);
+    if (!rc && (n != p->n || nstate != p->nstate))
+        rc = err_set(e, ERR_INPUT,
+                     "%s: checkpoint has %ld material points with %ld state variables, the "
+                     "case has %ld with %d",
+                     ck->path, n, nstate, p->n, p->nstate);
+    if (!rc) rc = ckpt_get_doubles(ck, "x", p->x, 3 * n);
+    if (!rc) rc = ckpt_get_doubles(ck, "x0", p->x0, 3 * n);
+    if (!rc) rc = ckpt_get_doubles(ck, "v", p->v, 3 * n);
+    if (!rc) rc = ckpt_get_doubles(ck, "mass", p->mass, n);
+    if (!rc) rc = ckpt_get_doubles(ck, "vol0", p->vol0, n);
+    if (!rc) rc = ckpt_get_doubles(ck, "vol", p->vol, n);
+    if (!rc) rc = ckpt_get_doubles(ck, "stress", p->stress, 6 * n);
+    if (!rc) rc = ckpt_get_doubles(ck, "F", p->F, 9 * n);
+    if (!rc) rc = ckpt_get_doubles(ck, "eint", p->eint, n);
+    if (!rc) rc = ckpt_get_doubles(ck, "state", p->state, (long)p->nstate * n);
+    if (!rc && p->fext) rc = ckpt_get_doubles(ck, "fext", p->fext, 3 * n);
+    if (!rc) rc = ckpt_get_ints(ck, "body", p->body, n);
+    if (!rc) rc = ckpt_get_i64(ck, "id", p->id, n);
+    if (!rc) rc = ckpt_get_u32(ck, "mask", p->mask, n);
+    return rc;
+}
+
+static int dpd_mpm_model_checkpoint_write(void *self, struct ckpt *ck, struct err *e)
+{
+    struct dpd_mpm_model *m = self;
+    const struct dpd_mpm *c = m->c;
+    const struct dpd *d = c->d;
+    const struct mpm *g = &c->m;
+    (void)e;
+    char base[sizeof ck->where];
+    snprintf(base, sizeof base, "%s", ck->where);
+    double bv[3 * DPD_MAX_BODIES], bf[3 * DPD_MAX_BODIES];
+    for (int b = 0; b < d->nbodies; b++)
+        for (int q = 0; q < 3; q++) {
+            bv[3 * b + q] = d->body[b].v[q];
+            bf[3 * b + q] = d->body[b].force[q];
+        }
+    /* the DPD model */
+    int rc = ckpt_put_long(ck, "step", d->step);
+    if (!rc) rc = ckpt_put_double(ck, "time", d->time);
+    if (!rc) rc = ckpt_put_long(ck, "nrebuilds", d->nrebuilds);
+    if (!rc) rc = ckpt_put_double(ck, "epot", d->epot);
+    if (!rc) rc = ckpt_put_doubles(ck, "virial", d->virial, 6);
+    if (!rc) rc = ckpt_put_doubles(ck, "body_velocity", bv, 3 * d->nbodies);
+    if (!rc) rc = ckpt_put_doubles(ck, "body_force", bf, 3 * d->nbodies);
+    /* the coupling */
+    if (!rc) rc = ckpt_put_long(ck, "carried", c->ncarried);
+    if (!rc) rc = ckpt_put_long(ck, "partners", c->npartner);
+    if (!rc) rc = ckpt_put_double(ck, "heat", c->heat);
+    if (!rc) rc = ckpt_put_double(ck, "subgrid_heat", c->subgrid_heat);
+    if (!rc) rc = ckpt_put_double(ck, "ke_centred", c->ke_centred);
+    if (!rc) rc = ckpt_put_double(ck, "epot_before", c->epot_before);
+    if (!rc) rc = ckpt_put_double(ck, "uint_before", c->uint_before);
+    /* the grid's run */
+    if (!rc) rc = ckpt_put_long(ck, "mpm_step", g->step);
+    if (!rc) rc = ckpt_put_double(ck, "mpm_time", g->time);
+    if (!rc) rc = ckpt_put_double(ck, "mpm_vmax", g->vmax);
+    if (!rc) rc = ckpt_put_double(ck, "mpm_ke", g->ke);
+    if (!rc) rc = ckpt_put_double(ck, "mpm_ke_centred", g->ke_centred);
+    if (!rc) rc = ckpt_put_double(ck, "mpm_strain", g->strain);
+    if (!rc) rc = ckpt_put_double(ck, "mpm_strain_before", g->strain_before);
+    if (!rc) rc = ckpt_put_doubles(ck, "list_positions", d->nl->x_build, 3L * d->nl->n);
+    char sub[sizeof base + 16];
+    if (!rc) {
+        snprintf(sub, sizeof sub, "%s/box", base);
+        rc = ckpt_put_box(ck, sub, &d->box);
+    }
+    if (!rc) {
+        snprintf(sub, sizeof sub, "%s/particles", base);
+        rc = ckpt_put_particles(ck, sub, d->p);
+    }
+    if (!rc && !(rc = enter(ck, base, "points")))
+        rc = put_points(ck, &g->pts);
+    return rc;
+}
+
+/* Ghosts and the neighbour list as the continuing run has them: built with
+ * the owned particles at xb, the positions of the list's last build (the
+ * forces of that build are thrown away: f, energy and virial come from the
+ * checkpoint). */
+static int rebuild_lists_at(struct dpd *d, const double *xb, struct err *e)
+{
+    struct particles *p = d->p;
+    const size_t nb = (size_t)3 * p->n_owned * sizeof(double);
+    double *keep = malloc(2 * (nb ? nb : 1));
+    if (!keep)
+        return err_nomem(e, "neighbour list positions");
+    memcpy(keep, p->x, nb);
+    memcpy((char *)keep + nb, p->f, nb);
+    memcpy(p->x, xb, nb);
+    int peratom = d->peratom;
+    d->peratom = 0;
+    d->nl->nbuilds = 0;   /* build now */
+    int rc = dpd_compute_forces(d, e);
+    d->peratom = peratom;
+    memcpy(p->x, keep, nb);   /* p->x may have moved with the ghosts */
+    memcpy(p->f, (char *)keep + nb, nb);
+    free(keep);
+    return rc;
+}
+
+static int dpd_mpm_model_checkpoint_read(void *self, struct ckpt *ck, struct err *e)
+{
+    struct dpd_mpm_model *m = self;
+    struct dpd_mpm *c = m->c;
+    struct dpd *d = c->d;
+    struct mpm *g = &c->m;
+    char base[sizeof ck->where];
+    snprintf(base, sizeof base, "%s", ck->where);
+    long ncarried = 0, npartner = 0, nb = -1, n = d->p->n_owned;
+    double bv[3 * DPD_MAX_BODIES], bf[3 * DPD_MAX_BODIES];
+    double *xb = NULL;
+    int rc = ckpt_get_long(ck, "carried", &ncarried);
+    if (!rc) rc = ckpt_get_long(ck, "partners", &npartner);
+    if (!rc) nb = ckpt_len(ck, "body_velocity");
+    if (!rc && (ncarried != c->ncarried || npartner != c->npartner || nb != 3L * d->nbodies))
+        rc = err_set(e, ERR_INPUT,
+                     "%s: checkpoint of %s has %ld carried particles, %ld partners and %ld "
+                     "bodies, the case has %ld, %ld and %d",
+                     ck->path, base, ncarried, npartner, nb / 3, c->ncarried, c->npartner,
+                     d->nbodies);
+    if (!rc && !(xb = malloc((size_t)3 * (n ? n : 1) * sizeof *xb)))
+        rc = err_nomem(e, "neighbour list positions");
+    if (!rc) rc = ckpt_get_doubles(ck, "list_positions", xb, 3 * n);
+    char sub[sizeof base + 16];
+    if (!rc) {
+        snprintf(sub, sizeof sub, "%s/box", base);
+        rc = ckpt_get_box(ck, sub, &d->box);
+    }
+    if (!rc) {
+        snprintf(sub, sizeof sub, "%s/particles", base);
+        rc = ckpt_get_particles(ck, sub, d->p);
+    }
+    /* the classes [carried | partners | bodies] are positions in this order */
+    if (!rc && d->p->n_owned != n)
+        rc = err_set(e, ERR_INPUT, "%s: checkpoint of %s has %d DPD particles, the case has %ld",
+                     ck->path, base, d->p->n_owned, n);
+    if (!rc && d->sort_every != 0)
+        rc = err_set(e, ERR_RUNTIME, "DPD/MPM: particles sorted in space cannot be restored");
+    if (!rc)
+        rc = rebuild_lists_at(d, xb, e);
+    free(xb);
+    if (!rc) rc = enter(ck, base, "");
+    if (!rc) rc = ckpt_get_long(ck, "step", &d->step);
+    if (!rc) rc = ckpt_get_double(ck, "time", &d->time);
+    if (!rc) rc = ckpt_get_long(ck, "nrebuilds", &d->nrebuilds);
+    if (!rc) rc = ckpt_get_double(ck, "epot", &d->epot);
+    if (!rc) rc = ckpt_get_doubles(ck, "virial", d->virial, 6);
+    if (!rc) rc = ckpt_get_doubles(ck, "body_velocity", bv, 3 * d->nbodies);
+    if (!rc) rc = ckpt_get_doubles(ck, "body_force", bf, 3 * d->nbodies);
+    for (int b = 0; !rc && b < d->nbodies; b++)
+        for (int q = 0; q < 3; q++) {
+            d->body[b].v[q] = bv[3 * b + q];
+            d->body[b].force[q] = bf[3 * b + q];
+        }
+    if (!rc) rc = ckpt_get_double(ck, "heat", &c->heat);
+    if (!rc) rc = ckpt_get_double(ck, "subgrid_heat", &c->subgrid_heat);
+    if (!rc) rc = ckpt_get_double(ck, "ke_centred", &c->ke_centred);
+    if (!rc) rc = ckpt_get_double(ck, "epot_before", &c->epot_before);
+    if (!rc) rc = ckpt_get_double(ck, "uint_before", &c->uint_before);
+    if (!rc) rc = ckpt_get_long(ck, "mpm_step", &g->step);
+    if (!rc) rc = ckpt_get_double(ck, "mpm_time", &g->time);
+    if (!rc) rc = ckpt_get_double(ck, "mpm_vmax", &g->vmax);
+    if (!rc) rc = ckpt_get_double(ck, "mpm_ke", &g->ke);
+    if (!rc) rc = ckpt_get_double(ck, "mpm_ke_centred", &g->ke_centred);
+    if (!rc) rc = ckpt_get_double(ck, "mpm_strain", &g->strain);
+    if (!rc) rc = ckpt_get_double(ck, "mpm_strain_before", &g->strain_before);
+    if (!rc && !(rc = enter(ck, base, "points")))
+        rc = get_points(ck, &g->pts, e);
+    /* the points changed outside the stages: the next step locates them
+     * afresh (the same blocks the continuing run carries over) */
+    if (!rc)
+        mpm_points_moved(g);
+    return rc;
+}
+
+const struct sim_model_ops sim_model_dpd_mpm = {
+    .name = "dpd_mpm",
+    .init = dpd_mpm_model_init,
+    .pre_force = dpd_mpm_model_pre_force,
+    .force = dpd_mpm_model_force,
+    .integrate = dpd_mpm_model_integrate,
+    .observe = dpd_mpm_model_observe,
+    .checkpoint_write = dpd_mpm_model_checkpoint_write,
+    .checkpoint_read = dpd_mpm_model_checkpoint_read,
+    /* no checkpoint_sync: the continuing run goes on as if none was written */
+};
