@@ -72,15 +72,16 @@ static void assert_same_final_state(const char *a, const char *b)
     free(tb);
 }
 
-/* 60 steps; checkpoints every 20; kills at 30 (no output there) and 40
- * (thermo, snapshot and checkpoint). */
-static const char *const kills[] = {"30", "40", NULL};
+/* 300 steps (the wave reaches both regions: every metric is a number);
+ * checkpoints every 50; kills at 130 (no output there) and 200 (thermo,
+ * snapshot, profile and checkpoint). */
+static const char *const kills[] = {"130", "200", NULL};
 
 #define OUTPUT                                                                                    \
-    "output: {thermo_every: 10, snapshot_every: 20, checkpoint_every: 20, "                       \
+    "output: {thermo_every: 25, snapshot_every: 100, checkpoint_every: 50, "                      \
     "final_state: final.data}\n"
 
-/* The 12 x 3 x 3 cell bar of test_dpd_mpm_cli.c at 100 K, DPDE, 60 steps. */
+/* The 12 x 3 x 3 cell bar of test_dpd_mpm_cli.c at 100 K, DPDE, 300 steps. */
 static void impact_case(char *buf, size_t len, const char *type, const char *bc,
                         const char *extra)
 {
@@ -88,12 +89,22 @@ static void impact_case(char *buf, size_t len, const char *type, const char *bc,
              "type: %s\nseed: 3\nsystem:\n"
              "  lattice: {style: fcc, a: 7.2786, cells: [12, 3, 3]}\n"
              "  element: Cu\n  boundary: [free, %s, %s]\n"
-             "dpd:\n  parameters: cg.yaml\n  timestep: 0.005\n  steps: 60\n"
+             "dpd:\n  parameters: cg.yaml\n  timestep: 0.005\n  steps: 300\n"
              "  initial_temperature: 100\n"
              "impact:\n  regions: [25.0, 55.0]\n  sample_every: 3\n"
-             "  profile_times: [0.05, 0.2, 0.25]\n"
+             "  arrival_threshold: 0.002\n  profile_times: [0.25, 1.0, 1.4]\n"
              "grid:\n  cell: 4.0\n%s" OUTPUT,
              type, bc, bc, extra);
+}
+
+/* A metric of out/result.json that is a number (not null): the comparisons
+ * above compare a measurement, not two NaNs. */
+static void assert_measured(const char *out, const char *name)
+{
+    json_t *r = result_of(out);
+    json_t *v = json_object_get(json_object_get(json_object_get(r, "metrics"), name), "value");
+    cr_assert(json_is_number(v), "%s: metric %s is not a number", out, name);
+    json_decref(r);
 }
 
 static void check_restarts(const char *yaml, int points)
@@ -118,6 +129,8 @@ Test(restart_dpd_mpm, concurrent_impact_continues_bitwise, .timeout = 600)
     impact_case(yaml, sizeof yaml, "dpd_mpm_impact", "free",
                 "concurrent:\n  dpd: [-10, 45.2]\n  mpm: [45.2, 100]\n  monitor: 15\n");
     check_restarts(yaml, 1);
+    assert_measured("full", "wave_speed");
+    assert_measured("full", "reflection_ratio");
 }
 
 /* The DPD/MPM-grid model: the target carried by the grid, free flyer. */
@@ -126,6 +139,7 @@ Test(restart_dpd_mpm, grid_impact_continues_bitwise, .timeout = 600)
     char yaml[2048];
     impact_case(yaml, sizeof yaml, "dpd_grid_impact", "periodic", "");
     check_restarts(yaml, 0);
+    assert_measured("full", "wave_speed");
 }
 
 /* The grid tensile rod: prescribed grips, stress samples averaged over
@@ -137,11 +151,12 @@ Test(restart_dpd_mpm, grid_tensile_continues_bitwise, .timeout = 600)
              "type: dpd_grid_tensile\nseed: 5\nsystem:\n"
              "  lattice: {style: fcc, a: 7.2786, cells: [12, 3, 3]}\n"
              "  element: Cu\n  boundary: [free, free, free]\n"
-             "dpd:\n  parameters: cg.yaml\n  timestep: 0.005\n  steps: 60\n"
+             "dpd:\n  parameters: cg.yaml\n  timestep: 0.005\n  steps: 300\n"
              "  initial_temperature: 100\n"
              "tensile:\n  velocity: 1.0\n  sample_every: 7\n"
              "grid:\n  cell: 4.0\n" OUTPUT);
     check_restarts(yaml, 0);
+    assert_measured("full", "peak_stress");
 }
 
 /* Every metric equal, bit for bit (NaN equal to NaN). */
@@ -177,7 +192,7 @@ Test(restart_dpd_mpm, checkpoints_do_not_change_the_run, .timeout = 300)
     const char *with = th_write_temp(1, "case.yaml", yaml);
     char msg[8192];
     cr_assert_eq(th_restart_solve("with", with, NULL, NULL, msg, sizeof msg), 0, "%s", msg);
-    char *p = strstr(yaml, "checkpoint_every: 20");
+    char *p = strstr(yaml, "checkpoint_every: 50");
     cr_assert_not_null(p);
     memcpy(p, "checkpoint_every:  0", strlen("checkpoint_every:  0"));
     const char *without = th_write_temp(3, "plain.yaml", yaml);
