@@ -22,7 +22,7 @@
 #include "analysis/block_average.h"
 #include "core/units.h"
 #include "engine/models.h"
-#include "scenarios/dpd_output.h"
+#include "output/dpd_output.h"
 #include "scenarios/dpd_setup.h"
 #include "input/md_system.h"
 

@@ -28,7 +28,7 @@
 #include "core/units.h"
 #include "engine/models.h"
 #include "scenarios/dpd_mpm_setup.h"
-#include "scenarios/dpd_output.h"
+#include "output/dpd_output.h"
 #include "scenarios/dpd_tensile_setup.h"
 
 #define PARTNER_BIT (1u << 6)

@@ -100,7 +100,7 @@
 #include "scenarios/dpd_bar.h"
 #include "scenarios/dpd_impact_setup.h"
 #include "scenarios/dpd_mpm_setup.h"
-#include "scenarios/dpd_output.h"
+#include "output/dpd_output.h"
 #include "scenarios/dpd_setup.h"
 #include "scenarios/dpd_structure.h"
 #include "input/md_system.h"

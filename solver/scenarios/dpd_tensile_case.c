@@ -37,7 +37,7 @@
 #include <stdlib.h>
 
 #include "engine/models.h"
-#include "scenarios/dpd_output.h"
+#include "output/dpd_output.h"
 #include "scenarios/dpd_tensile_setup.h"
 
 struct tensile_case {

@@ -1,5 +1,5 @@
 /* dpd_output: the DPD run's thermo, snapshots and frames. */
-#include "scenarios/dpd_output.h"
+#include "output/dpd_output.h"
 
 #include <stdlib.h>
 #include <string.h>
