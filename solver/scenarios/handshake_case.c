@@ -8,6 +8,7 @@
 
 #include "core/units.h"
 #include "mpm/mpm_hgrid.h"
+#include "md/md_settings.h"
 #include "md/md_timestep.h"
 
 static const char *const coarsen_names[] = {"x", "y", "xy", "z", "xz", "yz", "xyz", NULL};
@@ -53,11 +54,17 @@ int hs_case_read(struct cfg_obj *root, struct hs_case *c)
         (rc = cfg_real(&o, "layer", c->layer, CFG_GT(0), &c->layer)) || (rc = cfg_close(&o)))
         return rc;
     c->coarsen = ci + 1;
-    if ((rc = cfg_section(root, "md", &o)) ||
-        (rc = cfg_real(&o, "timestep", c->dt, CFG_GT(0), &c->dt)) ||
-        (rc = cfg_int(&o, "steps", c->steps, CFG_GE(0), &c->steps)) ||
-        (rc = cfg_real(&o, "skin", c->skin, CFG_GT(0), &c->skin)) || (rc = cfg_close(&o)))
+    /* the shared md reader; each handshake case type declares its own
+     * defaults (time step, steps, skin) in c before this */
+    struct md_settings def = md_settings_defaults, ms;
+    def.timestep = c->dt;
+    def.steps = c->steps;
+    def.skin = c->skin;
+    if ((rc = md_settings_read(root, MD_KEY_TIMESTEP | MD_KEY_STEPS | MD_KEY_SKIN, &def, &ms)))
         return rc;
+    c->dt = ms.timestep;
+    c->steps = ms.steps;
+    c->skin = ms.skin;
     if ((rc = cfg_section(root, "profile", &o)) ||
         (rc = cfg_real(&o, "slab", c->slab, CFG_GT(0), &c->slab)) ||
         (rc = cfg_int(&o, "every", c->profile_every, CFG_GE(1), &c->profile_every)) ||
