@@ -101,7 +101,7 @@ static int wave_read(struct cfg_obj *root, const struct case_common *common, voi
     c->bar_md = 32;
     c->bar_width = 8;
     struct cfg_obj o;
-    double t;
+    double t = 0;   /* read below; an error path leaves it unused */
     int rc = hs_case_read(root, c);
     if (!rc && !(rc = cfg_section(root, "load", &o)) &&
         !(rc = cfg_real(&o, "traction", 0.5, CFG_ANY, &t)) &&
