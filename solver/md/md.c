@@ -219,11 +219,16 @@ double md_kinetic_energy(const struct md *md)
     return 0.5 * ke * UNITS_MVV2E;
 }
 
-double md_temperature(const struct md *md)
+double md_temperature_of(const struct md *md, double ke)
 {
     int n = md->p->n_owned;
     double dof = n > 1 ? 3.0 * n - 3.0 : 3.0 * n;
-    return dof > 0 ? 2.0 * md_kinetic_energy(md) / (dof * UNITS_KB) : 0.0;
+    return dof > 0 ? 2.0 * ke / (dof * UNITS_KB) : 0.0;
+}
+
+double md_temperature(const struct md *md)
+{
+    return md_temperature_of(md, md_kinetic_energy(md));
 }
 
 void md_pressure_tensor(const struct md *md, double P[6])

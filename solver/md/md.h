@@ -76,6 +76,7 @@ void md_step_kick(struct md *md);
 /* Observables of the owned particles. */
 double md_kinetic_energy(const struct md *md);            /* eV */
 double md_temperature(const struct md *md);               /* K, 3N-3 degrees of freedom */
+double md_temperature_of(const struct md *md, double ke); /* the same from a kinetic energy (eV) */
 void md_pressure_tensor(const struct md *md, double P[6]); /* eV/Å^3, xx yy zz xy xz yz */
 void md_momentum(const struct md *md, double P[3]);        /* amu Å/ps */
 

@@ -161,9 +161,12 @@ static int md_case_after_step(void *state, struct sim *s, struct err *e)
 {
     struct md_case *c = state;
     struct md *md = &c->md;
-    c->tsum += md_temperature(md);
+    /* one pass over the atoms for the kinetic energy of both accumulators */
+    double ke = md_kinetic_energy(md);
+    long n = md->p->n_owned > 0 ? md->p->n_owned : 1;
+    c->tsum += md_temperature_of(md, ke);
     c->tcount++;
-    energy_fit_add(&c->fit, md->time, md_case_energy_per_atom(md));
+    energy_fit_add(&c->fit, md->time, (md->last.energy + ke) / (double)n);
     /* pressure samples of the second half of the run */
     if (s->step > c->steps / 2 && c->np < c->nlate) {
         double Ps[6];
