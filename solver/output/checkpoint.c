@@ -1,6 +1,7 @@
 /* checkpoint: HDF5 checkpoint files (checkpoint.h). */
 #include "output/checkpoint.h"
 
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -320,6 +321,20 @@ int ckpt_get_rows(struct ckpt *c, const char *name, int ncols, double **rows, lo
     return 0;
 }
 
+/* A value the file holds but no run can have: the file is refused. */
+static int bad(struct ckpt *c, const char *what, const char *name)
+{
+    fail(c, what, name);
+    c->e->code = ERR_INPUT;
+    return ERR_INPUT;
+}
+
+static int cmp_i64(const void *a, const void *b)
+{
+    int64_t x = *(const int64_t *)a, y = *(const int64_t *)b;
+    return (x > y) - (x < y);
+}
+
 int ckpt_put_particles(struct ckpt *c, const char *name, const struct particles *p)
 {
     int rc = ckpt_enter(c, name);
@@ -395,7 +410,32 @@ int ckpt_get_particles(struct ckpt *c, const char *name, struct particles *p)
     for (long i = 0; !rc && i < n; i++) {
         p->origin[i] = (int)i;
         if (p->type[i] < 0 || p->type[i] >= p->ntypes)
-            rc = fail(c, "type index out of range", "type");
+            rc = bad(c, "type index out of range", "type");
+        else if (p->id[i] < 1)
+            rc = bad(c, "an id below 1", "id");
+        for (int d = 0; !rc && d < 3; d++)
+            if (!isfinite(p->x[3 * i + d]) || !isfinite(p->v[3 * i + d]) ||
+                !isfinite(p->f[3 * i + d])) {
+                char what[96];
+                snprintf(what, sizeof what, "a non-finite position, velocity or force (id %lld)",
+                         (long long)p->id[i]);
+                rc = bad(c, what, "x/v/f");
+            }
+    }
+    /* ids unique: a sorted copy, neighbours compared */
+    int64_t *ids = rc || n == 0 ? NULL : malloc((size_t)n * sizeof *ids);
+    if (!rc && n > 0 && !ids)
+        rc = err_nomem(c->e, "checkpoint ids");
+    if (ids) {
+        memcpy(ids, p->id, (size_t)n * sizeof *ids);
+        qsort(ids, (size_t)n, sizeof *ids, cmp_i64);
+        for (long i = 1; !rc && i < n; i++)
+            if (ids[i] == ids[i - 1]) {
+                char what[64];
+                snprintf(what, sizeof what, "id %lld given twice", (long long)ids[i]);
+                rc = bad(c, what, "id");
+            }
+        free(ids);
     }
     if (rc)
         p->n_owned = 0;
