@@ -460,6 +460,23 @@ static void item_cells(const struct cmp_item *it, char cells[NCOL][SA_LABEL_MAX]
 static const char *const cmp_header[NCOL] = {"verdict", "metric", "what", "where", "baseline",
                                              "now", "diff", "tolerance", "note"};
 
+/* Length of the first line of s wrapped at width w: up to the last space
+ * that fits, so a label ("md.timestep=0.001 md.skin=2.0 ...") breaks
+ * between its entries, never inside a word (one longer word overflows). */
+static int wrap_len(const char *s, int w)
+{
+    int n = (int)strlen(s);
+    if (n <= w)
+        return n;
+    for (int k = w; k > 0; k--)
+        if (s[k] == ' ')
+            return k;
+    const char *sp = strchr(s, ' ');
+    return sp ? (int)(sp - s) : n;
+}
+
+#define WHERE_WIDTH 80
+
 void cmp_print(const struct cmp_report *r, FILE *out, int all)
 {
     static char cells[NCOL][SA_LABEL_MAX];
@@ -473,9 +490,9 @@ void cmp_print(const struct cmp_report *r, FILE *out, int all)
         shown++;
         item_cells(&r->it[i], cells);
         for (int c = 0; c < NCOL; c++) {
-            int n = (int)strlen(cells[c]);
+            int n = c == 3 ? wrap_len(cells[c], WHERE_WIDTH) : (int)strlen(cells[c]);
             if (n > w[c])
-                w[c] = n > 80 && c == 3 ? 80 : n;
+                w[c] = n;
         }
     }
     if (!shown)
@@ -486,13 +503,30 @@ void cmp_print(const struct cmp_report *r, FILE *out, int all)
         if (!all && r->it[i].verdict == CMP_OK)
             continue;
         item_cells(&r->it[i], cells);
+        const char *where = cells[3];
+        int first = wrap_len(where, w[3]);
         for (int c = 0; c < NCOL; c++) {
             int right = c >= 4 && c <= 7;
             if (c == NCOL - 1)
                 fprintf(out, "%s\n", cells[c]);
+            else if (c == 3)
+                fprintf(out, "%-*.*s  ", w[c], first, where);
             else
-                fprintf(out, right ? "%*.*s  " : "%-*.*s  ", w[c], c == 3 ? 80 : SA_LABEL_MAX,
-                        cells[c]);
+                fprintf(out, right ? "%*s  " : "%-*s  ", w[c], cells[c]);
+        }
+        /* the rest of a long "where" on continuation lines under its column */
+        where += first;
+        while (*where == ' ')
+            where++;
+        while (*where) {
+            int n = wrap_len(where, w[3]);
+            int indent = 0;
+            for (int c = 0; c < 3; c++)
+                indent += w[c] + 2;
+            fprintf(out, "%*s%.*s\n", indent, "", n, where);
+            where += n;
+            while (*where == ' ')
+                where++;
         }
     }
 }

@@ -1,19 +1,103 @@
-/* cascade export: a study as one CSV row per job. */
+/* cascade export: a study as one row per job, CSV or JSON lines. */
 #include <errno.h>
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "cli.h"
 #include "db.h"
 #include "table.h"
+#include "util/canon.h"
 
 static const char *usage =
-    "usage: cascade export STUDY --csv [--db FILE] [--out FILE]\n"
+    "usage: cascade export STUDY [--format csv|jsonl] [--db FILE] [--out FILE]\n"
     "\n"
-    "Writes one CSV row per job of the study: key, kind, name, state, attempt,\n"
+    "Writes one row per job of the study: key, kind, name, state, attempt,\n"
     "solver version and git hash, wall seconds, then one column per swept\n"
     "parameter (in the study's order) and one per metric, named 'metric [unit]',\n"
-    "from each job's latest successful run (empty when it has none).\n";
+    "from each job's latest successful run (empty when it has none).\n"
+    "\n"
+    "  --format csv     RFC 4180 CSV with a header line (the default; --csv says the same)\n"
+    "  --format jsonl   JSON lines: one object per job with the same names as the CSV\n"
+    "                   header; numbers stay numbers, a missing value is null, a\n"
+    "                   swept list or mapping is JSON (pandas.read_json(f, lines=True))\n"
+    "  --out FILE       write there instead of to standard output\n"
+    "\n"
+    "Reals print in the shortest form that reads back to the same double.\n";
+
+/* One output row being written: CSV fields or the members of one JSON
+ * object, in column order. */
+struct row_sink {
+    FILE *out;
+    int jsonl;
+    int first;
+};
+
+static void row_begin(struct row_sink *k)
+{
+    k->first = 1;
+    if (k->jsonl)
+        fputc('{', k->out);
+}
+
+static void row_end(struct row_sink *k)
+{
+    fputs(k->jsonl ? "}\n" : "\n", k->out);
+}
+
+/* A JSON string literal of s (minimal escapes). */
+static void json_text(FILE *out, const char *s)
+{
+    json_t *j = json_string(s);
+    char *t = j ? canon_json(j) : NULL;
+    fputs(t ? t : "\"\"", out);
+    free(t);
+    json_decref(j);
+}
+
+/* Column `name`, value from column `col` of `st` (st NULL: no value).
+ * `structured`: a text value that holds a JSON list or mapping (a swept
+ * list) goes into JSON lines as JSON, not as a string. */
+static void row_cell(struct row_sink *k, const char *name, sqlite3_stmt *st, int col,
+                     int structured)
+{
+    if (!k->jsonl) {
+        char cell[4096] = "";
+        if (st)
+            table_cell(st, col, cell, sizeof cell);
+        if (!k->first)
+            fputc(',', k->out);
+        table_csv_field(k->out, cell);
+        k->first = 0;
+        return;
+    }
+    if (!k->first)
+        fputc(',', k->out);
+    k->first = 0;
+    json_text(k->out, name);
+    fputc(':', k->out);
+    int type = st ? sqlite3_column_type(st, col) : SQLITE_NULL;
+    if (type == SQLITE_INTEGER) {
+        fprintf(k->out, "%lld", (long long)sqlite3_column_int64(st, col));
+    } else if (type == SQLITE_FLOAT) {
+        double x = sqlite3_column_double(st, col);
+        char num[64];
+        canon_real(x, num, sizeof num);
+        fputs(isfinite(x) ? num : "null", k->out);   /* JSON has no inf */
+    } else if (type == SQLITE_NULL) {
+        fputs("null", k->out);
+    } else {
+        const char *t = (const char *)sqlite3_column_text(st, col);
+        json_t *v = structured && t && (t[0] == '[' || t[0] == '{') ? json_loads(t, 0, NULL) : NULL;
+        char *c = v ? canon_json(v) : NULL;
+        if (c)
+            fputs(c, k->out);
+        else
+            json_text(k->out, t ? t : "");
+        free(c);
+        json_decref(v);
+    }
+}
 
 struct metric_col {
     char *name;
@@ -27,15 +111,16 @@ int cmd_export(int argc, char **argv)
         return 0;
     }
     const char *db_path = CASCADE_DB_DEFAULT, *study = NULL, *out_path = NULL;
-    int csv = 0;
+    const char *format = "csv";
     for (int i = 0; i < argc; i++) {
         int m;
         if ((m = cli_opt(argc, argv, &i, "--db", &db_path)) ||
-            (m = cli_opt(argc, argv, &i, "--out", &out_path))) {
+            (m = cli_opt(argc, argv, &i, "--out", &out_path)) ||
+            (m = cli_opt(argc, argv, &i, "--format", &format))) {
             if (m < 0)
                 return 2;
         } else if (strcmp(argv[i], "--csv") == 0) {
-            csv = 1;
+            format = "csv";
         } else if (argv[i][0] != '-' && !study) {
             study = argv[i];
         } else {
@@ -44,8 +129,9 @@ int cmd_export(int argc, char **argv)
     }
     if (!study)
         return cli_usage_error(usage, "give a study name");
-    if (!csv)
-        return cli_usage_error(usage, "give the format: --csv");
+    int jsonl = strcmp(format, "jsonl") == 0 || strcmp(format, "json") == 0;
+    if (!jsonl && strcmp(format, "csv") != 0)
+        return cli_usage_error(usage, "--format: give csv or jsonl, not '%s'", format);
     struct err e = {0};
     sqlite3 *db = NULL;
     int rc = db_open_readonly(db_path, &db, &e);
@@ -116,57 +202,70 @@ int cmd_export(int argc, char **argv)
         rc = db_prepare(db, "SELECT value FROM job_params WHERE job_id = ?1 AND name = ?2", &ps, &e);
     if (!rc)
         rc = db_prepare(db, "SELECT value FROM metrics WHERE run_id = ?1 AND name = ?2", &ms, &e);
+    char **heads = NULL;   /* the column names, CSV header and JSON member names */
+    int nhead = 8 + naxes + nm;
+    if (!rc && !(heads = calloc((size_t)nhead, sizeof *heads)))
+        rc = err_nomem(&e, "export columns");
     if (!rc) {
-        fputs("key,kind,name,state,attempt,solver_version,solver_git,wall_s", out);
-        for (int a = 0; a < naxes; a++) {
-            fputc(',', out);
-            table_csv_field(out, axes[a]);
-        }
+        static const char *const fixed[8] = {"key",    "kind",           "name",       "state",
+                                             "attempt", "solver_version", "solver_git", "wall_s"};
+        for (int c = 0; c < 8; c++)
+            heads[c] = strdup(fixed[c]);
+        for (int a = 0; a < naxes; a++)
+            heads[8 + a] = strdup(axes[a]);
         for (int m = 0; m < nm; m++) {
             char h[512];
             snprintf(h, sizeof h, "%s [%s]", mc[m].name, mc[m].unit);
-            fputc(',', out);
-            table_csv_field(out, h);
+            heads[8 + naxes + m] = strdup(h);
         }
-        fputc('\n', out);
+        for (int c = 0; c < nhead && !rc; c++)
+            if (!heads[c])
+                rc = err_nomem(&e, "export columns");
+    }
+    if (!rc) {
+        struct row_sink k = {out, jsonl, 1};
+        if (!jsonl) {
+            for (int c = 0; c < nhead; c++) {
+                if (c)
+                    fputc(',', out);
+                table_csv_field(out, heads[c]);
+            }
+            fputc('\n', out);
+        }
         sqlite3_bind_int64(st, 1, sid);
-        char cell[4096];
         while (sqlite3_step(st) == SQLITE_ROW) {
             long long jid = sqlite3_column_int64(st, 0);
             long long run = sqlite3_column_int64(st, 5);
-            for (int c = 1; c <= 9; c++) {
-                if (c == 5)
-                    continue;
-                table_cell(st, c, cell, sizeof cell);
-                if (c > 1)
-                    fputc(',', out);
-                table_csv_field(out, cell);
-            }
+            row_begin(&k);
+            for (int c = 1, h = 0; c <= 9; c++)
+                if (c != 5)
+                    row_cell(&k, heads[h++], st, c, 0);
             for (int a = 0; a < naxes; a++) {
                 sqlite3_reset(ps);
                 sqlite3_bind_int64(ps, 1, jid);
                 sqlite3_bind_text(ps, 2, axes[a], -1, SQLITE_STATIC);
-                cell[0] = '\0';
-                if (sqlite3_step(ps) == SQLITE_ROW)
-                    table_cell(ps, 0, cell, sizeof cell);
-                fputc(',', out);
-                table_csv_field(out, cell);
+                int have = sqlite3_step(ps) == SQLITE_ROW;
+                row_cell(&k, heads[8 + a], have ? ps : NULL, 0, 1);
             }
             for (int m = 0; m < nm; m++) {
-                cell[0] = '\0';
+                int have = 0;
                 if (run) {
                     sqlite3_reset(ms);
                     sqlite3_bind_int64(ms, 1, run);
                     sqlite3_bind_text(ms, 2, mc[m].name, -1, SQLITE_STATIC);
-                    if (sqlite3_step(ms) == SQLITE_ROW)
-                        table_cell(ms, 0, cell, sizeof cell);
+                    have = sqlite3_step(ms) == SQLITE_ROW;
                 }
-                fputc(',', out);
-                table_csv_field(out, cell);
+                row_cell(&k, heads[8 + naxes + m], have ? ms : NULL, 0, 0);
             }
-            fputc('\n', out);
+            row_end(&k);
         }
+        if (ferror(out) || fflush(out) != 0)
+            rc = err_set(&e, ERR_RUNTIME, "writing %s: %s", out_path ? out_path : "standard output",
+                         strerror(errno));
     }
+    for (int c = 0; heads && c < nhead; c++)
+        free(heads[c]);
+    free(heads);
     sqlite3_finalize(st);
     sqlite3_finalize(ps);
     sqlite3_finalize(ms);

@@ -6,6 +6,7 @@
 #include "db.h"
 #include "plan.h"
 #include "store.h"
+#include "util/canon.h"
 
 static const char *usage =
     "usage: cascade plan STUDY.yaml [--json] [--register [--db FILE]] [--solver PATH]\n"
@@ -67,7 +68,8 @@ int cmd_plan(int argc, char **argv)
         printf("study %s: %ld job%s (%d preparation, %ld sweep); solver %s (%s)\n", s.name,
                p.njobs, p.njobs == 1 ? "" : "s", p.nprep, s.njobs, sv.version, sv.git);
         for (int a = 0; a < s.naxes; a++) {
-            char *vals = json_dumps(s.axes[a].values, JSON_COMPACT);
+            /* shortest round-trip reals: 7.22 as written, not 7.2199999999999998 */
+            char *vals = canon_json(s.axes[a].values);
             printf("  axis %s (%s, factor %d): %s\n", s.axes[a].path,
                    s.axes[a].kind == AXIS_GRID ? "grid" : s.axes[a].kind == AXIS_ZIP ? "zip"
                                                                                       : "repeat",
@@ -88,7 +90,7 @@ int cmd_plan(int argc, char **argv)
                                   "key", pj->key, "kind", pj->prep >= 0 ? "prep" : "sweep",
                                   "name", pj->prep >= 0 ? s.preps[pj->prep].name : NULL, "params",
                                   params, "deps", deps, "case", cs);
-            char *text = json_dumps(o, JSON_COMPACT | JSON_SORT_KEYS);
+            char *text = canon_json(o);   /* keys sorted, reals shortest */
             printf("%s\n", text ? text : "{}");
             free(text);
             json_decref(o);

@@ -7,6 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "build_info.h"
 #include "cli.h"
 #include "db_fault.h"
 
@@ -21,13 +22,14 @@ static const char *usage =
     "  status [STUDY]            jobs done / failed / running / pending per study\n"
     "  query \"SQL\"               read-only SQL on the results database\n"
     "  show KEY                  one job: parameters, attempts, metrics, files\n"
-    "  export STUDY --csv        one row per job: parameters and metrics\n"
+    "  export STUDY              one row per job: parameters and metrics (CSV or JSON lines)\n"
     "  retry STUDY [--failed]    run the study's jobs again (or only the failed ones)\n"
     "  report STUDY              convergence report (Markdown + HTML with figures)\n"
     "  regress STUDY.yaml        rerun a study and compare it with its baseline\n"
     "\n"
     "The database is ./" CASCADE_DB_DEFAULT " unless --db FILE is given; its tables are\n"
-    "described in db/README.md.  'cascade <command> --help' shows a command's options.\n"
+    "described in db/README.md.  'cascade <command> --help' shows a command's options;\n"
+    "'cascade --version' prints the version and the git commit it was built from.\n"
     "Exit codes: 0 ok, 1 a job failed or a runtime error, 2 bad input, 130 interrupted.\n";
 
 int main(int argc, char **argv)
@@ -39,6 +41,10 @@ int main(int argc, char **argv)
     const char *cmd = argv[1];
     if (strcmp(cmd, "--help") == 0 || strcmp(cmd, "-h") == 0 || strcmp(cmd, "help") == 0) {
         fputs(usage, stdout);
+        return 0;
+    }
+    if (strcmp(cmd, "--version") == 0) {
+        printf("cascade %s (%s)\n", CASCADE_VERSION, CASCADE_GIT_HASH);
         return 0;
     }
     static const struct {

@@ -2,6 +2,7 @@
 #include "progress_view.h"
 
 #include <stdarg.h>
+#include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
 
@@ -28,6 +29,15 @@ void progress_view_init(struct progress_view *v, FILE *out, int quiet, long tota
     v->quiet = quiet;
     v->total = total;
     v->t0 = sys_mono();
+    v->last_plain = v->t0;
+    v->plain_every = 60;
+    const char *every = getenv("CASCADE_PROGRESS_SECONDS");
+    if (every && every[0]) {
+        char *end;
+        double s = strtod(every, &end);
+        if (end != every && !*end && s >= 0)
+            v->plain_every = s;
+    }
 }
 
 static void clear_line(struct progress_view *v)
@@ -38,20 +48,27 @@ static void clear_line(struct progress_view *v)
     }
 }
 
-static void draw(struct progress_view *v)
+/* Elapsed time and ETA from the throughput so far. */
+static void times(const struct progress_view *v, char *elapsed, size_t elen, char *eta,
+                  size_t tlen)
 {
     double el = sys_mono() - v->t0;
     long left = v->total - v->done - v->failed;
-    char elapsed[32], eta[32] = "?";
-    progress_view_duration(el, elapsed, sizeof elapsed);
+    snprintf(eta, tlen, "?");
+    progress_view_duration(el, elapsed, elen);
     if (v->finished_here > 0 && left > 0) {
-        /* throughput so far */
         double rate = (double)v->finished_here / el;
         if (rate > 0)
-            progress_view_duration((double)left / rate, eta, sizeof eta);
+            progress_view_duration((double)left / rate, eta, tlen);
     } else if (left <= 0) {
-        snprintf(eta, sizeof eta, "0s");
+        snprintf(eta, tlen, "0s");
     }
+}
+
+static void draw(struct progress_view *v)
+{
+    char elapsed[32], eta[32];
+    times(v, elapsed, sizeof elapsed, eta, sizeof eta);
     fprintf(v->out, "\r\033[K[cascade] done %ld | failed %ld | running %ld | total %ld | %s elapsed, "
                     "ETA %s",
             v->done, v->failed, v->running, v->total, elapsed, eta);
@@ -60,10 +77,26 @@ static void draw(struct progress_view *v)
     v->last_draw = sys_mono();
 }
 
+/* The status line of a log: no carriage return, no escape sequences. */
+static void plain_status(struct progress_view *v)
+{
+    char elapsed[32], eta[32];
+    times(v, elapsed, sizeof elapsed, eta, sizeof eta);
+    fprintf(v->out, "[cascade %s] progress: done %ld | failed %ld | running %ld | total %ld | ETA %s\n",
+            elapsed, v->done, v->failed, v->running, v->total, eta);
+    fflush(v->out);
+    v->last_plain = sys_mono();
+}
+
 void progress_view_tick(struct progress_view *v, int force)
 {
-    if (!v->tty || v->quiet || v->finished)
+    if (v->quiet || v->finished)
         return;
+    if (!v->tty) {
+        if (v->plain_every > 0 && sys_mono() - v->last_plain >= v->plain_every)
+            plain_status(v);
+        return;
+    }
     if (force || sys_mono() - v->last_draw >= 0.5)
         draw(v);
 }
@@ -82,11 +115,12 @@ void progress_view_job(struct progress_view *v, const char *status, const char *
         draw(v);
         return;
     }
-    char el[32], w[32];
-    progress_view_duration(sys_mono() - v->t0, el, sizeof el);
+    char el[32], w[32], eta[32];
+    times(v, el, sizeof el, eta, sizeof eta);
     progress_view_duration(wall_s, w, sizeof w);
-    fprintf(v->out, "[cascade %s] %ld/%ld %s %s (%s) %s%s%s\n", el, v->done + v->failed, v->total,
-            status, key, label, w, message && message[0] ? ": " : "", message ? message : "");
+    fprintf(v->out, "[cascade %s] %ld/%ld %s %s (%s) %s%s%s (ETA %s)\n", el, v->done + v->failed,
+            v->total, status, key, label, w, message && message[0] ? ": " : "",
+            message ? message : "", eta);
     fflush(v->out);
 }
 

@@ -430,10 +430,12 @@ static int value_figure(struct rdoc *doc, const struct study_analysis *a, int k,
     plot_text(d->metric[m], mname, sizeof mname);
     plot_text(a->res.label, xlabel, sizeof xlabel);
     plot_text(a->groups[g].label, glab, sizeof glab);
+    char awords[sizeof a->res.axis_words];
+    plot_text(a->res.axis_words, awords, sizeof awords);
     if (a->ngroups > 1)
-        snprintf(title, sizeof title, "%s against the grid size, %s", mname, glab);
+        snprintf(title, sizeof title, "%s against %s, %s", mname, awords, glab);
     else
-        snprintf(title, sizeof title, "%s against the grid size", mname);
+        snprintf(title, sizeof title, "%s against %s", mname, awords);
     snprintf(ylabel, sizeof ylabel, "%s (%s)", mname, unit_of(a, m));
     struct plot_spec ps = {0};
     ps.title = title;
@@ -455,7 +457,7 @@ static int value_figure(struct rdoc *doc, const struct study_analysis *a, int k,
     int rc = plot_svg(&ps, path, e);
     if (!rc) {
         char cap[SA_LABEL_MAX + 256];
-        snprintf(cap, sizeof cap, "%s against the grid size h%s%s%s", d->metric[m],
+        snprintf(cap, sizeof cap, "%s against %s%s%s%s", d->metric[m], a->res.axis_words,
                  a->ngroups > 1 ? ", " : "", a->ngroups > 1 ? a->groups[g].label : "",
                  ps.noverlays ? "; dashed: the Richardson curve through the three finest grids"
                               : " (no extrapolation)");
@@ -488,7 +490,9 @@ static int error_figure(struct rdoc *doc, const struct study_analysis *a, int k,
     char mname[128], title[384], ylabel[384], xlabel[256];
     plot_text(d->metric[m], mname, sizeof mname);
     plot_text(a->res.label, xlabel, sizeof xlabel);
-    snprintf(title, sizeof title, "%s: error against the grid size", mname);
+    char awords[sizeof a->res.axis_words];
+    plot_text(a->res.axis_words, awords, sizeof awords);
+    snprintf(title, sizeof title, "%s: error against %s", mname, awords);
     snprintf(ylabel, sizeof ylabel, "|%s - extrapolated| (%s)", mname, unit_of(a, m));
     struct plot_spec ps = {0};
     ps.title = title;

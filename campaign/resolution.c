@@ -207,6 +207,16 @@ int resolution_choose(const struct report_spec *rs, const struct res_axis_info *
         snprintf(r->label, sizeof r->label, "h = 1 / %s", axes[pick].name);
     else
         snprintf(r->label, sizeof r->label, "h = (V/N)^{1/dim}, N from %s", axes[pick].name);
+    /* figure titles name the axis itself: a time step is no grid size */
+    const char *nm = axes[pick].name;
+    if (r->hmap == HMAP_INVERSE)
+        snprintf(r->axis_words, sizeof r->axis_words, "1 / %s", nm);
+    else if (r->hmap == HMAP_CELLS)
+        snprintf(r->axis_words, sizeof r->axis_words, "the cell size from %s", nm);
+    else if (is_time_name(last_component(nm)))
+        snprintf(r->axis_words, sizeof r->axis_words, "the time step %s", nm);
+    else
+        snprintf(r->axis_words, sizeof r->axis_words, "the grid size %s", nm);
     describe(r, axes[pick].name,
              r->inferred ? "inferred from its name; set report.resolution to change it"
                          : "from report.resolution");

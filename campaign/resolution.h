@@ -44,6 +44,8 @@ struct resolution {
     int inferred;            /* the axis was inferred from its name */
     int map_inferred;        /* the mapping was inferred */
     char label[RSPEC_LABEL_MAX];   /* plot label of h */
+    char axis_words[RSPEC_LABEL_MAX + 64];   /* what h is, for titles: "the time step
+                                               md.timestep", "1 / sc.cutoff" */
     char why[512];           /* how it was chosen, for the report */
 };
 

@@ -1,5 +1,6 @@
 /* store: registering studies, leases, and recording outcomes. */
 #include "store.h"
+#include "util/canon.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -175,7 +176,7 @@ static int register_study(struct store *st, const struct study *s, long long *st
         return rc;
     for (int i = 0; i < s->naxes && !rc; i++) {
         sqlite3_reset(ax);
-        char *vals = json_dumps(s->axes[i].values, JSON_COMPACT);
+        char *vals = canon_json(s->axes[i].values);   /* reals as written: 7.22 */
         sqlite3_bind_int64(ax, 1, *study_id);
         bind_text(ax, 2, s->axes[i].path);
         sqlite3_bind_int(ax, 3, i);

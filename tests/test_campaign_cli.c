@@ -121,6 +121,34 @@ Test(campaign_cli, md_study_with_preparation_job, .timeout = 120)
     for (const char *c = out; *c; c++)
         lines += *c == '\n';
     cr_assert_eq(lines, 4, "%s", out);
+    /* CSV is the default format; JSON lines hold the same table, typed */
+    char csv[sizeof out];
+    snprintf(csv, sizeof csv, "%s", out);
+    rc = ct_cascade(dir, NULL, out, sizeof out, "export", "mdprep", NULL);
+    cr_assert_eq(rc, 0, "%s", out);
+    cr_assert_str_eq(out, csv);
+    rc = ct_cascade(dir, NULL, out, sizeof out, "export", "mdprep", "--format", "jsonl", NULL);
+    cr_assert_eq(rc, 0, "%s", out);
+    int objects = 0;
+    for (char *line = out, *nl; (nl = strchr(line, '\n')); line = nl + 1) {
+        *nl = '\0';
+        json_error_t je;
+        json_t *o = json_loads(line, 0, &je);
+        cr_assert_not_null(o, "line %d not JSON: %s: %s", objects + 1, je.text, line);
+        if (json_is_string(json_object_get(o, "name")) &&
+            strcmp(json_string_value(json_object_get(o, "kind")), "sweep") == 0) {
+            cr_assert(json_is_real(json_object_get(o, "md.timestep")), "%s", line);
+            cr_assert(json_is_real(json_object_get(o, "temperature_mean [K]")), "%s", line);
+            cr_assert(json_is_integer(json_object_get(o, "attempt")), "%s", line);
+        }
+        cr_assert_eq(json_object_size(o), 12, "%s", line);
+        json_decref(o);
+        objects++;
+    }
+    cr_assert_eq(objects, 3, "%s", out);
+    rc = ct_cascade(dir, NULL, out, sizeof out, "export", "mdprep", "--format", "parquet", NULL);
+    cr_assert_eq(rc, 2, "%s", out);
+    cr_assert_not_null(strstr(out, "give csv or jsonl"), "%s", out);
     /* error paths of export: each a message and exit 2, never a crash (both
      * were a double free of the finalized statement) */
     rc = ct_cascade(dir, NULL, out, sizeof out, "export", "nosuch", "--csv", NULL);

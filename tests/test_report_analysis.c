@@ -51,6 +51,7 @@ Test(report_analysis, resolution_axis_inferred_from_names_only)
     cr_assert_eq(choose(n1, v1, 3, &rs, &r), 0);
     cr_assert_eq(r.axis, 1);
     cr_assert(r.inferred && r.map_inferred && r.hmap == HMAP_VALUE);
+    cr_assert_str_eq(r.axis_words, "the time step md.timestep");   /* figure titles */
     /* cluster size x speed with a zipped target size: no resolution axis is guessed */
     const char *n2[] = {"cluster.atoms", "target.cells", "cluster.speed"};
     const char *v2[] = {"[14, 128, 1052]", "[[20,20,14],[26,26,20],[36,36,28]]", "[5.0, 10.0, 15.0]"};
@@ -62,6 +63,7 @@ Test(report_analysis, resolution_axis_inferred_from_names_only)
     const char *v3[] = {"[2.0, 4.0, 8.0]", "[0.001, 0.002, 0.004]"};
     cr_assert_eq(choose(n3, v3, 2, &rs, &r), 0);
     cr_assert_eq(r.axis, 0);
+    cr_assert_str_eq(r.axis_words, "the grid size mpm.grid.cell");
     report_spec_free(&rs);
 }
 
@@ -77,6 +79,7 @@ Test(report_analysis, resolution_mappings_give_h)
     const char *v1[] = {"[[4,4,4],[8,8,8],[16,16,16]]"};
     cr_assert_eq(choose(n1, v1, 1, &rs, &r), 0);
     cr_assert_eq(r.hmap, HMAP_CELLS);
+    cr_assert_str_eq(r.axis_words, "the cell size from system.lattice.cells");
     json_t *v = json_loads("[4,4,4]", 0, NULL);
     cr_assert_float_eq(resolution_h(&r, v), 0.25, 1e-15);
     json_decref(v);
@@ -86,6 +89,7 @@ Test(report_analysis, resolution_mappings_give_h)
     const char *v2[] = {"[5.0, 8.0, 10.0]"};
     cr_assert_eq(choose(n2, v2, 1, &rs, &r), 0);
     cr_assert_eq(r.hmap, HMAP_INVERSE);
+    cr_assert_str_eq(r.axis_words, "1 / potential.cutoff");
     v = json_real(8.0);
     cr_assert_float_eq(resolution_h(&r, v), 0.125, 1e-15);
     json_decref(v);
