@@ -1,47 +1,38 @@
-/* fit: straight-line and power-law least squares (see fit.h). */
+/* fit: straight-line and power-law least squares (see fit.h), on GSL's
+ * gsl_fit_linear. */
 #include "fit.h"
 
+#include <gsl/gsl_fit.h>
+#include <gsl/gsl_statistics_double.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 
-/* Ordinary least squares on (u, v): v = c0 + c1 u, with the usual standard
- * errors s^2 = SSR / (n - 2), var(c1) = s^2 / Suu, var(c0) = s^2 (1/n +
- * mean(u)^2 / Suu). */
+/* Ordinary least squares on (u, v): v = c0 + c1 u.  gsl_fit_linear gives
+ * the coefficients, the residual sum of squares and the covariance with
+ * s^2 = SSR / (n - 2): var(c1) = s^2 / Suu, var(c0) = s^2 (1/n + mean(u)^2 /
+ * Suu).  With two points there is no residual degree of freedom, so no
+ * standard error (NaN); all u equal is no line at all. */
 static int line(const double *u, const double *v, int n, double *c0, double *c1, double *s0,
-                double *s1, double *r2, double *ssr_out)
+                double *s1, double *r2)
 {
-    double mu = 0, mv = 0;
-    for (int i = 0; i < n; i++) {
-        mu += u[i];
-        mv += v[i];
-    }
-    mu /= n;
-    mv /= n;
-    double suu = 0, suv = 0, svv = 0;
-    for (int i = 0; i < n; i++) {
-        suu += (u[i] - mu) * (u[i] - mu);
-        suv += (u[i] - mu) * (v[i] - mv);
-        svv += (v[i] - mv) * (v[i] - mv);
-    }
-    if (!(suu > 0))
+    int spread = 0;
+    for (int i = 1; i < n && !spread; i++)
+        spread = u[i] != u[0];
+    if (!spread)
         return -1;
-    *c1 = suv / suu;
-    *c0 = mv - *c1 * mu;
-    double ssr = 0;
-    for (int i = 0; i < n; i++) {
-        double r = v[i] - (*c0 + *c1 * u[i]);
-        ssr += r * r;
-    }
+    double cov00, cov01, cov11, ssr;
+    if (gsl_fit_linear(u, 1, v, 1, (size_t)n, c0, c1, &cov00, &cov01, &cov11, &ssr) != 0 ||
+        !isfinite(*c0) || !isfinite(*c1))
+        return -1;
+    double svv = gsl_stats_tss(v, 1, (size_t)n);
     *r2 = svv > 0 ? 1 - ssr / svv : 1.0;
     if (n > 2) {
-        double s2 = ssr / (n - 2);
-        *s1 = sqrt(s2 / suu);
-        *s0 = sqrt(s2 * (1.0 / n + mu * mu / suu));
+        *s0 = sqrt(cov00);
+        *s1 = sqrt(cov11);
     } else {
         *s0 = *s1 = NAN;
     }
-    *ssr_out = ssr;
     return 0;
 }
 
@@ -70,8 +61,8 @@ int fit_points(enum fit_model model, const double *x, const double *y, int n,
         }
         m++;
     }
-    double c0, c1, s0, s1, r2, ssr;
-    int rc = m >= 2 ? line(u, v, m, &c0, &c1, &s0, &s1, &r2, &ssr) : -1;
+    double c0, c1, s0, s1, r2;
+    int rc = m >= 2 ? line(u, v, m, &c0, &c1, &s0, &s1, &r2) : -1;
     free(u);
     if (rc)
         return -1;
@@ -99,7 +90,6 @@ int fit_points(enum fit_model model, const double *x, const double *y, int n,
         }
     }
     f->rms = k ? sqrt(sum / k) : NAN;
-    (void)ssr;
     return 0;
 }
 
