@@ -49,7 +49,7 @@ ifeq ($(VARIANT),fuzz)
   CC := OMPI_CC=$(FUZZ_CLANG) mpicc
 endif
 
-PKGS     := hdf5-openmpi jansson yaml-0.1 gsl sqlite3
+PKGS     := hdf5-openmpi jansson yaml-0.1 gsl sqlite3 nettle
 PKG_CFLAGS := $(shell pkg-config --cflags $(PKGS) 2>/dev/null)
 PKG_LIBS   := $(shell pkg-config --libs $(PKGS) 2>/dev/null)
 
@@ -96,7 +96,7 @@ all: $(SOLVER_BIN) $(CAMPAIGN_BIN)
 # --- dependencies (Debian) -------------------------------------------------
 DEB_PKGS := build-essential pkg-config libsqlite3-dev libhdf5-openmpi-dev libgsl-dev \
             libopenmpi-dev openmpi-bin libyaml-dev libjansson-dev libcriterion-dev \
-            gnuplot-nox lammps-data sqlite3 time bc hdf5-tools
+            gnuplot-nox lammps-data sqlite3 time bc hdf5-tools nettle-dev
 deps:
 	@missing=""; for p in $(DEB_PKGS); do \
 	  dpkg-query -W -f='$${Status}' $$p 2>/dev/null | grep -q 'install ok installed' || missing="$$missing $$p"; \
