@@ -540,7 +540,18 @@ int store_finish(struct store *st, long long job_id, long long run_id, const cha
         return rc;
     sqlite3_stmt *s = q(st, Q_LEASE_GET);
     sqlite3_bind_int64(s, 1, job_id);
-    int ours = sqlite3_step(s) == SQLITE_ROW &&
+    int step = sqlite3_step(s);
+    if (step != SQLITE_ROW && step != SQLITE_DONE) {
+        /* the lease could not be read (out of memory, I/O): that is no
+         * sign that another runner took the job -- taking it for one left
+         * the run 'running' under a lease this runner kept renewing, and
+         * the runner waited for it for ever */
+        rc = db_fail(db, e, "checking the lease");
+        sqlite3_reset(s);
+        db_rollback(db);
+        return rc;
+    }
+    int ours = step == SQLITE_ROW &&
                strcmp((const char *)sqlite3_column_text(s, 0), st->runner) == 0 &&
                sqlite3_column_int64(s, 2) == run_id;
     sqlite3_reset(s);
