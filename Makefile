@@ -5,6 +5,7 @@
 #   make SANITIZE=1      AddressSanitizer + UBSan into build/asan/bin/
 #   make WERROR=1        warnings are errors (CI sets this)
 #   make test | demo | bench | nightly | install PREFIX=... | clean | deps
+#   make test-browser    the nightly dashboard in headless Chromium (installs chromium)
 #   make soak [SOAK_JOBS=N SOAK_KILLS=N SOAK_RUNNERS=N SOAK_SECONDS=S]   runner soak test
 #   make fuzz FUZZ_SECONDS=N   libFuzzer on every input reader (docs/fuzzing.md)
 #
@@ -90,7 +91,7 @@ STANDIN_BIN  := $(BINDIR)/fake-solver
 
 GEN_PROV     := $(OBJDIR)/gen/build_info.h
 
-.PHONY: all deps test demo bench nightly soak install clean check-werror fuzz fuzz-deps fuzz-build fuzz-cmin
+.PHONY: all deps test test-browser demo bench nightly soak install clean check-werror fuzz fuzz-deps fuzz-build fuzz-cmin
 all: $(SOLVER_BIN) $(CAMPAIGN_BIN)
 
 # --- dependencies (Debian) -------------------------------------------------
@@ -220,6 +221,16 @@ export SOAK_JOBS SOAK_KILLS SOAK_RUNNERS SOAK_SECONDS SOAK_FREEZES SOAK_LEASE SO
 soak: deps
 	@$(MAKE) --no-print-directory $(CAMPAIGN_BIN) $(STANDIN_BIN)
 	bash bench/soak.sh $(abspath $(BINDIR))
+
+# The nightly dashboard in a real browser (tests/browser/nightly_page.sh):
+# installs Debian's chromium for itself (not part of make deps or make
+# test), renders `cascade report --nightly` headless, checks every figure
+# drew, and keeps the screenshot in build/test-browser/nightly.png.
+BROWSER_DEB_PKGS := chromium python3
+test-browser:
+	@$(MAKE) --no-print-directory deps DEB_PKGS="$(DEB_PKGS) $(BROWSER_DEB_PKGS)"
+	@$(MAKE) --no-print-directory $(CAMPAIGN_BIN) $(STANDIN_BIN)
+	sh tests/browser/nightly_page.sh $(abspath $(BINDIR)) build/test-browser
 
 bench: deps
 	@$(MAKE) --no-print-directory BUILD=release all

@@ -12,6 +12,7 @@
 #include "backend.h"
 #include "db.h"
 #include "launch.h"
+#include "regress_history.h"
 #include "report_run.h"
 #include "study.h"
 #include "study_run.h"
@@ -203,7 +204,7 @@ static int compare(const struct regress_args *a, struct report_ctx *c, sqlite3 *
         printf("regress %s: baseline %s (solver %s); now solver %s\n", c->d.name, path,
                base_solver, now_solver[0] ? now_solver : "(no values)");
         cmp_print(&r, stdout, !a->brief);
-        rc = baseline_db_check(db, id, now_solver, &r, e);
+        rc = regress_history_record(db, id, now_solver, &r, &c->a, e);
     }
     if (!rc) {
         char title[256];

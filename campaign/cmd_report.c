@@ -10,6 +10,7 @@
 
 static const char *usage =
     "usage: cascade report STUDY [--format md,html] [--out DIR] [--db FILE]\n"
+    "       cascade report --nightly [STUDY] [--db FILE] [--out FILE] [--nights N]\n"
     "\n"
     "Writes the report of a study from the results database: for each metric and\n"
     "each combination of the other swept values, the values along the resolution\n"
@@ -26,7 +27,9 @@ static const char *usage =
     "  --format LIST   md, html or md,html (default)\n"
     "  --out DIR       output directory (default reports/STUDY); it receives\n"
     "                  report.md with its SVG figures and a self-contained report.html\n"
-    "  --db FILE       results database (default ./" CASCADE_DB_DEFAULT ")\n";
+    "  --db FILE       results database (default ./" CASCADE_DB_DEFAULT ")\n"
+    "  --nightly       the nightly dashboard instead: the regression history of\n"
+    "                  every study as one HTML page ('cascade report --nightly --help')\n";
 
 /* A study argument is a file when it looks like a path (a '/' or a .yaml /
  * .yml ending) and names an existing regular file; otherwise a study name. */
@@ -41,6 +44,9 @@ static int is_file(const char *arg)
 
 int cmd_report(int argc, char **argv)
 {
+    for (int i = 0; i < argc; i++)
+        if (strcmp(argv[i], "--nightly") == 0)
+            return cmd_report_nightly(argc, argv);
     if (cli_wants_help(argc, argv)) {
         fputs(usage, stdout);
         return 0;

@@ -130,9 +130,13 @@ Test(cli_errors, campaign_commands_refuse_bad_arguments_and_files, .timeout = 30
         {{"show", "abcd", "--db", "@missing"}, 2, "file.yaml"},
         {{"export"}, 2, "usage: cascade export"},
         {{"export", "s", "--db", "@notdb", "--csv"}, 1, "not.db"},
+        {{"export", "s", "--format", "xml"}, 2, "give csv or jsonl"},
         {{"retry"}, 2, "usage: cascade retry"},
         {{"report"}, 2, "usage: cascade report"},
         {{"report", "s", "--db", "@missing"}, 2, "file.yaml"},
+        {{"report", "--nightly", "--nights", "0"}, 2, "--nights needs an integer"},
+        {{"report", "--nightly", "--db", "@notdb"}, 1, "not.db"},
+        {{"report", "--nightly", "--db", "@missing"}, 2, "file.yaml"},
         {{"regress"}, 2, "usage: cascade regress"},
         {{"regress", "@missing"}, 2, "file.yaml"},
     };
