@@ -21,7 +21,9 @@
 #include "core/parallel.h"
 #include "engine/sim.h"
 #include "input/case.h"
+#include "input/registry_keys.h"
 #include "md/potential.h"
+#include "mpm/mpm_material.h"
 #include "output/provenance.h"
 #include "scenarios/case_type.h"
 #include "output/run.h"
@@ -37,7 +39,8 @@ static const char *usage_main =
     "  check CASE.yaml    validate the case (keys, values, files, time step) and exit\n"
     "  resolve CASE.yaml  print the canonical case as JSON (defaults filled in)\n"
     "  resolve --batch    read cases as JSON lines on stdin, print one result line each\n"
-    "  info               version, git hash, build flags, libraries, case types, potentials\n"
+    "  info               version, git hash, build flags, libraries; case types, potentials,\n"
+    "                     MPM materials and the keys each takes\n"
     "\n"
     "Run 'cascade-solver <command> --help' for a command's options.\n"
     "Exit codes: 0 ok, 1 runtime failure, 2 invalid input, 4 diverged.\n";
@@ -82,8 +85,12 @@ static const char *usage_resolve =
     "  {\"ok\": true, \"key\": \"...\", \"case\": {...}}  or  {\"ok\": false, \"error\": \"...\"}\n"
     "Files named in the cases are not opened (run 'check' for that).\n";
 
-static const char *usage_info = "usage: cascade-solver info\n\nPrints build and library "
-                                "provenance, the case types and the potential styles as JSON.\n";
+static const char *usage_info =
+    "usage: cascade-solver info\n\nPrints as JSON the build and library provenance and\n"
+    "every registry -- case types, potential styles, MPM constitutive laws\n"
+    "(mpm_materials) -- with a summary each, and under \"keys\" the keys each entry\n"
+    "takes with their defaults (\"(required)\" where there is none; \"common\": the\n"
+    "keys of every case).\n";
 
 static int wants_help(int argc, char **argv)
 {
@@ -247,6 +254,15 @@ static int cmd_info(int argc, char **argv)
         json_object_set_new(pots, potential_styles[i].name,
                             json_string(potential_styles[i].summary));
     json_object_set_new(info, "potential_styles", pots);
+    json_t *mats = json_object();
+    for (int i = 0; mpm_material_styles[i].law; i++)
+        json_object_set_new(mats, mpm_material_styles[i].law,
+                            json_string(mpm_material_styles[i].summary));
+    json_object_set_new(info, "mpm_materials", mats);
+    /* the keys each entry takes, with its defaults (registry_keys.h) */
+    json_t *keys = registry_keys_json();
+    if (keys)
+        json_object_set_new(info, "keys", keys);
     json_object_set_new(info, "openmp_max_threads", json_integer(omp_get_max_threads()));
     json_dumpf(info, stdout, JSON_INDENT(2) | JSON_SORT_KEYS);
     printf("\n");

@@ -6,6 +6,7 @@
  * table's "where" column wrapped between words, never cut inside one.
  */
 #include <criterion/criterion.h>
+#include <jansson.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -167,4 +168,55 @@ Test(cli_conventions, regress_where_column_wraps_between_words)
         cr_assert_leq(nl - l, 200, "line too wide:\n%s", buf);
     cr_assert_not_null(strstr(buf, "short=1"), "%s", buf);
     free(buf);
+}
+
+/* cascade-solver info: every registry, with the keys each entry takes. */
+Test(cli_conventions, solver_info_lists_every_registry_with_its_keys, .timeout = 60)
+{
+    const char *solver = getenv("CASCADE_SOLVER");
+    cr_assert_not_null(solver);
+    static char out[1 << 20];
+    const char *argv[] = {solver, "info", NULL};
+    cr_assert_eq(ct_exec("/tmp", NULL, argv, out, sizeof out), 0, "%.2000s", out);
+    json_error_t je;
+    json_t *info = json_loads(out, 0, &je);
+    cr_assert_not_null(info, "%s: %.500s", je.text, out);
+    /* the MPM constitutive laws are a registry like the others */
+    json_t *mats = json_object_get(info, "mpm_materials");
+    cr_assert_eq(json_object_size(mats), 3);
+    cr_assert(json_is_string(json_object_get(mats, "j2")));
+    json_t *keys = json_object_get(info, "keys");
+    cr_assert(json_is_object(keys));
+    /* every entry of every registry has its keys */
+    static const char *const regs[] = {"case_types", "potential_styles", "mpm_materials"};
+    for (int r = 0; r < 3; r++) {
+        json_t *names = json_object_get(info, regs[r]), *k = json_object_get(keys, regs[r]);
+        cr_assert_gt(json_object_size(names), 2, "%s", regs[r]);
+        cr_assert_eq(json_object_size(k), json_object_size(names), "%s", regs[r]);
+        const char *name;
+        json_t *v;
+        json_object_foreach(names, name, v)
+        {
+            json_t *tree = json_object_get(k, name);
+            cr_assert(json_is_object(tree) && json_object_size(tree) > 0, "%s %s", regs[r], name);
+            cr_assert_null(json_object_get(tree, "(listing stopped)"), "%s %s: %s", regs[r], name,
+                           json_string_value(json_object_get(tree, "(listing stopped)")));
+        }
+    }
+    /* required keys are named so, defaults are the solver's own */
+    json_t *le = json_object_get(json_object_get(keys, "mpm_materials"), "linear_elastic");
+    cr_assert_str_eq(json_string_value(json_object_get(le, "E")), "(required)");
+    cr_assert_str_eq(json_string_value(json_object_get(le, "nu")), "(required)");
+    cr_assert_str_eq(json_string_value(json_object_get(le, "density")), "(required)");
+    cr_assert_str_eq(json_string_value(json_object_get(le, "rate")), "jaumann");
+    json_t *j2 = json_object_get(json_object_get(keys, "mpm_materials"), "j2");
+    cr_assert_not_null(json_object_get(j2, "yield"));
+    json_t *eam = json_object_get(json_object_get(keys, "potential_styles"), "eam/alloy");
+    cr_assert_str_eq(json_string_value(json_object_get(eam, "file")), "(required)");
+    json_t *md = json_object_get(json_object_get(keys, "case_types"), "md");
+    cr_assert_float_eq(json_real_value(json_object_get(json_object_get(md, "md"), "timestep")),
+                       0.001, 1e-15);
+    cr_assert_eq(json_integer_value(json_object_get(json_object_get(keys, "common"), "seed")), 1);
+    cr_assert_not_null(json_object_get(json_object_get(keys, "common"), "output"));
+    json_decref(info);
 }

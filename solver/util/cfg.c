@@ -69,6 +69,30 @@ void cfg_allow(struct cfg_obj *o, const char *key)
         o->known[o->nknown++] = key;
 }
 
+/* A required key that is absent: an error, or, when only the keys are being
+ * listed (describe), the mark in the tree (returns 0; the caller then
+ * makes up a value within the bounds). */
+static int missing_key(struct cfg_obj *o, const char *key);
+
+/* A key marked required by an earlier describe read counts as absent. */
+static int is_mark(const struct cfg_obj *o, const json_t *v)
+{
+    return (o->cfg->shallow == CFG_DESCRIBE) && json_is_string(v) &&
+           strcmp(json_string_value(v), CFG_REQUIRED_MARK) == 0;
+}
+
+/* A stand-in value within bounds b (describe only). */
+static double stand_in(struct cfg_bound b)
+{
+    if (isfinite(b.lo) && isfinite(b.hi))
+        return 0.5 * (b.lo + b.hi);
+    if (isfinite(b.lo))
+        return b.lo + 1;
+    if (isfinite(b.hi))
+        return b.hi - 1;
+    return 1.0;
+}
+
 static const char *type_name(const json_t *v)
 {
     switch (json_typeof(v)) {
@@ -82,6 +106,14 @@ static const char *type_name(const json_t *v)
     case JSON_NULL: return "null";
     }
     return "?";
+}
+
+static int missing_key(struct cfg_obj *o, const char *key)
+{
+    if (!(o->cfg->shallow == CFG_DESCRIBE))
+        return fail(o->cfg, o->path, 1, "missing required key '%s'", key);
+    json_object_set_new(o->node, key, json_string(CFG_REQUIRED_MARK));
+    return 0;
 }
 
 int cfg_root(struct cfg *c, json_t *doc, struct cfg_obj *root)
@@ -144,6 +176,8 @@ int cfg_section_required(struct cfg_obj *o, const char *key, struct cfg_obj *chi
     int rc = cfg_section_opt(o, key, child, &present);
     if (rc)
         return rc;
+    if (!present && (o->cfg->shallow == CFG_DESCRIBE))
+        return cfg_section(o, key, child);   /* its keys are what is asked for */
     if (!present)
         return fail(o->cfg, o->path, 1, "missing required section '%s'", key);
     return 0;
@@ -183,7 +217,7 @@ int cfg_real_opt(struct cfg_obj *o, const char *key, struct cfg_bound b, double 
     char path[CFG_PATH_MAX];
     child_path(o, key, path, sizeof path);
     json_t *v = json_object_get(o->node, key);
-    *present = v && !json_is_null(v);
+    *present = v && !json_is_null(v) && !is_mark(o, v);
     if (!*present) {
         if (v)
             json_object_del(o->node, key);
@@ -207,8 +241,10 @@ int cfg_real(struct cfg_obj *o, const char *key, double def, struct cfg_bound b,
     int rc = cfg_real_opt(o, key, b, out, &present);
     if (rc || present)
         return rc;
-    if (isnan(def))
-        return fail(o->cfg, o->path, 1, "missing required key '%s'", key);
+    if (isnan(def)) {
+        *out = stand_in(b);
+        return missing_key(o, key);
+    }
     *out = def;
     json_object_set_new(o->node, key, json_real(def));
     return 0;
@@ -220,7 +256,7 @@ int cfg_int_opt(struct cfg_obj *o, const char *key, struct cfg_bound b, long *ou
     char path[CFG_PATH_MAX];
     child_path(o, key, path, sizeof path);
     json_t *v = json_object_get(o->node, key);
-    *present = v && !json_is_null(v);
+    *present = v && !json_is_null(v) && !is_mark(o, v);
     if (!*present) {
         if (v)
             json_object_del(o->node, key);
@@ -250,8 +286,10 @@ int cfg_int(struct cfg_obj *o, const char *key, long def, struct cfg_bound b, lo
     int rc = cfg_int_opt(o, key, b, out, &present);
     if (rc || present)
         return rc;
-    if (def == CFG_REQUIRED_INT)
-        return fail(o->cfg, o->path, 1, "missing required key '%s'", key);
+    if (def == CFG_REQUIRED_INT) {
+        *out = isfinite(b.lo) && b.lo + 1 <= b.hi ? (long)b.lo + 1 : (long)ceil(stand_in(b));
+        return missing_key(o, key);
+    }
     *out = def;
     json_object_set_new(o->node, key, json_integer(def));
     return 0;
@@ -263,9 +301,11 @@ int cfg_bool(struct cfg_obj *o, const char *key, int def, int *out)
     char path[CFG_PATH_MAX];
     child_path(o, key, path, sizeof path);
     json_t *v = json_object_get(o->node, key);
-    if (!v || json_is_null(v)) {
-        if (def < 0)
-            return fail(o->cfg, o->path, 1, "missing required key '%s'", key);
+    if (!v || json_is_null(v) || is_mark(o, v)) {
+        if (def < 0) {
+            *out = 0;
+            return missing_key(o, key);
+        }
         *out = def;
         json_object_set_new(o->node, key, json_boolean(def));
         return 0;
@@ -282,7 +322,7 @@ int cfg_string_opt(struct cfg_obj *o, const char *key, const char **out, int *pr
     char path[CFG_PATH_MAX];
     child_path(o, key, path, sizeof path);
     json_t *v = json_object_get(o->node, key);
-    *present = v && !json_is_null(v);
+    *present = v && !json_is_null(v) && !is_mark(o, v);
     if (!*present) {
         if (v)
             json_object_del(o->node, key);
@@ -300,8 +340,11 @@ int cfg_string(struct cfg_obj *o, const char *key, const char *def, const char *
     int rc = cfg_string_opt(o, key, out, &present);
     if (rc || present)
         return rc;
-    if (!def)
-        return fail(o->cfg, o->path, 1, "missing required key '%s'", key);
+    if (!def) {
+        rc = missing_key(o, key);
+        *out = CFG_REQUIRED_MARK;
+        return rc;
+    }
     json_object_set_new(o->node, key, json_string(def));
     *out = json_string_value(json_object_get(o->node, key));
     return 0;
@@ -330,6 +373,10 @@ int cfg_enum(struct cfg_obj *o, const char *key, const char *def, const char *co
     int rc = cfg_string(o, key, def, &s);
     if (rc)
         return rc;
+    if (is_mark(o, json_object_get(o->node, key))) {
+        *out = 0;   /* describe: the first choice stands in */
+        return 0;
+    }
     int n = 0;
     for (; choices[n]; n++)
         if (strcmp(choices[n], s) == 0) {
@@ -377,9 +424,12 @@ int cfg_reals(struct cfg_obj *o, const char *key, int n, const double *def, stru
     char path[CFG_PATH_MAX];
     child_path(o, key, path, sizeof path);
     json_t *v = json_object_get(o->node, key);
-    if (!v || json_is_null(v)) {
-        if (!def)
-            return fail(o->cfg, o->path, 1, "missing required key '%s'", key);
+    if (!v || json_is_null(v) || is_mark(o, v)) {
+        if (!def) {
+            for (int i = 0; i < n; i++)   /* increasing: a [lo, hi) range is valid */
+                out[i] = stand_in(b) + i;
+            return missing_key(o, key);
+        }
         json_t *arr = json_array();
         for (int i = 0; i < n; i++) {
             out[i] = def[i];
@@ -405,9 +455,12 @@ int cfg_ints(struct cfg_obj *o, const char *key, int n, const long *def, struct 
     char path[CFG_PATH_MAX];
     child_path(o, key, path, sizeof path);
     json_t *v = json_object_get(o->node, key);
-    if (!v || json_is_null(v)) {
-        if (!def)
-            return fail(o->cfg, o->path, 1, "missing required key '%s'", key);
+    if (!v || json_is_null(v) || is_mark(o, v)) {
+        if (!def) {
+            for (int i = 0; i < n; i++)
+                out[i] = (long)ceil(stand_in(b));
+            return missing_key(o, key);
+        }
         json_t *arr = json_array();
         for (int i = 0; i < n; i++) {
             out[i] = def[i];
@@ -447,9 +500,9 @@ int cfg_real_list(struct cfg_obj *o, const char *key, int required, struct cfg_b
     json_t *v = json_object_get(o->node, key);
     *out = NULL;
     *n = 0;
-    if (!v || json_is_null(v)) {
+    if (!v || json_is_null(v) || is_mark(o, v)) {
         if (required)
-            return fail(o->cfg, o->path, 1, "missing required key '%s'", key);
+            return missing_key(o, key);
         return 0;
     }
     if (json_is_number(v)) {   /* one value may be given without brackets */
@@ -485,9 +538,9 @@ int cfg_list(struct cfg_obj *o, const char *key, int required, size_t *n)
     child_path(o, key, path, sizeof path);
     json_t *v = json_object_get(o->node, key);
     *n = 0;
-    if (!v || json_is_null(v)) {
+    if (!v || json_is_null(v) || is_mark(o, v)) {
         if (required)
-            return fail(o->cfg, o->path, 1, "missing required key '%s'", key);
+            return missing_key(o, key);
         return 0;
     }
     if (!json_is_array(v))
@@ -571,9 +624,9 @@ int cfg_strings(struct cfg_obj *o, const char *key, int required, const char **o
     child_path(o, key, path, sizeof path);
     json_t *v = json_object_get(o->node, key);
     *n = 0;
-    if (!v || json_is_null(v)) {
+    if (!v || json_is_null(v) || is_mark(o, v)) {
         if (required)
-            return fail(o->cfg, o->path, 1, "missing required key '%s'", key);
+            return missing_key(o, key);
         return 0;
     }
     if (json_is_string(v)) {   /* a single name may be given without brackets */

@@ -28,8 +28,15 @@ struct cfg {
     const struct locmap *locs;  /* source locations, or NULL (JSON input) */
     struct err *err;
     const char *base_dir;       /* directory relative file names start from */
-    int shallow;                /* validate keys only: open no files, build nothing */
+    int shallow;                /* validate keys only: open no files, build nothing;
+                                   CFG_DESCRIBE: that, and list the keys (below) */
 };
+
+/* shallow = CFG_DESCRIBE lists the keys a reader asks for (cascade-solver
+ * info): a missing required key is marked CFG_REQUIRED_MARK in the tree and
+ * a value within its bounds stands in for it. */
+#define CFG_DESCRIBE 2
+#define CFG_REQUIRED_MARK "(required)"
 
 /* One object of the document while it is read. */
 struct cfg_obj {
