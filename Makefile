@@ -194,7 +194,8 @@ demo: deps
 # (only the jobs this solver build has not run), every value and observed
 # order is compared with the study's baseline (studies/baselines/), the
 # report goes to reports/<study>/, and the target fails when any study
-# regressed (all of them run either way).  NIGHTLY_ARGS=--update-baseline
+# regressed (all of them run either way); reports/nightly.html is the
+# dashboard of all the nights so far.  NIGHTLY_ARGS=--update-baseline
 # rewrites the baselines instead (review and commit them).
 NIGHTLY_DIR ?= runs/nightly
 NIGHTLY_STUDIES ?= studies/nightly.yaml studies/nightly_impact_quick.yaml \
@@ -208,7 +209,10 @@ nightly: deps
 	    CASCADE_SOLVER=$(abspath $(SOLVER_BIN)) $(CAMPAIGN_BIN) regress $$s \
 	        --db $(NIGHTLY_DIR)/cascade.db --runs $(NIGHTLY_DIR)/runs --out reports/$$n \
 	        $(NIGHTLY_ARGS) || fail=1; \
-	done; exit $$fail
+	done; \
+	$(CAMPAIGN_BIN) report --nightly --db $(NIGHTLY_DIR)/cascade.db --out reports/nightly.html \
+	    || fail=1; \
+	exit $$fail
 
 # The runner soak test (docs/campaign.md, "Soak test"): a few hundred
 # stand-in jobs, several runners on one study, kill -9s of runners and
