@@ -101,13 +101,20 @@ int table_print(sqlite3 *db, sqlite3_stmt *st, enum table_format f, FILE *out, l
             }
             fputc('\n', out);
         } else if (f == TABLE_JSON) {
-            json_t *o = json_object();
-            for (int c = 0; c < nc; c++)
-                json_object_set_new(o, sqlite3_column_name(st, c), json_cell(st, c));
-            char *text = json_dumps(o, JSON_COMPACT | JSON_PRESERVE_ORDER);
-            fprintf(out, "%s\n", text ? text : "{}");
-            free(text);
-            json_decref(o);
+            /* written member by member: columns in their order, reals in
+             * the shortest form that reads back (json_dumps writes %.17g:
+             * 7.2199999999999998 for 7.22) */
+            fputc('{', out);
+            for (int c = 0; c < nc; c++) {
+                json_t *k = json_string(sqlite3_column_name(st, c)), *v = json_cell(st, c);
+                char *kt = k ? canon_json(k) : NULL, *vt = v ? canon_json(v) : NULL;
+                fprintf(out, "%s%s:%s", c ? "," : "", kt ? kt : "\"\"", vt ? vt : "null");
+                free(kt);
+                free(vt);
+                json_decref(k);
+                json_decref(v);
+            }
+            fputs("}\n", out);
         } else {
             if ((n + 1) * nc > cap) {
                 long ncap = cap ? 2 * cap : 256 * (nc ? nc : 1);

@@ -1,7 +1,7 @@
 /*
  * What a user of the command line expects (issue 17): `cascade --version`;
  * swept values printed as written (7.22, not 7.2199999999999998) by
- * `cascade plan` and in the database; progress lines with the ETA in a log
+ * `cascade plan`, in the database and by `cascade query --json`; progress lines with the ETA in a log
  * file (stdout not a terminal), also while no job finishes; the regress
  * table's "where" column wrapped between words, never cut inside one.
  */
@@ -63,6 +63,13 @@ Test(cli_conventions, plan_prints_sweep_values_as_written, .timeout = 60)
                             "value = 7.22"),
                  2);
     sqlite3_close(db);
+    /* and cascade query's JSON lines print them so too */
+    rc = ct_cascade(dir, NULL, out, sizeof out, "query",
+                    "SELECT name, value FROM job_params WHERE name = 'md.skin' ORDER BY value DESC "
+                    "LIMIT 1",
+                    "--json", NULL);
+    cr_assert_eq(rc, 0, "%s", out);
+    cr_assert_str_eq(out, "{\"name\":\"md.skin\",\"value\":7.22}\n");
     rc = ct_cascade(dir, NULL, out, sizeof out, "plan", "s.yaml", "--json", NULL);
     cr_assert_eq(rc, 0, "%s", out);
     cr_assert_not_null(strstr(out, "\"md.skin\":7.22"), "%s", out);
