@@ -499,9 +499,11 @@ int mpm_case_read(struct cfg_obj *root, const struct case_common *common, struct
         goto done;
     }
     for (size_t i = 0; i < nrs; i++) {
-        if (rs[i] != floor(rs[i])) {
+        /* bounded before the cast: a double beyond long's range is undefined
+         * behaviour to convert (found by the case fuzzer) */
+        if (rs[i] != floor(rs[i]) || rs[i] > 1e15) {
             free(rs);
-            rc = mpm_key_error(&mo, "report_steps", "steps must be integers");
+            rc = mpm_key_error(&mo, "report_steps", "steps must be integers from 0 to 1e15");
             goto done;
         }
         c->report_steps[c->nreport++] = (long)rs[i];
