@@ -526,3 +526,41 @@ Test(limits, huge_cutoff_refused_quickly)
         cr_assert_lt(secs, 1.0, "%zu took %.2f s", k, secs);
     }
 }
+
+/* The crystal and elastic case types build their crystals when they run: the
+ * same range rule at `check`, naming the key, for the smallest crystal
+ * (cells of a_min). */
+Test(limits, crystal_cases_check_the_range)
+{
+    static const struct {
+        const char *yaml;
+        const char *expect;
+    } cases[] = {
+        {"type: crystal\ncrystal: {lattice: fcc, element: Cu, a_min: 3.4, a_max: 3.8, cells: 3}\n"
+         "potential: {style: lj, elements: [Cu], epsilon: [0.4], sigma: [2.3], cutoff: 5000}\n",
+         "bad.yaml:3:78: potential.cutoff: cutoff 5000 Å plus skin 0.5 Å against the 10.2 x 10.2 "
+         "x 10.2 Å box (periodic periodic periodic) needs about 1.02e+11 ghost atoms (periodic "
+         "images), more than the solver's particle limit = 20000000 (the 3 x 3 x 3 crystal at "
+         "a = 3.4 Å)"},
+        {"type: elastic\ncrystal: {lattice: fcc, element: Cu, a_min: 3.5, a_max: 3.7, cells: 2}\n"
+         "potential: {style: lj, elements: [Cu], epsilon: [0.4], sigma: [2.3], cutoff: 60}\n",
+         "bad.yaml:3:78: potential.cutoff: cutoff 60 Å plus skin 1 Å: the neighbour list of 32 "
+         "atoms would hold about"},
+    };
+    for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) {
+        char out[4096];
+        double secs;
+        int rc = solver("check", cases[k].yaml, NULL, out, sizeof out, &secs);
+        cr_assert_eq(rc, 2, "%zu: %s", k, out);
+        cr_assert(strstr(out, cases[k].expect), "%zu:\n  expected: %s\n  got: %s", k,
+                  cases[k].expect, out);
+        cr_assert_lt(secs, 1.0, "%zu took %.2f s", k, secs);
+    }
+    /* a sane cutoff passes */
+    char out[4096];
+    int rc = solver("check",
+                    "type: crystal\ncrystal: {lattice: fcc, element: Cu, a_min: 3.4, a_max: 3.8, "
+                    "cells: 3}\npotential: {style: sutton_chen}\n",
+                    NULL, out, sizeof out, NULL);
+    cr_assert_eq(rc, 0, "%s", out);
+}
