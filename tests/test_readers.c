@@ -330,7 +330,11 @@ Test(readers, sw_bad_input)
         {2, "Si Si Si 2.1683 2.0951x 1.80 21.0 1.20 -0.333333333333",
          "x.sw:2: field 5 (sigma): '2.0951x' is not a finite decimal number"},
         {2, "Si Si Si 2.1683 -2 1.80 21.0 1.20 -0.333333333333",
-         "x.sw:2: field 5 (sigma) must be > 0, found -2"},
+         "x.sw:2: field 5 (sigma) must be >= 0, found -2"},
+        /* sigma 0 is legal (GaN.sw's mixed entries), but a potential
+         * whose only pair has no range is not */
+        {2, "Si Si Si 2.1683 0 1.80 21.0 1.20 -0.333333333333",
+         "no pair of the elements in use interacts (a * sigma is 0 in every i j j entry)"},
         {2, "Si Si Si 2.1683 2.0951 1.80 -21.0 1.20 -0.333333333333",
          "x.sw:2: field 7 (lambda) must be >= 0, found -21"},
         {3, "  nan 0.6022245584 4.0 0.0 0.0", "x.sw:3: field 10 (A): 'nan' is not a finite "
