@@ -85,7 +85,7 @@ int md_output_snapshot(struct md_output *o, struct run *run, struct md *md)
     hid_t g = h5out_begin_snapshot(&run->h5, "particles", md->step, md->time, n, &e);
     if (g < 0)
         return ERR_RUNTIME;
-    int rc = run_snapshot_particles(run, g, p, o->ibuf, &e);
+    int rc = run_snapshot_particles(run, g, p, &md->box, o->ibuf, &e);
     if (!rc && md->peratom) {
         rc = h5out_write_doubles(&run->h5, g, "pe", p->pe, n, 1, "eV", &e);
         md_peratom_stress(md, o->stress);
