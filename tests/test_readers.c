@@ -12,12 +12,15 @@
  * for its own defect only.
  */
 #include <criterion/criterion.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
 
+#include "core/units.h"
 #include "helpers/th.h"
+#include "input/config_read.h"
 
 /* --- helpers ---------------------------------------------------------------- */
 
@@ -151,8 +154,52 @@ Test(readers, lammps_data_bad_input)
                        "found " LONG_EXCERPT},
         {21, "1 0 0 0x1", "m.data:21: Velocities line: field 4 (vz) must be a finite decimal"},
         {16, "2 1 3 3 3 0 0", "m.data:16: Atoms line must be 'id type x y z [ix iy iz]'"},
+        /* triclinic boxes: only zero tilt (the MD box is orthogonal) */
+        {8, "0 0.5 0 xy xz yz", "m.data:8: xy xz yz: tilt xz = 0.5: only orthogonal boxes are "
+                                "simulated (tilt 0 0 0)"},
+        {8, "0 0 0x1 xy xz yz", "m.data:8: xy xz yz: tilt factor yz must be a finite decimal "
+                                "number, found '0x1'"},
+        {8, "0 0 xy xz yz", "m.data:8: unrecognised header line '0 0 xy xz yz' (a triclinic "
+                            "box is 'xy xz yz' after its three tilt factors)"},
     };
     run_table("m.data", DATA_OK, DATA_CASE, rows, sizeof rows / sizeof rows[0]);
+}
+
+/* A triclinic header of zero tilt, as LAMMPS writes it for a prism region
+ * of tilt 0 0 0, is the orthogonal box; ASE's momenta (with masses) give
+ * the velocities of an extended XYZ file. */
+Test(readers, zero_tilt_data_and_ase_momenta)
+{
+    char yaml[1024], out[4096];
+    const char *data = th_write_temp(
+        2, "m.data", with_line(DATA_OK, 8, "0.0000000000000000e+00 0 -0.0 xy xz yz"));
+    snprintf(yaml, sizeof yaml, DATA_CASE, data);
+    cr_assert_eq(solver("check", yaml, NULL, out, sizeof out, NULL), 0, "%s", out);
+    struct particles *p = particles_create(8);
+    struct box b;
+    struct err e = {0};
+    cr_assert_eq(config_read_lammps_data(data, NULL, 0, NULL, p, &b, &e), 0, "%s", e.msg);
+    cr_assert_eq(p->n_owned, 3);
+    cr_assert_eq(b.hi[2], 14.0);
+    particles_destroy(&p);
+    /* momenta in amu Å / t_ASE, t_ASE = sqrt(UNITS_MVV2E) ps: v = p / (m t_ASE) */
+    const char *xyz = th_write_temp(
+        3, "ase.xyz",
+        "2\nLattice=\"10 0 0 0 10 0 0 0 10\" Properties=species:S:1:pos:R:3:masses:R:1:"
+        "momenta:R:3 pbc=\"T T T\"\nCu 1 1 1 50 1 -2 0.5\nCu 3 3 3 63.546 0 0 3\n");
+    p = particles_create(8);
+    int pbc[3];
+    cr_assert_eq(config_read_extxyz(xyz, NULL, p, &b, pbc, &e), 0, "%s", e.msg);
+    const double t_ase = sqrt(UNITS_MVV2E);
+    const double want[2][3] = {{1 / (50 * t_ase), -2 / (50 * t_ase), 0.5 / (50 * t_ase)},
+                               {0, 0, 3 / (63.546 * t_ase)}};
+    for (int i = 0; i < 2; i++)
+        for (int d = 0; d < 3; d++)
+            cr_assert_lt(fabs(p->v[3 * i + d] - want[i][d]), 1e-12 * fabs(want[i][d]) + 1e-15,
+                         "v[%d][%d] %.15g vs %.15g", i, d, p->v[3 * i + d], want[i][d]);
+    /* 1 amu Å per t_ASE for a Cu atom is 1.5458 Å/ps */
+    cr_assert_lt(fabs(p->v[5] - 4.6373), 1e-3, "vz %g", p->v[5]);
+    particles_destroy(&p);
 }
 
 /* Fixed and free boundaries: the same file, other rules per axis. */

@@ -121,7 +121,7 @@ int dpd_output_step(struct dpd_output *o, struct run *run, struct dpd *d, long t
     if (!rc && run_due(s, total, run->out.snapshot_every))
         rc = dpd_output_snapshot(o, run, d);
     if (!rc && run->xyz && run->out.xyz_every > 0 && s % run->out.xyz_every == 0)
-        rc = xyz_write_frame(run->xyz, d->p, &d->box, s, d->time, NULL, NULL) ? ERR_RUNTIME : 0;
+        rc = xyz_write_frame(run->xyz, d->p, &d->box, s, d->time, NULL) ? ERR_RUNTIME : 0;
     timer_stop(&run->timers, TIMER_OUTPUT);
     return rc;
 }

@@ -141,7 +141,7 @@ int run_write_final_state(struct run *r, const struct particles *p, const struct
         FILE *f = fopen(path, "w");
         if (!f)
             return err_set(e, ERR_RUNTIME, "%s: cannot create: %s", path, strerror(errno));
-        int bad = xyz_write_frame(f, p, b, step, time, NULL, NULL);
+        int bad = xyz_write_frame(f, p, b, step, time, NULL);
         if (fclose(f) != 0 || bad)
             return err_set(e, ERR_RUNTIME, "%s: write failed", path);
     } else {
