@@ -273,6 +273,9 @@ Test(readers, extxyz_bad_input)
          "m.xyz:2: Properties: pos must be pos:R:3, found pos:R:2"},
         {2, "Lattice=\"10 0 0 0 10 0 0 0 10 10\" Properties=species:S:1:pos:R:3:id:I:1",
          "m.xyz:2: Lattice needs 9 finite decimal numbers"},
+        {2, "Lattice=\"10 0 0 2.5 10 0 0 0 10\" Properties=species:S:1:pos:R:3:id:I:1",
+         "m.xyz:2: Lattice vector 2 has x component 2.5: only orthogonal lattices (diagonal "
+         "Lattice) are simulated"},
     };
     run_table("m.xyz", XYZ_OK, XYZ_CASE, rows, sizeof rows / sizeof rows[0]);
 }

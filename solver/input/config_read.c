@@ -782,10 +782,15 @@ int config_read_extxyz(const char *path, const struct config_rules *rules, struc
         rc = textfile_error(&t, e, "Lattice needs 9 finite decimal numbers");
         goto done;
     }
-    if (L[1] != 0 || L[2] != 0 || L[3] != 0 || L[5] != 0 || L[6] != 0 || L[7] != 0) {
-        rc = textfile_error(&t, e, "only orthogonal lattices are supported");
-        goto done;
-    }
+    for (int k = 0; k < 9; k++)
+        if (k % 4 != 0 && L[k] != 0) {
+            /* the MD box is orthogonal (core/box.h): a tilted cell would
+             * be simulated as another crystal */
+            rc = textfile_error(&t, e, "Lattice vector %d has %c component %.10g: only "
+                                "orthogonal lattices (diagonal Lattice) are simulated",
+                                k / 3 + 1, "xyz"[k % 3], L[k]);
+            goto done;
+        }
     double origin[3] = {0, 0, 0};
     if (xyz_attr(t.buf, "Origin", val, sizeof val) == 0 && parse_doubles(val, origin, 3, NULL, 0) != 3) {
         rc = textfile_error(&t, e, "Origin needs 3 finite decimal numbers");
