@@ -105,8 +105,10 @@ int report_load_source(struct report_ctx *c, sqlite3 *db, const char *name, cons
     }
     order_metrics(c);
     rc = sa_build(&c->a, &c->d, c->rs, e);
-    if (!rc)
+    if (!rc) {
         c->analysed = 1;
+        c->a.refine = c->refine;
+    }
     if (!rc && c->refs)
         rdata_ref_compare(c->refs, &c->a);
     return rc;
