@@ -7,6 +7,7 @@
 #include "db.h"
 #include "rdata_ref.h"
 #include "report_json.h"
+#include "study_analysis.h"
 #include "sysinfo.h"
 
 static void bind_num(sqlite3_stmt *st, int i, double x)
@@ -121,25 +122,28 @@ int refine_state_print(sqlite3 *db, long long study_id, FILE *out, struct err *e
     }
     fprintf(out, "\nadaptive refinement along %s:\n",
             json_string_value(json_object_get(json_array_get(rows, 0), "axis")));
-    fprintf(out, "  %-20s %-28s %6s %-10s %-12s %-10s %s\n", "metric", "series", "levels",
+    fprintf(out, "  %-20s %-30s %6s %-10s %-12s %-10s %s\n", "metric", "series", "levels",
             "finest", "GCI fine", "state", "why");
     size_t i;
     json_t *r;
     json_array_foreach(rows, i, r)
     {
-        char series[64], finest[32], gci[32];
-        char *s = json_dumps(json_object_get(r, "series"), JSON_COMPACT);
-        snprintf(series, sizeof series, "%s", s && strcmp(s, "{}") ? s : "all jobs");
-        free(s);
-        char *f = json_dumps(json_object_get(r, "finest"), JSON_COMPACT | JSON_ENCODE_ANY);
-        snprintf(finest, sizeof finest, "%s", f ? f : "?");
-        free(f);
+        char series[SA_LABEL_MAX], finest[64], gci[32];
+        sa_params_label(json_object_get(r, "series"), series, sizeof series);
+        const json_t *fv = json_object_get(r, "finest");
+        if (json_is_number(fv)) {
+            snprintf(finest, sizeof finest, "%.6g", json_number_value(fv));
+        } else {
+            char *f = json_dumps(fv, JSON_COMPACT | JSON_ENCODE_ANY);
+            snprintf(finest, sizeof finest, "%s", f ? f : "?");
+            free(f);
+        }
         json_t *g = json_object_get(r, "gci_fine");
         if (json_is_number(g))
             snprintf(gci, sizeof gci, "%#.4g %%", 100 * json_number_value(g));
         else
             snprintf(gci, sizeof gci, "—");
-        fprintf(out, "  %-20s %-28s %6lld %-10s %-12s %-10s %s\n",
+        fprintf(out, "  %-20s %-30s %6lld %-10s %-12s %-10s %s\n",
                 json_string_value(json_object_get(r, "metric")), series,
                 (long long)json_integer_value(json_object_get(r, "levels")), finest, gci,
                 json_string_value(json_object_get(r, "state")),

@@ -93,9 +93,14 @@ static void refinement(struct rdoc *doc, const json_t *refine)
         snprintf(c[0], CELL, "%s", json_string_value(json_object_get(r, "metric")));
         snprintf(c[1], CELL, "%s", series);
         snprintf(c[2], CELL, "%lld", (long long)json_integer_value(json_object_get(r, "levels")));
-        char *f = json_dumps(json_object_get(r, "finest"), JSON_COMPACT | JSON_ENCODE_ANY);
-        snprintf(c[3], CELL, "%s", f ? f : "?");
-        free(f);
+        const json_t *fv = json_object_get(r, "finest");
+        if (json_is_number(fv)) {
+            report_num(json_number_value(fv), 6, c[3], CELL);
+        } else {
+            char *f = json_dumps(fv, JSON_COMPACT | JSON_ENCODE_ANY);
+            snprintf(c[3], CELL, "%s", f ? f : "?");
+            free(f);
+        }
         num(json_object_get(r, "value"), 10, c[4], CELL);
         num(json_object_get(r, "phi_ext"), 10, c[5], CELL);
         pct(json_object_get(r, "gci_fine"), c[6], CELL);

@@ -315,6 +315,10 @@ Test(convergence_data, reference_rows_beside_the_campaign, .timeout = 120)
     ct_write(3, dir, "ref.csv", "# source: lammps\nfake.x,sum [1]\n0.1,1.12\n0.2,1.25\n0.4,1.5\n");
     rc = ct_cascade(dir, NULL, out, sizeof out, "import", "withref", "ref.csv", NULL);
     cr_assert_eq(rc, 0, "%s", out);
+    rc = ct_cascade(dir, NULL, out, sizeof out, "export", "withref", "--csv", NULL);
+    cr_assert_eq(rc, 0, "%s", out);
+    cr_assert_not_null(strstr(out, "\n,reference,lammps,reference,4,,,,0.2,1.25\n"),
+                       "export shows the reference rows: %s", out);
     rc = ct_cascade(dir, NULL, out, sizeof out, "report", "withref", NULL);
     cr_assert_eq(rc, 0, "%s", out);
     json_t *doc = load_json(dir, "reports/withref/report.json");
