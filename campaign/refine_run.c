@@ -537,7 +537,12 @@ static int analyse_round(struct refine *f, const struct study_run_opts *o, int *
                          h_next, next, committed, f->r->budget_core_s, why);
             } else {
                 ser->state = "refining";
-                snprintf(ser->reason, sizeof ser->reason, "%s", why);
+                if (isfinite(next))
+                    snprintf(ser->reason, sizeof ser->reason, "%s; next level h = %.6g, predicted "
+                                                              "%.4g core-s",
+                             why, h_next, next);
+                else
+                    snprintf(ser->reason, sizeof ser->reason, "%s", why);
                 committed += isfinite(next) ? next : 0;
                 ser->kref++;
                 want_level |= ser->kref > f->nref;
