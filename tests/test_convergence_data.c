@@ -342,3 +342,34 @@ Test(convergence_data, reference_rows_beside_the_campaign, .timeout = 120)
     sqlite3_close(db);
     ct_rmrf(dir);
 }
+
+/* A study holding only references from two sources: the report asks which
+ * one, and analyses each alone with --source. */
+Test(convergence_data, two_sources_need_a_choice, .timeout = 60)
+{
+    char dir[64], out[65536];
+    ct_mkdir(dir, sizeof dir);
+    ct_write(0, dir, "a.csv", "# source: a\nh,f [1]\n1,0.970500\n2,0.968540\n4,0.961780\n");
+    ct_write(1, dir, "b.csv", "# source: b\nh,f [1]\n1,2.0\n2,2.5\n4,4.5\n");
+    int rc = ct_cascade(dir, NULL, out, sizeof out, "import", "two", "a.csv", NULL);
+    cr_assert_eq(rc, 0, "%s", out);
+    rc = ct_cascade(dir, NULL, out, sizeof out, "import", "two", "b.csv", NULL);
+    cr_assert_eq(rc, 0, "%s", out);
+    rc = ct_cascade(dir, NULL, out, sizeof out, "report", "two", NULL);
+    cr_assert_eq(rc, 2, "%s", out);
+    cr_assert_not_null(strstr(out, "2 imported sources [\"a\",\"b\"]: choose one with --source"),
+                       "%s", out);
+    rc = ct_cascade(dir, NULL, out, sizeof out, "report", "two", "--source", "b", "--format", "json",
+                    NULL);
+    cr_assert_eq(rc, 0, "%s", out);
+    json_t *doc = load_json(dir, "reports/two/report.json");
+    const json_t *c = json_object_get(series_of(doc, "f", NULL, NULL), "celik");
+    /* 2.0, 2.5, 4.5 on h = 1, 2, 4: eps32/eps21 = 4, so p = 2 and phi_ext = 2 - 0.5/3 */
+    cr_assert_lt(fabs(num(c, "p") - 2.0), 1e-12);
+    cr_assert_lt(fabs(num(c, "phi_ext") - (2.0 - 0.5 / 3.0)), 1e-12);
+    json_decref(doc);
+    rc = ct_cascade(dir, NULL, out, sizeof out, "report", "two", "--source", "c", NULL);
+    cr_assert_eq(rc, 2, "%s", out);
+    cr_assert_not_null(strstr(out, "no imported source 'c'"), "%s", out);
+    ct_rmrf(dir);
+}
