@@ -366,6 +366,15 @@ static void fmt_pct(double x, char *out, size_t len)
 
 /* What one metric says about a series: 1 met, 0 wants a finer level, -1
  * stop (why in `why`). */
+/* Advance a write position by what snprintf reported, never past the end. */
+static size_t advance(size_t used, int w, size_t len)
+{
+    if (w < 0)
+        return used;
+    used += (size_t)w;
+    return used < len ? used : len - 1;
+}
+
 static int judge(const struct refine *f, const struct study_analysis *a, const struct sa_conv *c,
                  const char *metric, char *why, size_t len)
 {
@@ -405,23 +414,26 @@ static int judge(const struct refine *f, const struct study_analysis *a, const s
         fmt_pct(r->gci_fine, g, sizeof g);
         fmt_pct(f->r->gci, t, sizeof t);
         if (c->limit_near_zero) {
-            used += (size_t)snprintf(why + used, len - used, "%s: limit near 0, the relative GCI "
-                                                             "cannot meet %s (use until.band)",
-                                     metric, t);
+            snprintf(why, len, "%s: limit near 0, the relative GCI cannot meet %s (use "
+                               "until.band)",
+                     metric, t);
             return -1;
         }
         int ok = r->gci_fine <= f->r->gci;
         met &= ok;
-        used += (size_t)snprintf(why + used, len - used, "%s: GCI %s %s %s", metric, g,
-                                 ok ? "<=" : ">", t);
+        used = advance(used, snprintf(why + used, len - used, "%s: GCI %s %s %s", metric, g,
+                                      ok ? "<=" : ">", t),
+                       len);
     }
-    if (isfinite(f->r->band) && used < len) {
+    if (isfinite(f->r->band)) {
         int ok = c->abs_unc <= f->r->band;
         met &= ok;
-        used += (size_t)snprintf(why + used, len - used, "%s%s: band %#.4g %s %g", used ? ", " : "",
-                                 metric, c->abs_unc, ok ? "<=" : ">", f->r->band);
+        used = advance(used, snprintf(why + used, len - used, "%s%s: band %#.4g %s %g",
+                                      used ? ", " : "", metric, c->abs_unc, ok ? "<=" : ">",
+                                      f->r->band),
+                       len);
     }
-    if (isfinite(f->r->asymptotic) && used < len) {
+    if (isfinite(f->r->asymptotic)) {
         int ok = isfinite(r->asymptotic) && fabs(r->asymptotic - 1) <= f->r->asymptotic;
         met &= ok;
         snprintf(why + used, len - used, ", asymptotic ratio %#.4g %s", r->asymptotic,

@@ -232,3 +232,41 @@ Test(refine, zipped_keys_follow_the_axis, .timeout = 120)
     sqlite3_close(db);
     ct_rmrf(dir);
 }
+
+/* x_squared = x^2 has limit 0: a relative GCI cannot be met (the runner
+ * stops and says to use the band); the band 1.25 x1^2 (order 2, ratio 2)
+ * meets 0.002 at x1 = 0.025, three levels after 0.2. */
+static const char *limit_zero =
+    "name: refzero\n"
+    "base: {type: fake, fake: {x: 0.1, y: 1.0}}\n"
+    "sweep:\n"
+    "  grid:\n"
+    "    fake.x: [0.8, 0.4, 0.2]\n"
+    "metrics: [x_squared]\n"
+    "report: {resolution: fake.x}\n"
+    "refine: {metric: x_squared, until: {%s}}\n";
+
+Test(refine, a_limit_near_zero_needs_the_band, .timeout = 120)
+{
+    char dir[64], out[65536], text[1024];
+    ct_mkdir(dir, sizeof dir);
+    snprintf(text, sizeof text, limit_zero, "gci: 0.01");
+    ct_write(0, dir, "z.yaml", text);
+    int rc = ct_cascade(dir, NULL, out, sizeof out, "run", "z.yaml", "--solver", ct_standin(),
+                        "--quiet", NULL);
+    cr_assert_eq(rc, 0, "%s", out);
+    cr_assert_not_null(strstr(out, "stopped: x_squared: limit near 0, the relative GCI cannot meet "
+                                   "1.000 % (use until.band)"),
+                       "%s", out);
+    snprintf(text, sizeof text, limit_zero, "band: 0.002");
+    ct_write(0, dir, "z.yaml", text);
+    rc = ct_cascade(dir, NULL, out, sizeof out, "run", "z.yaml", "--solver", ct_standin(),
+                    "--quiet", NULL);
+    cr_assert_eq(rc, 0, "%s", out);
+    cr_assert_not_null(strstr(out, "6 levels, converged: x_squared: band 0.0007813 <= 0.002"), "%s",
+                       out);
+    sqlite3 *db = ct_db(dir);
+    cr_assert_lt(fabs(ct_real(db, "SELECT band FROM refine_groups") - 1.25 * 0.025 * 0.025), 1e-15);
+    sqlite3_close(db);
+    ct_rmrf(dir);
+}
