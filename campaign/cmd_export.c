@@ -6,6 +6,8 @@
 
 #include "cli.h"
 #include "db.h"
+#include "export_ref.h"
+#include "rdata_ref.h"
 #include "table.h"
 #include "util/canon.h"
 
@@ -15,7 +17,9 @@ static const char *usage =
     "Writes one row per job of the study: key, kind, name, state, attempt,\n"
     "solver version and git hash, wall seconds, then one column per swept\n"
     "parameter (in the study's order) and one per metric, named 'metric [unit]',\n"
-    "from each job's latest successful run (empty when it has none).\n"
+    "from each job's latest successful run (empty when it has none).  Reference\n"
+    "values imported with cascade import follow as rows of kind 'reference' (name:\n"
+    "the source; attempt: the line of the imported file).\n"
     "\n"
     "  --format csv     RFC 4180 CSV with a header line (the default; --csv says the same)\n"
     "  --format jsonl   JSON lines: one object per job with the same names as the CSV\n"
@@ -104,6 +108,56 @@ struct metric_col {
     char *unit;
 };
 
+/* The reference rows of `cascade import` as JSON lines (export_ref_rows
+ * writes them as CSV): kind and state 'reference', name the source,
+ * attempt the line of the imported file. */
+static int ref_rows_jsonl(sqlite3 *db, long long sid, char *const *axes, int naxes,
+                          char *const *metrics, int nm, char *const *heads, struct row_sink *k,
+                          struct err *e)
+{
+    if (!rdata_has_table(db, "imports"))
+        return 0;
+    sqlite3_stmt *st = NULL, *ps = NULL, *vs = NULL;
+    int rc = db_prepare(db, "SELECT '', 'reference', i.source, 'reference', r.line, NULL, NULL, "
+                            "NULL, r.id FROM import_rows r JOIN imports i ON i.id = r.import_id "
+                            "WHERE i.study_id = ?1 ORDER BY i.source, r.id",
+                        &st, e);
+    if (!rc)
+        rc = db_prepare(db, "SELECT value FROM import_params WHERE row_id = ?1 AND name = ?2", &ps,
+                        e);
+    if (!rc)
+        rc = db_prepare(db, "SELECT value FROM import_values WHERE row_id = ?1 AND metric = ?2",
+                        &vs, e);
+    if (!rc) {
+        sqlite3_bind_int64(st, 1, sid);
+        while (sqlite3_step(st) == SQLITE_ROW) {
+            long long row = sqlite3_column_int64(st, 8);
+            row_begin(k);
+            for (int c = 0; c < 8; c++)
+                row_cell(k, heads[c], st, c, 0);
+            for (int a = 0; a < naxes; a++) {
+                sqlite3_reset(ps);
+                sqlite3_bind_int64(ps, 1, row);
+                sqlite3_bind_text(ps, 2, axes[a], -1, SQLITE_STATIC);
+                int have = sqlite3_step(ps) == SQLITE_ROW;
+                row_cell(k, heads[8 + a], have ? ps : NULL, 0, 1);
+            }
+            for (int m = 0; m < nm; m++) {
+                sqlite3_reset(vs);
+                sqlite3_bind_int64(vs, 1, row);
+                sqlite3_bind_text(vs, 2, metrics[m], -1, SQLITE_STATIC);
+                int have = sqlite3_step(vs) == SQLITE_ROW;
+                row_cell(k, heads[8 + naxes + m], have ? vs : NULL, 0, 0);
+            }
+            row_end(k);
+        }
+    }
+    sqlite3_finalize(st);
+    sqlite3_finalize(ps);
+    sqlite3_finalize(vs);
+    return rc;
+}
+
 int cmd_export(int argc, char **argv)
 {
     if (cli_wants_help(argc, argv)) {
@@ -188,6 +242,24 @@ int cmd_export(int argc, char **argv)
         sqlite3_finalize(st);
         st = NULL;
     }
+    char **rnames = NULL, **runits = NULL;   /* the metric columns, with the imported ones */
+    int nr = 0;
+    for (int m = 0; !rc && m < nm; m++) {
+        char **gn = realloc(rnames, (size_t)(nr + 1) * sizeof *gn);
+        char **gu = gn ? realloc(runits, (size_t)(nr + 1) * sizeof *gu) : NULL;
+        if (gn)
+            rnames = gn;
+        if (gu)
+            runits = gu;
+        if (!gn || !gu) {
+            rc = err_nomem(&e, "metrics");
+            break;
+        }
+        rnames[nr] = strdup(mc[m].name);
+        runits[nr++] = strdup(mc[m].unit);
+    }
+    if (!rc)
+        rc = export_ref_metrics(db, sid, &rnames, &runits, &nr, &e);
     if (!rc && out_path && !(out = fopen(out_path, "w")))
         rc = err_set(&e, ERR_INPUT, "cannot write %s: %s", out_path, strerror(errno));
     if (!rc)
@@ -203,7 +275,7 @@ int cmd_export(int argc, char **argv)
     if (!rc)
         rc = db_prepare(db, "SELECT value FROM metrics WHERE run_id = ?1 AND name = ?2", &ms, &e);
     char **heads = NULL;   /* the column names, CSV header and JSON member names */
-    int nhead = 8 + naxes + nm;
+    int nhead = 8 + naxes + nr;
     if (!rc && !(heads = calloc((size_t)nhead, sizeof *heads)))
         rc = err_nomem(&e, "export columns");
     if (!rc) {
@@ -213,9 +285,9 @@ int cmd_export(int argc, char **argv)
             heads[c] = strdup(fixed[c]);
         for (int a = 0; a < naxes; a++)
             heads[8 + a] = strdup(axes[a]);
-        for (int m = 0; m < nm; m++) {
+        for (int m = 0; m < nr; m++) {
             char h[512];
-            snprintf(h, sizeof h, "%s [%s]", mc[m].name, mc[m].unit);
+            snprintf(h, sizeof h, "%s [%s]", rnames[m], runits[m]);
             heads[8 + naxes + m] = strdup(h);
         }
         for (int c = 0; c < nhead && !rc; c++)
@@ -247,19 +319,21 @@ int cmd_export(int argc, char **argv)
                 int have = sqlite3_step(ps) == SQLITE_ROW;
                 row_cell(&k, heads[8 + a], have ? ps : NULL, 0, 1);
             }
-            for (int m = 0; m < nm; m++) {
+            for (int m = 0; m < nr; m++) {
                 int have = 0;
                 if (run) {
                     sqlite3_reset(ms);
                     sqlite3_bind_int64(ms, 1, run);
-                    sqlite3_bind_text(ms, 2, mc[m].name, -1, SQLITE_STATIC);
+                    sqlite3_bind_text(ms, 2, rnames[m], -1, SQLITE_STATIC);
                     have = sqlite3_step(ms) == SQLITE_ROW;
                 }
                 row_cell(&k, heads[8 + naxes + m], have ? ms : NULL, 0, 0);
             }
             row_end(&k);
         }
-        if (ferror(out) || fflush(out) != 0)
+        rc = jsonl ? ref_rows_jsonl(db, sid, axes, naxes, rnames, nr, heads, &k, &e)
+                   : export_ref_rows(db, sid, axes, naxes, rnames, nr, out, &e);
+        if (!rc && (ferror(out) || fflush(out) != 0))
             rc = err_set(&e, ERR_RUNTIME, "writing %s: %s", out_path ? out_path : "standard output",
                          strerror(errno));
     }
@@ -279,6 +353,12 @@ int cmd_export(int argc, char **argv)
         free(mc[m].unit);
     }
     free(mc);
+    for (int m = 0; m < nr; m++) {
+        free(rnames[m]);
+        free(runits[m]);
+    }
+    free(rnames);
+    free(runits);
     db_close(&db);
     if (rc)
         fprintf(stderr, "error: %s\n", e.msg);

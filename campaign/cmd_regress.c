@@ -15,6 +15,7 @@
 #include "regress_history.h"
 #include "report_run.h"
 #include "study.h"
+#include "refine_run.h"
 #include "study_run.h"
 #include "sysinfo.h"
 
@@ -262,9 +263,9 @@ int cmd_regress(int argc, char **argv)
     int code = 0;
     if (!a.no_run) {
         backend_block_signals();
-        struct study_run_opts o = {a.db_path, a.runs, a.solver, a.jobs, 60, a.quiet, 1};
+        struct study_run_opts o = {a.db_path, a.runs, a.solver, a.jobs, 60, a.quiet, 1, NULL, NULL};
         struct runner_summary sum;
-        rc = study_run(&s, &o, &sum, &e);
+        rc = study_run_any(&s, &o, &sum, &e);   /* refines first when the study says so */
         if (!rc && sum.interrupted) {
             fprintf(stderr, "regress %s: interrupted\n", s.name);
             study_free(&s);

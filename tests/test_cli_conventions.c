@@ -19,7 +19,7 @@
 
 Test(cli_conventions, cascade_version)
 {
-    char out[1024];
+    char out[8192];
     cr_assert_eq(ct_cascade("/tmp", NULL, out, sizeof out, "--version", NULL), 0, "%s", out);
     cr_assert_eq(strncmp(out, "cascade 0.", 10), 0, "%s", out);
     cr_assert_not_null(strstr(out, " ("), "%s", out);

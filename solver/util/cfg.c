@@ -93,6 +93,15 @@ static double stand_in(struct cfg_bound b)
     return 1.0;
 }
 
+/* An integer stand-in: small (a count or a size of 2, not the middle of a
+ * range up to millions, which a check of the total would refuse). */
+static long stand_in_int(struct cfg_bound b)
+{
+    if (isfinite(b.lo) && b.lo + 1 <= b.hi)
+        return (long)b.lo + 1;
+    return (long)ceil(stand_in(b));
+}
+
 static const char *type_name(const json_t *v)
 {
     switch (json_typeof(v)) {
@@ -287,7 +296,7 @@ int cfg_int(struct cfg_obj *o, const char *key, long def, struct cfg_bound b, lo
     if (rc || present)
         return rc;
     if (def == CFG_REQUIRED_INT) {
-        *out = isfinite(b.lo) && b.lo + 1 <= b.hi ? (long)b.lo + 1 : (long)ceil(stand_in(b));
+        *out = stand_in_int(b);
         return missing_key(o, key);
     }
     *out = def;
@@ -458,7 +467,7 @@ int cfg_ints(struct cfg_obj *o, const char *key, int n, const long *def, struct 
     if (!v || json_is_null(v) || is_mark(o, v)) {
         if (!def) {
             for (int i = 0; i < n; i++)
-                out[i] = (long)ceil(stand_in(b));
+                out[i] = stand_in_int(b);
             return missing_key(o, key);
         }
         json_t *arr = json_array();
