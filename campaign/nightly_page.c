@@ -169,11 +169,18 @@ static int study_section(FILE *f, const struct np_study *s, const char *page_dir
                 ents[n++] = j;
                 done[j] = 1;
             }
-        int order = strcmp(s->ent[i].what, "order p") == 0;
+        /* value; order p; and what else regress compares per series (the
+         * level and the value a refined series converged at) */
+        const char *what = s->ent[i].what;
+        int value = strcmp(what, "value") == 0, order = strcmp(what, "order p") == 0;
         (*fig)++;
         fprintf(f, "<figure class=\"trend\" id=\"fig-%d\">\n<h3>", *fig);
         np_esc(f, s->ent[i].metric);
-        fputs(order ? ": observed order p" : "", f);
+        if (!value) {
+            fputs(order ? ": observed order p" : ": ", f);
+            if (!order)
+                np_esc(f, what);
+        }
         if (!order && strcmp(s->ent[i].unit, "1") != 0) {
             fputs(" (", f);
             np_esc(f, s->ent[i].unit);
@@ -185,8 +192,8 @@ static int study_section(FILE *f, const struct np_study *s, const char *page_dir
                    "&#8722; baseline) / tolerance. Shaded blue: the tolerance band; dashed: the "
                    "baseline; red columns and markers: nights on which an entry regressed or "
                    "had no value; a cross: no value that night.</figcaption>\n",
-                *fig, order ? "The observed order" : "The value", s->ent[i].metric,
-                order ? "series" : "point of the sweep");
+                *fig, value ? "The value" : order ? "The observed order" : "The entry",
+                s->ent[i].metric, value ? "point of the sweep" : "series");
         latest_table(f, s, ents, n);
         fputs("</figure>\n", f);
     }

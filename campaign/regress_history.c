@@ -51,7 +51,9 @@ static json_t *run_dirs_of(const struct cmp_item *it, const struct study_analysi
 
 static const char *unit_of(const struct cmp_item *it, const struct study_analysis *a)
 {
-    if (strcmp(it->what, "value") != 0)
+    /* a value, and the value a refined series converged at, carry the
+     * metric's unit; an order or a level is a pure number */
+    if (strcmp(it->what, "value") != 0 && strcmp(it->what, "converged") != 0)
         return "1";
     int m = rdata_metric(a->d, it->metric);
     return m >= 0 && a->d->unit[m] ? a->d->unit[m] : "1";

@@ -15,7 +15,8 @@ CREATE TABLE regress_values (
     check_id   INTEGER NOT NULL REFERENCES regress_checks(id) ON DELETE CASCADE,
     seq        INTEGER NOT NULL,        -- order of the entry in the check
     metric     TEXT NOT NULL,           -- '-' for a job that did not succeed
-    what       TEXT NOT NULL CHECK (what IN ('value', 'order p', 'job')),
+    what       TEXT NOT NULL,           -- 'value', 'order p', 'job'; 'level', 'converged'
+                                        -- for a refined series (docs/reports.md)
     point      TEXT NOT NULL,           -- the swept values, the series, or the job
     unit       TEXT NOT NULL,           -- the metric's unit; '1' for an order
     baseline   REAL,                    -- NULL where there is none (new, job)
