@@ -77,7 +77,9 @@
  * region_particles_1/2, displacement_max_1/2, flyer_velocity_final,
  * target_particles, flyer_particles, target_length, momentum_change,
  * temperature): cell (Å), energy_drift and energy_deviation_max (relative,
- * the centred energy of dpd_mpm.h), heat_dr and heat_grid (eV given to the
+ * the centred energy of dpd_mpm.h), impact_energy (eV, the flyer's kinetic
+ * energy at the start), energy_deviation_max_abs (eV) and
+ * energy_error_impact_fraction (over the impact energy), heat_dr and heat_grid (eV given to the
  * internal energies by the D + R forces and by the grid's smoothing),
  * internal_temperature (K, mean u / (C_v kB)), grid_nodes; concurrent:
  * material_points, partners, c11, c12, c44 (GPa), density (g/cm^3),
@@ -679,6 +681,14 @@ static void impact_metrics(struct impact_case *c, struct run *run, const struct 
     result_metric(res, "grid_nodes", (double)c->nodes, "1");
     result_metric(res, "energy_drift", (et - e0) / fabs(e0), "1");
     result_metric(res, "energy_deviation_max", demax / fabs(e0), "1");
+    /* the same excursion against the impact energy: relative to the total
+     * energy (cohesive, -1e5 eV) it looks small when it is not */
+    double ke0 = m->d.nbodies ? 0.5 * m->d.body[0].mass * c->k.velocity * c->k.velocity *
+                                    UNITS_MVV2E
+                              : NAN;
+    result_metric(res, "impact_energy", ke0, "eV");
+    result_metric(res, "energy_deviation_max_abs", demax, "eV");
+    result_metric(res, "energy_error_impact_fraction", ke0 > 0 ? demax / ke0 : NAN, "1");
     result_metric(res, "heat_dr", m->c.heat, "eV");
     result_metric(res, "heat_grid", m->c.subgrid_heat, "eV");
     result_metric(res, "momentum_change", dP, "amu Å/ps");
