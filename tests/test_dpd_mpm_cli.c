@@ -266,6 +266,11 @@ Test(dpd_mpm_cli, concurrent_impact_crosses_the_interface, .timeout = 300)
     cr_assert(metric(r, "momentum_change") < 1e-6, "momentum changed by %g",
               metric(r, "momentum_change"));
     cr_assert(fabs(metric(r, "c11") - 146.2) < 1.0, "C11 %g GPa", metric(r, "c11"));
+    /* the interface forces are conservative (partner embedding frozen):
+     * total energy within 1 % of the impact energy, as the grid model */
+    cr_assert(metric(r, "energy_error_impact_fraction") < 0.01,
+              "energy excursion %g eV of an impact energy of %g eV",
+              metric(r, "energy_deviation_max_abs"), metric(r, "impact_energy"));
     json_decref(r);
 }
 
