@@ -219,6 +219,19 @@ Test(dpd_mpm_cli, grid_impact_approaches_dpd_only, .timeout = 600)
     cr_assert(fabs(v2 / v0 - 1) < 0.01, "2 Å grid: %g m/s, DPD-only %g m/s", v2, v0);
     cr_assert(fabs(v8 - v0) > 3 * fabs(v2 - v0), "8 Å grid %g, 2 Å grid %g, DPD-only %g m/s", v8,
               v2, v0);
+    for (int k = 0; k < 3; k++) {
+        /* the impact energy is the flyer's 1/2 M v^2 (5 Å/ps, particles of
+         * 508.368 amu), the largest energy change is reported against it */
+        json_t *r = k == 0 ? r0 : k == 1 ? r8 : r2;
+        double ke = 0.5 * metric(r, "flyer_particles") * 508.368 * 25.0 * 1.0364269656262175e-4;
+        cr_assert(fabs(metric(r, "impact_energy") / ke - 1) < 1e-12, "impact energy %.10g, "
+                  "1/2 M v^2 %.10g eV", metric(r, "impact_energy"), ke);
+        cr_assert(fabs(metric(r, "energy_error_impact_fraction") -
+                       metric(r, "energy_deviation_max_abs") / ke) < 1e-12 * ke);
+        cr_assert(metric(r, "energy_error_impact_fraction") < 0.01,
+                  "energy excursion %g eV of an impact energy of %g eV",
+                  metric(r, "energy_deviation_max_abs"), ke);
+    }
     for (int k = 0; k < 2; k++) {
         json_t *r = k ? r8 : r2;
         cr_assert(metric(r, "momentum_change") < 1e-6, "momentum changed by %g",
@@ -253,6 +266,11 @@ Test(dpd_mpm_cli, concurrent_impact_crosses_the_interface, .timeout = 300)
     cr_assert(metric(r, "momentum_change") < 1e-6, "momentum changed by %g",
               metric(r, "momentum_change"));
     cr_assert(fabs(metric(r, "c11") - 146.2) < 1.0, "C11 %g GPa", metric(r, "c11"));
+    /* the interface forces are conservative (partner embedding frozen):
+     * total energy within 1 % of the impact energy, as the grid model */
+    cr_assert(metric(r, "energy_error_impact_fraction") < 0.01,
+              "energy excursion %g eV of an impact energy of %g eV",
+              metric(r, "energy_deviation_max_abs"), metric(r, "impact_energy"));
     json_decref(r);
 }
 

@@ -156,6 +156,7 @@ void dpd_free(struct dpd *d)
     particles_destroy(&d->p);
     nlist_destroy(&d->nl);
     free(d->rho);
+    free(d->fp_frozen);
     free(d->fp);
     free(d->pair_dr);
     thread_accum_free(&d->acc_rho);

@@ -124,6 +124,11 @@ struct dpd {
     struct timers *timers;      /* borrowed, may be NULL */
     /* scratch */
     double *rho, *fp;
+    int freeze_passive_fp;      /* passive partners' F'(rho) fixed at their first force
+                                 * evaluation (dpd_conservative.c: the interface forces
+                                 * are then conservative) */
+    double *fp_frozen;          /* per owned particle, from that evaluation (owned) */
+    int n_frozen;
     int cap;
     struct thread_accum acc_rho, acc_f, acc_pe, acc_vir;
 };
