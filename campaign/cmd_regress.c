@@ -261,7 +261,7 @@ int cmd_regress(int argc, char **argv)
     int code = 0;
     if (!a.no_run) {
         backend_block_signals();
-        struct study_run_opts o = {a.db_path, a.runs, a.solver, a.jobs, 60, a.quiet, 1};
+        struct study_run_opts o = {a.db_path, a.runs, a.solver, a.jobs, 60, a.quiet, 1, 0};
         struct runner_summary sum;
         rc = study_run(&s, &o, &sum, &e);
         if (!rc && sum.interrupted) {

@@ -18,6 +18,8 @@ struct study_run_opts {
     double lease;            /* seconds */
     int quiet;
     int mpi_size;            /* > 1: rank 0 of an MPI runner with mpi_size - 1 workers */
+    double infra_pause;      /* seconds after a first infrastructure failure (doubling);
+                              * 0: the default, 0.5 */
 };
 
 int study_run(const struct study *s, const struct study_run_opts *o, struct runner_summary *sum,
