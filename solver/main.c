@@ -277,9 +277,12 @@ static int keep_previous_outputs(const char *out, const char *ckpt, struct err *
         step = 0;
     const char *names[][2] = {{"fields", "h5"}, {"fields", "xdmf"}, {"snapshots", "xyz"}};
     for (int k = 0; k < 3; k++) {
-        char from[4096], to[4200];
+        char from[4096 + 8], to[4200];
         snprintf(from, sizeof from, "%s/%s.%s", out, names[k][0], names[k][1]);
         snprintf(to, sizeof to, "%s/%s.before-%010ld.%s", out, names[k][0], step, names[k][1]);
+        /* a run that was killed left its streams as NAME.tmp (util/wfile.h) */
+        if (access(from, F_OK) != 0)
+            strcat(from, ".tmp");
         if (access(from, F_OK) == 0 && rename(from, to) != 0)
             return err_set(e, ERR_RUNTIME, "%s: cannot keep the outputs before the restart: %s",
                            from, strerror(errno));

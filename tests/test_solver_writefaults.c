@@ -246,3 +246,53 @@ Test(solver_writefaults, campaign_records_a_solver_write_failure_as_infrastructu
     sqlite3_close(db);
     ct_rmrf(dir);
 }
+
+/* A run killed on the way leaves its streams as NAME.tmp (never a
+ * thermo.csv cut short under its own name); --restart keeps the killed
+ * run's snapshots as NAME.before-STEP and ends with the same complete files
+ * as an uninterrupted run. */
+Test(solver_writefaults, a_killed_run_leaves_tmp_streams_and_restart_completes, .timeout = 120)
+{
+    char dir[64], out[65536], got[128], ref[128], path[256];
+    ct_mkdir(dir, sizeof dir);
+    ct_write(0, dir, "case.yaml", case_text);
+    snprintf(ref, sizeof ref, "%s/ref", dir);
+    snprintf(got, sizeof got, "%s/got", dir);
+    cr_assert_eq(solve(dir, "ref", NULL, out, sizeof out), 0, "%s", out);
+    int rc = solve(dir, "got", "CASCADE_SOLVER_KILL_AT_STEP=12", out, sizeof out);
+    cr_assert_eq(rc, 128 + 9, "%s", out);
+    struct stat sb;
+    static const char *const streams[] = {"thermo.csv", "snapshots.xyz", "fields.h5"};
+    for (int k = 0; k < 3; k++) {
+        snprintf(path, sizeof path, "%s/%s", got, streams[k]);
+        cr_assert_neq(stat(path, &sb), 0, "%s exists after the kill", path);
+        snprintf(path, sizeof path, "%s/%s.tmp", got, streams[k]);
+        cr_assert_eq(stat(path, &sb), 0, "%s missing after the kill", path);
+    }
+    const char *argv[] = {solver(), "run", "case.yaml", "--out", "got", "--threads", "1",
+                          "--quiet", "--restart", NULL};
+    cr_assert_eq(ct_exec(dir, NULL, argv, out, sizeof out), 0, "%s", out);
+    snprintf(path, sizeof path, "%s/snapshots.before-0000000008.xyz", got);
+    cr_assert_eq(stat(path, &sb), 0, "%s: the killed run's frames were not kept", path);
+    snprintf(path, sizeof path, "%s/result.json", ref);
+    json_t *r = json_load_file(path, 0, NULL);
+    cr_assert(r);
+    char key[64];
+    snprintf(key, sizeof key, "%s", json_string_value(json_object_get(r, "case_key")));
+    json_decref(r);
+    /* the same files as the uninterrupted run (the kept ones aside) */
+    DIR *d = opendir(got);
+    cr_assert(d);
+    struct dirent *de;
+    while ((de = readdir(d))) {
+        /* the continued run's frames and snapshots start after step 8 */
+        if (strstr(de->d_name, ".before-") || strcmp(de->d_name, "snapshots.xyz") == 0 ||
+            strcmp(de->d_name, "fields.xdmf") == 0) {
+            snprintf(path, sizeof path, "%s/%s", got, de->d_name);
+            cr_assert_eq(unlink(path), 0);
+        }
+    }
+    closedir(d);
+    outputs_complete(got, ref, key, 0, "after --restart");
+    ct_rmrf(dir);
+}
