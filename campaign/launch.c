@@ -244,7 +244,7 @@ int launch_setup_dir(const struct launch_spec *L, struct err *e)
     closedir(d);
     char path[4096 + 16];
     snprintf(path, sizeof path, "%s/case.yaml", L->run_dir);
-    return wfile_write_text(path, L->case_yaml, e);
+    return wfile_write_text(path, L->case_yaml, 0, e);
 }
 
 int launch_point_current(const char *run_dir, struct err *e)

@@ -11,6 +11,7 @@
 int wfile_open(struct wfile *w, const char *path, struct err *e)
 {
     w->f = NULL;
+    w->no_sync = 0;
     snprintf(w->path, sizeof w->path, "%s", path);
     if (snprintf(w->tmp, sizeof w->tmp, "%s.tmp", path) >= (int)sizeof w->tmp)
         return err_set(e, ERR_RUNTIME, "cannot write %s: the name is too long", path);
@@ -49,7 +50,7 @@ int wfile_commit(struct wfile *w, struct err *e)
     errno = 0;
     if (fault_write(ENOSPC) != 0 || fflush(w->f) != 0 || ferror(w->f))
         return fail(w, e);
-    if (fault_write(EIO) != 0 || fsync(fileno(w->f)) != 0)
+    if (!w->no_sync && (fault_write(EIO) != 0 || fsync(fileno(w->f)) != 0))
         return fail(w, e);
     FILE *f = w->f;
     w->f = NULL;
@@ -76,12 +77,13 @@ void wfile_discard(struct wfile *w)
     unlink(w->tmp);
 }
 
-int wfile_write_text(const char *path, const char *text, struct err *e)
+int wfile_write_text(const char *path, const char *text, int durable, struct err *e)
 {
     struct wfile w;
     int rc = wfile_open(&w, path, e);
     if (rc)
         return rc;
+    w.no_sync = !durable;
     fputs(text, w.f);
     return wfile_commit(&w, e);
 }

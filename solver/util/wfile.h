@@ -22,6 +22,7 @@
 
 struct wfile {
     FILE *f;             /* write here (NULL when not open) */
+    int no_sync;         /* commit without fsync (set after wfile_open) */
     char path[4096];     /* the file's name */
     char tmp[4096 + 8];  /* PATH.tmp, renamed over path by wfile_commit */
 };
@@ -38,8 +39,11 @@ int wfile_commit(struct wfile *w, struct err *e);
  * stays); nothing when w is not open. */
 void wfile_discard(struct wfile *w);
 
-/* The whole of `text` as the file PATH (wfile_open + fputs + commit). */
-int wfile_write_text(const char *path, const char *text, struct err *e);
+/* The whole of `text` as the file PATH (wfile_open + fputs + commit);
+ * durable 0 skips the fsync, for a file that is read at once and rewritten
+ * whenever it is needed again (a job's case.yaml: a machine that goes down
+ * takes the job with it). */
+int wfile_write_text(const char *path, const char *text, int durable, struct err *e);
 
 /* mkdir and rename behind a write fault point (0, or -1 with errno); the
  * mkdir of a path that exists is not a fault point. */
