@@ -99,7 +99,7 @@ all: $(SOLVER_BIN) $(CAMPAIGN_BIN)
 # --- dependencies (Debian) -------------------------------------------------
 DEB_PKGS := build-essential pkg-config libsqlite3-dev libhdf5-openmpi-dev libgsl-dev \
             libopenmpi-dev openmpi-bin libyaml-dev libjansson-dev libcriterion-dev \
-            gnuplot-nox lammps-data sqlite3 time bc hdf5-tools
+            gnuplot-nox lammps-data sqlite3 time bc hdf5-tools python3-ase lammps
 deps:
 	@missing=""; for p in $(DEB_PKGS); do \
 	  dpkg-query -W -f='$${Status}' $$p 2>/dev/null | grep -q 'install ok installed' || missing="$$missing $$p"; \
@@ -200,7 +200,7 @@ demo: deps
 # rewrites the baselines instead (review and commit them).
 NIGHTLY_DIR ?= runs/nightly
 NIGHTLY_STUDIES ?= studies/nightly.yaml studies/nightly_impact_quick.yaml \
-                   studies/nightly_hugoniot_quick.yaml
+                   studies/nightly_hugoniot_quick.yaml studies/md_timestep_refine_quick.yaml
 nightly: deps
 	@$(MAKE) --no-print-directory $(SOLVER_BIN) $(CAMPAIGN_BIN)
 	@mkdir -p $(NIGHTLY_DIR)
@@ -229,8 +229,8 @@ bench: deps
 	sh bench/bench.sh $(abspath build/release/bin)
 
 # --- fuzzing (docs/fuzzing.md) ----------------------------------------------
-# One libFuzzer target per input reader, run one after the other (one
-# process) for FUZZ_SECONDS each over tests/fuzz/corpus/<reader>/; inputs
+# One libFuzzer target per input reader, FUZZ_PARALLEL at a time (default
+# one after the other) for FUZZ_SECONDS each over tests/fuzz/corpus/<reader>/; inputs
 # that add coverage are merged back into the corpus, crashing inputs land in
 # tests/fuzz/crashes/<reader>/ (make test replays both).  Logs and the
 # inputs of the session in build/fuzz/.
@@ -239,6 +239,8 @@ FUZZ_MAX_LEN ?= 8192
 FUZZ_NAMES   := case study lammps_data extxyz eam sw meam_spline result_json baseline
 FUZZ_TARGETS ?= $(FUZZ_NAMES)
 FUZZ_ARGS    ?=
+FUZZ_PARALLEL ?= 1
+export FUZZ_ARGS
 FUZZ_BINDIR  := build/fuzz/bin
 FUZZ_DEB_PKGS := clang libclang-rt-14-dev libomp-14-dev
 
@@ -255,27 +257,7 @@ $(FUZZ_BINDIR)/fuzz_%: $(OBJDIR)/fuzz/fuzz_%.o $(OBJDIR)/fuzz/common.o $(SOLVER_
 
 fuzz: fuzz-deps
 	@$(MAKE) --no-print-directory BUILD=fuzz fuzz-build
-	@mkdir -p build/fuzz/log; fail=""; \
-	for t in $(FUZZ_TARGETS); do \
-	    bin=$(FUZZ_BINDIR)/fuzz_$$t; corpus=tests/fuzz/corpus/$$t; new=build/fuzz/new/$$t; \
-	    log=build/fuzz/log/$$t.log; \
-	    mkdir -p $$corpus tests/fuzz/crashes/$$t $$new; \
-	    echo "== fuzz $$t: $(FUZZ_SECONDS) s ($$log)"; \
-	    LSAN_OPTIONS=suppressions=$(abspath tests/lsan.supp) OMP_NUM_THREADS=1 \
-	    $$bin -max_total_time=$(FUZZ_SECONDS) -max_len=$(FUZZ_MAX_LEN) -timeout=10 \
-	        -rss_limit_mb=2048 -print_final_stats=1 \
-	        -artifact_prefix=tests/fuzz/crashes/$$t/ $(FUZZ_ARGS) $$new $$corpus > $$log 2>&1 \
-	        || fail="$$fail $$t"; \
-	    grep -E '^#[0-9]+[[:space:]]+DONE|stat::number_of_executed_units|stat::average_exec_per_sec' $$log \
-	        | tr '\n' ' '; echo; \
-	    LSAN_OPTIONS=suppressions=$(abspath tests/lsan.supp) OMP_NUM_THREADS=1 \
-	    $$bin -merge=1 -max_len=$(FUZZ_MAX_LEN) -timeout=10 $$corpus $$new >> $$log 2>&1 \
-	        && rm -rf $$new; \
-	done; \
-	if [ -n "$$fail" ]; then \
-	    echo "fuzz: crashes or sanitizer reports in:$$fail (inputs in tests/fuzz/crashes/)" >&2; \
-	    exit 1; \
-	fi
+	@bash fuzz/run.sh $(FUZZ_BINDIR) $(FUZZ_SECONDS) $(FUZZ_MAX_LEN) $(FUZZ_PARALLEL) $(FUZZ_TARGETS)
 
 # Shrink each corpus to the inputs that keep its coverage (the seed-* files
 # of fuzz/seed.sh always stay).

@@ -1,5 +1,6 @@
 /* baseline: regression baselines -- building, files, comparison (see baseline.h). */
 #include "baseline.h"
+#include "baseline_conv.h"
 
 #include <errno.h>
 #include <math.h>
@@ -83,6 +84,7 @@ json_t *baseline_build(const struct study_analysis *a, const char *created)
     }
     json_object_set_new(b, "values", values);
     json_object_set_new(b, "orders", orders);
+    baseline_conv_add(b, a);
     return b;
 }
 
@@ -117,8 +119,9 @@ int baseline_write(const json_t *b, const char *path, struct err *e)
         if (v && put_member(f, head[i], v, 0) != 0)
             oom = 1;
     }
-    static const char *const lists[] = {"values", "orders", NULL};
-    for (int l = 0; lists[l]; l++) {
+    static const char *const lists[] = {"values", "orders", "converged", NULL};
+    int nlists = json_object_get(b, "converged") ? 3 : 2;   /* converged: refine studies only */
+    for (int l = 0; l < nlists; l++) {
         json_t *arr = json_object_get(b, lists[l]);
         fprintf(f, "  \"%s\": [", lists[l]);
         size_t i;
@@ -130,7 +133,7 @@ int baseline_write(const json_t *b, const char *path, struct err *e)
             fprintf(f, "%s\n    %s", i ? "," : "", t ? t : "null");
             free(t);
         }
-        fprintf(f, "%s]%s\n", json_array_size(arr) ? "\n  " : "", lists[l + 1] ? "," : "");
+        fprintf(f, "%s]%s\n", json_array_size(arr) ? "\n  " : "", l + 1 < nlists ? "," : "");
     }
     fputs("}\n", f);
     if (oom) {
@@ -203,6 +206,8 @@ int baseline_read(const char *path, const char *study, json_t **out, char **text
                 !json_is_number(json_object_get(v, "p")))
                 bad = "each entry of \"orders\" needs \"metric\", \"group\" and a numeric \"p\"";
         }
+        if (!bad)
+            bad = baseline_conv_check(b);
     }
     if (bad) {
         json_decref(b);
@@ -223,8 +228,8 @@ int baseline_read(const char *path, const char *study, json_t **out, char **text
 
 /* --- comparison -------------------------------------------------------------- */
 
-static struct cmp_item *add_item(struct cmp_report *r, enum cmp_verdict v, const char *metric,
-                                 const char *what, const char *where)
+struct cmp_item *cmp_add_item(struct cmp_report *r, enum cmp_verdict v, const char *metric,
+                              const char *what, const char *where)
 {
     if (r->n == r->cap) {
         int cap = r->cap ? 2 * r->cap : 64;
@@ -309,7 +314,7 @@ static void compare_values(const json_t *b, const struct study_analysis *a,
         enum cmp_verdict verdict = !isfinite(now)              ? CMP_MISSING
                                    : fabs(now - base) <= tol ? CMP_OK
                                                               : CMP_REGRESSED;
-        struct cmp_item *it = add_item(r, verdict, metric, "value", where);
+        struct cmp_item *it = cmp_add_item(r, verdict, metric, "value", where);
         if (!it)
             continue;
         it->base = base;
@@ -355,7 +360,7 @@ static void compare_orders(const json_t *b, const struct study_analysis *a,
         enum cmp_verdict verdict = !isfinite(now) ? CMP_MISSING
                                    : fabs(now - base) <= otol && !kind_changed ? CMP_OK
                                                                               : CMP_REGRESSED;
-        struct cmp_item *it = add_item(r, verdict, metric, "order p", where);
+        struct cmp_item *it = cmp_add_item(r, verdict, metric, "order p", where);
         if (!it)
             continue;
         it->base = base;
@@ -394,19 +399,20 @@ int baseline_compare(const json_t *b, const struct study_analysis *a,
             sa_job_label(d, job->params, lab, sizeof lab);
             snprintf(where, sizeof where, "%s (%s)", job->key, lab);
         }
-        struct cmp_item *it = add_item(r, CMP_FAILED, "-", "job", where);
+        struct cmp_item *it = cmp_add_item(r, CMP_FAILED, "-", "job", where);
         if (it)
             snprintf(it->note, sizeof it->note, "%s%s%s", job->state,
                      job->message ? ": " : "", job->message ? job->message : "");
     }
     compare_values(b, a, rs, r, seen);
     compare_orders(b, a, rs, r, seen);
+    baseline_conv_compare(b, a, rs, r);
     /* what the baseline does not know */
     for (int k = 0; k < a->nmetrics; k++) {
         int m = a->metrics[k];
         for (int p = 0; p < a->npts; p++)
             if (!seen[(size_t)k * (size_t)a->npts + (size_t)p] && isfinite(a->pts[p].mean[m])) {
-                struct cmp_item *it = add_item(r, CMP_NEW, d->metric[m], "value", a->pts[p].label);
+                struct cmp_item *it = cmp_add_item(r, CMP_NEW, d->metric[m], "value", a->pts[p].label);
                 if (it) {
                     it->now = a->pts[p].mean[m];
                     snprintf(it->note, sizeof it->note, "not in the baseline");
@@ -417,7 +423,7 @@ int baseline_compare(const json_t *b, const struct study_analysis *a,
             if (!seen[(size_t)a->nmetrics * (size_t)a->npts + (size_t)k * (size_t)a->ngroups +
                       (size_t)g] &&
                 c->status == SA_OK && isfinite(c->c.p)) {
-                struct cmp_item *it = add_item(r, CMP_NEW, d->metric[m], "order p",
+                struct cmp_item *it = cmp_add_item(r, CMP_NEW, d->metric[m], "order p",
                                                a->groups[g].label);
                 if (it) {
                     it->now = c->c.p;

@@ -12,7 +12,8 @@
  *    "values": [{"metric":"pe_per_atom","params":{...},"unit":"eV/atom","value":-3.49},
  *               ...],
  *    "orders": [{"extrapolated":-3.4967,"group":{...},"kind":"monotone",
- *                "metric":"pe_per_atom","p":1.998}, ...]}
+ *                "metric":"pe_per_atom","p":1.998}, ...],
+ *    "converged": [...]}   (a study with refine:, baseline_conv.h)
  *
  * Comparison: a value passes when |now - baseline| <= abs + rel |baseline|
  * with the metric's tolerances (report_spec.h), an order when |p_now -
@@ -64,6 +65,11 @@ struct cmp_report {
     int regressed;               /* REGRESSED + MISSING + FAILED */
     int added;                   /* NEW */
 };
+
+/* Add an item to a comparison (for the comparisons of baseline_conv.h);
+ * NULL when out of memory. */
+struct cmp_item *cmp_add_item(struct cmp_report *r, enum cmp_verdict v, const char *metric,
+                              const char *what, const char *where);
 
 int baseline_compare(const json_t *b, const struct study_analysis *a,
                      const struct report_spec *rs, struct cmp_report *r, struct err *e);

@@ -5,6 +5,7 @@
 
 #include "cli.h"
 #include "db.h"
+#include "export_ref.h"
 #include "table.h"
 #include "util/mem.h"
 #include "util/wfile.h"
@@ -15,7 +16,9 @@ static const char *usage =
     "Writes one CSV row per job of the study: key, kind, name, state, attempt,\n"
     "solver version and git hash, wall seconds, then one column per swept\n"
     "parameter (in the study's order) and one per metric, named 'metric [unit]',\n"
-    "from each job's latest successful run (empty when it has none).\n";
+    "from each job's latest successful run (empty when it has none).  Reference\n"
+    "values imported with cascade import follow as rows of kind 'reference' (name:\n"
+    "the source; attempt: the line of the imported file).\n";
 
 struct metric_col {
     char *name;
@@ -113,6 +116,26 @@ int cmd_export(int argc, char **argv)
         sqlite3_finalize(st);
         st = NULL;
     }
+    char **rnames = NULL, **runits = NULL;   /* the metric columns, with the imported ones */
+    int nr = 0;
+    for (int m = 0; !rc && m < nm; m++) {
+        char **gn = mem_realloc(rnames, (size_t)(nr + 1) * sizeof *gn);
+        char **gu = gn ? mem_realloc(runits, (size_t)(nr + 1) * sizeof *gu) : NULL;
+        if (gn)
+            rnames = gn;
+        if (gu)
+            runits = gu;
+        if (!gn || !gu) {
+            rc = err_nomem(&e, "metrics");
+            break;
+        }
+        rnames[nr] = mem_strdup(mc[m].name);
+        runits[nr++] = mem_strdup(mc[m].unit);
+        if (!rnames[nr - 1] || !runits[nr - 1])
+            rc = err_nomem(&e, "metrics");
+    }
+    if (!rc)
+        rc = export_ref_metrics(db, sid, &rnames, &runits, &nr, &e);
     if (!rc && out_path) {
         /* a --out that names no place to write is the user's argument (exit
          * 2); a full disk is not */
@@ -141,9 +164,9 @@ int cmd_export(int argc, char **argv)
             fputc(',', out);
             table_csv_field(out, axes[a]);
         }
-        for (int m = 0; m < nm; m++) {
+        for (int m = 0; m < nr; m++) {
             char h[512];
-            snprintf(h, sizeof h, "%s [%s]", mc[m].name, mc[m].unit);
+            snprintf(h, sizeof h, "%s [%s]", rnames[m], runits[m]);
             fputc(',', out);
             table_csv_field(out, h);
         }
@@ -171,12 +194,12 @@ int cmd_export(int argc, char **argv)
                 fputc(',', out);
                 table_csv_field(out, cell);
             }
-            for (int m = 0; m < nm; m++) {
+            for (int m = 0; m < nr; m++) {
                 cell[0] = '\0';
                 if (run) {
                     sqlite3_reset(ms);
                     sqlite3_bind_int64(ms, 1, run);
-                    sqlite3_bind_text(ms, 2, mc[m].name, -1, SQLITE_STATIC);
+                    sqlite3_bind_text(ms, 2, rnames[m], -1, SQLITE_STATIC);
                     if (sqlite3_step(ms) == SQLITE_ROW)
                         table_cell(ms, 0, cell, sizeof cell);
                 }
@@ -185,6 +208,7 @@ int cmd_export(int argc, char **argv)
             }
             fputc('\n', out);
         }
+        rc = export_ref_rows(db, sid, axes, naxes, rnames, nr, out, &e);
     }
     sqlite3_finalize(st);
     sqlite3_finalize(ps);
@@ -203,6 +227,12 @@ int cmd_export(int argc, char **argv)
         free(mc[m].unit);
     }
     free(mc);
+    for (int m = 0; m < nr; m++) {
+        free(rnames[m]);
+        free(runits[m]);
+    }
+    free(rnames);
+    free(runits);
     db_close(&db);
     if (rc)
         fprintf(stderr, "error: %s\n", e.msg);

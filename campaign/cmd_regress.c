@@ -14,6 +14,7 @@
 #include "launch.h"
 #include "report_run.h"
 #include "study.h"
+#include "refine_run.h"
 #include "study_run.h"
 #include "sysinfo.h"
 
@@ -261,9 +262,10 @@ int cmd_regress(int argc, char **argv)
     int code = 0;
     if (!a.no_run) {
         backend_block_signals();
-        struct study_run_opts o = {a.db_path, a.runs, a.solver, a.jobs, 60, a.quiet, 1, 0};
+        struct study_run_opts o = {a.db_path, a.runs, a.solver, a.jobs, 60,
+                                   a.quiet,   1,      NULL,     NULL,   0};
         struct runner_summary sum;
-        rc = study_run(&s, &o, &sum, &e);
+        rc = study_run_any(&s, &o, &sum, &e);   /* refines first when the study says so */
         if (!rc && sum.interrupted) {
             fprintf(stderr, "regress %s: interrupted\n", s.name);
             study_free(&s);

@@ -5,11 +5,13 @@
 
 #include "cli.h"
 #include "db.h"
+#include "report_cli.h"
 #include "report_run.h"
 #include "study.h"
 
 static const char *usage =
-    "usage: cascade report STUDY [--format md,html] [--out DIR] [--db FILE]\n"
+    "usage: cascade report STUDY [--format md,html,json] [--out DIR] [--db FILE]\n"
+    "                     [--source NAME]\n"
     "\n"
     "Writes the report of a study from the results database: for each metric and\n"
     "each combination of the other swept values, the values along the resolution\n"
@@ -23,9 +25,16 @@ static const char *usage =
     "\n"
     "  STUDY           a study name in the database, or the study file (a path\n"
     "                  ending in .yaml; its `report:` section is then read from it)\n"
-    "  --format LIST   md, html or md,html (default)\n"
+    "  --format LIST   md, html, json, or a list of them (default md,html); json\n"
+    "                  also prints report.json on stdout (and nothing else)\n"
     "  --out DIR       output directory (default reports/STUDY); it receives\n"
-    "                  report.md with its SVG figures and a self-contained report.html\n"
+    "                  report.md with its SVG figures, a self-contained report.html\n"
+    "                  and always report.json (every number at full precision)\n"
+    "  --source NAME   analyse the rows imported from NAME (cascade import) instead\n"
+    "                  of the campaign's runs\n"
+    "\n"
+    "The convergence results are also written to the database's convergence table\n"
+    "(db/README.md); a database that cannot be written gets a warning.\n"
     "  --db FILE       results database (default ./" CASCADE_DB_DEFAULT ")\n";
 
 /* A study argument is a file when it looks like a path (a '/' or a .yaml /
@@ -46,11 +55,13 @@ int cmd_report(int argc, char **argv)
         return 0;
     }
     const char *db_path = CASCADE_DB_DEFAULT, *study = NULL, *out = NULL, *formats = "md,html";
+    const char *source = NULL;
     for (int i = 0; i < argc; i++) {
         int m;
         if ((m = cli_opt(argc, argv, &i, "--db", &db_path)) ||
             (m = cli_opt(argc, argv, &i, "--out", &out)) ||
-            (m = cli_opt(argc, argv, &i, "--format", &formats))) {
+            (m = cli_opt(argc, argv, &i, "--format", &formats)) ||
+            (m = cli_opt(argc, argv, &i, "--source", &source))) {
             if (m < 0)
                 return 2;
         } else if (argv[i][0] != '-' && !study) {
@@ -61,9 +72,10 @@ int cmd_report(int argc, char **argv)
     }
     if (!study)
         return cli_usage_error(usage, "give a study name or a study file");
-    int md, html;
-    if (cli_parse_formats(formats, &md, &html) != 0)
-        return cli_usage_error(usage, "--format: give md, html or md,html, not '%s'", formats);
+    int md, html, json;
+    if (report_parse_formats(formats, &md, &html, &json) != 0)
+        return cli_usage_error(usage, "--format: give md, html, json or a list of them, not '%s'",
+                               formats);
     struct err e = {0};
     struct study s;
     int have_study = 0, rc = 0;
@@ -86,13 +98,17 @@ int cmd_report(int argc, char **argv)
     memset(&c, 0, sizeof c);
     rc = db_open_readonly(db_path, &db, &e);
     if (!rc)
-        rc = report_load(&c, db, name, have_study ? &s.report : NULL, &e);
+        rc = report_load_source(&c, db, name, source, have_study ? &s.report : NULL, &e);
     db_close(&db);
     if (!rc)
         rc = report_emit(&c, dir, md, html, db_path, &e);
+    if (!rc)
+        report_store_convergence(&c, db_path);
+    if (!rc && json)
+        rc = report_print_json(dir, &e);
     if (rc) {
         fprintf(stderr, "error: %s\n", e.msg);
-    } else {
+    } else if (!json) {
         int flagged = 0;
         for (int k = 0; c.a.conv && k < c.a.nmetrics * c.a.ngroups; k++)
             flagged += c.a.conv[k].flagged;
@@ -109,6 +125,7 @@ int cmd_report(int argc, char **argv)
             printf("  %s/report.md\n", dir);
         if (html)
             printf("  %s/report.html\n", dir);
+        printf("  %s/report.json\n", dir);
     }
     report_ctx_free(&c);
     if (have_study)

@@ -7,6 +7,7 @@
 #include "backend_mpi.h"
 #include "cli.h"
 #include "mpi_pool.h"
+#include "refine_run.h"
 #include "study_run.h"
 
 static const char *usage =
@@ -107,10 +108,10 @@ static int run_study(const struct run_args *a, int mpi_size)
         fprintf(stderr, "error: %s\n", e.msg);
         return cli_exit_code(rc);
     }
-    struct study_run_opts o = {a->db_path, a->runs,  a->solver, a->jobs,
-                               a->lease,   a->quiet, mpi_size,  a->infra_pause};
+    struct study_run_opts o = {a->db_path, a->runs,  a->solver, a->jobs,       a->lease,
+                               a->quiet,   mpi_size, NULL,      NULL,          a->infra_pause};
     struct runner_summary sum;
-    rc = study_run(&s, &o, &sum, &e);
+    rc = study_run_any(&s, &o, &sum, &e);   /* a study with refine: adds levels as it goes */
     int code;
     if (rc) {
         if (sum.total)   /* the runner ran, then stopped: say how far it got */

@@ -3,6 +3,7 @@
 
 #include "cli.h"
 #include "db.h"
+#include "refine_state.h"
 #include "sysinfo.h"
 #include "table.h"
 
@@ -124,6 +125,8 @@ static int one_study(sqlite3 *db, const char *name, struct err *e)
         printf("  done with solver %s: %lld\n", (const char *)sqlite3_column_text(st, 0),
                (long long)sqlite3_column_int64(st, 1));
     sqlite3_finalize(st);
+    if ((rc = refine_state_print(db, id, stdout, e)))
+        return rc;
     long n;
     if (running) {
         printf("\nrunning:\n");

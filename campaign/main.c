@@ -26,6 +26,7 @@ static const char *usage =
     "  retry STUDY [--failed]    run the study's jobs again (or only the failed ones)\n"
     "  report STUDY              convergence report (Markdown + HTML with figures)\n"
     "  regress STUDY.yaml        rerun a study and compare it with its baseline\n"
+    "  import STUDY FILE.csv     reference values of an external source (experiment, ...)\n"
     "\n"
     "The database is ./" CASCADE_DB_DEFAULT " unless --db FILE is given; its tables are\n"
     "described in db/README.md.  'cascade <command> --help' shows a command's options.\n"
@@ -47,7 +48,8 @@ int main(int argc, char **argv)
         int (*fn)(int, char **);
     } cmds[] = {{"plan", cmd_plan},     {"run", cmd_run},       {"status", cmd_status},
                 {"query", cmd_query},   {"show", cmd_show},     {"export", cmd_export},
-                {"retry", cmd_retry},   {"report", cmd_report}, {"regress", cmd_regress}};
+                {"retry", cmd_retry},   {"report", cmd_report}, {"regress", cmd_regress},
+                {"import", cmd_import}};
     /* fault injection for the tests (docs/fuzzing.md): SQLite's writes and
      * allocations (campaign/db_fault.h), read here, once, before SQLite is
      * first used; Cascade's own allocations and file writes (util/fault.h) */

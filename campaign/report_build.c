@@ -32,13 +32,22 @@ void report_num(double x, int digits, char *out, size_t len)
     snprintf(out, len, "%.*g", digits, x);
 }
 
+/* Four significant digits, trailing zeros kept (the GCI band). */
+static void sig4(double x, char *out, size_t len)
+{
+    if (isfinite(x))
+        snprintf(out, len, "%#.4g", x);
+    else
+        report_num(x, 4, out, len);
+}
+
 static void pct(double frac, char *out, size_t len)
 {
     if (!isfinite(frac)) {
         snprintf(out, len, "—");
         return;
     }
-    snprintf(out, len, "%.3g %%", 100 * frac);
+    snprintf(out, len, "%#.4g %%", 100 * frac);   /* 4 significant digits; report.json has all */
 }
 
 /* --- a growing table ------------------------------------------------------ */
@@ -220,7 +229,7 @@ static void summary(struct rdoc *doc, const struct study_analysis *a)
                 report_num(NAN, 4, b[0], sizeof b[0]);
             report_num(c->formal, 3, b[1], sizeof b[1]);
             report_num(c->status == SA_OK ? c->c.phi_ext : NAN, 9, b[2], sizeof b[2]);
-            report_num(c->status == SA_OK ? c->abs_unc : NAN, 3, b[3], sizeof b[3]);
+            sig4(c->status == SA_OK ? c->abs_unc : NAN, b[3], sizeof b[3]);
             tab_put(&t, 4, "%s", b[0]);
             tab_put(&t, 5, "%s", b[1]);
             tab_put(&t, 6, "%s", b[2]);
@@ -405,7 +414,7 @@ static void conv_table(struct rdoc *doc, const struct study_analysis *a, int k, 
     ROW("GCI fine (GCI_21)", "%s", b);
     pct(r->gci_medium, b, sizeof b);
     ROW("GCI medium (GCI_32)", "%s", b);
-    report_num(c->abs_unc, 4, b, sizeof b);
+    sig4(c->abs_unc, b, sizeof b);
     if (isfinite(c->abs_unc))
         ROW("band: fine value ± GCI in units", "± %s%s", b, unit_after(a, m, ub, sizeof ub));
     else

@@ -742,6 +742,67 @@ static int check_report(const struct study *s, struct err *e)
     return 0;
 }
 
+/* The refine section against the sweep: the axis is swept in a factor of
+ * its own (or with keys that follow it), with three or more start levels. */
+static int check_refine(struct study *s, struct err *e)
+{
+    struct refine_spec *r = &s->refine;
+    if (!r->on)
+        return 0;
+    if (!r->axis[0]) {
+        if (s->report.res_mode != RES_AXIS)
+            return fail_at(s, "refine", e, "name the axis to refine: refine.axis or "
+                                           "report.resolution");
+        snprintf(r->axis, sizeof r->axis, "%s", s->report.res_axis);
+    }
+    if (s->report.res_mode == RES_NONE ||
+        (s->report.res_mode == RES_AXIS && strcmp(s->report.res_axis, r->axis) != 0))
+        return fail_at(s, "refine.axis", e, "'%s' is not the report's resolution axis ('%s')",
+                       r->axis, s->report.res_mode == RES_NONE ? "none" : s->report.res_axis);
+    int ax = -1;
+    for (int i = 0; i < s->naxes; i++)
+        if (strcmp(s->axes[i].path, r->axis) == 0)
+            ax = i;
+    if (ax < 0 || s->axes[ax].kind == AXIS_REPEAT || strcmp(r->axis, "seed") == 0)
+        return fail_at(s, "refine.axis", e, "'%s' is not a swept key of this study", r->axis);
+    size_t nstart = json_array_size(s->axes[ax].values);
+    if (nstart < 3)
+        return fail_at(s, "refine.axis", e, "%s has %zu value%s: refinement starts from three or "
+                                            "more levels (the sweep's values)",
+                       r->axis, nstart, nstart == 1 ? "" : "s");
+    if ((long)nstart > r->max_levels)
+        return fail_at(s, "refine.max_levels", e, "%ld is fewer than the %zu start levels",
+                       r->max_levels, nstart);
+    for (int i = 0; i < s->naxes; i++) {
+        if (i == ax || s->axes[i].group != s->axes[ax].group)
+            continue;
+        int f = -1;
+        for (int k = 0; k < r->nfollow; k++)
+            if (strcmp(r->follow[k].path, s->axes[i].path) == 0)
+                f = k;
+        if (f < 0)
+            return fail_at(s, "refine", e, "%s is zipped with %s: say how it follows the refined "
+                                           "axis (refine.follow: {%s: inverse | value | same})",
+                           s->axes[i].path, r->axis, s->axes[i].path);
+    }
+    for (int k = 0; k < r->nfollow; k++) {
+        int ok = 0;
+        for (int i = 0; i < s->naxes; i++)
+            ok |= i != ax && s->axes[i].group == s->axes[ax].group &&
+                  strcmp(s->axes[i].path, r->follow[k].path) == 0;
+        if (!ok) {
+            char w[STUDY_WHERE_MAX];
+            snprintf(w, sizeof w, "refine.follow.%s", r->follow[k].path);
+            return fail_at(s, w, e, "'%s' is not zipped with %s", r->follow[k].path, r->axis);
+        }
+    }
+    for (int k = 0; k < r->nmetrics; k++)
+        if (!recorded(s, r->metrics[k]))
+            return fail_at(s, "refine", e, "metric '%s' is not among the study's metrics",
+                           r->metrics[k]);
+    return 0;
+}
+
 static int study_read(struct study *s, struct err *e)
 {
     struct cfg c = {s->file, s->locs, e, s->dir, 1};
@@ -797,6 +858,8 @@ static int study_read(struct study *s, struct err *e)
         (rc = cfg_int(&root, "retries", 0, CFG_RANGE(0, 100), &s->retries)))
         return rc;
     if ((rc = report_spec_read(&root, &s->report)) || (rc = check_report(s, e)))
+        return rc;
+    if ((rc = refine_spec_read(&root, &s->refine)) || (rc = check_refine(s, e)))
         return rc;
     return cfg_close(&root);
 }

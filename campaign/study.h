@@ -19,6 +19,7 @@
  *   timeout: 600                       # seconds per job (0: none)
  *   retries: 1                         # extra attempts after failed/crashed/timeout
  *   report: {...}                      # report and regression settings (report_spec.h)
+ *   refine: {...}                      # adaptive refinement (refine_spec.h)
  *   regress: {...}
  *
  * Every error names the file, line and column and the study key.
@@ -30,6 +31,7 @@
 #include <stddef.h>
 
 #include "docpath.h"
+#include "refine_spec.h"
 #include "report_spec.h"
 #include "util/err.h"
 #include "util/locmap.h"
@@ -103,6 +105,7 @@ struct study {
     long retries;
     long njobs;                    /* sweep jobs (product of group_len) */
     struct report_spec report;     /* the `report` and `regress` sections */
+    struct refine_spec refine;     /* the `refine` section (adaptive refinement) */
 };
 
 int study_load(struct study *s, const char *path, struct err *e);

@@ -104,6 +104,7 @@ struct study_analysis {
     struct sa_xplot *xplots;
     int nxplots;
     long nsweep, ndone;        /* sweep jobs, and those with a successful run */
+    const json_t *refine;      /* borrowed: the adaptive refinement state (refine_state.h), or NULL */
 };
 
 /* Build the analysis.  ERR_INPUT for report settings that do not fit the

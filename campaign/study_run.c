@@ -22,6 +22,10 @@ int study_run(const struct study *s, const struct study_run_opts *o, struct runn
         rc = plan_build(&p, s, &sv, e);
     if (rc)
         return rc;
+    if (o->plan_filter && (rc = o->plan_filter(o->filter_ctx, &p, e))) {
+        plan_free(&p);
+        return rc;
+    }
     /* every check has passed: from here on the database and runs/ are written */
     char runs_abs[4096];
     sqlite3 *db = NULL;

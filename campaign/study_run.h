@@ -7,6 +7,7 @@
 #ifndef CASCADE_CAMPAIGN_STUDY_RUN_H
 #define CASCADE_CAMPAIGN_STUDY_RUN_H
 
+#include "plan.h"
 #include "runner.h"
 #include "study.h"
 
@@ -18,6 +19,10 @@ struct study_run_opts {
     double lease;            /* seconds */
     int quiet;
     int mpi_size;            /* > 1: rank 0 of an MPI runner with mpi_size - 1 workers */
+    /* optional: drop jobs from the plan before it is registered and run
+     * (adaptive refinement runs only some levels of each series) */
+    int (*plan_filter)(void *ctx, struct plan *p, struct err *e);
+    void *filter_ctx;
     double infra_pause;      /* seconds after a first infrastructure failure (doubling);
                               * 0: the default, 0.5 */
 };

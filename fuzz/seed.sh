@@ -67,6 +67,31 @@ Velocities
 3 -1.0 0.0 2.5
 2 0 0 0
 D
+cat > "$C/lammps_data/seed-triclinic-zero.data" <<'D'
+LAMMPS data file via write_data of a prism region of tilt 0 0 0
+
+2 atoms
+1 atom types
+
+0.0000000000000000e+00 7.2300000000000000e+00 xlo xhi
+0.0000000000000000e+00 7.2300000000000000e+00 ylo yhi
+0.0000000000000000e+00 7.2300000000000000e+00 zlo zhi
+0.0000000000000000e+00 0.0000000000000000e+00 0.0000000000000000e+00 xy xz yz
+
+Masses
+
+1 63.546
+
+Atoms # atomic
+
+1 1 0.0000000000000000e+00 0.0000000000000000e+00 0.0000000000000000e+00 0 0 0
+2 1 1.8075000000000001e+00 1.8075000000000001e+00 0.0000000000000000e+00 0 0 0
+
+Velocities
+
+1 1.0 -2.0 0.5
+2 0 0 0
+D
 cat > "$C/lammps_data/seed-noname.data" <<'D'
 LAMMPS data file without type names (system.elements names them)
 
@@ -95,6 +120,12 @@ cat > "$C/extxyz/seed-plain.xyz" <<'D'
 Lattice="10 0 0 0 10 0 0 0 10" Origin="-5 -5 -5"
 Si 0 0 0
 Si 1.2 1.3 -4.5
+D
+cat > "$C/extxyz/seed-ase-momenta.xyz" <<'D'
+2
+Lattice="7.23 0.0 0.0 0.0 7.23 0.0 0.0 0.0 7.23" Properties=species:S:1:pos:R:3:masses:R:1:momenta:R:3:forces:R:3 pbc="T T T"
+Cu 0.0 0.0 0.0 63.546 0.5 -0.25 0.0 0.1 0 0
+Cu 1.8075 1.8075 0.0 63.546 -0.5 0.25 0.0 -0.1 0 0
 D
 
 # --- EAM: funcfl, setfl and fs files resampled to 24 knots

@@ -241,11 +241,18 @@ static char *slurp(const char *path)
     return buf;
 }
 
-/* The text without its "Generated <time>" stamp (a report's one line that
- * differs between two runs). */
+/* The text without its time stamps ("Generated <time>" in report.md and
+ * .html, "generated": "<time>" in report.json: what differs between two
+ * runs). */
 static void unstamp(char *s)
 {
     char *g;
+    while ((g = strstr(s, "\"generated\": \""))) {
+        char *end = strchr(g + 14, '"');
+        if (!end)
+            break;
+        memmove(g, end + 1, strlen(end + 1) + 1);
+    }
     while ((g = strstr(s, "Generated 2"))) {
         char *end = g;
         while (*end && *end != '.' && *end != '\n')

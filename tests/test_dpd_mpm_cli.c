@@ -2,7 +2,8 @@
  * The DPD/MPM-grid and concurrent DPD/MPM case types through cascade-solver:
  * - bad input refused with file, line, column and key: a cell edge not
  *   smaller than the DPD cutoff, a missing parameter file, overlapping
- *   DPD and MPM ranges, a particle in neither range, a thermostat;
+ *   DPD and MPM ranges, a particle in neither range, a thermostat, a
+ *   concurrent grid finer than the material points, an empty DPD range;
  * - a small flyer/target run, DPD-only and carried by grids of 8 and 2 Å:
  *   the grid's wave speed approaches the DPD-only one as the cells shrink,
  *   total momentum and DPDE energy are conserved;
@@ -133,6 +134,41 @@ Test(dpd_mpm_cli, particle_in_no_range_refused)
               "%s", out);
 }
 
+/* 2 Å cells hold 8 / 95 = 0.085 material points each: the points share no
+ * grid node with their neighbours, and the run used to end "ok" with no
+ * wave in the MPM part. */
+Test(dpd_mpm_cli, concurrent_grid_finer_than_the_points_refused)
+{
+    char yaml[2048], out[4096];
+    impact_case(yaml, sizeof yaml, "dpd_mpm_impact", "  cell: 2.0\n",
+                "concurrent:\n  dpd: [-10, 45.2]\n  mpm: [45.2, 100]\n  monitor: 15\n");
+    int rc = solver("check", yaml, out, sizeof out, NULL);
+    cr_assert_eq(rc, 2, "%s", out);
+    cr_assert(strstr(out, "case.yaml:14:9: grid.cell: cell edge 2 Å gives 0.083") &&
+                  strstr(out, "the concurrent model needs at least 0.5, i.e. a cell edge of "
+                              "at least 3.64 Å"),
+              "%s", out);
+    /* 4 Å cells (0.67 points per cell) pass */
+    impact_case(yaml, sizeof yaml, "dpd_mpm_impact", "  cell: 4.0\n",
+                "concurrent:\n  dpd: [-10, 45.2]\n  mpm: [45.2, 100]\n  monitor: 15\n");
+    rc = solver("check", yaml, out, sizeof out, NULL);
+    cr_assert_eq(rc, 0, "%s", out);
+}
+
+/* No DPD particle in the target: used to pass check and fail in run with
+ * "dpd_pair_heat needs the pair forces kept". */
+Test(dpd_mpm_cli, concurrent_empty_dpd_range_refused)
+{
+    char yaml[2048], out[4096];
+    impact_case(yaml, sizeof yaml, "dpd_mpm_impact", "  cell: 4.0\n",
+                "concurrent:\n  dpd: [-30, -10]\n  mpm: [-10, 100]\n  monitor: -20\n");
+    int rc = solver("check", yaml, out, sizeof out, NULL);
+    cr_assert_eq(rc, 2, "%s", out);
+    cr_assert(strstr(out, "case.yaml:16:8: concurrent.dpd: no particle of the target lies in "
+                          "the DPD range [-30, -10)"),
+              "%s", out);
+}
+
 Test(dpd_mpm_cli, thermostat_refused)
 {
     char yaml[2048], out[4096];
@@ -183,6 +219,19 @@ Test(dpd_mpm_cli, grid_impact_approaches_dpd_only, .timeout = 600)
     cr_assert(fabs(v2 / v0 - 1) < 0.01, "2 Å grid: %g m/s, DPD-only %g m/s", v2, v0);
     cr_assert(fabs(v8 - v0) > 3 * fabs(v2 - v0), "8 Å grid %g, 2 Å grid %g, DPD-only %g m/s", v8,
               v2, v0);
+    for (int k = 0; k < 3; k++) {
+        /* the impact energy is the flyer's 1/2 M v^2 (5 Å/ps, particles of
+         * 508.368 amu), the largest energy change is reported against it */
+        json_t *r = k == 0 ? r0 : k == 1 ? r8 : r2;
+        double ke = 0.5 * metric(r, "flyer_particles") * 508.368 * 25.0 * 1.0364269656262175e-4;
+        cr_assert(fabs(metric(r, "impact_energy") / ke - 1) < 1e-12, "impact energy %.10g, "
+                  "1/2 M v^2 %.10g eV", metric(r, "impact_energy"), ke);
+        cr_assert(fabs(metric(r, "energy_error_impact_fraction") -
+                       metric(r, "energy_deviation_max_abs") / ke) < 1e-12 * ke);
+        cr_assert(metric(r, "energy_error_impact_fraction") < 0.01,
+                  "energy excursion %g eV of an impact energy of %g eV",
+                  metric(r, "energy_deviation_max_abs"), ke);
+    }
     for (int k = 0; k < 2; k++) {
         json_t *r = k ? r8 : r2;
         cr_assert(metric(r, "momentum_change") < 1e-6, "momentum changed by %g",

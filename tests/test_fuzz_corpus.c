@@ -17,6 +17,7 @@
 #include "campaign/study.h"
 #include "fuzz/fuzz.h"
 #include "helpers/th.h"
+#include "input/case.h"
 #include "input/config_read.h"
 
 static int cmp_str(const void *a, const void *b)
@@ -222,4 +223,26 @@ Test(fuzz_corpus, periodic_box_far_below_the_range)
             maxshift = p->gshift[3 * g];
     cr_assert_eq(maxshift, 3);
     particles_destroy(&p);
+}
+
+Test(fuzz_corpus, mpm_report_step_beyond_long)
+{
+    /* report_steps: [..., 1.03e67, ...] was converted to long (UBSan:
+     * float-cast-overflow); now refused at the key */
+    char path[4096];
+    snprintf(path, sizeof path, "%s/tests/fuzz/crashes/case/crash-mpm-report-step-1e67",
+             th_root());
+    struct case_doc cd;
+    struct case_resolved cr;
+    struct err e = {0};
+    int rc = case_load_file(&cd, path, &e);
+    cr_assert_eq(rc, 0, "%s", e.msg);
+    rc = case_resolve(&cd, 0, 1, NULL, &cr, &e);
+    if (!rc)
+        case_resolved_free(&cr);
+    case_doc_free(&cd);
+    cr_assert_eq(rc, ERR_INPUT);
+    cr_assert(strstr(e.msg, "crash-mpm-report-step-1e67:28:17:") &&
+                  strstr(e.msg, "mpm.report_steps: steps must be integers from 0 to 1e15"),
+              "%s", e.msg);
 }

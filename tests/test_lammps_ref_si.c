@@ -1,7 +1,11 @@
 /*
  * Silicon potentials against LAMMPS on the same configuration and file:
  * energy, pressure tensor and forces to round-off for the spline MEAM of
- * Lenosky et al. (meam/spline, Si_1.meam.spline) and Stillinger-Weber.
+ * Lenosky et al. (meam/spline, Si_1.meam.spline) and Stillinger-Weber; and
+ * the two-element Stillinger-Weber of GaN (GaN.sw, whose mixed entries have
+ * sigma = a = 0) on tests/data/gan64.data: zincblende GaN, 2x2x2 cells of
+ * a = 4.52 Å, every coordinate displaced by up to 0.12 Å (Python's random,
+ * seed 7), types 1 Ga and 2 N, pair_coeff * * GaN.sw Ga N.
  *
  * tests/data/si216.data: 3x3x3 diamond Si, a = 5.431 Å, every coordinate
  * displaced by up to 0.15 Å (xorshift32, seed 12345).  Reference values
@@ -24,6 +28,8 @@
 #include "input/config_read.h"
 
 struct lmp_ref {
+    const char *data;   /* tests/data/ */
+    int natoms;
     const char *pot;
     double pe;
     double P[6];   /* bar: xx yy zz xy xz yz */
@@ -32,6 +38,7 @@ struct lmp_ref {
 };
 
 static const struct lmp_ref meam = {
+    "si216.data", 216,
     "style: meam/spline\nfile: Si_1.meam.spline\nelements: [Si]\n",
     -960.752141461617,
     {-1252.86659833677, -2721.72125477559, -3295.11942135988, -2676.48702427921, -780.9180595971,
@@ -43,6 +50,7 @@ static const struct lmp_ref meam = {
      {-2.59930826919275, -3.51878637949272, 0.628547334833997}}};
 
 static const struct lmp_ref sw = {
+    "si216.data", 216,
     "style: sw\nfile: Si.sw\nelements: [Si]\n",
     -891.143098616966,
     {16531.2590812784, 14892.2271993397, 14431.7134153998, -4058.13135479232, -804.169150543003,
@@ -53,17 +61,33 @@ static const struct lmp_ref sw = {
      {0.152902191018864, 1.24234752492827, -1.1939542541604},
      {-3.34322821722262, -4.69971505515792, 0.275190839834147}}};
 
+static const struct lmp_ref sw_gan = {
+    "gan64.data", 64,
+    "style: sw\nfile: GaN.sw\nelements: [Ga, N]\n",
+    -261.905551384905,
+    {36021.0930663894, 36693.3684253389, 32447.5971381637, 619.859906682298, 19616.7144556142,
+     -11196.1861049076},
+    {1, 2, 33, 64},
+    {{0.722235896711311, 2.224568812012, -1.93058930724398},
+     {0.734107102223971, -0.50876963687172, -0.170272988580105},
+     {-1.90361614170709, -5.99941878904412, -5.50180267449607},
+     {2.43271260125884, 5.69181191055393, 4.41066006947448}}};
+
 static void compare(const struct lmp_ref *ref, int nthreads)
 {
+    static const char *const elements[] = {"Ga", "N"};
     char path[1024];
-    snprintf(path, sizeof path, "%s/tests/data/si216.data", th_root());
+    snprintf(path, sizeof path, "%s/tests/data/%s", th_root(), ref->data);
     struct particles *p = particles_create(300);
     struct box box;
     struct err e = {0};
-    cr_assert_eq(config_read_lammps_data(path, NULL, 0, NULL, p, &box, &e), 0, "%s", e.msg);
+    int two = ref == &sw_gan;
+    cr_assert_eq(config_read_lammps_data(path, two ? elements : NULL, two ? 2 : 0, NULL, p, &box,
+                                         &e),
+                 0, "%s", e.msg);
     for (int d = 0; d < 3; d++)
         box.bc[d] = BOUNDARY_PERIODIC;
-    cr_assert_eq(p->n_owned, 216);
+    cr_assert_eq(p->n_owned, ref->natoms);
     struct md md;
     th_md(&md, p, &box, th_potential(ref->pot), nthreads);
     cr_assert_lt(fabs(md.last.energy - ref->pe), 1e-9 * fabs(ref->pe), "pe %.15g vs LAMMPS %.15g",
@@ -92,3 +116,4 @@ Test(lammps, meam_spline_si_energy_forces_pressure) { compare(&meam, 1); }
 Test(lammps, meam_spline_si_two_threads) { compare(&meam, 2); }
 Test(lammps, sw_si_energy_forces_pressure) { compare(&sw, 1); }
 Test(lammps, sw_si_two_threads) { compare(&sw, 2); }
+Test(lammps, sw_gan_two_elements_energy_forces_pressure) { compare(&sw_gan, 1); }

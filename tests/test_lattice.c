@@ -110,6 +110,17 @@ Test(lattice, free_boundary_shrink_wraps_and_fixed_boundary_loses_atoms)
     cr_assert_eq(box_remap(&box, p, 0.0, &e), 0);
     cr_assert_float_eq(p->x[4], 2.5, 1e-12);
     cr_assert_eq(p->image[4], 1);
+    /* a hair below the lower face: wrapped onto lo, and the unwrapped
+     * position x + image L stays where the atom is (it was lo - L) */
+    p->x[4] = -1e-17;
+    p->image[4] = 0;
+    cr_assert_eq(box_remap(&box, p, 0.0, &e), 0);
+    cr_assert_eq(p->x[4], 0.0);
+    cr_assert_eq(p->image[4], 0);
+    p->x[4] = 20.0 - 1e-15;   /* two boxes up, a hair below: image 1, x near 10 */
+    cr_assert_eq(box_remap(&box, p, 0.0, &e), 0);
+    cr_assert(p->x[4] < 10.0 && p->x[4] + 10.0 * p->image[4] > 19.9, "x %g image %d", p->x[4],
+              p->image[4]);
     p->x[3 * 1 + 2] = 10.5;   /* through the fixed z face */
     cr_assert_eq(box_remap(&box, p, 0.0, &e), ERR_RUNTIME);
     cr_assert(strstr(e.msg, "particle 2 left the box through the fixed z boundary"), "%s", e.msg);

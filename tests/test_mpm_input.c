@@ -76,6 +76,46 @@ Test(mpm_input, points_outside_grid_refused)
               "%s", msg);
 }
 
+/* A typo in `cells` used to allocate gigabytes before "out of memory"; it
+ * is refused when the case is read (also by `resolve`, which is shallow),
+ * and the bound is the case's to raise. */
+Test(mpm_input, grid_and_points_bounded_before_allocation)
+{
+    char msg[2048];
+    const char *huge = "type: mpm\nmpm:\n  units: si\n"
+                       "  grid: {cell: 0.1, cells: [100000, 100000, 100000]}\n" MATERIAL BODY_A;
+    for (int shallow = 0; shallow < 2; shallow++) {
+        int rc = check_text(huge, shallow, msg, sizeof msg);
+        cr_assert_eq(rc, ERR_INPUT);
+        cr_assert(strstr(msg, "mpm.yaml:4:") && strstr(msg, "mpm.grid.cells") &&
+                      strstr(msg, "1e+15 grid nodes, more than mpm.grid.max_nodes = 50000000 "
+                                  "(the default; set it to allow more)"),
+                  "%s", msg);
+    }
+    /* 11 x 5 x 5 = 275 nodes: a bound of 274 refuses the grid, 275 takes it */
+    int rc = check_text("type: mpm\nmpm:\n  units: si\n"
+                        "  grid: {cell: 0.1, cells: [10, 4, 4], max_nodes: 274}\n" MATERIAL BODY_A,
+                        1, msg, sizeof msg);
+    cr_assert_eq(rc, ERR_INPUT);
+    cr_assert(strstr(msg, "275 grid nodes, more than mpm.grid.max_nodes = 274") &&
+                  !strstr(msg, "the default"),
+              "%s", msg);
+    rc = check_text("type: mpm\nmpm:\n  units: si\n"
+                    "  grid: {cell: 0.1, cells: [10, 4, 4], max_nodes: 275}\n" MATERIAL BODY_A,
+                    1, msg, sizeof msg);
+    cr_assert_eq(rc, 0, "%s", msg);
+    /* body A: 3 x 2 x 2 cells of 2^3 points = 96 points; its bounding box
+     * spans 4 x 3 x 3 cells' worth of points (288), refused under 288 */
+    rc = check_text(HEAD "  max_points: 200\n" MATERIAL BODY_A, 0, msg, sizeof msg);
+    cr_assert_eq(rc, ERR_INPUT);
+    cr_assert(strstr(msg, "mpm.bodies[0].region") &&
+                  strstr(msg, "body 'A' brings the material points to up to 288, more than "
+                              "mpm.max_points = 200"),
+              "%s", msg);
+    rc = check_text(HEAD "  max_points: 288\n" MATERIAL BODY_A, 0, msg, sizeof msg);
+    cr_assert_eq(rc, 0, "%s", msg);
+}
+
 Test(mpm_input, non_positive_density_and_moduli_refused)
 {
     char msg[2048];

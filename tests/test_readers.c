@@ -12,12 +12,15 @@
  * for its own defect only.
  */
 #include <criterion/criterion.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
 
+#include "core/units.h"
 #include "helpers/th.h"
+#include "input/config_read.h"
 
 /* --- helpers ---------------------------------------------------------------- */
 
@@ -151,8 +154,52 @@ Test(readers, lammps_data_bad_input)
                        "found " LONG_EXCERPT},
         {21, "1 0 0 0x1", "m.data:21: Velocities line: field 4 (vz) must be a finite decimal"},
         {16, "2 1 3 3 3 0 0", "m.data:16: Atoms line must be 'id type x y z [ix iy iz]'"},
+        /* triclinic boxes: only zero tilt (the MD box is orthogonal) */
+        {8, "0 0.5 0 xy xz yz", "m.data:8: xy xz yz: tilt xz = 0.5: only orthogonal boxes are "
+                                "simulated (tilt 0 0 0)"},
+        {8, "0 0 0x1 xy xz yz", "m.data:8: xy xz yz: tilt factor yz must be a finite decimal "
+                                "number, found '0x1'"},
+        {8, "0 0 xy xz yz", "m.data:8: unrecognised header line '0 0 xy xz yz' (a triclinic "
+                            "box is 'xy xz yz' after its three tilt factors)"},
     };
     run_table("m.data", DATA_OK, DATA_CASE, rows, sizeof rows / sizeof rows[0]);
+}
+
+/* A triclinic header of zero tilt, as LAMMPS writes it for a prism region
+ * of tilt 0 0 0, is the orthogonal box; ASE's momenta (with masses) give
+ * the velocities of an extended XYZ file. */
+Test(readers, zero_tilt_data_and_ase_momenta)
+{
+    char yaml[1024], out[4096];
+    const char *data = th_write_temp(
+        2, "m.data", with_line(DATA_OK, 8, "0.0000000000000000e+00 0 -0.0 xy xz yz"));
+    snprintf(yaml, sizeof yaml, DATA_CASE, data);
+    cr_assert_eq(solver("check", yaml, NULL, out, sizeof out, NULL), 0, "%s", out);
+    struct particles *p = particles_create(8);
+    struct box b;
+    struct err e = {0};
+    cr_assert_eq(config_read_lammps_data(data, NULL, 0, NULL, p, &b, &e), 0, "%s", e.msg);
+    cr_assert_eq(p->n_owned, 3);
+    cr_assert_eq(b.hi[2], 14.0);
+    particles_destroy(&p);
+    /* momenta in amu Å / t_ASE, t_ASE = sqrt(UNITS_MVV2E) ps: v = p / (m t_ASE) */
+    const char *xyz = th_write_temp(
+        3, "ase.xyz",
+        "2\nLattice=\"10 0 0 0 10 0 0 0 10\" Properties=species:S:1:pos:R:3:masses:R:1:"
+        "momenta:R:3 pbc=\"T T T\"\nCu 1 1 1 50 1 -2 0.5\nCu 3 3 3 63.546 0 0 3\n");
+    p = particles_create(8);
+    int pbc[3];
+    cr_assert_eq(config_read_extxyz(xyz, NULL, p, &b, pbc, &e), 0, "%s", e.msg);
+    const double t_ase = sqrt(UNITS_MVV2E);
+    const double want[2][3] = {{1 / (50 * t_ase), -2 / (50 * t_ase), 0.5 / (50 * t_ase)},
+                               {0, 0, 3 / (63.546 * t_ase)}};
+    for (int i = 0; i < 2; i++)
+        for (int d = 0; d < 3; d++)
+            cr_assert_lt(fabs(p->v[3 * i + d] - want[i][d]), 1e-12 * fabs(want[i][d]) + 1e-15,
+                         "v[%d][%d] %.15g vs %.15g", i, d, p->v[3 * i + d], want[i][d]);
+    /* 1 amu Å per t_ASE for a Cu atom is 1.5458 Å/ps */
+    cr_assert_lt(fabs(p->v[5] - 4.6373), 1e-3, "vz %g", p->v[5]);
+    particles_destroy(&p);
 }
 
 /* Fixed and free boundaries: the same file, other rules per axis. */
@@ -226,6 +273,9 @@ Test(readers, extxyz_bad_input)
          "m.xyz:2: Properties: pos must be pos:R:3, found pos:R:2"},
         {2, "Lattice=\"10 0 0 0 10 0 0 0 10 10\" Properties=species:S:1:pos:R:3:id:I:1",
          "m.xyz:2: Lattice needs 9 finite decimal numbers"},
+        {2, "Lattice=\"10 0 0 2.5 10 0 0 0 10\" Properties=species:S:1:pos:R:3:id:I:1",
+         "m.xyz:2: Lattice vector 2 has x component 2.5: only orthogonal lattices (diagonal "
+         "Lattice) are simulated"},
     };
     run_table("m.xyz", XYZ_OK, XYZ_CASE, rows, sizeof rows / sizeof rows[0]);
 }
@@ -330,7 +380,11 @@ Test(readers, sw_bad_input)
         {2, "Si Si Si 2.1683 2.0951x 1.80 21.0 1.20 -0.333333333333",
          "x.sw:2: field 5 (sigma): '2.0951x' is not a finite decimal number"},
         {2, "Si Si Si 2.1683 -2 1.80 21.0 1.20 -0.333333333333",
-         "x.sw:2: field 5 (sigma) must be > 0, found -2"},
+         "x.sw:2: field 5 (sigma) must be >= 0, found -2"},
+        /* sigma 0 is legal (GaN.sw's mixed entries), but a potential
+         * whose only pair has no range is not */
+        {2, "Si Si Si 2.1683 0 1.80 21.0 1.20 -0.333333333333",
+         "no pair of the elements in use interacts (a * sigma is 0 in every i j j entry)"},
         {2, "Si Si Si 2.1683 2.0951 1.80 -21.0 1.20 -0.333333333333",
          "x.sw:2: field 7 (lambda) must be >= 0, found -21"},
         {3, "  nan 0.6022245584 4.0 0.0 0.0", "x.sw:3: field 10 (A): 'nan' is not a finite "
@@ -525,4 +579,42 @@ Test(limits, huge_cutoff_refused_quickly)
                   cases[k].expect, out);
         cr_assert_lt(secs, 1.0, "%zu took %.2f s", k, secs);
     }
+}
+
+/* The crystal and elastic case types build their crystals when they run: the
+ * same range rule at `check`, naming the key, for the smallest crystal
+ * (cells of a_min). */
+Test(limits, crystal_cases_check_the_range)
+{
+    static const struct {
+        const char *yaml;
+        const char *expect;
+    } cases[] = {
+        {"type: crystal\ncrystal: {lattice: fcc, element: Cu, a_min: 3.4, a_max: 3.8, cells: 3}\n"
+         "potential: {style: lj, elements: [Cu], epsilon: [0.4], sigma: [2.3], cutoff: 5000}\n",
+         "bad.yaml:3:78: potential.cutoff: cutoff 5000 Å plus skin 0.5 Å against the 10.2 x 10.2 "
+         "x 10.2 Å box (periodic periodic periodic) needs about 1.02e+11 ghost atoms (periodic "
+         "images), more than the solver's particle limit = 20000000 (the 3 x 3 x 3 crystal at "
+         "a = 3.4 Å)"},
+        {"type: elastic\ncrystal: {lattice: fcc, element: Cu, a_min: 3.5, a_max: 3.7, cells: 2}\n"
+         "potential: {style: lj, elements: [Cu], epsilon: [0.4], sigma: [2.3], cutoff: 60}\n",
+         "bad.yaml:3:78: potential.cutoff: cutoff 60 Å plus skin 1 Å: the neighbour list of 32 "
+         "atoms would hold about"},
+    };
+    for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) {
+        char out[4096];
+        double secs;
+        int rc = solver("check", cases[k].yaml, NULL, out, sizeof out, &secs);
+        cr_assert_eq(rc, 2, "%zu: %s", k, out);
+        cr_assert(strstr(out, cases[k].expect), "%zu:\n  expected: %s\n  got: %s", k,
+                  cases[k].expect, out);
+        cr_assert_lt(secs, 1.0, "%zu took %.2f s", k, secs);
+    }
+    /* a sane cutoff passes */
+    char out[4096];
+    int rc = solver("check",
+                    "type: crystal\ncrystal: {lattice: fcc, element: Cu, a_min: 3.4, a_max: 3.8, "
+                    "cells: 3}\npotential: {style: sutton_chen}\n",
+                    NULL, out, sizeof out, NULL);
+    cr_assert_eq(rc, 0, "%s", out);
 }

@@ -28,8 +28,14 @@ int box_remap(struct box *b, struct particles *p, double margin, struct err *e)
                                        isfinite(*x) ? "a million box lengths outside" : "not inside",
                                        lo, hi);
                     *x -= k * len;
-                    if (*x >= hi)   /* round-off at the upper face */
+                    if (*x >= hi) {
+                        /* round-off at the upper face: an atom a hair below
+                         * lo lands on hi, which is lo of the next image, so
+                         * the image count is one more (else the unwrapped
+                         * position jumps by a box length) */
                         *x = lo;
+                        k += 1;
+                    }
                     p->image[3 * i + d] += (int)k;
                 }
             }

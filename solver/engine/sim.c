@@ -405,8 +405,11 @@ int sim_run(struct sim *s, const char *restart, struct err *e)
         if (s->phase_step == 0 && co->phase_begin &&
             (rc = co->phase_begin(s->case_state, s, s->cur_phase, e)))
             break;
-        /* per-particle energies and stresses only when a snapshot is due */
-        s->peratom = r ? run_due(s->step + 1, s->steps, r->out.snapshot_every) : 0;
+        /* per-particle energies and stresses only when a snapshot or an
+         * XYZ frame is due (they add tallies, never change the forces) */
+        s->peratom = r ? run_due(s->step + 1, s->steps, r->out.snapshot_every) ||
+                             (r->out.xyz_every > 0 && (s->step + 1) % r->out.xyz_every == 0)
+                       : 0;
         if ((rc = run_stage(s, 0, e)) || (rc = run_stage(s, 1, e)) || (rc = run_stage(s, 2, e)) ||
             (rc = run_stage(s, 3, e)))
             break;

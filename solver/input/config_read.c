@@ -8,6 +8,7 @@
 
 #include "core/textfile.h"
 #include "core/elements.h"
+#include "core/units.h"
 
 struct config_rules config_rules_default(void)
 {
@@ -323,7 +324,7 @@ int config_read_lammps_data(const char *path, const char *const *elements, int n
     int *vline = NULL;   /* line of each atom's velocity, to find a repeat */
     const int base = p->n_owned;
     long natoms = -1, ntypes = -1;
-    int have_box[3] = {0, 0, 0};
+    int have_box[3] = {0, 0, 0}, have_tilt = 0;
     double masses[PARTICLES_MAX_TYPES] = {0};
     int mass_line[PARTICLES_MAX_TYPES] = {0};
     char names[PARTICLES_MAX_TYPES][16] = {{0}};
@@ -371,8 +372,36 @@ int config_read_lammps_data(const char *path, const char *const *elements, int n
                 goto done;
             }
             ntypes = count;
+        } else if (ntok == 6 && strcmp(tok[3], "xy") == 0 && strcmp(tok[4], "xz") == 0 &&
+                   strcmp(tok[5], "yz") == 0) {
+            /* a triclinic box: the MD box is orthogonal (core/box.h), so
+             * only zero tilt (as LAMMPS writes for a prism of 0 0 0) is
+             * honoured; any other would be silently a different crystal */
+            double tilt[3];
+            for (int q = 0; q < 3; q++)
+                if (text_parse_real(tok[q], &tilt[q]) != 0) {
+                    rc = textfile_error(&t, e, "xy xz yz: tilt factor %s must be a finite "
+                                        "decimal number, found '%s'", tok[3 + q],
+                                        text_excerpt(tok[q], ex));
+                    goto done;
+                }
+            if (have_tilt) {
+                rc = textfile_error(&t, e, "a second 'xy xz yz' line");
+                goto done;
+            }
+            have_tilt = 1;
+            for (int q = 0; q < 3; q++)
+                if (tilt[q] != 0) {
+                    rc = textfile_error(&t, e, "xy xz yz: tilt %s = %.10g: only orthogonal "
+                                        "boxes are simulated (tilt 0 0 0); the force and "
+                                        "neighbour code has no tilted periodic images",
+                                        tok[3 + q], tilt[q]);
+                    goto done;
+                }
         } else if (ntok >= 4 && strcmp(tok[ntok - 1], "yz") == 0) {
-            rc = textfile_error(&t, e, "triclinic boxes are not supported");
+            rc = textfile_error(&t, e, "unrecognised header line '%s' (a triclinic box is "
+                                "'xy xz yz' after its three tilt factors)",
+                                text_excerpt(line, ex));
             goto done;
         } else if (ntok == 4 && tok[2][0] == tok[3][0] && tok[2][0] >= 'x' && tok[2][0] <= 'z' &&
                    strcmp(tok[2] + 1, "lo") == 0 && strcmp(tok[3] + 1, "hi") == 0) {
@@ -691,6 +720,27 @@ static int xyz_attr(const char *line, const char *key, char *out, size_t len)
     return -1;
 }
 
+/* Velocity (Å/ps) of an atom line from ASE's momenta (amu Å / t_ASE,
+ * t_ASE = Å sqrt(amu/eV) = sqrt(UNITS_MVV2E) ps) and its mass: the masses
+ * column, else the element's standard mass. */
+static int velocity_from_momenta(struct textfile *t, char **cols, int col_mom, int col_mass,
+                                 const char *species, double v[3], struct err *e)
+{
+    char ex[TEXT_EXCERPT_SIZE];
+    double m = element_mass(species);
+    if (col_mass >= 0 && (text_parse_real(cols[col_mass], &m) != 0 || !(m > 0)))
+        return textfile_error(t, e, "masses (column %d): '%s' is not a positive finite decimal "
+                              "number", col_mass + 1, text_excerpt(cols[col_mass], ex));
+    for (int d = 0; d < 3; d++) {
+        double q;
+        if (text_parse_real(cols[col_mom + d], &q) != 0)
+            return textfile_error(t, e, "momenta (column %d): '%s' is not a finite decimal "
+                                  "number", col_mom + d + 1, text_excerpt(cols[col_mom + d], ex));
+        v[d] = q / (m * sqrt(UNITS_MVV2E));
+    }
+    return 0;
+}
+
 /* A count line: one integer >= 0 and nothing else. */
 static int xyz_count_line(char *s, long *n)
 {
@@ -732,10 +782,15 @@ int config_read_extxyz(const char *path, const struct config_rules *rules, struc
         rc = textfile_error(&t, e, "Lattice needs 9 finite decimal numbers");
         goto done;
     }
-    if (L[1] != 0 || L[2] != 0 || L[3] != 0 || L[5] != 0 || L[6] != 0 || L[7] != 0) {
-        rc = textfile_error(&t, e, "only orthogonal lattices are supported");
-        goto done;
-    }
+    for (int k = 0; k < 9; k++)
+        if (k % 4 != 0 && L[k] != 0) {
+            /* the MD box is orthogonal (core/box.h): a tilted cell would
+             * be simulated as another crystal */
+            rc = textfile_error(&t, e, "Lattice vector %d has %c component %.10g: only "
+                                "orthogonal lattices (diagonal Lattice) are simulated",
+                                k / 3 + 1, "xyz"[k % 3], L[k]);
+            goto done;
+        }
     double origin[3] = {0, 0, 0};
     if (xyz_attr(t.buf, "Origin", val, sizeof val) == 0 && parse_doubles(val, origin, 3, NULL, 0) != 3) {
         rc = textfile_error(&t, e, "Origin needs 3 finite decimal numbers");
@@ -756,7 +811,8 @@ int config_read_extxyz(const char *path, const struct config_rules *rules, struc
                 pbc[d] = a[d][0] == 'T' || a[d][0] == 't';
     }
     /* Properties: find columns of species, pos, vel/velo, id */
-    int col_species = 0, col_pos = 1, col_vel = -1, col_id = -1, ncols = 4;
+    int col_species = 0, col_pos = 1, col_vel = -1, col_id = -1, col_mom = -1, col_mass = -1;
+    int ncols = 4;
     if (xyz_attr(t.buf, "Properties", val, sizeof val) == 0) {
         int col = 0;
         col_species = col_pos = -1;
@@ -781,6 +837,8 @@ int config_read_extxyz(const char *path, const struct config_rules *rules, struc
             else if (strcmp(tok, "vel") == 0 || strcmp(tok, "velo") == 0 ||
                      strcmp(tok, "velocities") == 0) colp = &col_vel, shape = "R:3";
             else if (strcmp(tok, "id") == 0) colp = &col_id, shape = "I:1";
+            else if (strcmp(tok, "momenta") == 0) colp = &col_mom, shape = "R:3";
+            else if (strcmp(tok, "masses") == 0) colp = &col_mass, shape = "R:1";
             if (colp) {
                 char got[16];
                 snprintf(got, sizeof got, "%s:%ld", type, c);
@@ -841,6 +899,9 @@ int config_read_extxyz(const char *path, const struct config_rules *rules, struc
                 goto done;
             }
         }
+        if (col_vel < 0 && col_mom >= 0 &&
+            (rc = velocity_from_momenta(&t, cols, col_mom, col_mass, sp, v, e)))
+            goto done;
         int ti = particles_type_index(p, sp, element_mass(sp));
         if (ti < 0) {
             rc = textfile_error(&t, e, "too many species (at most %d)", PARTICLES_MAX_TYPES);

@@ -3,13 +3,20 @@
  *
  *   LAMMPS data file, atom_style atomic: header counts and box bounds,
  *   "Masses", "Atoms" (id type x y z [ix iy iz]) and optional "Velocities"
- *   sections.  Type names come from `elements` (type 1, 2, ...) or else from
+ *   sections.  A triclinic box ("xy xz yz" line) is read when its tilt is
+ *   0 0 0 (LAMMPS writes one for a prism region of zero tilt); any other
+ *   tilt is refused naming file:line and the tilt factor, because the MD
+ *   box (core/box.h) is orthogonal.  Type names come from `elements` (type 1, 2, ...) or else from
  *   the comments of the Masses section ("1 63.546 # Cu").
  *
  *   Extended XYZ: count line, comment line with Lattice="..." (orthogonal),
- *   Properties=species:S:1:pos:R:3[:vel:R:3][:id:I:1 ...] and pbc="T T T".
- *   The species are chemical element symbols.  After the atoms there may be
- *   further frames (only the first is read), nothing else.
+ *   Properties=species:S:1:pos:R:3[:velo:R:3][:id:I:1 ...] and pbc="T T T".
+ *   Velocities (Å/ps) come from a column velo, vel or velocities, or else
+ *   from ASE's momenta:R:3 (amu Å / t_ASE, t_ASE = Å sqrt(amu/eV)) divided
+ *   by the masses:R:1 column or the element's mass, so files ASE writes
+ *   keep their velocities.  The species are chemical element symbols.
+ *   After the atoms there may be further frames (only the first is read),
+ *   nothing else.
  *
  * Both readers refuse, naming file:line and the field, as LAMMPS's
  * read_data does:

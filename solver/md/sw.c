@@ -236,12 +236,15 @@ static int sw_read_file(struct sw *s, const char *path, struct err *e)
                 textfile_close(&t);
                 return rc;
             }
-            /* LAMMPS's rule: every parameter but cos theta0 is >= 0; sigma
-             * and a set the cutoff a * sigma, which must be > 0 */
-            int positive = k == 1 || k == 2;
-            if (k != 5 && (positive ? !(v[k] > 0) : !(v[k] >= 0))) {
-                rc = textfile_error_at(&t, line[3 + k], e, "field %d (%s) must be %s, found %g",
-                                       4 + k, sw_fields[3 + k], positive ? "> 0" : ">= 0", v[k]);
+            /* LAMMPS's rule: every parameter but cos theta0 is >= 0.  A
+             * zero sigma or a is legal: mixed entries (i j k, j != k) give
+             * only lambda, epsilon and cos theta0 to the three-body term, and
+             * GaN.sw and CdTe.sw write 0 for their radial parameters; an
+             * i j j entry with a * sigma = 0 means no pair interaction (the
+             * potential as a whole must have a range: checked below) */
+            if (k != 5 && !(v[k] >= 0)) {
+                rc = textfile_error_at(&t, line[3 + k], e, "field %d (%s) must be >= 0, found %g",
+                                       4 + k, sw_fields[3 + k], v[k]);
                 textfile_close(&t);
                 return rc;
             }
@@ -310,6 +313,15 @@ int sw_create(struct cfg_obj *o, struct potential **out)
                          "%s:%d (a * sigma of %s %s %s)", path, s->e[a][b][b].line,
                          s->base.element[a], s->base.element[b], s->base.element[b]);
             }
+    if (!(cut > 0)) {
+        char kp[CFG_PATH_MAX];
+        snprintf(kp, sizeof kp, "%s.file", o->path);
+        free(s);
+        return cfg_error_at(o->cfg, kp,
+                            "Stillinger-Weber file %s: no pair of the elements in use interacts "
+                            "(a * sigma is 0 in every i j j entry)",
+                            path);
+    }
     s->base.cutoff = cut;
     snprintf(s->base.description, sizeof s->base.description,
              "Stillinger-Weber from %s, cutoff %g Å", path, cut);

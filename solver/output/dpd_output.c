@@ -102,7 +102,7 @@ int dpd_output_snapshot(struct dpd_output *o, struct run *run, struct dpd *d)
     hid_t g = h5out_begin_snapshot(&run->h5, "particles", d->step, d->time, n, &e);
     if (g < 0)
         return ERR_RUNTIME;
-    int rc = run_snapshot_particles(run, g, p, o->ibuf, &e);
+    int rc = run_snapshot_particles(run, g, p, &d->box, o->ibuf, &e);
     if (!rc && d->peratom)
         rc = h5out_write_doubles(&run->h5, g, "pe", p->pe, n, 1, "eV", &e);
     for (int k = 0; !rc && k < p->nfields; k++)
@@ -122,7 +122,7 @@ int dpd_output_step(struct dpd_output *o, struct run *run, struct dpd *d, long t
     if (!rc && run_due(s, total, run->out.snapshot_every))
         rc = dpd_output_snapshot(o, run, d);
     if (!rc && run->xyz && run->out.xyz_every > 0 && s % run->out.xyz_every == 0)
-        rc = xyz_write_frame(run->xyz, d->p, &d->box, s, d->time, NULL, NULL)
+        rc = xyz_write_frame(run->xyz, d->p, &d->box, s, d->time, NULL)
                  ? ERR_RUNTIME
                  : run_xyz_frame_done(run, NULL);
     timer_stop(&run->timers, TIMER_OUTPUT);

@@ -158,9 +158,11 @@ struct shape {
     hsize_t dims[4];
 };
 
+/* Writes one dataset with its unit (and, with 6 columns, the component
+ * order); `record` lists it as a field of the open snapshot for the XDMF. */
 static int write_dataset_shaped(struct h5out *h, hid_t group, const char *name, hid_t memtype,
                                 const void *data, long n, int ncomp, const struct shape *sh,
-                                const char *unit, int is_int, struct err *e)
+                                const char *unit, int is_int, int record, struct err *e)
 {
     hid_t space = H5Screate_simple(sh->rank, sh->dims, NULL);
     hid_t dcpl = H5Pcreate(H5P_DATASET_CREATE);
@@ -182,6 +184,8 @@ static int write_dataset_shaped(struct h5out *h, hid_t group, const char *name, 
     herr_t st = ds >= 0 && n > 0 ? H5Dwrite(ds, memtype, H5S_ALL, H5S_ALL, H5P_DEFAULT, data) : 0;
     if (ds >= 0)
         h5out_attr_string(ds, "unit", unit);
+    if (ds >= 0 && ncomp == 6)
+        h5out_attr_string(ds, "components", "xx yy zz xy xz yz");
     if (ds >= 0)
         H5Dclose(ds);
     H5Pclose(dcpl);
@@ -191,7 +195,7 @@ static int write_dataset_shaped(struct h5out *h, hid_t group, const char *name, 
         return err_set(e, ERR_RUNTIME, "cannot write %s: dataset %s%s", h->path, name,
                        injected ? ": No space left on device" : "");
     }
-    if (h->nsnaps > 0) {
+    if (record && h->nsnaps > 0) {
         struct h5out_snap *s = &h->snaps[h->nsnaps - 1];
         if (s->nfields < H5OUT_MAX_FIELDS) {
             struct h5out_field *f = &s->fields[s->nfields++];
@@ -206,10 +210,11 @@ static int write_dataset_shaped(struct h5out *h, hid_t group, const char *name, 
 
 static int write_dataset(struct h5out *h, hid_t group, const char *name, hid_t memtype,
                          const void *data, long n, int ncomp, const char *unit, int is_int,
-                         struct err *e)
+                         int record, struct err *e)
 {
     struct shape sh = {ncomp > 1 ? 2 : 1, {(hsize_t)n, (hsize_t)ncomp, 0, 0}};
-    return write_dataset_shaped(h, group, name, memtype, data, n, ncomp, &sh, unit, is_int, e);
+    return write_dataset_shaped(h, group, name, memtype, data, n, ncomp, &sh, unit, is_int,
+                                record, e);
 }
 
 int h5out_write_grid_doubles(struct h5out *h, hid_t group, const char *name, const double *data,
@@ -222,19 +227,60 @@ int h5out_write_grid_doubles(struct h5out *h, hid_t group, const char *name, con
                        {(hsize_t)s->dims[2], (hsize_t)s->dims[1], (hsize_t)s->dims[0],
                         (hsize_t)ncomp}};
     return write_dataset_shaped(h, group, name, H5T_NATIVE_DOUBLE, data, s->n, ncomp, &sh, unit,
-                                0, e);
+                                0, 1, e);
 }
 
 int h5out_write_doubles(struct h5out *h, hid_t group, const char *name, const double *data, long n,
                         int ncomp, const char *unit, struct err *e)
 {
-    return write_dataset(h, group, name, H5T_NATIVE_DOUBLE, data, n, ncomp, unit, 0, e);
+    return write_dataset(h, group, name, H5T_NATIVE_DOUBLE, data, n, ncomp, unit, 0, 1, e);
 }
 
 int h5out_write_ints(struct h5out *h, hid_t group, const char *name, const int64_t *data, long n,
                      const char *unit, struct err *e)
 {
-    return write_dataset(h, group, name, H5T_NATIVE_INT64, data, n, 1, unit, 1, e);
+    return write_dataset(h, group, name, H5T_NATIVE_INT64, data, n, 1, unit, 1, 1, e);
+}
+
+int h5out_snapshot_cell(struct h5out *h, hid_t group, const double lo[3], const double hi[3],
+                        const double tilt[3], const int pbc[3], const char *boundary,
+                        struct err *e)
+{
+    if (h->nsnaps == 0)
+        return err_set(e, ERR_RUNTIME, "%s: cell without a snapshot", h->path);
+    struct h5out_snap *s = &h->snaps[h->nsnaps - 1];
+    static const double zero[3] = {0, 0, 0};
+    const double *t = tilt ? tilt : zero;
+    hid_t g = H5Gcreate2(group, "cell", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+    if (g < 0) {
+        h->failed = 1;
+        return err_set(e, ERR_RUNTIME, "cannot write %s: cannot create %s/cell", h->path,
+                       s->group);
+    }
+    int64_t per[3] = {pbc[0] != 0, pbc[1] != 0, pbc[2] != 0};
+    int rc = write_dataset(h, g, "lo", H5T_NATIVE_DOUBLE, lo, 3, 1, "Å", 0, 0, e);
+    if (!rc)
+        rc = write_dataset(h, g, "hi", H5T_NATIVE_DOUBLE, hi, 3, 1, "Å", 0, 0, e);
+    if (!rc)
+        rc = write_dataset(h, g, "tilt", H5T_NATIVE_DOUBLE, t, 3, 1, "Å", 0, 0, e);
+    if (!rc)
+        rc = write_dataset(h, g, "pbc", H5T_NATIVE_INT64, per, 3, 1, "1", 1, 0, e);
+    if (!rc) {
+        h5out_attr_string(g, "boundary", boundary ? boundary : "");
+        h5out_attr_string(g, "convention",
+                          "LAMMPS: edges a = (hi-lo)_x e_x, b = (xy, (hi-lo)_y, 0), "
+                          "c = (xz, yz, (hi-lo)_z) from lo; tilt = xy xz yz; pbc 1 = periodic");
+    }
+    H5Gclose(g);
+    if (rc)
+        return rc;
+    s->has_cell = 1;
+    for (int d = 0; d < 3; d++) {
+        s->cell_lo[d] = lo[d];
+        s->cell_hi[d] = hi[d];
+        s->cell_tilt[d] = t[d];
+    }
+    return 0;
 }
 
 void h5out_end_snapshot(struct h5out *h, hid_t group)
@@ -250,10 +296,8 @@ int h5out_write_series(struct h5out *h, const char *name, const double *data, lo
     hid_t g = H5Gopen2(h->file, "/series", H5P_DEFAULT);
     if (g < 0)
         return err_set(e, ERR_RUNTIME, "%s: no /series group", h->path);
-    int saved = h->nsnaps;
-    h->nsnaps = 0;   /* series are not snapshot fields */
-    int rc = write_dataset(h, g, name, H5T_NATIVE_DOUBLE, data, n, 1, unit, 0, e);
-    h->nsnaps = saved;
+    /* series are not snapshot fields */
+    int rc = write_dataset(h, g, name, H5T_NATIVE_DOUBLE, data, n, 1, unit, 0, 0, e);
     H5Gclose(g);
     return rc;
 }
@@ -262,6 +306,90 @@ static const char *basename_of(const char *path)
 {
     const char *s = strrchr(path, '/');
     return s ? s + 1 : path;
+}
+
+/* Dimensions of a snapshot's field: node or point counts (z y x for
+ * structured grids), then the components unless there is one; with
+ * `last` >= 0 the components are replaced by `last`. */
+static void xdmf_dims(const struct h5out_snap *s, int ncomp, int last, char *out, size_t len)
+{
+    int nc = last >= 0 ? last : ncomp;
+    if (s->structured && nc == 1 && last < 0)
+        snprintf(out, len, "%ld %ld %ld", s->dims[2], s->dims[1], s->dims[0]);
+    else if (s->structured)
+        snprintf(out, len, "%ld %ld %ld %d", s->dims[2], s->dims[1], s->dims[0], nc);
+    else if (nc == 1 && last < 0)
+        snprintf(out, len, "%ld", s->n);
+    else
+        snprintf(out, len, "%ld %d", s->n, nc);
+}
+
+static void write_xdmf_attribute(FILE *f, const char *h5name, const struct h5out_snap *s,
+                                 const struct h5out_field *fl)
+{
+    const char *atype = fl->ncomp == 1 ? "Scalar" : fl->ncomp == 3 ? "Vector"
+                        : fl->ncomp == 9 ? "Tensor" : "Matrix";
+    char dims[96];
+    xdmf_dims(s, fl->ncomp, -1, dims, sizeof dims);
+    fprintf(f, "    <Attribute Name=\"%s [%s]\" AttributeType=\"%s\" Center=\"Node\">\n"
+               "     <DataItem Dimensions=\"%s\" NumberType=\"%s\" Precision=\"8\" "
+               "Format=\"HDF\">%s:%s/%s</DataItem>\n    </Attribute>\n",
+            fl->name, fl->unit, atype, dims, fl->is_int ? "Int" : "Float", h5name, s->group,
+            fl->name);
+}
+
+/* A symmetric tensor stored in Voigt order (xx yy zz xy xz yz) as six
+ * scalars NAME_xx ... NAME_yz, each the HyperSlab of its column (start,
+ * stride, count per dimension of the dataset). */
+static void write_xdmf_tensor6(FILE *f, const char *h5name, const struct h5out_snap *s,
+                               const struct h5out_field *fl)
+{
+    static const char *const comp[6] = {"xx", "yy", "zz", "xy", "xz", "yz"};
+    char full[96], one[96];
+    xdmf_dims(s, 6, -1, full, sizeof full);
+    xdmf_dims(s, 6, 1, one, sizeof one);
+    int rank = s->structured ? 4 : 2;
+    for (int c = 0; c < 6; c++) {
+        fprintf(f, "    <Attribute Name=\"%s_%s [%s]\" AttributeType=\"Scalar\" "
+                   "Center=\"Node\">\n"
+                   "     <DataItem ItemType=\"HyperSlab\" Dimensions=\"%s\" "
+                   "Type=\"HyperSlab\">\n"
+                   "      <DataItem Dimensions=\"3 %d\" Format=\"XML\">",
+                fl->name, comp[c], fl->unit, one, rank);
+        for (int k = 0; k < rank - 1; k++)
+            fprintf(f, "0 ");
+        fprintf(f, "%d ", c);
+        for (int k = 0; k < rank; k++)
+            fprintf(f, "1 ");
+        fprintf(f, "%s</DataItem>\n", one);   /* count */
+        fprintf(f, "      <DataItem Dimensions=\"%s\" NumberType=\"Float\" Precision=\"8\" "
+                   "Format=\"HDF\">%s:%s/%s</DataItem>\n     </DataItem>\n    </Attribute>\n",
+                full, h5name, s->group, fl->name);
+    }
+}
+
+/* The cell of a snapshot as its 12 edges (a Polyline grid of 8 corners):
+ * ParaView draws the box outline in step with the particles. */
+static void write_xdmf_cell(FILE *f, const struct h5out_snap *s)
+{
+    const double *lo = s->cell_lo, *hi = s->cell_hi, *t = s->cell_tilt;
+    double a[3] = {hi[0] - lo[0], 0, 0}, b[3] = {t[0], hi[1] - lo[1], 0},
+           c[3] = {t[1], t[2], hi[2] - lo[2]};
+    fprintf(f, "   <Grid Name=\"cell_%ld\" GridType=\"Uniform\">\n", s->step);
+    fprintf(f, "    <Time Value=\"%.10g\"/>\n", s->time);
+    /* corner k = lo + (k&1) a + (k>>1&1) b + (k>>2&1) c; the edges join
+     * corners that differ in one bit */
+    fprintf(f, "    <Topology TopologyType=\"Polyline\" NumberOfElements=\"12\" "
+               "NodesPerElement=\"2\">\n     <DataItem Dimensions=\"12 2\" NumberType=\"Int\" "
+               "Format=\"XML\">0 1 2 3 4 5 6 7 0 2 1 3 4 6 5 7 0 4 1 5 2 6 3 7</DataItem>\n"
+               "    </Topology>\n");
+    fprintf(f, "    <Geometry GeometryType=\"XYZ\">\n     <DataItem Dimensions=\"8 3\" "
+               "NumberType=\"Float\" Precision=\"8\" Format=\"XML\">");
+    for (int k = 0; k < 8; k++)
+        for (int d = 0; d < 3; d++)
+            fprintf(f, "%s%.17g", k || d ? " " : "",
+                    lo[d] + (k & 1) * a[d] + (k >> 1 & 1) * b[d] + (k >> 2 & 1) * c[d]);
+    fprintf(f, "</DataItem>\n    </Geometry>\n   </Grid>\n");
 }
 
 static int write_xdmf(const struct h5out *h, struct err *e)
@@ -316,25 +444,23 @@ static int write_xdmf(const struct h5out *h, struct err *e)
                 const struct h5out_field *fl = &s->fields[a];
                 if (strcmp(fl->name, geo) == 0)
                     continue;
-                const char *atype = fl->ncomp == 1 ? "Scalar" : fl->ncomp == 3 ? "Vector" : fl->ncomp == 6 ? "Tensor6" : fl->ncomp == 9 ? "Tensor" : "Matrix";
-                char dims[96];
-                if (s->structured && fl->ncomp == 1)
-                    snprintf(dims, sizeof dims, "%ld %ld %ld", s->dims[2], s->dims[1], s->dims[0]);
-                else if (s->structured)
-                    snprintf(dims, sizeof dims, "%ld %ld %ld %d", s->dims[2], s->dims[1],
-                             s->dims[0], fl->ncomp);
-                else if (fl->ncomp == 1)
-                    snprintf(dims, sizeof dims, "%ld", s->n);
+                if (fl->ncomp == 6)
+                    write_xdmf_tensor6(f, h5name, s, fl);
                 else
-                    snprintf(dims, sizeof dims, "%ld %d", s->n, fl->ncomp);
-                fprintf(f, "    <Attribute Name=\"%s [%s]\" AttributeType=\"%s\" Center=\"Node\">\n"
-                           "     <DataItem Dimensions=\"%s\" NumberType=\"%s\" Precision=\"8\" "
-                           "Format=\"HDF\">%s:%s/%s</DataItem>\n    </Attribute>\n",
-                        fl->name, fl->unit, atype, dims, fl->is_int ? "Int" : "Float", h5name,
-                        s->group, fl->name);
+                    write_xdmf_attribute(f, h5name, s, fl);
             }
             fprintf(f, "   </Grid>\n");
         }
+        fprintf(f, "  </Grid>\n");
+    }
+    int ncells = 0;
+    for (int k = 0; k < h->nsnaps; k++)
+        ncells += h->snaps[k].has_cell;
+    if (ncells > 0) {
+        fprintf(f, "  <Grid Name=\"cell\" GridType=\"Collection\" CollectionType=\"Temporal\">\n");
+        for (int k = 0; k < h->nsnaps; k++)
+            if (h->snaps[k].has_cell)
+                write_xdmf_cell(f, &h->snaps[k]);
         fprintf(f, "  </Grid>\n");
     }
     fprintf(f, " </Domain>\n</Xdmf>\n");

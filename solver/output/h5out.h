@@ -6,7 +6,10 @@
  *   /particles/NNNNNNNN/      one group per snapshot (attributes step, time_ps):
  *        position (N x 3, Å), velocity (N x 3, Å/ps), force (N x 3, eV/Å),
  *        id, type, pe (eV), stress (N x 6: xx yy zz xy xz yz, GPa),
- *        and any extra per-particle fields (structure class, region, ...)
+ *        and any extra per-particle fields (structure class, region, ...);
+ *        cell/ (h5out_snapshot_cell): lo, hi (3, Å), tilt (xy xz yz, Å;
+ *        0 0 0: orthogonal), pbc (3, 1 = periodic), attribute boundary
+ *        (for example "periodic periodic free")
  *   /series/NAME              1-D time series (thermo columns)
  *   /points/NNNNNNNN/         MPM material points (a point cloud like /particles)
  *   /grid/NNNNNNNN/           MPM grid fields: on a uniform grid a structured
@@ -14,9 +17,19 @@
  *                             fields are (nz, ny, nx[, ncomp]) arrays; on other
  *                             grids a point cloud of the nodes
  *
+ * Every N x 6 dataset (symmetric tensors) carries the attribute
+ * components = "xx yy zz xy xz yz" (Voigt order).
+ *
  * The XDMF file (same name, .xdmf) describes the snapshots as temporal
  * collections -- point clouds (Polyvertex) and structured grids
- * (3DCoRectMesh) -- so ParaView opens them directly.  Times and the root
+ * (3DCoRectMesh) -- so ParaView opens them directly.  A 6-component
+ * (symmetric tensor) field is described as six scalars NAME_xx ... NAME_yz,
+ * each a HyperSlab of its column, not as an XDMF Tensor6: that type's
+ * component order is xx xy xz yy yz zz (ParaView expands it to the 3 x 3
+ * tensor 0 1 2 / 1 3 4 / 2 4 5), not the Voigt order of the datasets, and
+ * a scalar per component names each one without ambiguity.  The cells of
+ * the snapshots that have one form a collection "cell" of box outlines
+ * (12 edges, Polyline), in step with the particles.  Times and the root
  * "units" attribute are in metal units (ps) unless h5out_set_units says
  * otherwise (MPM cases written in SI).
  */
@@ -49,6 +62,8 @@ struct h5out_snap {
     int structured;        /* 1: 3DCoRectMesh of dims nodes (origin, spacing) */
     long dims[3];          /* x, y, z node counts */
     double origin[3], spacing[3];
+    int has_cell;          /* h5out_snapshot_cell was called */
+    double cell_lo[3], cell_hi[3], cell_tilt[3];
     int nfields;
     struct h5out_field fields[H5OUT_MAX_FIELDS];
 };
@@ -80,6 +95,14 @@ int h5out_write_doubles(struct h5out *h, hid_t group, const char *name, const do
 int h5out_write_ints(struct h5out *h, hid_t group, const char *name, const int64_t *data, long n,
                      const char *unit, struct err *e);
 void h5out_end_snapshot(struct h5out *h, hid_t group);
+
+/* The simulation cell of the open snapshot `group`, in the convention of
+ * LAMMPS: edge vectors a = (hi-lo)_x e_x, b = (xy, (hi-lo)_y, 0),
+ * c = (xz, yz, (hi-lo)_z) from the corner lo; tilt may be NULL (orthogonal).
+ * pbc[d] is 1 along periodic axes; boundary names the boundary kinds. */
+int h5out_snapshot_cell(struct h5out *h, hid_t group, const double lo[3], const double hi[3],
+                        const double tilt[3], const int pbc[3], const char *boundary,
+                        struct err *e);
 
 /* A structured snapshot of a uniform grid of dims[0] x dims[1] x dims[2]
  * nodes (x fastest) at origin with spacing; its node fields are written with

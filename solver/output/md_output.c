@@ -67,6 +67,23 @@ int md_output_resume(struct md_output *o, struct run *run, const double *rows, l
     return 0;
 }
 
+/* Scratch for n atoms: stresses and ids/types. */
+static int grow_atoms(struct md_output *o, long n)
+{
+    if (n <= o->cap_atoms)
+        return 0;
+    double *s = mem_realloc(o->stress, (size_t)6 * (n ? n : 1) * sizeof *s);
+    if (s)
+        o->stress = s;
+    int64_t *ib = mem_realloc(o->ibuf, (size_t)(n ? n : 1) * sizeof *ib);
+    if (ib)
+        o->ibuf = ib;
+    if (!s || !ib)
+        return err_nomem(&o->err, "per-atom buffers");
+    o->cap_atoms = n;
+    return 0;
+}
+
 int md_output_snapshot(struct md_output *o, struct run *run, struct md *md)
 {
     if (!run->h5_open)
@@ -74,21 +91,12 @@ int md_output_snapshot(struct md_output *o, struct run *run, struct md *md)
     struct particles *p = md->p;
     long n = p->n_owned;
     struct err *ep = &o->err;
-    if (n > o->cap_atoms) {
-        double *s = mem_realloc(o->stress, (size_t)6 * n * sizeof *s);
-        if (s)
-            o->stress = s;
-        int64_t *ib = mem_realloc(o->ibuf, (size_t)n * sizeof *ib);
-        if (ib)
-            o->ibuf = ib;
-        if (!s || !ib)
-            return err_nomem(ep, "snapshot buffers");
-        o->cap_atoms = n;
-    }
+    if (grow_atoms(o, n) != 0)
+        return ERR_RUNTIME;
     hid_t g = h5out_begin_snapshot(&run->h5, "particles", md->step, md->time, n, ep);
     if (g < 0)
         return ERR_RUNTIME;
-    int rc = run_snapshot_particles(run, g, p, o->ibuf, ep);
+    int rc = run_snapshot_particles(run, g, p, &md->box, o->ibuf, ep);
     if (!rc && md->peratom) {
         rc = h5out_write_doubles(&run->h5, g, "pe", p->pe, n, 1, "eV", ep);
         md_peratom_stress(md, o->stress);
@@ -116,11 +124,46 @@ static int write_final(struct run *run, struct md *md, struct err *e)
     int rc = wfile_open(&w, path, e);
     if (rc)
         return rc;
-    if (xyz_write_frame(w.f, md->p, &md->box, md->step, md->time, NULL, NULL) != 0) {
+    if (xyz_write_frame(w.f, md->p, &md->box, md->step, md->time, NULL) != 0) {
         wfile_discard(&w);
         return err_set(e, ERR_RUNTIME, "cannot write %s: write error", path);
     }
     return wfile_commit(&w, e);
+}
+
+/* An extended XYZ frame: with the per-atom energies and stresses when this
+ * step computed them (the engine asks for them on XYZ steps), and the
+ * chosen per-particle field as an integer column. */
+static int xyz_frame(struct md_output *o, struct run *run, struct md *md)
+{
+    struct particles *p = md->p;
+    struct xyz_extra x = {0};
+    if (o->xyz_field >= 0 && o->xyz_field < p->nfields) {
+        int *buf = mem_realloc(o->xyz_buf, (size_t)(p->n_owned + 1) * sizeof *buf);
+        if (!buf)
+            return err_nomem(&o->err, "XYZ column");
+        {
+            o->xyz_buf = buf;
+            const double *f = particles_field(p, o->xyz_field);
+            for (int i = 0; i < p->n_owned; i++)
+                buf[i] = (int)f[i];
+            x.int_name = p->fields[o->xyz_field].name;
+            x.int_values = buf;
+        }
+    }
+    if (md->peratom) {
+        if (grow_atoms(o, p->n_owned) != 0)
+            return ERR_RUNTIME;
+        md_peratom_stress(md, o->stress);
+        for (long k = 0; k < 6L * p->n_owned; k++)
+            o->stress[k] *= UNITS_EVA3_TO_GPA;
+        x.pe = p->pe;
+        x.stress = o->stress;
+    }
+    if (xyz_write_frame(run->xyz, p, &md->box, md->step, md->time, &x) != 0)
+        return err_set(&o->err, ERR_RUNTIME, "cannot write %s/snapshots.xyz: write error",
+                       run->opt.out_dir);
+    return run_xyz_frame_done(run, &o->err);
 }
 
 int md_output_step(struct md_output *o, struct run *run, struct md *md, long total)
@@ -132,30 +175,8 @@ int md_output_step(struct md_output *o, struct run *run, struct md *md, long tot
         rc = thermo_row(o, run, md);
     if (!rc && run_due(s, total, run->out.snapshot_every))
         rc = md_output_snapshot(o, run, md);
-    if (!rc && run->xyz && run->out.xyz_every > 0 && s % run->out.xyz_every == 0) {
-        const char *name = NULL;
-        const int *extra = NULL;
-        struct particles *p = md->p;
-        if (o->xyz_field >= 0 && o->xyz_field < p->nfields) {
-            int *buf = mem_realloc(o->xyz_buf, (size_t)(p->n_owned + 1) * sizeof *buf);
-            if (!buf) {
-                timer_stop(&run->timers, TIMER_OUTPUT);
-                return err_nomem(&o->err, "XYZ column");
-            }
-            {
-                o->xyz_buf = buf;
-                const double *f = particles_field(p, o->xyz_field);
-                for (int i = 0; i < p->n_owned; i++)
-                    buf[i] = (int)f[i];
-                name = p->fields[o->xyz_field].name;
-                extra = buf;
-            }
-        }
-        rc = xyz_write_frame(run->xyz, md->p, &md->box, s, md->time, name, extra)
-                 ? err_set(&o->err, ERR_RUNTIME, "cannot write %s/snapshots.xyz: write error",
-                           run->opt.out_dir)
-                 : run_xyz_frame_done(run, &o->err);
-    }
+    if (!rc && run->xyz && run->out.xyz_every > 0 && s % run->out.xyz_every == 0)
+        rc = xyz_frame(o, run, md);
     if (!rc && run->xyz && s == total)
         rc = write_final(run, md, &o->err);
     timer_stop(&run->timers, TIMER_OUTPUT);

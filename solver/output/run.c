@@ -154,7 +154,7 @@ int run_write_final_state(struct run *r, const struct particles *p, const struct
         rc = wfile_open(&w, path, e);
         if (rc)
             return rc;
-        if (xyz_write_frame(w.f, p, b, step, time, NULL, NULL) != 0) {
+        if (xyz_write_frame(w.f, p, b, step, time, NULL) != 0) {
             wfile_discard(&w);
             return err_set(e, ERR_RUNTIME, "cannot write %s: write error", path);
         }
@@ -222,11 +222,25 @@ int run_xyz_frame_done(struct run *r, struct err *e)
     return 0;
 }
 
-int run_snapshot_particles(struct run *r, hid_t g, const struct particles *p, int64_t *ibuf,
-                           struct err *e)
+int run_snapshot_cell(struct run *r, hid_t g, const struct box *b, struct err *e)
+{
+    int pbc[3];
+    char boundary[64];
+    snprintf(boundary, sizeof boundary, "%s %s %s", boundary_names[b->bc[0]],
+             boundary_names[b->bc[1]], boundary_names[b->bc[2]]);
+    for (int d = 0; d < 3; d++)
+        pbc[d] = b->bc[d] == BOUNDARY_PERIODIC;
+    /* the MD box is orthogonal (core/box.h): tilt 0 0 0 */
+    return h5out_snapshot_cell(&r->h5, g, b->lo, b->hi, NULL, pbc, boundary, e);
+}
+
+int run_snapshot_particles(struct run *r, hid_t g, const struct particles *p,
+                           const struct box *b, int64_t *ibuf, struct err *e)
 {
     long n = p->n_owned;
-    int rc = h5out_write_doubles(&r->h5, g, "position", p->x, n, 3, "Å", e);
+    int rc = run_snapshot_cell(r, g, b, e);
+    if (!rc)
+        rc = h5out_write_doubles(&r->h5, g, "position", p->x, n, 3, "Å", e);
     if (!rc)
         rc = h5out_write_doubles(&r->h5, g, "velocity", p->v, n, 3, "Å/ps", e);
     if (!rc)

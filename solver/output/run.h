@@ -105,11 +105,15 @@ int run_thermo_row(struct run *r, const double *values, int n);
 /* After a frame was written to r->xyz: flush it (the same rules). */
 int run_xyz_frame_done(struct run *r, struct err *e);
 
-/* The fields every particle snapshot starts with: position (Å), velocity
- * (Å/ps), force (eV/Å), id and type of the owned particles, into the open
- * snapshot group g; ibuf is scratch for n_owned integers. */
-int run_snapshot_particles(struct run *r, hid_t g, const struct particles *p, int64_t *ibuf,
-                           struct err *e);
+/* The fields every particle snapshot starts with: the cell of box b
+ * (run_snapshot_cell), position (Å), velocity (Å/ps), force (eV/Å), id and
+ * type of the owned particles, into the open snapshot group g; ibuf is
+ * scratch for n_owned integers. */
+int run_snapshot_particles(struct run *r, hid_t g, const struct particles *p,
+                           const struct box *b, int64_t *ibuf, struct err *e);
+/* The box as the cell of the open snapshot g (h5out_snapshot_cell): bounds,
+ * tilt 0, periodicity and boundary kinds. */
+int run_snapshot_cell(struct run *r, hid_t g, const struct box *b, struct err *e);
 
 /* A thermo table kept in memory (nrows rows of ncols values) written as
  * one series per column under /series of the HDF5 file; nothing without

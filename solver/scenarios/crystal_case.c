@@ -18,6 +18,7 @@
 
 #include "core/units.h"
 #include "md/crystal.h"
+#include "scenarios/crystal_range.h"
 #include "scenarios/case_type.h"
 
 struct crystal_case {
@@ -48,6 +49,13 @@ static int crystal_read(struct cfg_obj *root, const struct case_common *common, 
     struct potential *pot = NULL;
     if ((rc = cfg_section_required(root, "potential", &po)) || (rc = potential_create(&po, &pot)))
         return rc;
+    struct crystal_spec smallest = {(enum lattice_style)style, element, 0, cells};
+    /* the skin of the MD the case runs (crystal.c: 0.5 Å) */
+    if (!root->cfg->shallow &&
+        (rc = crystal_check_range(root, &po, pot, &smallest, amin, 0.5))) {
+        potential_destroy(&pot);
+        return rc;
+    }
     if (root->cfg->shallow) {
         potential_destroy(&pot);
         return 0;

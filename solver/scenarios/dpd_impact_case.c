@@ -54,6 +54,9 @@
  * displacement_max_1/2 (Å), flyer_velocity_final (Å/ps), target_particles,
  * flyer_particles, energy_drift and energy_deviation_max (relative change
  * of pe + ke + internal energy: conserved by DPDE with a free flyer),
+ * impact_energy (eV, the flyer's kinetic energy at the start),
+ * energy_deviation_max_abs (eV) and energy_error_impact_fraction (the
+ * largest energy change over the impact energy),
  * momentum_change (amu Å/ps: zero with a free flyer), and the common
  * neighbour analysis of the target at the coarse lattice constant
  * (section analysis.structure, metrics cna_fcc, cna_hcp, cna_other, ...,
@@ -109,6 +112,7 @@ struct impact_case {
     long *pstep;               /* step of each profile time */
     double P0[3];              /* momentum at the start */
     double demax;              /* largest |etotal - etotal(0)| so far */
+    double impact_energy;      /* eV: the flyer's kinetic energy at the start */
     double *restored_rows;     /* thermo rows read from a checkpoint */
     long nrestored;
 };
@@ -171,6 +175,8 @@ static int impact_read(struct cfg_obj *root, const struct case_common *common, v
     if (!rc)
         rc = dpd_add_body(&c->d, FLYER_BIT, k.motion == 0 ? DPD_BODY_FREE : DPD_BODY_PRESCRIBED,
                           v, e);
+    if (!rc)
+        c->impact_energy = 0.5 * c->d.body[0].mass * k.velocity * k.velocity * UNITS_MVV2E;
     if (!rc) {
         c->xref = displacement_begin(c->d.p, &c->d.box, e);
         if (c->xref < 0)
@@ -361,6 +367,12 @@ static int impact_report(void *state, struct sim *s, int run_rc, struct err *e)
     result_metric(res, "target_length", c->length, "Å");
     result_metric(res, "energy_drift", (et - e0) / fabs(e0), "1");
     result_metric(res, "energy_deviation_max", c->demax / fabs(e0), "1");
+    /* the same excursion against the impact energy: relative to the total
+     * energy (cohesive, -1e5 eV) it looks small when it is not */
+    result_metric(res, "impact_energy", c->impact_energy, "eV");
+    result_metric(res, "energy_deviation_max_abs", c->demax, "eV");
+    result_metric(res, "energy_error_impact_fraction",
+                  c->impact_energy > 0 ? c->demax / c->impact_energy : NAN, "1");
     result_metric(res, "momentum_change", dP, "amu Å/ps");
     result_metric(res, "temperature", dpd_temperature(d), "K");
     result_series(res, "time_ps", ts, (int)ns, "ps");

@@ -37,6 +37,7 @@
 
 #include "analysis/block_average.h"
 #include "core/units.h"
+#include "scenarios/crystal_range.h"
 #include "scenarios/crystal_thermal.h"
 #include "scenarios/case_type.h"
 
@@ -83,6 +84,13 @@ static int elastic_read(struct cfg_obj *root, const struct case_common *common, 
     struct potential *pot = NULL;
     if ((rc = cfg_section_required(root, "potential", &po)) || (rc = potential_create(&po, &pot)))
         return rc;
+    struct crystal_spec smallest = {(enum lattice_style)style, element, 0, cells};
+    /* the skin of the MD the case runs (crystal_thermal.c: 1.0 Å) */
+    if (!root->cfg->shallow &&
+        (rc = crystal_check_range(root, &po, pot, &smallest, amin, 1.0))) {
+        potential_destroy(&pot);
+        return rc;
+    }
     if (root->cfg->shallow) {
         potential_destroy(&pot);
         return 0;

@@ -402,7 +402,7 @@ int hs_case_snapshot(struct hs_case *c, struct run *run, struct err *e)
     hid_t g = h5out_begin_snapshot(h, "particles", hs->step, hs->time, n, e);
     if (g < 0)
         return ERR_RUNTIME;
-    rc = run_snapshot_particles(run, g, p, c->ibuf, e);
+    rc = run_snapshot_particles(run, g, p, &c->md.box, c->ibuf, e);
     if (!rc)
         rc = h5out_write_doubles(h, g, "pe", p->pe, n, 1, "eV", e);
     for (long i = 0; i < n; i++) {   /* virial stress over the atomic volume */

@@ -8,6 +8,9 @@
  *       origin: [0, 0, 0]
  *       cell: h                    edge of the (finest) cubic cell
  *       cells: [nx, ny, nz]        number of (finest) cells
+ *       max_nodes: 5e7             bound on the finest grid's nodes, checked
+ *                                  before anything is allocated (memory, not
+ *                                  physics: not written into the case)
  *       shape: linear | gimp       shape functions (gimp: uniform grids only)
  *       levels:                    hierarchical grid (Guo & Yang 2005), up to 5:
  *         - {coarsen: xyz, region: {...}}   level l where regions 1..l contain
@@ -20,6 +23,9 @@
  *         material: al
  *         region: {shape: box, lo: [...], hi: [...]}   (box, sphere, cylinder)
  *         points_per_cell: 2       n: n x n x n points per cell
+ *     max_points: 2e7              bound on the material points of all bodies
+ *                                  (from the regions' bounding boxes, before
+ *                                  they are filled; not written into the case)
  *         velocity: [0, 0, 0]      initial, or prescribed when rigid
  *         rigid: false             moves at `velocity`, imposes it on its nodes
  *     loads:                       tractions on boundary layers of points
@@ -85,12 +91,21 @@ static int parse_coarsen(struct cfg_obj *o, unsigned *mask)
     return rc;
 }
 
+/* Default memory bounds: a grid of 5e7 nodes takes a few GB with its
+ * nodal fields, 2e7 points about as much; both are far above the paper's
+ * runs (0.5 M points) and far below what a typo in `cells` asks for. */
+#define MPM_MAX_NODES_DEFAULT 50000000L
+#define MPM_MAX_POINTS_DEFAULT 20000000L
+#define MPM_MAX_CAP 4000000000L
+
 struct grid_spec {
     double origin[3], h;
     long cells[3];
     int shape, hanging, nlevels;
     struct mpm_hlevel level[MPM_MAX_LEVELS];
     enum mpm_face_bc face[6];
+    long max_points;          /* mpm.max_points, checked by build() */
+    int max_points_given;
 };
 
 static int read_grid(struct cfg_obj *mo, const struct mpm_units *u, struct grid_spec *g)
@@ -109,6 +124,17 @@ static int read_grid(struct cfg_obj *mo, const struct mpm_units *u, struct grid_
         (rc = cfg_enum(&go, "shape", "linear", shapes, &g->shape)) ||
         (rc = cfg_enum(&go, "hanging", "modified", hang, &g->hanging)))
         return rc;
+    long max_nodes = MPM_MAX_NODES_DEFAULT;
+    int given;
+    if ((rc = cfg_int_opt(&go, "max_nodes", CFG_RANGE(1, MPM_MAX_CAP), &max_nodes, &given)))
+        return rc;
+    double nodes = (double)(g->cells[0] + 1) * (double)(g->cells[1] + 1) * (double)(g->cells[2] + 1);
+    if (nodes > (double)max_nodes)
+        return mpm_key_error(&go, "cells",
+                             "%ld x %ld x %ld cells make %.4g grid nodes, more than "
+                             "%s.max_nodes = %ld%s",
+                             g->cells[0], g->cells[1], g->cells[2], nodes, go.path, max_nodes,
+                             given ? "" : " (the default; set it to allow more)");
     for (int d = 0; d < 3; d++)
         g->origin[d] *= u->length;
     g->h *= u->length;
@@ -282,8 +308,27 @@ static int build(struct mpm_case *c, const struct case_common *common, const str
         if (idx < 0)
             return ERR_RUNTIME;
         long first = m->pts.n, added;
-        if ((rc = mpm_fill_region(m, &B->region, idx, (int)B->ppc, &added, e)))
-            return rc;
+        /* on a uniform grid the region's bounding box bounds the points it
+         * can get; refuse before filling it (hierarchical grids put fewer
+         * points in coarse cells: checked after the fill) */
+        double upto = (double)first;
+        if (gs->nlevels == 0) {
+            double cells = 1;
+            for (int d = 0; d < 3; d++)
+                cells *= ceil((rhi[d] - rlo[d]) / gs->h) + 1;
+            upto += cells * (double)(B->ppc * B->ppc * B->ppc);
+        }
+        if (upto <= (double)gs->max_points) {
+            if ((rc = mpm_fill_region(m, &B->region, idx, (int)B->ppc, &added, e)))
+                return rc;
+            upto = (double)m->pts.n;
+        }
+        if (upto > (double)gs->max_points)
+            return cfg_error_at(cfg, rpath,
+                                "body '%s' brings the material points to up to %.4g, more than "
+                                "mpm.max_points = %ld%s",
+                                B->b.name, upto, gs->max_points,
+                                gs->max_points_given ? "" : " (the default; set it to allow more)");
         if (added == 0)
             return cfg_error_at(cfg, rpath,
                                 "body '%s' has no material point: its region holds no point of "
@@ -401,6 +446,10 @@ int mpm_case_read(struct cfg_obj *root, const struct case_common *common, struct
             B->b.velocity[d] *= u->velocity;
         nbody++;
     }
+    gs->max_points = MPM_MAX_POINTS_DEFAULT;
+    if ((rc = cfg_int_opt(&mo, "max_points", CFG_RANGE(1, MPM_MAX_CAP), &gs->max_points,
+                          &gs->max_points_given)))
+        goto done;
     /* loads */
     if ((rc = cfg_list(&mo, "loads", 0, &n)))
         goto done;
@@ -450,9 +499,11 @@ int mpm_case_read(struct cfg_obj *root, const struct case_common *common, struct
         goto done;
     }
     for (size_t i = 0; i < nrs; i++) {
-        if (rs[i] != floor(rs[i])) {
+        /* bounded before the cast: a double beyond long's range is undefined
+         * behaviour to convert (found by the case fuzzer) */
+        if (rs[i] != floor(rs[i]) || rs[i] > 1e15) {
             free(rs);
-            rc = mpm_key_error(&mo, "report_steps", "steps must be integers");
+            rc = mpm_key_error(&mo, "report_steps", "steps must be integers from 0 to 1e15");
             goto done;
         }
         c->report_steps[c->nreport++] = (long)rs[i];

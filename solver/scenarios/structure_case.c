@@ -153,7 +153,9 @@ static int structure_run(void *state, struct run *run, struct err *e)
                 rc = ERR_RUNTIME;
             } else {
                 int64_t *ib = malloc((size_t)(n + 1) * sizeof *ib);
-                rc = h5out_write_doubles(&run->h5, g, "position", p->x, n, 3, "Å", e);
+                rc = run_snapshot_cell(run, g, &c->box, e);
+                if (!rc)
+                    rc = h5out_write_doubles(&run->h5, g, "position", p->x, n, 3, "Å", e);
                 for (int i = 0; ib && i < n; i++)
                     ib[i] = p->id[i];
                 if (!rc && ib)
