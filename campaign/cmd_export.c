@@ -7,6 +7,8 @@
 #include "db.h"
 #include "export_ref.h"
 #include "table.h"
+#include "util/mem.h"
+#include "util/wfile.h"
 
 static const char *usage =
     "usage: cascade export STUDY --csv [--db FILE] [--out FILE]\n"
@@ -59,6 +61,7 @@ int cmd_export(int argc, char **argv)
     struct metric_col *mc = NULL;
     int nm = 0;
     FILE *out = stdout;
+    struct wfile wf = {0};   /* --out: written to FILE.tmp, renamed when complete */
     if (!rc)
         rc = db_prepare(db, "SELECT id FROM studies WHERE name = ?1", &st, &e);
     if (!rc) {
@@ -75,32 +78,40 @@ int cmd_export(int argc, char **argv)
                         &st, &e);
     if (!rc) {
         sqlite3_bind_int64(st, 1, sid);
-        while (sqlite3_step(st) == SQLITE_ROW) {
-            char **g = realloc(axes, (size_t)(naxes + 1) * sizeof *g);
-            if (!g)
-                break;
-            axes = g;
-            axes[naxes++] = strdup((const char *)sqlite3_column_text(st, 0));
+        while (!rc && sqlite3_step(st) == SQLITE_ROW) {
+            char **g = mem_realloc(axes, (size_t)(naxes + 1) * sizeof *g);
+            if (g)
+                axes = g;
+            const char *name = (const char *)sqlite3_column_text(st, 0);
+            if (!g || !(axes[naxes] = mem_strdup(name ? name : "")))
+                rc = err_nomem(&e, "the parameter columns");
+            else
+                naxes++;
         }
         sqlite3_finalize(st);
         st = NULL;
-        rc = db_prepare(db,
+        if (!rc)
+            rc = db_prepare(db,
                         "SELECT DISTINCT metric, unit FROM results WHERE study = ?1 "
                         "ORDER BY metric",
                         &st, &e);
     }
     if (!rc) {
         sqlite3_bind_text(st, 1, study, -1, SQLITE_STATIC);
-        while (sqlite3_step(st) == SQLITE_ROW) {
-            struct metric_col *g = realloc(mc, (size_t)(nm + 1) * sizeof *g);
-            if (!g)
+        while (!rc && sqlite3_step(st) == SQLITE_ROW) {
+            struct metric_col *g = mem_realloc(mc, (size_t)(nm + 1) * sizeof *g);
+            if (!g) {
+                rc = err_nomem(&e, "the metric columns");
                 break;
+            }
             mc = g;
             const char *mname = (const char *)sqlite3_column_text(st, 0);
             const char *munit = (const char *)sqlite3_column_text(st, 1);
-            mc[nm].name = strdup(mname ? mname : "");
-            mc[nm].unit = strdup(munit ? munit : "");
+            mc[nm].name = mem_strdup(mname ? mname : "");
+            mc[nm].unit = mem_strdup(munit ? munit : "");
             nm++;
+            if (!mc[nm - 1].name || !mc[nm - 1].unit)
+                rc = err_nomem(&e, "the metric columns");
         }
         sqlite3_finalize(st);
         st = NULL;
@@ -108,8 +119,8 @@ int cmd_export(int argc, char **argv)
     char **rnames = NULL, **runits = NULL;   /* the metric columns, with the imported ones */
     int nr = 0;
     for (int m = 0; !rc && m < nm; m++) {
-        char **gn = realloc(rnames, (size_t)(nr + 1) * sizeof *gn);
-        char **gu = gn ? realloc(runits, (size_t)(nr + 1) * sizeof *gu) : NULL;
+        char **gn = mem_realloc(rnames, (size_t)(nr + 1) * sizeof *gn);
+        char **gu = gn ? mem_realloc(runits, (size_t)(nr + 1) * sizeof *gu) : NULL;
         if (gn)
             rnames = gn;
         if (gu)
@@ -118,13 +129,23 @@ int cmd_export(int argc, char **argv)
             rc = err_nomem(&e, "metrics");
             break;
         }
-        rnames[nr] = strdup(mc[m].name);
-        runits[nr++] = strdup(mc[m].unit);
+        rnames[nr] = mem_strdup(mc[m].name);
+        runits[nr++] = mem_strdup(mc[m].unit);
+        if (!rnames[nr - 1] || !runits[nr - 1])
+            rc = err_nomem(&e, "metrics");
     }
     if (!rc)
         rc = export_ref_metrics(db, sid, &rnames, &runits, &nr, &e);
-    if (!rc && out_path && !(out = fopen(out_path, "w")))
-        rc = err_set(&e, ERR_INPUT, "cannot write %s: %s", out_path, strerror(errno));
+    if (!rc && out_path) {
+        /* a --out that names no place to write is the user's argument (exit
+         * 2); a full disk is not */
+        if (wfile_open(&wf, out_path, &e) != 0) {
+            int bad_path = errno == ENOENT || errno == ENOTDIR || errno == EACCES ||
+                           errno == EISDIR || errno == EROFS || errno == ENAMETOOLONG;
+            rc = e.code = bad_path ? ERR_INPUT : ERR_RUNTIME;
+        }
+        out = wf.f;
+    }
     if (!rc)
         rc = db_prepare(db,
                         "SELECT j.id, j.key, j.kind, coalesce(j.name, ''), j.state, d.id, "
@@ -192,8 +213,12 @@ int cmd_export(int argc, char **argv)
     sqlite3_finalize(st);
     sqlite3_finalize(ps);
     sqlite3_finalize(ms);
-    if (out && out != stdout)
-        fclose(out);
+    if (!rc && out_path)
+        rc = wfile_commit(&wf, &e);
+    wfile_discard(&wf);   /* an error before the commit: no half-written CSV */
+    if (!rc && !out_path && (fflush(stdout) != 0 || ferror(stdout)))
+        rc = err_set(&e, ERR_RUNTIME, "cannot write the CSV to standard output: %s",
+                     strerror(errno));
     for (int a = 0; a < naxes; a++)
         free(axes[a]);
     free(axes);

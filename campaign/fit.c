@@ -4,6 +4,7 @@
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include "util/mem.h"
 
 /* Ordinary least squares on (u, v): v = c0 + c1 u, with the usual standard
  * errors s^2 = SSR / (n - 2), var(c1) = s^2 / Suu, var(c0) = s^2 (1/n +
@@ -51,7 +52,7 @@ int fit_points(enum fit_model model, const double *x, const double *y, int n,
     f->model = model;
     f->n = 0;
     f->p0 = f->p1 = f->s0 = f->s1 = f->r2 = f->rms = NAN;
-    double *u = malloc((size_t)(n > 0 ? n : 1) * 2 * sizeof *u);
+    double *u = mem_alloc((size_t)(n > 0 ? n : 1) * 2 * sizeof *u);
     if (!u)
         return -1;
     double *v = u + (n > 0 ? n : 1);
