@@ -12,6 +12,7 @@
 
 #include "mpi_pool.h"
 #include "sysinfo.h"
+#include "util/mem.h"
 
 struct mpi_backend {
     int *busy;
@@ -97,9 +98,9 @@ static void mpi_destroy(struct backend *b)
 int backend_mpi_create(struct backend *b, int nworkers, struct err *e)
 {
     memset(b, 0, sizeof *b);
-    struct mpi_backend *m = calloc(1, sizeof *m);
+    struct mpi_backend *m = mem_calloc(1, sizeof *m);
     if (m)
-        m->busy = calloc((size_t)nworkers, sizeof *m->busy);
+        m->busy = mem_calloc((size_t)nworkers, sizeof *m->busy);
     if (!m || !m->busy) {
         free(m);
         return err_nomem(e, "MPI backend");

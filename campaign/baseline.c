@@ -9,6 +9,8 @@
 
 #include "build_info.h"
 #include "util/canon.h"
+#include "util/mem.h"
+#include "util/wfile.h"
 
 const char *const cmp_verdict_names[] = {"ok", "REGRESSED", "MISSING", "FAILED", "new", NULL};
 
@@ -86,31 +88,36 @@ json_t *baseline_build(const struct study_analysis *a, const char *created)
     return b;
 }
 
-static void put_member(FILE *f, const char *key, const json_t *v, int last)
+/* One member; 0, or -1 when out of memory (nothing written then). */
+static int put_member(FILE *f, const char *key, const json_t *v, int last)
 {
     json_t *ks = json_string(key);
     char *k = canon_json(ks);
     json_decref(ks);
     char *t = canon_json(v);
-    fprintf(f, "  %s: %s%s\n", k ? k : "\"?\"", t ? t : "null", last ? "" : ",");
+    int ok = k && t;
+    if (ok)
+        fprintf(f, "  %s: %s%s\n", k, t, last ? "" : ",");
     free(k);
     free(t);
+    return ok ? 0 : -1;
 }
 
 int baseline_write(const json_t *b, const char *path, struct err *e)
 {
-    char tmp[4096 + 16];
-    snprintf(tmp, sizeof tmp, "%s.tmp", path);
-    FILE *f = fopen(tmp, "w");
-    if (!f)
-        return err_set(e, ERR_RUNTIME, "%s: cannot write: %s", tmp, strerror(errno));
+    struct wfile w;
+    int rc = wfile_open(&w, path, e);
+    if (rc)
+        return rc;
+    FILE *f = w.f;
+    int oom = 0;
     fputs("{\n", f);
     static const char *const head[] = {"format", "study", "created", "solver", "cascade",
                                        "resolution", NULL};
     for (int i = 0; head[i]; i++) {
         json_t *v = json_object_get(b, head[i]);
-        if (v)
-            put_member(f, head[i], v, 0);
+        if (v && put_member(f, head[i], v, 0) != 0)
+            oom = 1;
     }
     static const char *const lists[] = {"values", "orders", "converged", NULL};
     int nlists = json_object_get(b, "converged") ? 3 : 2;   /* converged: refine studies only */
@@ -122,20 +129,18 @@ int baseline_write(const json_t *b, const char *path, struct err *e)
         json_array_foreach(arr, i, v)
         {
             char *t = canon_json(v);
+            oom |= !t;
             fprintf(f, "%s\n    %s", i ? "," : "", t ? t : "null");
             free(t);
         }
         fprintf(f, "%s]%s\n", json_array_size(arr) ? "\n  " : "", l + 1 < nlists ? "," : "");
     }
     fputs("}\n", f);
-    int bad = ferror(f);
-    if (fclose(f) != 0 || bad) {
-        remove(tmp);
-        return err_set(e, ERR_RUNTIME, "%s: write error", tmp);
+    if (oom) {
+        wfile_discard(&w);
+        return err_set(e, ERR_RUNTIME, "cannot write %s: out of memory (baseline)", path);
     }
-    if (rename(tmp, path) != 0)
-        return err_set(e, ERR_RUNTIME, "cannot rename %s to %s: %s", tmp, path, strerror(errno));
-    return 0;
+    return wfile_commit(&w, e);
 }
 
 int baseline_read(const char *path, const char *study, json_t **out, char **text, struct err *e)
@@ -148,11 +153,11 @@ int baseline_read(const char *path, const char *study, json_t **out, char **text
                                      "--update-baseline)",
                        path, strerror(errno));
     size_t cap = 1 << 16, n = 0, got;
-    char *buf = malloc(cap + 1);
+    char *buf = mem_alloc(cap + 1);
     while (buf && (got = fread(buf + n, 1, cap - n, f)) > 0) {
         n += got;
         if (n == cap) {
-            char *g = realloc(buf, 2 * cap + 1);
+            char *g = mem_realloc(buf, 2 * cap + 1);
             if (!g) {
                 free(buf);
                 buf = NULL;
@@ -228,7 +233,7 @@ struct cmp_item *cmp_add_item(struct cmp_report *r, enum cmp_verdict v, const ch
 {
     if (r->n == r->cap) {
         int cap = r->cap ? 2 * r->cap : 64;
-        struct cmp_item *g = realloc(r->it, (size_t)cap * sizeof *g);
+        struct cmp_item *g = mem_realloc(r->it, (size_t)cap * sizeof *g);
         if (!g)
             return NULL;
         r->it = g;
@@ -377,7 +382,7 @@ int baseline_compare(const json_t *b, const struct study_analysis *a,
     memset(r, 0, sizeof *r);
     const struct rdata *d = a->d;
     size_t nseen = (size_t)a->nmetrics * ((size_t)a->npts + (size_t)a->ngroups) + 1;
-    char *seen = calloc(nseen, 1);
+    char *seen = mem_calloc(nseen, 1);
     if (!seen)
         return err_nomem(e, "comparison");
     /* jobs that did not succeed this time */
@@ -546,8 +551,8 @@ static void items_table(const struct cmp_report *r, struct rdoc *doc,
         rows += keep(&r->it[i]);
     if (!rows)
         return;
-    char(*cells)[SA_LABEL_MAX] = malloc((size_t)rows * NCOL * SA_LABEL_MAX);
-    const char **ptr = malloc((size_t)rows * NCOL * sizeof *ptr);
+    char(*cells)[SA_LABEL_MAX] = mem_alloc((size_t)rows * NCOL * SA_LABEL_MAX);
+    const char **ptr = mem_alloc((size_t)rows * NCOL * sizeof *ptr);
     if (cells && ptr) {
         int row = 0;
         for (int i = 0; i < r->n; i++) {

@@ -3,6 +3,7 @@
 
 #include <stdlib.h>
 #include <string.h>
+#include "util/mem.h"
 
 extern char **environ;
 
@@ -14,17 +15,22 @@ int childenv_is_mpi(const char *entry)
     return strncmp(entry, "OMPI_", 5) == 0 || strncmp(entry, "PMIX_", 5) == 0;
 }
 
+int childenv_is_fault(const char *entry)
+{
+    return strncmp(entry, "CASCADE_FAULT_", 14) == 0;
+}
+
 char **childenv_create(void)
 {
     size_t n = 0;
     while (environ[n])
         n++;
-    char **env = malloc((n + 1) * sizeof *env);
+    char **env = mem_alloc((n + 1) * sizeof *env);
     if (!env)
         return NULL;
     size_t k = 0;
     for (size_t i = 0; i < n; i++)
-        if (!childenv_is_mpi(environ[i]))
+        if (!childenv_is_mpi(environ[i]) && !childenv_is_fault(environ[i]))
             env[k++] = environ[i];
     env[k] = NULL;
     return env;

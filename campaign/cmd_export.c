@@ -10,6 +10,8 @@
 #include "rdata_ref.h"
 #include "table.h"
 #include "util/canon.h"
+#include "util/mem.h"
+#include "util/wfile.h"
 
 static const char *usage =
     "usage: cascade export STUDY [--format csv|jsonl] [--db FILE] [--out FILE]\n"
@@ -196,6 +198,7 @@ int cmd_export(int argc, char **argv)
     struct metric_col *mc = NULL;
     int nm = 0;
     FILE *out = stdout;
+    struct wfile wf = {0};   /* --out: written to FILE.tmp, renamed when complete */
     if (!rc)
         rc = db_prepare(db, "SELECT id FROM studies WHERE name = ?1", &st, &e);
     if (!rc) {
@@ -212,32 +215,40 @@ int cmd_export(int argc, char **argv)
                         &st, &e);
     if (!rc) {
         sqlite3_bind_int64(st, 1, sid);
-        while (sqlite3_step(st) == SQLITE_ROW) {
-            char **g = realloc(axes, (size_t)(naxes + 1) * sizeof *g);
-            if (!g)
-                break;
-            axes = g;
-            axes[naxes++] = strdup((const char *)sqlite3_column_text(st, 0));
+        while (!rc && sqlite3_step(st) == SQLITE_ROW) {
+            char **g = mem_realloc(axes, (size_t)(naxes + 1) * sizeof *g);
+            if (g)
+                axes = g;
+            const char *name = (const char *)sqlite3_column_text(st, 0);
+            if (!g || !(axes[naxes] = mem_strdup(name ? name : "")))
+                rc = err_nomem(&e, "the parameter columns");
+            else
+                naxes++;
         }
         sqlite3_finalize(st);
         st = NULL;
-        rc = db_prepare(db,
+        if (!rc)
+            rc = db_prepare(db,
                         "SELECT DISTINCT metric, unit FROM results WHERE study = ?1 "
                         "ORDER BY metric",
                         &st, &e);
     }
     if (!rc) {
         sqlite3_bind_text(st, 1, study, -1, SQLITE_STATIC);
-        while (sqlite3_step(st) == SQLITE_ROW) {
-            struct metric_col *g = realloc(mc, (size_t)(nm + 1) * sizeof *g);
-            if (!g)
+        while (!rc && sqlite3_step(st) == SQLITE_ROW) {
+            struct metric_col *g = mem_realloc(mc, (size_t)(nm + 1) * sizeof *g);
+            if (!g) {
+                rc = err_nomem(&e, "the metric columns");
                 break;
+            }
             mc = g;
             const char *mname = (const char *)sqlite3_column_text(st, 0);
             const char *munit = (const char *)sqlite3_column_text(st, 1);
-            mc[nm].name = strdup(mname ? mname : "");
-            mc[nm].unit = strdup(munit ? munit : "");
+            mc[nm].name = mem_strdup(mname ? mname : "");
+            mc[nm].unit = mem_strdup(munit ? munit : "");
             nm++;
+            if (!mc[nm - 1].name || !mc[nm - 1].unit)
+                rc = err_nomem(&e, "the metric columns");
         }
         sqlite3_finalize(st);
         st = NULL;
@@ -245,8 +256,8 @@ int cmd_export(int argc, char **argv)
     char **rnames = NULL, **runits = NULL;   /* the metric columns, with the imported ones */
     int nr = 0;
     for (int m = 0; !rc && m < nm; m++) {
-        char **gn = realloc(rnames, (size_t)(nr + 1) * sizeof *gn);
-        char **gu = gn ? realloc(runits, (size_t)(nr + 1) * sizeof *gu) : NULL;
+        char **gn = mem_realloc(rnames, (size_t)(nr + 1) * sizeof *gn);
+        char **gu = gn ? mem_realloc(runits, (size_t)(nr + 1) * sizeof *gu) : NULL;
         if (gn)
             rnames = gn;
         if (gu)
@@ -255,13 +266,23 @@ int cmd_export(int argc, char **argv)
             rc = err_nomem(&e, "metrics");
             break;
         }
-        rnames[nr] = strdup(mc[m].name);
-        runits[nr++] = strdup(mc[m].unit);
+        rnames[nr] = mem_strdup(mc[m].name);
+        runits[nr++] = mem_strdup(mc[m].unit);
+        if (!rnames[nr - 1] || !runits[nr - 1])
+            rc = err_nomem(&e, "metrics");
     }
     if (!rc)
         rc = export_ref_metrics(db, sid, &rnames, &runits, &nr, &e);
-    if (!rc && out_path && !(out = fopen(out_path, "w")))
-        rc = err_set(&e, ERR_INPUT, "cannot write %s: %s", out_path, strerror(errno));
+    if (!rc && out_path) {
+        /* a --out that names no place to write is the user's argument (exit
+         * 2); a full disk is not */
+        if (wfile_open(&wf, out_path, &e) != 0) {
+            int bad_path = errno == ENOENT || errno == ENOTDIR || errno == EACCES ||
+                           errno == EISDIR || errno == EROFS || errno == ENAMETOOLONG;
+            rc = e.code = bad_path ? ERR_INPUT : ERR_RUNTIME;
+        }
+        out = wf.f;
+    }
     if (!rc)
         rc = db_prepare(db,
                         "SELECT j.id, j.key, j.kind, coalesce(j.name, ''), j.state, d.id, "
@@ -276,19 +297,19 @@ int cmd_export(int argc, char **argv)
         rc = db_prepare(db, "SELECT value FROM metrics WHERE run_id = ?1 AND name = ?2", &ms, &e);
     char **heads = NULL;   /* the column names, CSV header and JSON member names */
     int nhead = 8 + naxes + nr;
-    if (!rc && !(heads = calloc((size_t)nhead, sizeof *heads)))
+    if (!rc && !(heads = mem_calloc((size_t)nhead, sizeof *heads)))
         rc = err_nomem(&e, "export columns");
     if (!rc) {
         static const char *const fixed[8] = {"key",    "kind",           "name",       "state",
                                              "attempt", "solver_version", "solver_git", "wall_s"};
         for (int c = 0; c < 8; c++)
-            heads[c] = strdup(fixed[c]);
+            heads[c] = mem_strdup(fixed[c]);
         for (int a = 0; a < naxes; a++)
-            heads[8 + a] = strdup(axes[a]);
+            heads[8 + a] = mem_strdup(axes[a]);
         for (int m = 0; m < nr; m++) {
             char h[512];
             snprintf(h, sizeof h, "%s [%s]", rnames[m], runits[m]);
-            heads[8 + naxes + m] = strdup(h);
+            heads[8 + naxes + m] = mem_strdup(h);
         }
         for (int c = 0; c < nhead && !rc; c++)
             if (!heads[c])
@@ -343,8 +364,12 @@ int cmd_export(int argc, char **argv)
     sqlite3_finalize(st);
     sqlite3_finalize(ps);
     sqlite3_finalize(ms);
-    if (out && out != stdout)
-        fclose(out);
+    if (!rc && out_path)
+        rc = wfile_commit(&wf, &e);
+    wfile_discard(&wf);   /* an error before the commit: no half-written CSV */
+    if (!rc && !out_path && (fflush(stdout) != 0 || ferror(stdout)))
+        rc = err_set(&e, ERR_RUNTIME, "cannot write the CSV to standard output: %s",
+                     strerror(errno));
     for (int a = 0; a < naxes; a++)
         free(axes[a]);
     free(axes);

@@ -7,6 +7,7 @@
 #include "plan.h"
 #include "store.h"
 #include "util/canon.h"
+#include "util/mem.h"
 
 static const char *usage =
     "usage: cascade plan STUDY.yaml [--json] [--register [--db FILE]] [--solver PATH]\n"
@@ -104,7 +105,7 @@ int cmd_plan(int argc, char **argv)
         sqlite3 *db = NULL;
         struct store st;
         long long study_id;
-        long long *ids = calloc((size_t)p.njobs, sizeof *ids);
+        long long *ids = mem_calloc((size_t)p.njobs, sizeof *ids);
         rc = ids ? db_open(db_path, &db, &e) : err_nomem(&e, "job ids");
         if (!rc) {
             rc = store_init(&st, db, &s, &sv, 60, &e);

@@ -5,6 +5,7 @@
 #include "cli.h"
 #include "db.h"
 #include "table.h"
+#include "util/mem.h"
 
 static const char *usage =
     "usage: cascade query \"SQL\" [--db FILE] [--csv | --json] [--param NAME=VALUE ...]\n"
@@ -48,11 +49,11 @@ static char *read_file(const char *path)
     if (!f)
         return NULL;
     size_t cap = 4096, n = 0, got;
-    char *buf = malloc(cap);
+    char *buf = mem_alloc(cap);
     while (buf && (got = fread(buf + n, 1, cap - n - 1, f)) > 0) {
         n += got;
         if (n + 1 == cap) {
-            char *g = realloc(buf, cap *= 2);
+            char *g = mem_realloc(buf, cap *= 2);
             if (!g) {
                 free(buf);
                 buf = NULL;
@@ -107,7 +108,7 @@ int cmd_query(int argc, char **argv)
     }
     if (!sql_arg == !file)
         return cli_usage_error(usage, "give the SQL or -f FILE (one of them)");
-    char *text = file ? read_file(file) : strdup(sql_arg);
+    char *text = file ? read_file(file) : mem_strdup(sql_arg);
     if (!text) {
         fprintf(stderr, "error: cannot read %s\n", file ? file : "the query");
         return 2;

@@ -263,7 +263,8 @@ int cmd_regress(int argc, char **argv)
     int code = 0;
     if (!a.no_run) {
         backend_block_signals();
-        struct study_run_opts o = {a.db_path, a.runs, a.solver, a.jobs, 60, a.quiet, 1, NULL, NULL};
+        struct study_run_opts o = {a.db_path, a.runs, a.solver, a.jobs, 60,
+                                   a.quiet,   1,      NULL,     NULL,   0};
         struct runner_summary sum;
         rc = study_run_any(&s, &o, &sum, &e);   /* refines first when the study says so */
         if (!rc && sum.interrupted) {

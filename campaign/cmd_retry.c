@@ -4,6 +4,7 @@
 
 #include "cli.h"
 #include "db.h"
+#include "util/mem.h"
 
 static const char *usage =
     "usage: cascade retry STUDY [--failed] [--db FILE] [--no-run] [run options]\n"
@@ -23,7 +24,7 @@ int cmd_retry(int argc, char **argv)
     }
     const char *db_path = CASCADE_DB_DEFAULT, *study = NULL;
     int failed_only = 0, no_run = 0;
-    char **run_argv = calloc((size_t)argc + 4, sizeof *run_argv);
+    char **run_argv = mem_calloc((size_t)argc + 4, sizeof *run_argv);
     int run_argc = 1;   /* slot 0: the study file */
     if (!run_argv)
         return 1;

@@ -12,7 +12,7 @@
 
 static const char *usage =
     "usage: cascade run STUDY.yaml [--jobs N] [--db FILE] [--runs DIR] [--solver PATH]\n"
-    "                  [--lease SECONDS] [--quiet]\n"
+    "                  [--lease SECONDS] [--infra-pause SECONDS] [--quiet]\n"
     "       mpirun -np N cascade run STUDY.yaml [options]\n"
     "\n"
     "Runs every job of the study that is not yet done for the current solver\n"
@@ -33,6 +33,8 @@ static const char *usage =
     "                  to cascade, or on PATH)\n"
     "  --lease S       job lease length in seconds (default 60); a runner that stops\n"
     "                  heartbeating for that long loses its jobs to the next runner\n"
+    "  --infra-pause S the pause after an infrastructure failure (default 0.5;\n"
+    "                  doubling with each one in a row)\n"
     "  --quiet         no progress output\n"
     "\n"
     "Ctrl-C once: no new jobs, running ones finish; twice: running jobs are\n"
@@ -44,7 +46,7 @@ static const char *usage =
 struct run_args {
     const char *file, *db_path, *runs, *solver;
     long jobs;
-    double lease;
+    double lease, infra_pause;
     int quiet;
 };
 
@@ -62,6 +64,9 @@ static int parse(int argc, char **argv, struct run_args *a)
                 return 2;
         } else if ((m = cli_opt(argc, argv, &i, "--lease", &v))) {
             if (m < 0 || cli_real("--lease", v, 1, &a->lease) != 0)
+                return 2;
+        } else if ((m = cli_opt(argc, argv, &i, "--infra-pause", &v))) {
+            if (m < 0 || cli_real("--infra-pause", v, 0.001, &a->infra_pause) != 0)
                 return 2;
         } else if ((m = cli_opt(argc, argv, &i, "--db", &a->db_path)) ||
                    (m = cli_opt(argc, argv, &i, "--runs", &a->runs)) ||
@@ -103,8 +108,8 @@ static int run_study(const struct run_args *a, int mpi_size)
         fprintf(stderr, "error: %s\n", e.msg);
         return cli_exit_code(rc);
     }
-    struct study_run_opts o = {a->db_path, a->runs,  a->solver, a->jobs, a->lease,
-                               a->quiet,   mpi_size, NULL,      NULL};
+    struct study_run_opts o = {a->db_path, a->runs,  a->solver, a->jobs,       a->lease,
+                               a->quiet,   mpi_size, NULL,      NULL,          a->infra_pause};
     struct runner_summary sum;
     rc = study_run_any(&s, &o, &sum, &e);   /* a study with refine: adds levels as it goes */
     int code;

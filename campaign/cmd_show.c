@@ -6,6 +6,7 @@
 #include "cli.h"
 #include "db.h"
 #include "table.h"
+#include "util/mem.h"
 #include "util/yamldoc.h"
 
 static const char *usage =
@@ -56,8 +57,8 @@ static int show_job(sqlite3 *db, long long job_id, int with_case, struct err *e)
     if (COL(9))
         printf("run directory: %s\n", COL(9));
     long long last = sqlite3_column_int64(st, 8);
-    char *case_json = COL(7) ? strdup(COL(7)) : NULL;
-    char *tail = COL(10) && strcmp(COL(6), "done") != 0 ? strdup(COL(10)) : NULL;
+    char *case_json = COL(7) ? mem_strdup(COL(7)) : NULL;
+    char *tail = COL(10) && strcmp(COL(6), "done") != 0 ? mem_strdup(COL(10)) : NULL;
 #undef COL
     sqlite3_finalize(st);
     rc = print_rows(db, "attempts",
@@ -80,8 +81,8 @@ static int show_job(sqlite3 *db, long long job_id, int with_case, struct err *e)
     if (!rc && with_case && case_json) {
         json_t *doc = json_loads(case_json, 0, NULL);
         printf("\ncase (resolved):\n");
-        if (doc)
-            yamldoc_write(stdout, doc);
+        if (doc && yamldoc_write(stdout, doc) != 0)
+            rc = err_nomem(e, "case");
         json_decref(doc);
     }
     free(case_json);

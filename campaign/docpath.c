@@ -3,6 +3,7 @@
 
 #include <stdlib.h>
 #include <string.h>
+#include "util/mem.h"
 
 int docpath_valid(const char *path)
 {
@@ -184,7 +185,7 @@ static int replace_in_string(json_t *str, docpath_subst_fn subst, void *ctx)
     if (!strstr(s, "${"))
         return 0;
     size_t cap = strlen(s) + 256, len = 0;
-    char *out = malloc(cap);
+    char *out = mem_alloc(cap);
     if (!out)
         return -1;
     const char *c = s;
@@ -204,7 +205,7 @@ static int replace_in_string(json_t *str, docpath_subst_fn subst, void *ctx)
         }
         if (len + plen + 1 > cap) {
             cap = 2 * (len + plen + 1);
-            char *grown = realloc(out, cap);
+            char *grown = mem_realloc(out, cap);
             if (!grown) {
                 free(out);
                 return -1;

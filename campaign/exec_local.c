@@ -24,6 +24,8 @@
 
 #include "childenv.h"
 #include "sysinfo.h"
+#include "util/fault.h"
+#include "util/mem.h"
 
 #define KILL_GRACE_S 2.0
 
@@ -64,11 +66,11 @@ void backend_block_signals(void)
 
 struct exec_local *exec_local_create(int nslots)
 {
-    struct exec_local *x = calloc(1, sizeof *x);
+    struct exec_local *x = mem_calloc(1, sizeof *x);
     if (!x)
         return NULL;
     x->nslots = nslots < 1 ? 1 : nslots;
-    x->slots = calloc((size_t)x->nslots, sizeof *x->slots);
+    x->slots = mem_calloc((size_t)x->nslots, sizeof *x->slots);
     x->env = childenv_create();
     sys_hostname(x->host, sizeof x->host);
     if (!x->slots || !x->env) {
@@ -142,8 +144,11 @@ int exec_local_start(struct exec_local *x, int slot, const struct launch_spec *L
     const char *paths[3] = {"/dev/null", out_path, err_path};
     int fds[3] = {-1, -1, -1};
     for (int k = 0; k < 3 && !rc; k++) {
-        fds[k] = open(paths[k], k ? O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC : O_RDONLY | O_CLOEXEC,
-                      0666);
+        fds[k] = k && fault_write(ENOSPC) != 0
+                     ? -1
+                     : open(paths[k], k ? O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC
+                                        : O_RDONLY | O_CLOEXEC,
+                            0666);
         if (fds[k] < 0)
             rc = err_set(e, ERR_RUNTIME, "cannot create %s: %s", paths[k], strerror(errno));
     }

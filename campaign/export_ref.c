@@ -7,6 +7,7 @@
 #include "db.h"
 #include "rdata_ref.h"
 #include "table.h"
+#include "util/mem.h"
 
 int export_ref_metrics(sqlite3 *db, long long study_id, char ***names, char ***units, int *n,
                        struct err *e)
@@ -28,18 +29,18 @@ int export_ref_metrics(sqlite3 *db, long long study_id, char ***names, char ***u
             have |= strcmp((*names)[k], m) == 0;
         if (have)
             continue;
-        char **gn = realloc(*names, (size_t)(*n + 1) * sizeof *gn);
+        char **gn = mem_realloc(*names, (size_t)(*n + 1) * sizeof *gn);
         if (gn)
             *names = gn;
-        char **gu = gn ? realloc(*units, (size_t)(*n + 1) * sizeof *gu) : NULL;
+        char **gu = gn ? mem_realloc(*units, (size_t)(*n + 1) * sizeof *gu) : NULL;
         if (gu)
             *units = gu;
         if (!gn || !gu) {
             rc = err_nomem(e, "metrics");
             break;
         }
-        (*names)[*n] = strdup(m);
-        (*units)[*n] = strdup((const char *)sqlite3_column_text(st, 1));
+        (*names)[*n] = mem_strdup(m);
+        (*units)[*n] = mem_strdup((const char *)sqlite3_column_text(st, 1));
         (*n)++;
     }
     sqlite3_finalize(st);

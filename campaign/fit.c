@@ -7,6 +7,7 @@
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include "util/mem.h"
 
 /* Ordinary least squares on (u, v): v = c0 + c1 u.  gsl_fit_linear gives
  * the coefficients, the residual sum of squares and the covariance with
@@ -42,7 +43,7 @@ int fit_points(enum fit_model model, const double *x, const double *y, int n,
     f->model = model;
     f->n = 0;
     f->p0 = f->p1 = f->s0 = f->s1 = f->r2 = f->rms = NAN;
-    double *u = malloc((size_t)(n > 0 ? n : 1) * 2 * sizeof *u);
+    double *u = mem_alloc((size_t)(n > 0 ? n : 1) * 2 * sizeof *u);
     if (!u)
         return -1;
     double *v = u + (n > 0 ? n : 1);

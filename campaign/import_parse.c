@@ -10,6 +10,7 @@
 #include <string.h>
 
 #include "util/yamldoc.h"
+#include "util/mem.h"
 
 #define MAX_COLS 256
 
@@ -35,7 +36,7 @@ void import_where(const struct import_set *s, int i, char *out, size_t len)
 static int add_row(struct import_set *s, int line, int col, struct err *e)
 {
     if ((s->nrows & (s->nrows - 1)) == 0) {
-        struct import_row *g = realloc(s->rows, (size_t)(s->nrows ? 2 * s->nrows : 1) * sizeof *g);
+        struct import_row *g = mem_realloc(s->rows, (size_t)(s->nrows ? 2 * s->nrows : 1) * sizeof *g);
         if (!g)
             return err_nomem(e, "import rows");
         s->rows = g;
@@ -164,7 +165,7 @@ static int parse_csv(struct import_set *s, FILE *fp, struct err *e)
 {
     char buf[65536];
     char *f[MAX_COLS];
-    struct column *cols = calloc(MAX_COLS, sizeof *cols);
+    struct column *cols = mem_calloc(MAX_COLS, sizeof *cols);
     if (!cols)
         return err_nomem(e, "columns");
     int ncols = 0, line = 0, rc = 0;

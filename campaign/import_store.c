@@ -12,6 +12,7 @@
 #include "util/canon.h"
 #include "util/sha256.h"
 #include "util/yamldoc.h"
+#include "util/mem.h"
 
 /* What the database knows of the study. */
 struct known {
@@ -330,7 +331,7 @@ static int rebuild_axes(sqlite3 *db, long long study_id, struct err *e)
             break;
         json_t *set = json_object_get(axes, json_string_value(name));
         size_t n = json_object_size(set), q = 0;
-        json_t **vals = malloc((n ? n : 1) * sizeof *vals);
+        json_t **vals = mem_alloc((n ? n : 1) * sizeof *vals);
         if (!vals) {
             rc = err_nomem(e, "axes");
             break;

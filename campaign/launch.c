@@ -10,6 +10,9 @@
 #include <unistd.h>
 
 #include "docpath.h"
+#include "util/fault.h"
+#include "util/mem.h"
+#include "util/wfile.h"
 #include "util/yamldoc.h"
 
 struct subst_dirs {
@@ -30,11 +33,11 @@ static const char *subst_dir(void *ctx, const char *name, int is_key)
 
 static int add_arg(struct launch_spec *L, const char *a)
 {
-    char **g = realloc(L->argv, (size_t)(L->argc + 2) * sizeof *g);
+    char **g = mem_realloc(L->argv, (size_t)(L->argc + 2) * sizeof *g);
     if (!g)
         return -1;
     L->argv = g;
-    L->argv[L->argc] = strdup(a);
+    L->argv[L->argc] = mem_strdup(a);
     if (!L->argv[L->argc])
         return -1;
     L->argv[++L->argc] = NULL;
@@ -61,7 +64,7 @@ int launch_build(struct launch_spec *L, const struct study *s, const struct solv
         return err_prefix(e, "job %s: ", key);
     }
     size_t len = 0;
-    FILE *f = open_memstream(&L->case_yaml, &len);
+    FILE *f = fault_alloc_fails() ? NULL : open_memstream(&L->case_yaml, &len);
     if (!f) {
         json_decref(doc);
         return err_nomem(e, "case.yaml");
@@ -69,10 +72,10 @@ int launch_build(struct launch_spec *L, const struct study *s, const struct solv
     fprintf(f, "# job %s of study %s (written by cascade; the key hashes the case with\n"
                "# ${prep:KEY} in place of preparation-job directories)\n",
             key, s->name);
-    yamldoc_write(f, doc);
+    /* a memory stream fails (ferror) when it cannot grow */
+    int bad = yamldoc_write(f, doc) != 0;
     fclose(f);
     json_decref(doc);
-    int bad = 0;
     if (s->mpirun_np) {
         char buf[512];
         snprintf(buf, sizeof buf, "%s", s->launcher);
@@ -159,7 +162,7 @@ int launch_from_json(struct launch_spec *L, const json_t *j, struct err *e)
     snprintf(L->run_dir, sizeof L->run_dir, "%s", rd);
     snprintf(L->cwd, sizeof L->cwd, "%s", cwd);
     L->timeout = json_number_value(json_object_get(j, "timeout"));
-    L->case_yaml = strdup(cy);
+    L->case_yaml = mem_strdup(cy);
     int bad = !L->case_yaml;
     size_t i;
     json_t *a;
@@ -175,7 +178,7 @@ int launch_from_json(struct launch_spec *L, const json_t *j, struct err *e)
  * 0 or the errno (ENOTDIR for a file in the way), with e set. */
 static int mkdir_one(const char *path, struct err *e)
 {
-    if (mkdir(path, 0777) == 0)
+    if (wfile_mkdir(path, 0777) == 0)
         return 0;
     int err = errno;
     struct stat sb;
@@ -241,13 +244,7 @@ int launch_setup_dir(const struct launch_spec *L, struct err *e)
     closedir(d);
     char path[4096 + 16];
     snprintf(path, sizeof path, "%s/case.yaml", L->run_dir);
-    FILE *f = fopen(path, "w");
-    if (!f)
-        return err_set(e, ERR_RUNTIME, "cannot write %s: %s", path, strerror(errno));
-    fputs(L->case_yaml, f);
-    if (fclose(f) != 0)
-        return err_set(e, ERR_RUNTIME, "cannot write %s", path);
-    return 0;
+    return wfile_write_text(path, L->case_yaml, 0, e);
 }
 
 int launch_point_current(const char *run_dir, struct err *e)
@@ -262,9 +259,9 @@ int launch_point_current(const char *run_dir, struct err *e)
     snprintf(tmp, sizeof tmp, "%s.%d", link, (int)getpid());
     unlink(tmp);
     /* relative, so the runs directory can be moved or mounted elsewhere */
-    if (symlink(base + 1, tmp) != 0)
+    if (fault_write(ENOSPC) != 0 || symlink(base + 1, tmp) != 0)
         return err_set(e, ERR_RUNTIME, "cannot create %s: %s", tmp, strerror(errno));
-    if (rename(tmp, link) != 0) {
+    if (wfile_rename(tmp, link) != 0) {
         int rc = err_set(e, ERR_RUNTIME, "cannot replace %s: %s", link, strerror(errno));
         unlink(tmp);
         return rc;

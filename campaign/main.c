@@ -10,6 +10,7 @@
 #include "build_info.h"
 #include "cli.h"
 #include "db_fault.h"
+#include "util/fault.h"
 
 static const char *usage =
     "usage: cascade <command> [options]\n"
@@ -55,8 +56,9 @@ int main(int argc, char **argv)
                 {"query", cmd_query},   {"show", cmd_show},     {"export", cmd_export},
                 {"retry", cmd_retry},   {"report", cmd_report}, {"regress", cmd_regress},
                 {"import", cmd_import}};
-    /* fault injection for the database tests (campaign/db_fault.h): read
-     * here, once, before SQLite is first used */
+    /* fault injection for the tests (docs/fuzzing.md): SQLite's writes and
+     * allocations (campaign/db_fault.h), read here, once, before SQLite is
+     * first used; Cascade's own allocations and file writes (util/fault.h) */
     const char *fault_io = getenv("CASCADE_FAULT_IO"), *fault_mem = getenv("CASCADE_FAULT_MALLOC");
     int faults = (fault_io && fault_io[0]) || (fault_mem && fault_mem[0]);
     if (faults) {
@@ -66,11 +68,19 @@ int main(int argc, char **argv)
             return cli_exit_code(e.code);
         }
     }
+    {
+        struct err e = {0};
+        if (fault_install(getenv("CASCADE_FAULT_ALLOC"), getenv("CASCADE_FAULT_WRITE"), &e) != 0) {
+            fprintf(stderr, "error: %s\n", e.msg);
+            return cli_exit_code(e.code);
+        }
+    }
     for (size_t i = 0; i < sizeof cmds / sizeof cmds[0]; i++)
         if (strcmp(cmd, cmds[i].name) == 0) {
             int code = cmds[i].fn(argc - 2, argv + 2);
             if (faults)
                 db_fault_report(stderr);
+            fault_report(stderr, "cascade");
             return code;
         }
     fprintf(stderr, "error: unknown command '%s'\n\n%s", cmd, usage);

@@ -4,6 +4,7 @@
 #include <mpi.h>
 #include <stdlib.h>
 #include <string.h>
+#include "util/mem.h"
 
 int mpi_pool_wanted(void)
 {
@@ -53,7 +54,7 @@ int mpi_pool_poll(int *src, int *tag, char **text, struct err *e)
         return 0;
     int n;
     MPI_Get_count(&st, MPI_CHAR, &n);
-    char *buf = malloc((size_t)n + 1);
+    char *buf = mem_alloc((size_t)n + 1);
     if (!buf)
         return err_nomem(e, "MPI message"), -1;
     if (MPI_Recv(buf, n, MPI_CHAR, st.MPI_SOURCE, st.MPI_TAG, MPI_COMM_WORLD, MPI_STATUS_IGNORE) !=

@@ -13,6 +13,7 @@
 #include <sys/wait.h>
 
 #include "sysinfo.h"
+#include "util/mem.h"
 #include "util/sha256.h"
 
 static const char *const status_names[] = {"running", "done",     "failed",   "crashed",
@@ -138,15 +139,18 @@ static int cmp_name(const void *a, const void *b)
     return strcmp(*(char *const *)a, *(char *const *)b);
 }
 
-static void collect_artifacts(struct outcome *o, const char *dir)
+/* The files the attempt left, with their sizes and checksums; -1 when out
+ * of memory (the list would be incomplete: the caller must not record the
+ * attempt as done with it). */
+static int collect_artifacts(struct outcome *o, const char *dir)
 {
     DIR *d = opendir(dir);
     if (!d)
-        return;
+        return 0;
     char **names = NULL;
-    int n = 0, cap = 0;
+    int n = 0, cap = 0, oom = 0;
     struct dirent *de;
-    while ((de = readdir(d))) {
+    while (!oom && (de = readdir(d))) {
         if (de->d_name[0] == '.')
             continue;
         char path[4096 + 256];
@@ -156,20 +160,26 @@ static void collect_artifacts(struct outcome *o, const char *dir)
             continue;
         if (n == cap) {
             cap = cap ? 2 * cap : 16;
-            char **g = realloc(names, (size_t)cap * sizeof *g);
-            if (!g)
+            char **g = mem_realloc(names, (size_t)cap * sizeof *g);
+            if (!g) {
+                oom = 1;
                 break;
+            }
             names = g;
         }
-        names[n] = strdup(de->d_name);
+        names[n] = mem_strdup(de->d_name);
         if (names[n])
             n++;
+        else
+            oom = 1;
     }
     closedir(d);
-    qsort(names, (size_t)n, sizeof *names, cmp_name);
-    o->artifacts = calloc((size_t)(n ? n : 1), sizeof *o->artifacts);
+    if (n > 1)
+        qsort(names, (size_t)n, sizeof *names, cmp_name);
+    o->artifacts = oom ? NULL : mem_calloc((size_t)(n ? n : 1), sizeof *o->artifacts);
+    oom |= !o->artifacts;
     for (int i = 0; i < n; i++) {
-        if (o->artifacts) {
+        if (!oom) {
             struct artifact *a = &o->artifacts[o->nartifacts];
             snprintf(a->path, sizeof a->path, "%s/%s", dir, names[i]);
             snprintf(a->kind, sizeof a->kind, "%s", kind_of(names[i]));
@@ -182,6 +192,7 @@ static void collect_artifacts(struct outcome *o, const char *dir)
         free(names[i]);
     }
     free(names);
+    return oom ? -1 : 0;
 }
 
 static json_t *read_result(const char *dir)
@@ -198,7 +209,7 @@ static json_t *read_result(const char *dir)
 }
 
 /* The value of the "step" column in the last complete row of the run's
- * thermo.csv (the solver flushes every row), or -1: how far a run that did
+ * thermo.csv or thermo.csv.tmp (the solver flushes every row), or -1: how far a run that did
  * not finish got, which tells a crash that repeats at the same step
  * (deterministic) from one that does not. */
 static long thermo_last_step(const char *dir)
@@ -206,6 +217,12 @@ static long thermo_last_step(const char *dir)
     char path[4096 + 32], line[8192];
     snprintf(path, sizeof path, "%s/thermo.csv", dir);
     FILE *f = fopen(path, "rb");
+    if (!f) {
+        /* cascade-solver writes thermo.csv.tmp until the run ends: a run
+         * that crashed leaves that */
+        snprintf(path, sizeof path, "%s/thermo.csv.tmp", dir);
+        f = fopen(path, "rb");
+    }
     if (!f)
         return -1;
     int col = -1;
@@ -259,7 +276,7 @@ static long thermo_last_step(const char *dir)
 static int disk_trouble(const char *dir, const char *stderr_tail, char *why, size_t len)
 {
     static const char *const words[] = {"No space left on device", "Disk quota exceeded",
-                                        "Read-only file system"};
+                                        "Read-only file system", "Input/output error"};
     for (size_t i = 0; i < sizeof words / sizeof words[0]; i++)
         if (strstr(stderr_tail, words[i])) {
             snprintf(why, len, "the solver reported '%s' in %s", words[i], dir);
@@ -360,7 +377,13 @@ void outcome_collect(struct outcome *o, const char *dir, const struct exit_info 
     }
     o->last_step = o->status == RS_DONE ? -1 : thermo_last_step(dir);
     json_decref(res);
-    collect_artifacts(o, dir);
+    if (collect_artifacts(o, dir) != 0) {
+        /* the runner's trouble, not the job's: the attempt is called off and
+         * runs again */
+        o->status = RS_CANCELLED;
+        o->failure = FC_INFRA;
+        snprintf(o->message, sizeof o->message, "out of memory (listing the files of %s)", dir);
+    }
     o->collect_s = sys_mono() - t0;
 }
 
@@ -382,7 +405,7 @@ static json_t *jstr(const char *s)
     if (j)
         return j;
     size_t n = strlen(s), k = 0;
-    char *t = malloc(n + 1);
+    char *t = mem_alloc(n + 1);
     if (!t)
         return NULL;
     for (size_t i = 0; i < n;) {
@@ -469,7 +492,7 @@ int outcome_from_json(struct outcome *o, const json_t *j, struct err *e)
     json_t *arts = json_object_get(j, "artifacts");
     size_t n = json_array_size(arts);
     if (n) {
-        o->artifacts = calloc(n, sizeof *o->artifacts);
+        o->artifacts = mem_calloc(n, sizeof *o->artifacts);
         if (!o->artifacts) {
             outcome_free(o);
             return err_nomem(e, "artifacts");

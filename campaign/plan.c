@@ -5,6 +5,7 @@
 #include <string.h>
 
 #include "util/canon.h"
+#include "util/mem.h"
 
 #define PLAN_MAX_ERRORS 8
 #define PLAN_MAX_DEPS 256
@@ -68,7 +69,7 @@ static void locate(const struct plan_ctx *c, long j, const char *case_path, char
     const struct study_source *base = job->prep >= 0 ? &s->preps[job->prep].base : &s->base;
     long *idx = NULL;
     if (job->sweep >= 0 && s->ngroups > 0) {
-        idx = malloc((size_t)s->ngroups * sizeof *idx);
+        idx = mem_alloc((size_t)s->ngroups * sizeof *idx);
         if (idx)
             study_job_indices(s, job->sweep, idx);
     }
@@ -110,13 +111,13 @@ static void add_error(struct plan_ctx *c, const char *text, const char *group, c
             continue;
         if (strcmp(c->errors[i], text) != 0 && strcmp(c->errors[i], general) != 0) {
             free(c->errors[i]);
-            c->errors[i] = strdup(general);
+            c->errors[i] = mem_strdup(general);
         }
         return;
     }
     if (c->nerrors < PLAN_MAX_ERRORS) {
-        c->errors[c->nerrors] = strdup(text);
-        c->groups[c->nerrors] = strdup(group);
+        c->errors[c->nerrors] = mem_strdup(text);
+        c->groups[c->nerrors] = mem_strdup(group);
         c->nerrors++;
     }
 }
@@ -194,7 +195,7 @@ static int write_case(struct plan_ctx *c, long j, FILE *f, struct err *e)
     struct dep_ctx d = {s, deps, 0};
     docpath_refs_visit(doc, collect_dep, &d);
     if (d.ndeps) {
-        job->deps = malloc((size_t)d.ndeps * sizeof *job->deps);
+        job->deps = mem_alloc((size_t)d.ndeps * sizeof *job->deps);
         if (!job->deps) {
             json_decref(doc);
             return err_nomem(e, "dependencies");
@@ -208,7 +209,7 @@ static int write_case(struct plan_ctx *c, long j, FILE *f, struct err *e)
         job->params_json = canon_json(params);
         json_decref(params);
     } else {
-        job->params_json = strdup("{}");
+        job->params_json = mem_strdup("{}");
     }
     char *text = canon_json(doc);
     json_decref(doc);
@@ -253,7 +254,7 @@ static int cmp_key(const void *a, const void *b)
 static int check_duplicates(struct plan_ctx *c, struct err *e)
 {
     struct plan *p = c->p;
-    struct key_index *order = malloc((size_t)p->njobs * sizeof *order);
+    struct key_index *order = mem_alloc((size_t)p->njobs * sizeof *order);
     if (!order)
         return err_nomem(e, "key order");
     for (long j = 0; j < p->njobs; j++)
@@ -302,7 +303,7 @@ int plan_build(struct plan *p, const struct study *s, const struct solver *sv, s
         return err_set(e, ERR_INPUT, "%s: at most 64 sweep factors", s->file);
     p->njobs = s->nprep + s->njobs;
     p->nprep = s->nprep;
-    p->jobs = calloc((size_t)p->njobs, sizeof *p->jobs);
+    p->jobs = mem_calloc((size_t)p->njobs, sizeof *p->jobs);
     if (!p->jobs)
         return err_nomem(e, "jobs");
     for (long j = 0; j < p->njobs; j++) {
@@ -369,10 +370,13 @@ void plan_job_label(const struct plan *p, long j, char *out, size_t len)
     size_t used = 0;
     out[0] = '\0';
     for (int a = 0; a < s->naxes && used + 1 < len; a++) {
-        char *v = canon_json(json_array_get(s->axes[a].values, (size_t)idx[s->axes[a].group]));
-        int n = snprintf(out + used, len - used, "%s%s=%s", a ? " " : "", s->axes[a].path,
-                         v ? v : "?");
-        free(v);
+        /* a label only: into a buffer, so it needs no memory (a value that
+         * is an object shows as '?' when there is none) */
+        char v[256];
+        if (canon_json_into(json_array_get(s->axes[a].values, (size_t)idx[s->axes[a].group]), v,
+                            sizeof v) != 0)
+            snprintf(v, sizeof v, "?");
+        int n = snprintf(out + used, len - used, "%s%s=%s", a ? " " : "", s->axes[a].path, v);
         if (n < 0)
             break;
         used += (size_t)n;

@@ -9,6 +9,9 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include "util/fault.h"
+#include "util/wfile.h"
+
 /* gnuplot strings are single-quoted: inside them gnuplot substitutes
  * nothing (no backquoted commands, no @macros) and a quote is doubled.  A
  * newline would end the command and start a new one, which could be a
@@ -95,11 +98,12 @@ static FILE *gnuplot_start(int errfd, pid_t *pid, struct err *e)
 
 /* The series as gnuplot data blocks (two blank lines apart, addressed with
  * `index k`) in a temporary file: the script itself carries no data. */
-static int write_data_file(const struct plot_spec *ps, int fd, struct err *e)
+static int write_data_file(const struct plot_spec *ps, int fd, const char *path, struct err *e)
 {
     FILE *f = fdopen(dup(fd), "w");
     if (!f)
-        return err_set(e, ERR_RUNTIME, "cannot write gnuplot data: %s", strerror(errno));
+        return err_set(e, ERR_RUNTIME, "cannot write the gnuplot data %s: %s", path,
+                       strerror(errno));
     for (int k = 0; k < ps->nseries; k++) {
         fprintf(f, "# series %d\n", k);
         int rows = 0;
@@ -114,9 +118,11 @@ static int write_data_file(const struct plot_spec *ps, int fd, struct err *e)
             fprintf(f, "NaN NaN\n");
         fprintf(f, "\n\n");
     }
-    int bad = ferror(f);
+    int bad = fault_write(ENOSPC) != 0 || fflush(f) != 0 || ferror(f);
+    int err = errno;
     if (fclose(f) != 0 || bad)
-        return err_set(e, ERR_RUNTIME, "cannot write gnuplot data: %s", strerror(errno));
+        return err_set(e, ERR_RUNTIME, "cannot write the gnuplot data %s: %s", path,
+                       strerror(bad ? err : errno));
     return 0;
 }
 
@@ -133,11 +139,11 @@ int plot_svg(const struct plot_spec *ps, const char *path, struct err *e)
     char errpath[512], datapath[512];
     snprintf(errpath, sizeof errpath, "%s/cascade-gnuplot-XXXXXX", tmp && *tmp ? tmp : "/tmp");
     snprintf(datapath, sizeof datapath, "%s/cascade-plotdata-XXXXXX", tmp && *tmp ? tmp : "/tmp");
-    int errfd = mkstemp(errpath);
+    int errfd = fault_write(ENOSPC) != 0 ? -1 : mkstemp(errpath);
     if (errfd < 0)
         return err_set(e, ERR_RUNTIME, "cannot create a temporary file %s: %s", errpath,
                        strerror(errno));
-    int datafd = mkstemp(datapath);
+    int datafd = fault_write(ENOSPC) != 0 ? -1 : mkstemp(datapath);
     if (datafd < 0) {
         int rc = err_set(e, ERR_RUNTIME, "cannot create a temporary file %s: %s", datapath,
                          strerror(errno));
@@ -145,8 +151,13 @@ int plot_svg(const struct plot_spec *ps, const char *path, struct err *e)
         unlink(errpath);
         return rc;
     }
-    int rc = write_data_file(ps, datafd, e);
+    int rc = write_data_file(ps, datafd, datapath, e);
     close(datafd);
+    /* gnuplot writes PATH.tmp, renamed over PATH when it succeeded: a
+     * failure leaves the previous figure or none, never a truncated one */
+    char svgtmp[4096 + 8] = "";
+    if (!rc && snprintf(svgtmp, sizeof svgtmp, "%s.tmp", path) >= (int)sizeof svgtmp)
+        rc = err_set(e, ERR_RUNTIME, "cannot write %s: the name is too long", path);
     pid_t pid = -1;
     FILE *g = rc ? NULL : gnuplot_start(errfd, &pid, e);
     if (!g) {
@@ -161,7 +172,7 @@ int plot_svg(const struct plot_spec *ps, const char *path, struct err *e)
     fprintf(g, "set terminal svg size 640,%d dynamic enhanced font 'sans,11' background rgb 'white'\n",
             below ? 400 + 18 * entries : 420);
     fprintf(g, "set output ");
-    put_quoted(g, path);
+    put_quoted(g, svgtmp);
     fprintf(g, "\nset encoding utf8\nset grid\n%s\n",
             below ? "set key below left Left reverse box vertical maxcols 1 spacing 1.1 height 0.6" : "set key top left box opaque");
     if (ps->title) {
@@ -218,8 +229,16 @@ int plot_svg(const struct plot_spec *ps, const char *path, struct err *e)
     close(errfd);
     unlink(errpath);
     unlink(datapath);
-    if (!WIFEXITED(status) || WEXITSTATUS(status) != 0)
+    if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) {
+        unlink(svgtmp);
         return err_set(e, ERR_RUNTIME, "gnuplot failed for %s%s%s", path, msg[0] ? ": " : "",
                        msg);
+    }
+    if (wfile_rename(svgtmp, path) != 0) {
+        int rc2 = err_set(e, ERR_RUNTIME, "cannot write %s: rename from %s: %s", path, svgtmp,
+                          strerror(errno));
+        unlink(svgtmp);
+        return rc2;
+    }
     return 0;
 }

@@ -6,11 +6,16 @@
 #include <string.h>
 
 #include "db.h"
+#include "util/mem.h"
 
-static char *dup_col(sqlite3_stmt *st, int col)
+/* A copy of a text column (NULL for NULL); *oom set when memory ran out. */
+static char *dup_col(sqlite3_stmt *st, int col, int *oom)
 {
     const unsigned char *t = sqlite3_column_text(st, col);
-    return t ? strdup((const char *)t) : NULL;
+    char *c = t ? mem_strdup((const char *)t) : NULL;
+    if (t && !c)
+        *oom = 1;
+    return c;
 }
 
 static int load_study(sqlite3 *db, const char *name, struct rdata *d, struct err *e)
@@ -28,13 +33,14 @@ static int load_study(sqlite3 *db, const char *name, struct rdata *d, struct err
                                      "them; run it first with cascade run)",
                        name);
     }
+    int oom = 0;
     d->study_id = sqlite3_column_int64(st, 0);
     snprintf(d->name, sizeof d->name, "%s", name);
-    d->description = dup_col(st, 1);
-    d->spec_path = dup_col(st, 2);
-    d->spec_text = dup_col(st, 3);
+    d->description = dup_col(st, 1, &oom);
+    d->spec_path = dup_col(st, 2, &oom);
+    d->spec_text = dup_col(st, 3, &oom);
     sqlite3_finalize(st);
-    return 0;
+    return oom ? err_nomem(e, "study") : 0;
 }
 
 static int load_axes(sqlite3 *db, struct rdata *d, struct err *e)
@@ -47,7 +53,7 @@ static int load_axes(sqlite3 *db, struct rdata *d, struct err *e)
         return rc;
     sqlite3_bind_int64(st, 1, d->study_id);
     while (!rc && sqlite3_step(st) == SQLITE_ROW) {
-        struct rd_axis *g = realloc(d->axes, (size_t)(d->naxes + 1) * sizeof *g);
+        struct rd_axis *g = mem_realloc(d->axes, (size_t)(d->naxes + 1) * sizeof *g);
         if (!g) {
             rc = err_nomem(e, "axes");
             break;
@@ -85,10 +91,11 @@ static int load_jobs(sqlite3 *db, struct rdata *d, struct err *e)
         return rc;
     sqlite3_bind_int64(st, 1, d->study_id);
     long cap = 0;
+    int oom = 0;
     while (!rc && sqlite3_step(st) == SQLITE_ROW) {
         if (d->njobs == cap) {
             cap = cap ? 2 * cap : 64;
-            struct rd_job *g = realloc(d->jobs, (size_t)cap * sizeof *g);
+            struct rd_job *g = mem_realloc(d->jobs, (size_t)cap * sizeof *g);
             if (!g) {
                 rc = err_nomem(e, "jobs");
                 break;
@@ -100,17 +107,19 @@ static int load_jobs(sqlite3 *db, struct rdata *d, struct err *e)
         j->id = sqlite3_column_int64(st, 0);
         snprintf(j->key, sizeof j->key, "%s", (const char *)sqlite3_column_text(st, 1));
         j->prep = strcmp((const char *)sqlite3_column_text(st, 2), "prep") == 0;
-        j->name = dup_col(st, 3);
+        j->name = dup_col(st, 3, &oom);
         j->seq = (long)sqlite3_column_int64(st, 4);
         j->params = json_loads((const char *)sqlite3_column_text(st, 5), 0, NULL);
         if (!j->params)
             j->params = json_object();
         snprintf(j->state, sizeof j->state, "%s", (const char *)sqlite3_column_text(st, 6));
         j->attempt = sqlite3_column_type(st, 7) == SQLITE_NULL ? 0 : sqlite3_column_int(st, 7);
-        j->message = dup_col(st, 8);
+        j->message = dup_col(st, 8, &oom);
         j->exit_code = sqlite3_column_type(st, 9) == SQLITE_NULL ? -1 : sqlite3_column_int(st, 9);
         j->signal = sqlite3_column_type(st, 10) == SQLITE_NULL ? -1 : sqlite3_column_int(st, 10);
         d->njobs++;
+        if (oom)
+            rc = err_nomem(e, "jobs");
     }
     sqlite3_finalize(st);
     return rc;
@@ -144,27 +153,30 @@ static int load_metrics(sqlite3 *db, struct rdata *d, struct err *e)
     if (rc)
         return rc;
     sqlite3_bind_text(st, 1, d->name, -1, SQLITE_STATIC);
+    int oom = 0;
     while (!rc && sqlite3_step(st) == SQLITE_ROW) {
         const char *m = (const char *)sqlite3_column_text(st, 0);
         if (rdata_metric(d, m) >= 0)
             continue;   /* two units for one metric: the first wins */
-        char **gm = realloc(d->metric, (size_t)(d->nmetrics + 1) * sizeof *gm);
+        char **gm = mem_realloc(d->metric, (size_t)(d->nmetrics + 1) * sizeof *gm);
         if (gm)
             d->metric = gm;
-        char **gu = gm ? realloc(d->unit, (size_t)(d->nmetrics + 1) * sizeof *gu) : NULL;
+        char **gu = gm ? mem_realloc(d->unit, (size_t)(d->nmetrics + 1) * sizeof *gu) : NULL;
         if (gu)
             d->unit = gu;
         if (!gm || !gu) {
             rc = err_nomem(e, "metrics");
             break;
         }
-        d->metric[d->nmetrics] = strdup(m);
-        d->unit[d->nmetrics] = dup_col(st, 1);
+        d->metric[d->nmetrics] = mem_strdup(m);
+        d->unit[d->nmetrics] = dup_col(st, 1, &oom);
         d->nmetrics++;
+        if (oom || !d->metric[d->nmetrics - 1])
+            rc = err_nomem(e, "metrics");
     }
     sqlite3_finalize(st);
     for (long i = 0; !rc && i < d->njobs; i++) {
-        d->jobs[i].val = malloc((size_t)(d->nmetrics ? d->nmetrics : 1) * sizeof(double));
+        d->jobs[i].val = mem_alloc((size_t)(d->nmetrics ? d->nmetrics : 1) * sizeof(double));
         if (!d->jobs[i].val)
             return err_nomem(e, "metric values");
         for (int m = 0; m < d->nmetrics; m++)
@@ -175,7 +187,7 @@ static int load_metrics(sqlite3 *db, struct rdata *d, struct err *e)
                                "solver_git || ')' FROM results WHERE study = ?1",
                                &st, e)))
         return rc;
-    struct id_index *ix = malloc((size_t)(d->njobs ? d->njobs : 1) * sizeof *ix);
+    struct id_index *ix = mem_alloc((size_t)(d->njobs ? d->njobs : 1) * sizeof *ix);
     if (!ix) {
         sqlite3_finalize(st);
         return err_nomem(e, "job index");
@@ -192,11 +204,13 @@ static int load_metrics(sqlite3 *db, struct rdata *d, struct err *e)
         if (sqlite3_column_type(st, 2) != SQLITE_NULL)
             d->jobs[j].val[m] = sqlite3_column_double(st, 2);
         if (!d->jobs[j].solver)
-            d->jobs[j].solver = dup_col(st, 3);
+            d->jobs[j].solver = dup_col(st, 3, &oom);
+        if (oom)
+            break;
     }
     sqlite3_finalize(st);
     free(ix);
-    return 0;
+    return oom ? err_nomem(e, "results") : 0;
 }
 
 int rdata_load(sqlite3 *db, const char *name, struct rdata *d, struct err *e)

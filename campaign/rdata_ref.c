@@ -8,6 +8,7 @@
 #include "db.h"
 #include "report_json.h"
 #include "resolution.h"
+#include "util/mem.h"
 
 int rdata_has_table(sqlite3 *db, const char *name)
 {
@@ -63,16 +64,16 @@ static void free_jobs(struct rdata *d)
 
 static int add_metric(struct rdata *d, const char *name, const char *unit)
 {
-    char **gm = realloc(d->metric, (size_t)(d->nmetrics + 1) * sizeof *gm);
+    char **gm = mem_realloc(d->metric, (size_t)(d->nmetrics + 1) * sizeof *gm);
     if (!gm)
         return -1;
     d->metric = gm;
-    char **gu = realloc(d->unit, (size_t)(d->nmetrics + 1) * sizeof *gu);
+    char **gu = mem_realloc(d->unit, (size_t)(d->nmetrics + 1) * sizeof *gu);
     if (!gu)
         return -1;
     d->unit = gu;
-    d->metric[d->nmetrics] = strdup(name);
-    d->unit[d->nmetrics] = strdup(unit);
+    d->metric[d->nmetrics] = mem_strdup(name);
+    d->unit[d->nmetrics] = mem_strdup(unit);
     d->nmetrics++;
     return 0;
 }
@@ -122,7 +123,7 @@ int rdata_use_source(sqlite3 *db, struct rdata *d, const char *source, struct er
     while (!rc && sqlite3_step(st) == SQLITE_ROW) {
         if (d->njobs == cap) {
             cap = cap ? 2 * cap : 16;
-            struct rd_job *g = realloc(d->jobs, (size_t)cap * sizeof *g);
+            struct rd_job *g = mem_realloc(d->jobs, (size_t)cap * sizeof *g);
             if (!g) {
                 rc = err_nomem(e, "rows");
                 break;
@@ -141,8 +142,8 @@ int rdata_use_source(sqlite3 *db, struct rdata *d, const char *source, struct er
         j->attempt = 1;
         j->exit_code = j->signal = -1;
         size_t n = strlen(source) + 16;
-        j->solver = malloc(n);
-        j->val = malloc((size_t)(d->nmetrics ? d->nmetrics : 1) * sizeof *j->val);
+        j->solver = mem_alloc(n);
+        j->val = mem_alloc((size_t)(d->nmetrics ? d->nmetrics : 1) * sizeof *j->val);
         if (!j->solver || !j->val) {
             free(j->solver);
             free(j->val);

@@ -11,6 +11,7 @@
 #include "refine_state.h"
 #include "study_analysis.h"
 #include "util/canon.h"
+#include "util/mem.h"
 
 struct level_cost {
     double h, wall;           /* per job, mean over the level's jobs */
@@ -47,7 +48,7 @@ static struct series *series_get(struct refine *f, const char *key, int add)
         return NULL;
     if (f->nser == f->cap) {
         int cap = f->cap ? 2 * f->cap : 16;
-        struct series *g = realloc(f->ser, (size_t)cap * sizeof *g);
+        struct series *g = mem_realloc(f->ser, (size_t)cap * sizeof *g);
         if (!g)
             return NULL;
         f->ser = g;
@@ -95,8 +96,8 @@ static int extended_build(struct refine *f, struct err *e)
     extended_free(f);
     const struct study *s = f->s;
     f->t = *s;
-    f->t.axes = calloc((size_t)s->naxes, sizeof *f->t.axes);
-    f->t.group_len = calloc((size_t)s->ngroups, sizeof *f->t.group_len);
+    f->t.axes = mem_calloc((size_t)s->naxes, sizeof *f->t.axes);
+    f->t.group_len = mem_calloc((size_t)s->ngroups, sizeof *f->t.group_len);
     if (!f->t.axes || !f->t.group_len) {
         free(f->t.axes);
         free(f->t.group_len);
@@ -126,7 +127,7 @@ static int extended_build(struct refine *f, struct err *e)
 static int keep_levels(void *ctx, struct plan *p, struct err *e)
 {
     struct refine *f = ctx;
-    long *idx = malloc((size_t)(f->t.ngroups ? f->t.ngroups : 1) * sizeof *idx);
+    long *idx = mem_alloc((size_t)(f->t.ngroups ? f->t.ngroups : 1) * sizeof *idx);
     if (!idx)
         return err_nomem(e, "refinement");
     long k = 0;
@@ -274,11 +275,11 @@ static int cost_add(struct costs *c, const char *key, double h, double wall)
         }
     if (c->n == c->cap) {
         int cap = c->cap ? 2 * c->cap : 32;
-        char(*k)[SA_LABEL_MAX] = realloc(c->key, (size_t)cap * sizeof *k);
+        char(*k)[SA_LABEL_MAX] = mem_realloc(c->key, (size_t)cap * sizeof *k);
         if (!k)
             return -1;
         c->key = k;
-        struct level_cost *l = realloc(c->lv, (size_t)cap * sizeof *l);
+        struct level_cost *l = mem_realloc(c->lv, (size_t)cap * sizeof *l);
         if (!l)
             return -1;
         c->lv = l;
@@ -472,7 +473,7 @@ static int analyse_round(struct refine *f, const struct study_run_opts *o, int *
     struct refine_row *rows = NULL;
     int nrows = 0;
     if (!rc) {
-        rows = calloc((size_t)(a.ngroups * f->r->nmetrics + 1), sizeof *rows);
+        rows = mem_calloc((size_t)(a.ngroups * f->r->nmetrics + 1), sizeof *rows);
         if (!rows)
             rc = err_nomem(e, "refinement");
     }
@@ -480,7 +481,7 @@ static int analyse_round(struct refine *f, const struct study_run_opts *o, int *
     double h_next = NAN;
     if (!rc) {
         struct refine probe = *f;
-        json_t **added = calloc((size_t)s->naxes, sizeof *added);
+        json_t **added = mem_calloc((size_t)s->naxes, sizeof *added);
         if (!added) {
             rc = err_nomem(e, "refinement");
         } else {
@@ -633,7 +634,7 @@ int refine_run(const struct study *s, const struct study_run_opts *o, struct run
     f.grp = s->axes[f.ax].group;
     f.nstart = (int)json_array_size(s->axes[f.ax].values);
     f.cores = (double)s->threads * (s->mpirun_np ? s->mpirun_np : 1);
-    f.added = calloc((size_t)s->naxes, sizeof *f.added);
+    f.added = mem_calloc((size_t)s->naxes, sizeof *f.added);
     if (!f.added)
         return err_nomem(e, "refinement");
     for (int i = 0; i < s->naxes; i++)

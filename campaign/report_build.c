@@ -10,6 +10,7 @@
 #include <unistd.h>
 
 #include "plot.h"
+#include "util/mem.h"
 
 #define CELL 160
 /* A study with many series gets value figures for the first few only, and
@@ -54,16 +55,21 @@ static void pct(double frac, char *out, size_t len)
 struct tab {
     int ncols, nrows, cap;
     char (*cells)[CELL];
+    int oom;   /* a row could not be added: the table (and report) is incomplete */
 };
 
 static char *tab_cell(struct tab *t, int col)
 {
+    if (t->oom)
+        return NULL;
     if (col == 0) {
         if (t->nrows == t->cap) {
             int cap = t->cap ? 2 * t->cap : 16;
-            char(*g)[CELL] = realloc(t->cells, (size_t)cap * (size_t)t->ncols * CELL);
-            if (!g)
+            char(*g)[CELL] = mem_realloc(t->cells, (size_t)cap * (size_t)t->ncols * CELL);
+            if (!g) {
+                t->oom = 1;
                 return NULL;
+            }
             t->cells = g;
             t->cap = cap;
         }
@@ -87,7 +93,10 @@ __attribute__((format(printf, 3, 4))) static void tab_put(struct tab *t, int col
 
 static void tab_emit(struct rdoc *doc, struct tab *t, const char *const *hdr)
 {
-    const char **cells = malloc((size_t)(t->nrows ? t->nrows : 1) * (size_t)t->ncols * sizeof *cells);
+    const char **cells =
+        t->oom ? NULL : mem_alloc((size_t)(t->nrows ? t->nrows : 1) * (size_t)t->ncols * sizeof *cells);
+    if (!cells)
+        rdoc_mark_incomplete(doc);
     if (cells) {
         for (int i = 0; i < t->nrows * t->ncols; i++)
             cells[i] = t->cells[i];
@@ -204,7 +213,7 @@ static void summary(struct rdoc *doc, const struct study_analysis *a)
                    "metric's unit.");
     const char *hdr[] = {"metric", "unit", "series", "grids", "p", "formal", "extrapolated",
                          "GCI fine", "band ±", "flags"};
-    struct tab t = {10, 0, 0, NULL};
+    struct tab t = {10, 0, 0, NULL, 0};
     for (int k = 0; k < a->nmetrics; k++)
         for (int g = 0; g < a->ngroups; g++) {
             const struct sa_conv *c = sa_conv_at(a, k, g);
@@ -246,7 +255,7 @@ static void failures(struct rdoc *doc, const struct study_analysis *a)
                    "cascade retry %s --failed to run the failed ones again).",
               n, n == 1 ? "" : "s", d->name);
     const char *hdr[] = {"job", "parameters", "state", "attempts", "reason"};
-    struct tab t = {5, 0, 0, NULL};
+    struct tab t = {5, 0, 0, NULL, 0};
     for (long j = 0; j < d->njobs; j++) {
         const struct rd_job *job = &d->jobs[j];
         if (strcmp(job->state, "done") == 0)
@@ -314,7 +323,7 @@ static void values_table(struct rdoc *doc, const struct study_analysis *a, int k
         hdr[nc++] = "sd (n)";
     hdr[nc++] = "change from coarser";
     hdr[nc++] = "local p";
-    struct tab t = {nc, 0, 0, NULL};
+    struct tab t = {nc, 0, 0, NULL, 0};
     for (int i = 0; i < gr->npts; i++) {
         const struct sa_point *pt = &a->pts[gr->pts[i]];
         int col = 0;
@@ -373,7 +382,7 @@ static void conv_table(struct rdoc *doc, const struct study_analysis *a, int k, 
     }
     const struct conv_result *r = &c->c;
     const char *hdr[] = {"quantity", "value"};
-    struct tab t = {2, 0, 0, NULL};
+    struct tab t = {2, 0, 0, NULL, 0};
     char b[64];
 #define ROW(name, ...)                                                                             \
     do {                                                                                           \
@@ -427,7 +436,7 @@ static int value_figure(struct rdoc *doc, const struct study_analysis *a, int k,
     int m = a->metrics[k], n = c->npts;
     if (n == 0)
         return 0;
-    double *hx = malloc((size_t)n * 2 * sizeof *hx);
+    double *hx = mem_alloc((size_t)n * 2 * sizeof *hx);
     if (!hx)
         return err_nomem(e, "figure");
     double *vy = hx + n;
@@ -485,10 +494,10 @@ static int error_figure(struct rdoc *doc, const struct study_analysis *a, int k,
     const struct rdata *d = a->d;
     int m = a->metrics[k];
     size_t np = (size_t)(a->npts ? a->npts : 1);
-    double *buf = malloc((size_t)ng * 2 * np * sizeof *buf);
-    char(*labels)[SA_LABEL_MAX] = calloc((size_t)ng, sizeof *labels);
-    char(*olabels)[128] = calloc((size_t)ng, sizeof *olabels);
-    char(*exprs)[256] = calloc((size_t)ng, sizeof *exprs);
+    double *buf = mem_alloc((size_t)ng * 2 * np * sizeof *buf);
+    char(*labels)[SA_LABEL_MAX] = mem_calloc((size_t)ng, sizeof *labels);
+    char(*olabels)[128] = mem_calloc((size_t)ng, sizeof *olabels);
+    char(*exprs)[256] = mem_calloc((size_t)ng, sizeof *exprs);
     if (!buf || !labels || !olabels || !exprs) {
         free(buf);
         free(labels);
@@ -635,7 +644,7 @@ static void fit_table(struct rdoc *doc, const struct study_analysis *a, const st
                   f->metric, f->names[0], xname, f->names[1],
                   f->extrapolated ? " on the extrapolated values" : "");
     const char *hdr[] = {"series", "points", f->names[0], f->names[1], "R^2", "rms residual"};
-    struct tab t = {6, 0, 0, NULL};
+    struct tab t = {6, 0, 0, NULL, 0};
     for (int s = p->first; s < p->first + p->n; s++) {
         const struct sa_xseries *xs = &a->xs[s];
         tab_put(&t, 0, "%s", xs->label);
@@ -691,7 +700,7 @@ static int xplot_section(struct rdoc *doc, const struct study_analysis *a, int p
         hdr[nc++] = "sd over repeats";
     if (has_ext)
         hdr[nc++] = "extrapolated";
-    struct tab t = {nc, 0, 0, NULL};
+    struct tab t = {nc, 0, 0, NULL, 0};
     for (int s = p->first; s < p->first + p->n; s++) {
         const struct sa_xseries *xs = &a->xs[s];
         for (int i = 0; i < xs->n; i++) {
@@ -731,9 +740,9 @@ static int xplot_section(struct rdoc *doc, const struct study_analysis *a, int p
     ps.logx = p->logx;
     int ns = p->n < PLOT_MAX_SERIES ? p->n : PLOT_MAX_SERIES;
     int with_ext = has_ext && 2 * ns <= PLOT_MAX_SERIES;
-    char(*labels)[2][SA_LABEL_MAX] = calloc((size_t)ns, sizeof *labels);
-    char(*exprs)[256] = calloc((size_t)ns, sizeof *exprs);
-    char(*flabels)[SA_LABEL_MAX] = calloc((size_t)ns, sizeof *flabels);
+    char(*labels)[2][SA_LABEL_MAX] = mem_calloc((size_t)ns, sizeof *labels);
+    char(*exprs)[256] = mem_calloc((size_t)ns, sizeof *exprs);
+    char(*flabels)[SA_LABEL_MAX] = mem_calloc((size_t)ns, sizeof *flabels);
     if (!labels || !exprs || !flabels) {
         free(labels);
         free(exprs);

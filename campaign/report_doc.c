@@ -6,6 +6,8 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include "util/mem.h"
+#include "util/wfile.h"
 
 enum block_kind { B_HEADING, B_PARA, B_TABLE, B_FIGURE };
 
@@ -22,13 +24,14 @@ struct rdoc {
     char *title;
     int n, cap;
     struct block *b;
+    int oom;   /* an allocation failed: the document is incomplete, writing it fails */
 };
 
 struct rdoc *rdoc_create(const char *title)
 {
-    struct rdoc *d = calloc(1, sizeof *d);
-    if (d)
-        d->title = strdup(title ? title : "");
+    struct rdoc *d = mem_calloc(1, sizeof *d);
+    if (d && !(d->title = mem_strdup(title ? title : "")))
+        d->oom = 1;
     return d;
 }
 
@@ -53,13 +56,21 @@ void rdoc_destroy(struct rdoc **pd)
     *pd = NULL;
 }
 
+void rdoc_mark_incomplete(struct rdoc *d)
+{
+    if (d)
+        d->oom = 1;
+}
+
 static struct block *push(struct rdoc *d, enum block_kind kind)
 {
     if (d->n == d->cap) {
         int cap = d->cap ? 2 * d->cap : 32;
-        struct block *nb = realloc(d->b, (size_t)cap * sizeof *nb);
-        if (!nb)
+        struct block *nb = mem_realloc(d->b, (size_t)cap * sizeof *nb);
+        if (!nb) {
+            d->oom = 1;
             return NULL;
+        }
         d->b = nb;
         d->cap = cap;
     }
@@ -74,7 +85,7 @@ void rdoc_heading(struct rdoc *d, int level, const char *text)
     struct block *b = push(d, B_HEADING);
     if (b) {
         b->level = level;
-        b->text = strdup(text);
+        d->oom |= !(b->text = mem_strdup(text));
     }
 }
 
@@ -88,7 +99,7 @@ void rdoc_para(struct rdoc *d, const char *fmt, ...)
     char buf[8192];
     vsnprintf(buf, sizeof buf, fmt, ap);
     va_end(ap);
-    b->text = strdup(buf);
+    d->oom |= !(b->text = mem_strdup(buf));
 }
 
 void rdoc_table(struct rdoc *d, int ncols, const char *const *header, int nrows,
@@ -99,22 +110,25 @@ void rdoc_table(struct rdoc *d, int ncols, const char *const *header, int nrows,
         return;
     b->ncols = ncols;
     b->nrows = nrows;
-    b->cells = calloc((size_t)(nrows + 1) * ncols, sizeof *b->cells);
-    if (!b->cells)
+    b->cells = mem_calloc((size_t)(nrows + 1) * ncols, sizeof *b->cells);
+    if (!b->cells) {
+        d->oom = 1;
         return;
+    }
     for (int c = 0; c < ncols; c++)
-        b->cells[c] = strdup(header[c] ? header[c] : "");
+        d->oom |= !(b->cells[c] = mem_strdup(header[c] ? header[c] : ""));
     for (int k = 0; k < nrows * ncols; k++)
-        b->cells[ncols + k] = strdup(cells[k] ? cells[k] : "");
+        d->oom |= !(b->cells[ncols + k] = mem_strdup(cells[k] ? cells[k] : ""));
 }
 
 void rdoc_figure(struct rdoc *d, const char *dir, const char *svg_name, const char *caption)
 {
     struct block *b = push(d, B_FIGURE);
     if (b) {
-        b->dir = strdup(dir);
-        b->file = strdup(svg_name);
-        b->text = strdup(caption ? caption : "");
+        b->dir = mem_strdup(dir);
+        b->file = mem_strdup(svg_name);
+        b->text = mem_strdup(caption ? caption : "");
+        d->oom |= !b->dir || !b->file || !b->text;
     }
 }
 
@@ -148,9 +162,13 @@ static void md_text(FILE *f, const char *s)
 
 int rdoc_write_markdown(const struct rdoc *d, const char *path, struct err *e)
 {
-    FILE *f = fopen(path, "w");
-    if (!f)
-        return err_set(e, ERR_RUNTIME, "%s: cannot write: %s", path, strerror(errno));
+    if (!d || d->oom)
+        return err_set(e, ERR_RUNTIME, "cannot write %s: out of memory (report)", path);
+    struct wfile w;
+    int rc = wfile_open(&w, path, e);
+    if (rc)
+        return rc;
+    FILE *f = w.f;
     fputs("# ", f);
     md_text(f, d->title);
     fputs("\n\n", f);
@@ -194,10 +212,7 @@ int rdoc_write_markdown(const struct rdoc *d, const char *path, struct err *e)
             break;
         }
     }
-    int bad = ferror(f);
-    if (fclose(f) != 0 || bad)
-        return err_set(e, ERR_RUNTIME, "%s: write error", path);
-    return 0;
+    return wfile_commit(&w, e);
 }
 
 static void html_text(FILE *f, const char *s)
@@ -258,9 +273,13 @@ static int inline_svg(FILE *out, const char *dir, const char *file)
 
 int rdoc_write_html(const struct rdoc *d, const char *path, struct err *e)
 {
-    FILE *f = fopen(path, "w");
-    if (!f)
-        return err_set(e, ERR_RUNTIME, "%s: cannot write: %s", path, strerror(errno));
+    if (!d || d->oom)
+        return err_set(e, ERR_RUNTIME, "cannot write %s: out of memory (report)", path);
+    struct wfile w;
+    int rc = wfile_open(&w, path, e);
+    if (rc)
+        return rc;
+    FILE *f = w.f;
     fputs("<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>", f);
     html_text(f, d->title);
     fputs("</title>\n<style>\n"
@@ -316,8 +335,5 @@ int rdoc_write_html(const struct rdoc *d, const char *path, struct err *e)
         }
     }
     fputs("</body>\n</html>\n", f);
-    int bad = ferror(f);
-    if (fclose(f) != 0 || bad)
-        return err_set(e, ERR_RUNTIME, "%s: write error", path);
-    return 0;
+    return wfile_commit(&w, e);
 }

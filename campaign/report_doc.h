@@ -22,6 +22,10 @@ void rdoc_table(struct rdoc *d, int ncols, const char *const *header, int nrows,
  * Markdown page; read and inlined into the HTML page). */
 void rdoc_figure(struct rdoc *d, const char *dir, const char *svg_name, const char *caption);
 
+/* Memory ran out while building a block outside: writing the document fails
+ * (rdoc_write_* say so) rather than leave the block out. */
+void rdoc_mark_incomplete(struct rdoc *d);
+
 int rdoc_write_markdown(const struct rdoc *d, const char *path, struct err *e);
 int rdoc_write_html(const struct rdoc *d, const char *path, struct err *e);
 

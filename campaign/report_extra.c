@@ -7,6 +7,7 @@
 
 #include "report_build.h"
 #include "study_analysis.h"
+#include "util/mem.h"
 
 #define CELL 160
 
@@ -28,7 +29,7 @@ static void pct(const json_t *v, char *out, size_t len)
 
 static void emit(struct rdoc *doc, int ncols, const char *const *hdr, char (*cells)[CELL], int nrows)
 {
-    const char **p = malloc((size_t)(nrows ? nrows : 1) * (size_t)ncols * sizeof *p);
+    const char **p = mem_alloc((size_t)(nrows ? nrows : 1) * (size_t)ncols * sizeof *p);
     if (!p)
         return;
     for (int i = 0; i < nrows * ncols; i++)
@@ -48,7 +49,7 @@ static void references(struct rdoc *doc, const json_t *refs)
                    "campaign - reference.");
     const char *hdr[] = {"source", "line", "parameters", "metric", "reference", "campaign", "diff",
                          "relative"};
-    char(*cells)[CELL] = calloc((size_t)n * 8, CELL);
+    char(*cells)[CELL] = mem_calloc((size_t)n * 8, CELL);
     if (!cells)
         return;
     for (int i = 0; i < n; i++) {
@@ -82,7 +83,7 @@ static void refinement(struct rdoc *doc, const json_t *refine)
               json_string_value(json_object_get(json_array_get(refine, 0), "axis")));
     const char *hdr[] = {"metric", "series", "levels", "finest", "value", "extrapolated",
                          "GCI fine", "band ±", "state", "why", "core-s spent", "next level (predicted core-s)"};
-    char(*cells)[CELL] = calloc((size_t)n * 12, CELL);
+    char(*cells)[CELL] = mem_calloc((size_t)n * 12, CELL);
     if (!cells)
         return;
     for (int i = 0; i < n; i++) {

@@ -6,6 +6,8 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "util/wfile.h"
+
 json_t *report_json_num(double x)
 {
     return isfinite(x) ? json_real(x) : json_null();
@@ -127,16 +129,13 @@ json_t *report_json(const struct study_analysis *a, const char *source, const ch
 
 int report_json_write(const json_t *doc, const char *path, struct err *e)
 {
-    char tmp[4096 + 16];
-    snprintf(tmp, sizeof tmp, "%s.tmp", path);
-    if (json_dump_file(doc, tmp, JSON_INDENT(1) | JSON_REAL_PRECISION(17)) != 0) {
-        remove(tmp);
-        return err_set(e, ERR_RUNTIME, "cannot write %s", path);
+    struct wfile w;
+    int rc = wfile_open(&w, path, e);
+    if (rc)
+        return rc;
+    if (json_dumpf(doc, w.f, JSON_INDENT(1) | JSON_REAL_PRECISION(17)) != 0) {
+        wfile_discard(&w);
+        return err_set(e, ERR_RUNTIME, "cannot write %s: write error", path);
     }
-    if (rename(tmp, path) != 0) {
-        int en = errno;
-        remove(tmp);
-        return err_set(e, ERR_RUNTIME, "cannot write %s: %s", path, strerror(en));
-    }
-    return 0;
+    return wfile_commit(&w, e);
 }

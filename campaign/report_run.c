@@ -12,31 +12,36 @@
 #include "report_extra.h"
 #include "report_json.h"
 #include "sysinfo.h"
+#include "util/mem.h"
 #include "util/yamldoc.h"
 
-/* The study's own `metrics:` order, then the report's. */
-static void order_metrics(struct report_ctx *c)
+/* The study's own `metrics:` order, then the report's.  The study text
+ * was read before (report_spec_from_text): failing now means no memory. */
+static int order_metrics(struct report_ctx *c, struct err *e)
 {
     json_t *doc = NULL;
     struct locmap *locs = NULL;
-    struct err e = {0};
     const char *text = c->d.spec_text ? c->d.spec_text : "";
-    if (yamldoc_load_string(text, strlen(text), "study", &doc, &locs, &e) == 0) {
+    int rc = yamldoc_load_string(text, strlen(text), "study", &doc, &locs, e);
+    if (!rc) {
         json_t *list = json_object_get(doc, "metrics");
         size_t n = json_is_array(list) ? json_array_size(list) : 0;
-        const char **names = calloc(n + 1, sizeof *names);
+        const char **names = mem_calloc(n + 1, sizeof *names);
         int k = 0;
         for (size_t i = 0; names && i < n; i++)
             if (json_is_string(json_array_get(list, i)))
                 names[k++] = json_string_value(json_array_get(list, i));
         if (names)
             rdata_order_metrics(&c->d, names, k);
+        else
+            rc = err_nomem(e, "metric order");
         free(names);
     }
     json_decref(doc);
     locmap_destroy(&locs);
-    if (c->rs->metrics)
+    if (!rc && c->rs->metrics)
         rdata_order_metrics(&c->d, (const char *const *)c->rs->metrics, c->rs->nmetrics);
+    return rc;
 }
 
 /* Which rows to analyse: the campaign's, or one imported source's; then
@@ -103,7 +108,8 @@ int report_load_source(struct report_ctx *c, sqlite3 *db, const char *name, cons
             return rc;
         c->rs = &c->own;
     }
-    order_metrics(c);
+    if ((rc = order_metrics(c, e)))
+        return rc;
     rc = sa_build(&c->a, &c->d, c->rs, e);
     if (!rc) {
         c->analysed = 1;

@@ -5,6 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "util/mem.h"
 #include "util/yamldoc.h"
 
 const char *const hmap_names[] = {"value", "inverse", "cells", NULL};
@@ -118,7 +119,7 @@ static int read_order(struct cfg_obj *rep, struct report_spec *rs)
     int rc = cfg_section(rep, "order", &o);
     if (rc)
         return rc;
-    rs->orders = calloc(json_object_size(o.node) + 1, sizeof *rs->orders);
+    rs->orders = mem_calloc(json_object_size(o.node) + 1, sizeof *rs->orders);
     if (!rs->orders)
         return err_nomem(o.cfg->err, "orders");
     const char *key;
@@ -151,11 +152,11 @@ static int read_metrics(struct cfg_obj *rep, struct report_spec *rs)
     int n, rc = cfg_strings(rep, "metrics", 0, names, 256, &n);
     if (rc || n == 0)
         return rc;
-    rs->metrics = calloc((size_t)n, sizeof *rs->metrics);
+    rs->metrics = mem_calloc((size_t)n, sizeof *rs->metrics);
     if (!rs->metrics)
         return err_nomem(rep->cfg->err, "report metrics");
     for (int i = 0; i < n; i++) {
-        if (!(rs->metrics[i] = strdup(names[i])))
+        if (!(rs->metrics[i] = mem_strdup(names[i])))
             return err_nomem(rep->cfg->err, "report metrics");
         rs->nmetrics++;
     }
@@ -168,7 +169,7 @@ static int read_axes(struct cfg_obj *rep, struct report_spec *rs)
     int present, rc = cfg_section_opt(rep, "axes", &ax, &present);
     if (rc || !present)
         return rc;
-    rs->axes = calloc(json_object_size(ax.node) + 1, sizeof *rs->axes);
+    rs->axes = mem_calloc(json_object_size(ax.node) + 1, sizeof *rs->axes);
     if (!rs->axes)
         return err_nomem(ax.cfg->err, "report axes");
     const char *key;
@@ -202,7 +203,7 @@ static int read_fits(struct cfg_obj *rep, struct report_spec *rs)
     int rc = cfg_list(rep, "fits", 0, &n);
     if (rc || n == 0)
         return rc;
-    rs->fits = calloc(n, sizeof *rs->fits);
+    rs->fits = mem_calloc(n, sizeof *rs->fits);
     if (!rs->fits)
         return err_nomem(rep->cfg->err, "fits");
     for (size_t i = 0; i < n; i++) {
@@ -275,7 +276,7 @@ static int read_regress(struct cfg_obj *root, struct report_spec *rs)
                 (rc = read_tol(&one, &rs->tol_default, NULL)))
                 return rc;
         }
-        rs->tols = calloc(json_object_size(tl.node) + 1, sizeof *rs->tols);
+        rs->tols = mem_calloc(json_object_size(tl.node) + 1, sizeof *rs->tols);
         if (!rs->tols)
             return err_nomem(tl.cfg->err, "tolerances");
         const char *key;

@@ -8,6 +8,7 @@
 #include "progress_view.h"
 #include "store.h"
 #include "sysinfo.h"
+#include "util/mem.h"
 
 enum mem_state { M_QUEUED, M_RUNNING, M_DONE, M_FAILED, M_ELSEWHERE, M_CANCELLED };
 
@@ -55,7 +56,7 @@ static int push(struct run_state *r, long j, double at)
 {
     if (r->qn == r->qcap) {
         long cap = r->qcap ? 2 * r->qcap : 1024;
-        struct queue_entry *g = realloc(r->q, (size_t)cap * sizeof *g);
+        struct queue_entry *g = mem_realloc(r->q, (size_t)cap * sizeof *g);
         if (!g)
             return -1;
         r->q = g;
@@ -465,11 +466,11 @@ int runner_run(const struct study *s, const struct plan *p, const struct solver 
     int rc = store_init(&r.store, db, s, sv, o->lease_s, e);
     if (rc)
         return rc;
-    r.job_ids = calloc((size_t)p->njobs, sizeof *r.job_ids);
-    r.mem = calloc((size_t)p->njobs, sizeof *r.mem);
-    r.dep_check = calloc((size_t)p->njobs, sizeof *r.dep_check);
-    r.dep_verdict = calloc((size_t)p->njobs, sizeof *r.dep_verdict);
-    r.slots = calloc((size_t)b->nslots, sizeof *r.slots);
+    r.job_ids = mem_calloc((size_t)p->njobs, sizeof *r.job_ids);
+    r.mem = mem_calloc((size_t)p->njobs, sizeof *r.mem);
+    r.dep_check = mem_calloc((size_t)p->njobs, sizeof *r.dep_check);
+    r.dep_verdict = mem_calloc((size_t)p->njobs, sizeof *r.dep_verdict);
+    r.slots = mem_calloc((size_t)b->nslots, sizeof *r.slots);
     if (!r.job_ids || !r.mem || !r.dep_check || !r.dep_verdict || !r.slots)
         rc = err_nomem(e, "runner");
     if (!rc)

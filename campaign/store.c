@@ -10,6 +10,7 @@
 #include "db.h"
 #include "launch.h"
 #include "sysinfo.h"
+#include "util/mem.h"
 
 enum {
     Q_LEASE_GET,
@@ -733,10 +734,10 @@ int store_reap(struct store *st, int *n, struct err *e)
             continue;
         if (*n == cap) {
             cap = cap ? 2 * cap : 16;
-            void *g1 = realloc(stale, (size_t)cap * sizeof *stale);
+            void *g1 = mem_realloc(stale, (size_t)cap * sizeof *stale);
             if (g1)
                 stale = g1;
-            void *g2 = realloc(why, (size_t)cap * sizeof *why);
+            void *g2 = mem_realloc(why, (size_t)cap * sizeof *why);
             if (g2)
                 why = g2;
             if (!g1 || !g2)

@@ -10,6 +10,7 @@
 
 #include "util/canon.h"
 #include "util/cfg.h"
+#include "util/mem.h"
 #include "util/sha256.h"
 #include "util/yamldoc.h"
 
@@ -91,12 +92,12 @@ static int read_text(const char *path, char **text, size_t *len, struct err *e)
     if (!f)
         return err_set(e, ERR_INPUT, "%s: cannot open study: %s", path, strerror(errno));
     size_t cap = 4096, n = 0;
-    char *buf = malloc(cap + 1);
+    char *buf = mem_alloc(cap + 1);
     size_t got;
     while (buf && (got = fread(buf + n, 1, cap - n, f)) > 0) {
         n += got;
         if (n == cap) {
-            char *nb = realloc(buf, 2 * cap + 1);
+            char *nb = mem_realloc(buf, 2 * cap + 1);
             if (!nb) {
                 free(buf);
                 buf = NULL;
@@ -191,7 +192,7 @@ static int read_settings(struct study *s, json_t *v, const char *where, struct s
     if (!json_is_object(v))
         return fail_at(s, where, e, "must be a mapping of case keys (like md.steps) to values");
     size_t cap = json_object_size(v);
-    struct study_setting *set = calloc(cap ? cap : 1, sizeof *set);
+    struct study_setting *set = mem_calloc(cap ? cap : 1, sizeof *set);
     if (!set)
         return err_nomem(e, "settings");
     const char *key;
@@ -237,7 +238,7 @@ static void settings_free(struct study_setting *set, int n)
 static int add_axis(struct study *s, const char *path, enum axis_kind kind, int group, json_t *values,
                     const char *where, struct err *e)
 {
-    struct study_axis *grown = realloc(s->axes, (size_t)(s->naxes + 1) * sizeof *grown);
+    struct study_axis *grown = mem_realloc(s->axes, (size_t)(s->naxes + 1) * sizeof *grown);
     if (!grown)
         return err_nomem(e, "axes");
     s->axes = grown;
@@ -414,7 +415,7 @@ static int read_sweep(struct study *s, struct cfg_obj *root, struct err *e)
             return rc;
     }
     s->ngroups = group;
-    s->group_len = calloc((size_t)(group ? group : 1), sizeof *s->group_len);
+    s->group_len = mem_calloc((size_t)(group ? group : 1), sizeof *s->group_len);
     if (!s->group_len)
         return err_nomem(e, "groups");
     for (int i = 0; i < s->naxes; i++)
@@ -528,7 +529,7 @@ static int read_preps(struct study *s, json_t *v, struct err *e)
         return fail_at(s, "prep", e, "must be a mapping of names to preparation jobs, like "
                                      "equil: {set: {md.steps: 1000}}");
     size_t n = json_object_size(v);
-    s->preps = calloc(n, sizeof *s->preps);
+    s->preps = mem_calloc(n, sizeof *s->preps);
     if (!s->preps)
         return err_nomem(e, "preps");
     const char *name;
@@ -573,8 +574,8 @@ static int read_preps(struct study *s, json_t *v, struct err *e)
     }
     /* dependency order: a prep may read the output of others, never in a cycle */
     int np = s->nprep;
-    int *needs = calloc((size_t)np * (size_t)np, sizeof *needs);
-    int *order = calloc((size_t)np, sizeof *order), *placed = calloc((size_t)np, sizeof *placed);
+    int *needs = mem_calloc((size_t)np * (size_t)np, sizeof *needs);
+    int *order = mem_calloc((size_t)np, sizeof *order), *placed = mem_calloc((size_t)np, sizeof *placed);
     if (!needs || !order || !placed) {
         free(needs);
         free(order);
@@ -609,7 +610,7 @@ static int read_preps(struct study *s, json_t *v, struct err *e)
         }
     }
     if (!rc) {
-        struct study_prep *sorted = calloc((size_t)np, sizeof *sorted);
+        struct study_prep *sorted = mem_calloc((size_t)np, sizeof *sorted);
         if (!sorted) {
             rc = err_nomem(e, "prep order");
         } else {
@@ -663,7 +664,7 @@ static int read_metrics(struct study *s, struct cfg_obj *root, struct err *e)
     if (!json_is_array(v) || json_array_size(v) == 0)
         return fail_at(s, "metrics", e, "must be 'all' or a list of metric names from result.json");
     s->nmetrics = (int)json_array_size(v);
-    s->metrics = calloc((size_t)s->nmetrics, sizeof *s->metrics);
+    s->metrics = mem_calloc((size_t)s->nmetrics, sizeof *s->metrics);
     if (!s->metrics)
         return err_nomem(e, "metrics");
     for (int i = 0; i < s->nmetrics; i++) {
@@ -675,7 +676,7 @@ static int read_metrics(struct study *s, struct cfg_obj *root, struct err *e)
         for (int j = 0; j < i; j++)
             if (strcmp(s->metrics[j], json_string_value(m)) == 0)
                 return fail_at(s, w, e, "'%s' is listed twice", json_string_value(m));
-        s->metrics[i] = strdup(json_string_value(m));
+        s->metrics[i] = mem_strdup(json_string_value(m));
         if (!s->metrics[i])
             return err_nomem(e, "metrics");
     }
@@ -817,7 +818,7 @@ static int study_read(struct study *s, struct err *e)
         return fail_at(s, "name", e, "'%s': a study name is letters, digits, '_', '-' and '.' "
                                      "(it names the directory runs/<name>/)", name);
     snprintf(s->name, sizeof s->name, "%s", name);
-    s->description = strdup(desc);
+    s->description = mem_strdup(desc);
     if (!s->description)
         return err_nomem(e, "description");
     cfg_allow(&root, "base");

@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "util/canon.h"
+#include "util/mem.h"
 
 /* Flag thresholds (documented in docs/reports.md). */
 #define SA_FORMAL_TOL 0.25     /* |p - formal| > 25 % of the formal order */
@@ -94,11 +95,16 @@ void sa_job_label(const struct rdata *d, const json_t *params, char *out, size_t
     json_decref(ordered);
 }
 
-static void key_of(const json_t *obj, char *out, size_t len)
+/* The grouping key of a parameter set: 0, or -1 when out of memory (a
+ * stand-in key would merge points that differ). */
+static int key_of(const json_t *obj, char *out, size_t len)
 {
-    char *t = canon_json(obj);
-    snprintf(out, len, "%s", t ? t : "{}");
+    char *t = obj ? canon_json(obj) : NULL;
+    if (!t)
+        return -1;
+    snprintf(out, len, "%s", t);
     free(t);
+    return 0;
 }
 
 /* The swept values of a job restricted to axes for which keep(axis) holds,
@@ -150,7 +156,7 @@ static int grow_long(long **arr, int n)
 {
     if (n & (n - 1))
         return 0;
-    long *g = realloc(*arr, (size_t)(n ? 2 * n : 1) * sizeof *g);
+    long *g = mem_realloc(*arr, (size_t)(n ? 2 * n : 1) * sizeof *g);
     if (!g)
         return -1;
     *arr = g;
@@ -161,7 +167,7 @@ static int grow_double(double **arr, int n)
 {
     if (n & (n - 1))
         return 0;
-    double *g = realloc(*arr, (size_t)(n ? 2 * n : 1) * sizeof *g);
+    double *g = mem_realloc(*arr, (size_t)(n ? 2 * n : 1) * sizeof *g);
     if (!g)
         return -1;
     *arr = g;
@@ -172,7 +178,7 @@ static int grow_int(int **arr, int n)
 {
     if (n & (n - 1))
         return 0;
-    int *g = realloc(*arr, (size_t)(n ? 2 * n : 1) * sizeof *g);
+    int *g = mem_realloc(*arr, (size_t)(n ? 2 * n : 1) * sizeof *g);
     if (!g)
         return -1;
     *arr = g;
@@ -184,8 +190,8 @@ static int build_points(struct study_analysis *a, struct err *e)
     const struct rdata *d = a->d;
     json_t *pdict = json_object(), *gdict = json_object();
     int rc = 0;
-    a->pts = calloc((size_t)(d->njobs ? d->njobs : 1), sizeof *a->pts);
-    a->groups = calloc((size_t)(d->njobs ? d->njobs : 1), sizeof *a->groups);
+    a->pts = mem_calloc((size_t)(d->njobs ? d->njobs : 1), sizeof *a->pts);
+    a->groups = mem_calloc((size_t)(d->njobs ? d->njobs : 1), sizeof *a->groups);
     if (!a->pts || !a->groups || !pdict || !gdict)
         rc = err_nomem(e, "points");
     for (long j = 0; !rc && j < d->njobs; j++) {
@@ -196,7 +202,11 @@ static int build_points(struct study_analysis *a, struct err *e)
         a->ndone += job->solver != NULL;
         json_t *pp = restrict_params(d, job->params, keep_point, a, 0);
         char key[SA_LABEL_MAX];
-        key_of(pp, key, sizeof key);
+        if (key_of(pp, key, sizeof key) != 0) {
+            json_decref(pp);
+            rc = err_nomem(e, "points");
+            break;
+        }
         int added, p = dict_index(pdict, key, a->npts, &added);
         struct sa_point *pt = &a->pts[p];
         if (added) {
@@ -209,7 +219,11 @@ static int build_points(struct study_analysis *a, struct err *e)
                         : NAN;
             json_t *gp = restrict_params(d, job->params, keep_group, a, 0);
             char gkey[SA_LABEL_MAX];
-            key_of(gp, gkey, sizeof gkey);
+            if (key_of(gp, gkey, sizeof gkey) != 0) {
+                json_decref(gp);
+                rc = err_nomem(e, "points");
+                break;
+            }
             int gadded, g = dict_index(gdict, gkey, a->ngroups, &gadded);
             struct sa_group *gr = &a->groups[g];
             if (gadded) {
@@ -256,9 +270,9 @@ static int build_points(struct study_analysis *a, struct err *e)
     for (int p = 0; p < a->npts; p++) {
         struct sa_point *pt = &a->pts[p];
         size_t nm = (size_t)(d->nmetrics ? d->nmetrics : 1);
-        pt->mean = calloc(nm, sizeof *pt->mean);
-        pt->sd = calloc(nm, sizeof *pt->sd);
-        pt->n = calloc(nm, sizeof *pt->n);
+        pt->mean = mem_calloc(nm, sizeof *pt->mean);
+        pt->sd = mem_calloc(nm, sizeof *pt->sd);
+        pt->n = mem_calloc(nm, sizeof *pt->n);
         if (!pt->mean || !pt->sd || !pt->n)
             return err_nomem(e, "point statistics");
         for (int m = 0; m < d->nmetrics; m++) {
@@ -302,9 +316,9 @@ static int analyse_one(struct study_analysis *a, int k, int g, struct err *e)
     c->metric = m;
     c->group = g;
     c->formal = report_spec_order(a->rs, d->metric[m]);
-    c->pts = malloc((size_t)(gr->npts ? gr->npts : 1) * sizeof *c->pts);
-    c->local_p = malloc((size_t)(gr->npts ? gr->npts : 1) * sizeof *c->local_p);
-    c->local_kind = malloc((size_t)(gr->npts ? gr->npts : 1) * sizeof *c->local_kind);
+    c->pts = mem_alloc((size_t)(gr->npts ? gr->npts : 1) * sizeof *c->pts);
+    c->local_p = mem_alloc((size_t)(gr->npts ? gr->npts : 1) * sizeof *c->local_p);
+    c->local_kind = mem_alloc((size_t)(gr->npts ? gr->npts : 1) * sizeof *c->local_kind);
     if (!c->pts || !c->local_p || !c->local_kind)
         return err_nomem(e, "convergence");
     for (int i = 0; i < gr->npts; i++) {
@@ -419,7 +433,7 @@ static int grow_xs(struct study_analysis *a, int *cap, struct err *e)
     if (a->nxs < *cap)
         return 0;
     *cap = *cap ? 2 * *cap : 16;
-    struct sa_xseries *g = realloc(a->xs, (size_t)*cap * sizeof *g);
+    struct sa_xseries *g = mem_realloc(a->xs, (size_t)*cap * sizeof *g);
     if (!g)
         return err_nomem(e, "series");
     a->xs = g;
@@ -428,7 +442,7 @@ static int grow_xs(struct study_analysis *a, int *cap, struct err *e)
 
 static int add_xplot(struct study_analysis *a, const struct sa_xplot *p, struct err *e)
 {
-    struct sa_xplot *g = realloc(a->xplots, (size_t)(a->nxplots + 1) * sizeof *g);
+    struct sa_xplot *g = mem_realloc(a->xplots, (size_t)(a->nxplots + 1) * sizeof *g);
     if (!g)
         return err_nomem(e, "plots");
     a->xplots = g;
@@ -473,7 +487,11 @@ static int build_series(struct study_analysis *a, int m, int xa, int xm, int res
                            ? restrict_params(d, a->groups[g].params, keep_rest, a, rest_out)
                            : json_object();
         char key[SA_LABEL_MAX];
-        key_of(rest, key, sizeof key);
+        if (key_of(rest, key, sizeof key) != 0) {
+            json_decref(rest);
+            rc = err_nomem(e, "series");
+            break;
+        }
         int added, s = dict_index(dict, key, a->nxs - first, &added);
         if (added) {
             if ((rc = grow_xs(a, cap, e))) {
@@ -608,7 +626,7 @@ static int build_xseries(struct study_analysis *a, struct err *e)
 static int choose_metrics(struct study_analysis *a, struct err *e)
 {
     const struct rdata *d = a->d;
-    a->metrics = malloc((size_t)(d->nmetrics ? d->nmetrics : 1) * sizeof *a->metrics);
+    a->metrics = mem_alloc((size_t)(d->nmetrics ? d->nmetrics : 1) * sizeof *a->metrics);
     if (!a->metrics)
         return err_nomem(e, "metrics");
     for (int m = 0; m < d->nmetrics; m++)
@@ -623,7 +641,7 @@ int sa_build(struct study_analysis *a, const struct rdata *d, const struct repor
     memset(a, 0, sizeof *a);
     a->d = d;
     a->rs = rs;
-    struct res_axis_info *ai = calloc((size_t)(d->naxes ? d->naxes : 1), sizeof *ai);
+    struct res_axis_info *ai = mem_calloc((size_t)(d->naxes ? d->naxes : 1), sizeof *ai);
     if (!ai)
         return err_nomem(e, "axes");
     for (int i = 0; i < d->naxes; i++)
@@ -642,7 +660,7 @@ int sa_build(struct study_analysis *a, const struct rdata *d, const struct repor
     if (!rc)
         rc = build_points(a, e);
     if (!rc && a->res.axis >= 0 && a->nmetrics > 0 && a->ngroups > 0) {
-        a->conv = calloc((size_t)a->nmetrics * (size_t)a->ngroups, sizeof *a->conv);
+        a->conv = mem_calloc((size_t)a->nmetrics * (size_t)a->ngroups, sizeof *a->conv);
         if (!a->conv)
             rc = err_nomem(e, "convergence");
         for (int k = 0; !rc && k < a->nmetrics; k++)

@@ -56,7 +56,7 @@ int study_run(const struct study *s, const struct study_run_opts *o, struct runn
                                     .poll_s = 1.0,
                                     .quiet = o->quiet,
                                     .log = stderr,
-                                    .infra_backoff_s = 0.5,
+                                    .infra_backoff_s = o->infra_pause > 0 ? o->infra_pause : 0.5,
                                     .infra_limit = 3};
         rc = runner_run(s, &p, &sv, db, &b, &ro, sum, e);
     }

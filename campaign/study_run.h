@@ -23,6 +23,8 @@ struct study_run_opts {
      * (adaptive refinement runs only some levels of each series) */
     int (*plan_filter)(void *ctx, struct plan *p, struct err *e);
     void *filter_ctx;
+    double infra_pause;      /* seconds after a first infrastructure failure (doubling);
+                              * 0: the default, 0.5 */
 };
 
 int study_run(const struct study *s, const struct study_run_opts *o, struct runner_summary *sum,

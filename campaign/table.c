@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "util/canon.h"
+#include "util/mem.h"
 
 void table_cell(sqlite3_stmt *st, int col, char *buf, size_t len)
 {
@@ -84,7 +85,7 @@ int table_print(sqlite3 *db, sqlite3_stmt *st, enum table_format f, FILE *out, l
     /* text: buffer rows to size the columns */
     char **cells = NULL;
     long cap = 0, n = 0;
-    int *w = calloc((size_t)(nc ? nc : 1), sizeof *w);
+    int *w = mem_calloc((size_t)(nc ? nc : 1), sizeof *w);
     if (!w)
         return err_nomem(e, "table");
     for (int c = 0; c < nc; c++)
@@ -118,7 +119,7 @@ int table_print(sqlite3 *db, sqlite3_stmt *st, enum table_format f, FILE *out, l
         } else {
             if ((n + 1) * nc > cap) {
                 long ncap = cap ? 2 * cap : 256 * (nc ? nc : 1);
-                char **g = realloc(cells, (size_t)ncap * sizeof *g);
+                char **g = mem_realloc(cells, (size_t)ncap * sizeof *g);
                 if (!g) {
                     rc = err_nomem(e, "table");
                     break;
@@ -131,7 +132,7 @@ int table_print(sqlite3 *db, sqlite3_stmt *st, enum table_format f, FILE *out, l
                 for (char *p = cell; *p; p++)   /* one line per row */
                     if (*p == '\n' || *p == '\t')
                         *p = ' ';
-                cells[n * nc + c] = strdup(cell);
+                cells[n * nc + c] = mem_strdup(cell);
                 int cw = width(cell);
                 if (cw > w[c])
                     w[c] = cw > 80 ? 80 : cw;

@@ -25,9 +25,10 @@
 #include "md/potential.h"
 #include "mpm/mpm_material.h"
 #include "output/provenance.h"
-#include "scenarios/case_type.h"
 #include "output/run.h"
+#include "scenarios/case_type.h"
 #include "util/canon.h"
+#include "util/fault.h"
 
 static const char *usage_main =
     "usage: cascade-solver <command> [options]\n"
@@ -154,7 +155,10 @@ static int resolve_one(struct case_doc *cd, json_t **line)
     }
     case_resolved_free(&cr);
     char key[CANON_KEY_LEN + 1];
-    canon_key(cd->doc, key);
+    if (canon_key(cd->doc, key) != 0) {
+        *line = json_pack("{s:b, s:s}", "ok", 0, "error", "out of memory (case key)");
+        return ERR_RUNTIME;
+    }
     *line = json_pack("{s:b, s:s, s:O}", "ok", 1, "key", key, "case", cd->doc);
     return 0;
 }
@@ -289,9 +293,12 @@ static int keep_previous_outputs(const char *out, const char *ckpt, struct err *
         step = 0;
     const char *names[][2] = {{"fields", "h5"}, {"fields", "xdmf"}, {"snapshots", "xyz"}};
     for (int k = 0; k < 3; k++) {
-        char from[4096], to[4200];
+        char from[4096 + 8], to[4200];
         snprintf(from, sizeof from, "%s/%s.%s", out, names[k][0], names[k][1]);
         snprintf(to, sizeof to, "%s/%s.before-%010ld.%s", out, names[k][0], step, names[k][1]);
+        /* a run that was killed left its streams as NAME.tmp (util/wfile.h) */
+        if (access(from, F_OK) != 0)
+            strcat(from, ".tmp");
         if (access(from, F_OK) == 0 && rename(from, to) != 0)
             return err_set(e, ERR_RUNTIME, "%s: cannot keep the outputs before the restart: %s",
                            from, strerror(errno));
@@ -392,7 +399,12 @@ static int cmd_run_inner(int argc, char **argv, const struct parallel *par)
         /* --resume DIR: the campaign's retry of an attempt that stopped
          * early; a fresh start when DIR holds no checkpoint of this case */
         char key[32];
-        canon_key(cd.doc, key);
+        if (canon_key(cd.doc, key) != 0) {
+            fprintf(stderr, "error: out of memory (case key)\n");
+            case_resolved_free(&cr);
+            case_doc_free(&cd);
+            return exit_code(ERR_RUNTIME);
+        }
         struct err e3 = {0};
         if (!cr.type->checkpoints ||
             sim_find_checkpoint(restart, key, ckpt_path, sizeof ckpt_path, &e3) != 0) {
@@ -415,7 +427,8 @@ static int cmd_run_inner(int argc, char **argv, const struct parallel *par)
                                         "checkpoints yet: --restart is not available for it",
                          file, cr.type->name);
         char key[32];
-        canon_key(cd.doc, key);
+        if (!rc && canon_key(cd.doc, key) != 0)
+            rc = err_nomem(&e, "case key");
         if (!rc)
             rc = sim_find_checkpoint(restart && *restart ? restart : out, key, ckpt_path,
                                      sizeof ckpt_path, &e);
@@ -474,6 +487,20 @@ static int cmd_run_inner(int argc, char **argv, const struct parallel *par)
     return exit_code(rc ? rc : rc2);
 }
 
+static int run_command(const char *cmd, int *argc, char ***argv)
+{
+    if (strcmp(cmd, "run") == 0)
+        return cmd_run(argc, argv);
+    if (strcmp(cmd, "check") == 0)
+        return cmd_check(*argc - 2, *argv + 2);
+    if (strcmp(cmd, "resolve") == 0)
+        return cmd_resolve(*argc - 2, *argv + 2);
+    if (strcmp(cmd, "info") == 0)
+        return cmd_info(*argc - 2, *argv + 2);
+    fprintf(stderr, "error: unknown command '%s'\n\n%s", cmd, usage_main);
+    return 2;
+}
+
 int main(int argc, char **argv)
 {
     if (argc < 2) {
@@ -489,14 +516,14 @@ int main(int argc, char **argv)
         printf("cascade-solver %s (%s)\n", provenance_version(), provenance_git_hash());
         return 0;
     }
-    if (strcmp(cmd, "run") == 0)
-        return cmd_run(&argc, &argv);
-    if (strcmp(cmd, "check") == 0)
-        return cmd_check(argc - 2, argv + 2);
-    if (strcmp(cmd, "resolve") == 0)
-        return cmd_resolve(argc - 2, argv + 2);
-    if (strcmp(cmd, "info") == 0)
-        return cmd_info(argc - 2, argv + 2);
-    fprintf(stderr, "error: unknown command '%s'\n\n%s", cmd, usage_main);
-    return 2;
+    /* fault injection for the tests (util/fault.h, docs/fuzzing.md) */
+    struct err fe = {0};
+    if (fault_install(getenv("CASCADE_FAULT_ALLOC"), getenv("CASCADE_FAULT_WRITE"), &fe) != 0) {
+        fprintf(stderr, "error: %s\n", fe.msg);
+        return 2;
+    }
+    int code = run_command(cmd, &argc, &argv);
+    if (fault_installed())
+        fault_report(stderr, "cascade-solver");
+    return code;
 }

@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "util/cfg.h"
+#include "util/wfile.h"
 #include "util/yamldoc.h"
 
 static int read_params(struct cfg_obj *o, struct cg_params *p)
@@ -68,9 +69,11 @@ int cg_params_load(const char *path, struct cg_params *out, struct err *e)
 int cg_params_write(const char *path, const struct cg_params *prm, const char *header,
                     const json_t *fit, struct err *e)
 {
-    FILE *f = fopen(path, "w");
-    if (!f)
-        return err_set(e, ERR_RUNTIME, "%s: cannot create: %s", path, strerror(errno));
+    struct wfile w;
+    int rc = wfile_open(&w, path, e);
+    if (rc)
+        return rc;
+    FILE *f = w.f;
     if (header) {
         const char *s = header;
         while (*s) {
@@ -110,12 +113,14 @@ int cg_params_write(const char *path, const struct cg_params *prm, const char *h
         for (int i = 0; i < nk; i++) {
             char *text = json_dumps(json_object_get(fit, keys[i]),
                                     JSON_COMPACT | JSON_ENCODE_ANY | JSON_REAL_PRECISION(10));
+            int missing = !text;
             fprintf(f, "  %s: %s\n", keys[i], text ? text : "null");
             free(text);
+            if (missing) {
+                wfile_discard(&w);
+                return err_set(e, ERR_RUNTIME, "cannot write %s: out of memory", path);
+            }
         }
     }
-    int bad = ferror(f);
-    if (fclose(f) != 0 || bad)
-        return err_set(e, ERR_RUNTIME, "%s: write failed", path);
-    return 0;
+    return wfile_commit(&w, e);
 }

@@ -1,5 +1,6 @@
 /* sim: the time loop, divergence check, outputs and checkpoints (sim.h). */
 #include "engine/sim.h"
+#include "util/wfile.h"
 
 #include <dirent.h>
 #include <errno.h>
@@ -230,7 +231,7 @@ static int write_checkpoint(struct sim *s, struct err *e)
         rc = s->case_ops->checkpoint_write(s->case_state, &ck, e);
     int rc2 = ckpt_close(&ck);
     rc = rc ? rc : rc2;
-    if (!rc && rename(tmp, path) != 0)
+    if (!rc && wfile_rename(tmp, path) != 0)
         rc = err_set(e, ERR_RUNTIME, "%s: cannot rename checkpoint: %s", tmp, strerror(errno));
     if (rc) {
         unlink(tmp);

@@ -1,13 +1,17 @@
 /* checkpoint: HDF5 checkpoint files (checkpoint.h). */
 #include "output/checkpoint.h"
 
+#include <errno.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "output/h5out.h"
 #include "util/canon.h"
+#include "util/fault.h"
+#include "util/mem.h"
 
 static int fail(struct ckpt *c, const char *what, const char *name)
 {
@@ -26,7 +30,7 @@ static int read_attr_string(hid_t obj, const char *name, char *out, size_t len)
     size_t n = H5Tget_size(t);
     int rc = -1;
     if (H5Tget_class(t) == H5T_STRING && n > 0) {
-        char *buf = malloc(n + 1);
+        char *buf = mem_alloc(n + 1);
         hid_t mt = H5Tcopy(H5T_C_S1);
         H5Tset_size(mt, n);
         if (buf && H5Aread(a, mt, buf) >= 0) {
@@ -65,6 +69,10 @@ int ckpt_create(struct ckpt *c, const char *path, const json_t *case_doc, const 
     H5Eset_auto2(H5E_DEFAULT, NULL, NULL);   /* errors are reported by us */
     /* the newest file format checksums the metadata too (superblock v2+,
      * object headers), the Fletcher-32 filter the data */
+    c->file = -1;
+    if (fault_write(ENOSPC) != 0)
+        return err_set(e, ERR_RUNTIME, "%s: cannot create checkpoint file: %s", path,
+                       strerror(errno));
     hid_t fapl = H5Pcreate(H5P_FILE_ACCESS);
     H5Pset_libver_bounds(fapl, H5F_LIBVER_LATEST, H5F_LIBVER_LATEST);
     c->file = H5Fcreate(path, H5F_ACC_TRUNC, H5P_DEFAULT, fapl);
@@ -78,6 +86,8 @@ int ckpt_create(struct ckpt *c, const char *path, const json_t *case_doc, const 
     h5out_attr_double(c->file, "step", (double)step);
     h5out_attr_double(c->file, "time_ps", time);
     char *text = case_doc ? canon_json(case_doc) : NULL;
+    if (case_doc && !text)
+        return err_set(e, ERR_RUNTIME, "%s: cannot write checkpoint: out of memory (case)", path);
     h5out_attr_string(c->file, "case", text ? text : "{}");
     free(text);
     return 0;
@@ -135,8 +145,15 @@ int ckpt_close(struct ckpt *c)
         H5Gclose(c->group);
     c->group = -1;
     if (c->file >= 0) {
-        if (c->writing && H5Fflush(c->file, H5F_SCOPE_GLOBAL) < 0)
-            rc = err_set(c->e, ERR_RUNTIME, "%s: cannot write checkpoint (disk full?)", c->path);
+        errno = 0;
+        if (c->writing && (fault_write(ENOSPC) != 0 || H5Fflush(c->file, H5F_SCOPE_GLOBAL) < 0))
+            rc = err_set(c->e, ERR_RUNTIME, "%s: cannot write checkpoint: %s", c->path,
+                         errno ? strerror(errno) : "flushing the HDF5 file failed (disk full?)");
+        void *handle = NULL;
+        if (c->writing && !rc && H5Fget_vfd_handle(c->file, H5P_DEFAULT, &handle) >= 0 &&
+            handle && (fault_write(EIO) != 0 || fsync(*(int *)handle) != 0))
+            rc = err_set(c->e, ERR_RUNTIME, "%s: cannot write checkpoint: fsync: %s", c->path,
+                         strerror(errno));
         if (H5Fclose(c->file) < 0 && !rc)
             rc = err_set(c->e, ERR_RUNTIME, "%s: cannot close checkpoint (disk full?)", c->path);
     }
@@ -177,10 +194,13 @@ static int put_array(struct ckpt *c, const char *name, hid_t memtype, hid_t file
         H5Pset_chunk(dcpl, 1, chunk);
         H5Pset_fletcher32(dcpl);
     }
-    hid_t ds = H5Dcreate2(c->group, name, filetype, space, H5P_DEFAULT, dcpl, H5P_DEFAULT);
+    int injected = fault_write(ENOSPC) != 0;
+    hid_t ds = injected ? -1
+                        : H5Dcreate2(c->group, name, filetype, space, H5P_DEFAULT, dcpl, H5P_DEFAULT);
     int rc = 0;
     if (ds < 0 || (n > 0 && H5Dwrite(ds, memtype, H5S_ALL, H5S_ALL, H5P_DEFAULT, d) < 0))
-        rc = fail(c, "cannot write (disk full?)", name);
+        rc = fail(c, injected ? "cannot write: No space left on device" : "cannot write (disk full?)",
+                  name);
     if (ds >= 0)
         H5Dclose(ds);
     H5Pclose(dcpl);
@@ -307,7 +327,7 @@ int ckpt_get_rows(struct ckpt *c, const char *name, int ncols, double **rows, lo
         fail(c, what, name);
         return ERR_INPUT;
     }
-    double *r = malloc((size_t)(nv > 0 ? nv : 1) * sizeof *r);
+    double *r = mem_alloc((size_t)(nv > 0 ? nv : 1) * sizeof *r);
     if (!r)
         return err_nomem(c->e, "checkpoint rows");
     int rc = ckpt_get_doubles(c, name, r, nv);
@@ -423,7 +443,7 @@ int ckpt_get_particles(struct ckpt *c, const char *name, struct particles *p)
             }
     }
     /* ids unique: a sorted copy, neighbours compared */
-    int64_t *ids = rc || n == 0 ? NULL : malloc((size_t)n * sizeof *ids);
+    int64_t *ids = rc || n == 0 ? NULL : mem_alloc((size_t)n * sizeof *ids);
     if (!rc && n > 0 && !ids)
         rc = err_nomem(c->e, "checkpoint ids");
     if (ids) {

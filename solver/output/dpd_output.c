@@ -6,6 +6,7 @@
 
 #include "core/units.h"
 #include "output/xyz_write.h"
+#include "util/mem.h"
 
 static const char *const cols[DPD_THERMO_COLS] = {"step",      "time_ps", "pe_eV",
                                                   "ke_eV",     "uint_eV", "etotal_eV",
@@ -21,7 +22,7 @@ int dpd_output_begin(struct dpd_output *o, struct run *run, struct err *e)
 {
     memset(o, 0, sizeof *o);
     if (run_thermo_header(run, cols, DPD_THERMO_COLS) != 0)
-        return err_set(e, ERR_RUNTIME, "%s: cannot write thermo.csv", run->opt.out_dir);
+        return err_set(e, ERR_RUNTIME, "%s", run->write_err.msg);
     return 0;
 }
 
@@ -30,7 +31,7 @@ int dpd_output_resume(struct dpd_output *o, struct run *run, const double *rows,
 {
     if (nrows <= 0)
         return 0;
-    double *sr = malloc((size_t)nrows * DPD_THERMO_COLS * sizeof *sr);
+    double *sr = mem_alloc((size_t)nrows * DPD_THERMO_COLS * sizeof *sr);
     if (!sr)
         return err_nomem(e, "thermo series");
     memcpy(sr, rows, (size_t)nrows * DPD_THERMO_COLS * sizeof *sr);
@@ -64,7 +65,7 @@ static int thermo_row(struct dpd_output *o, struct run *run, struct dpd *d)
     run_thermo_row(run, row, DPD_THERMO_COLS);
     if (o->nrows >= o->cap) {
         long cap = o->cap ? 2 * o->cap : 256;
-        double *s = realloc(o->series, (size_t)cap * DPD_THERMO_COLS * sizeof *s);
+        double *s = mem_realloc(o->series, (size_t)cap * DPD_THERMO_COLS * sizeof *s);
         if (!s)
             return ERR_RUNTIME;
         o->series = s;
@@ -92,7 +93,7 @@ int dpd_output_snapshot(struct dpd_output *o, struct run *run, struct dpd *d)
     long n = p->n_owned;
     struct err e = {0};
     if (n > o->cap_atoms) {
-        int64_t *ib = realloc(o->ibuf, (size_t)(n ? n : 1) * sizeof *ib);
+        int64_t *ib = mem_realloc(o->ibuf, (size_t)(n ? n : 1) * sizeof *ib);
         if (!ib)
             return ERR_RUNTIME;
         o->ibuf = ib;
@@ -121,7 +122,9 @@ int dpd_output_step(struct dpd_output *o, struct run *run, struct dpd *d, long t
     if (!rc && run_due(s, total, run->out.snapshot_every))
         rc = dpd_output_snapshot(o, run, d);
     if (!rc && run->xyz && run->out.xyz_every > 0 && s % run->out.xyz_every == 0)
-        rc = xyz_write_frame(run->xyz, d->p, &d->box, s, d->time, NULL) ? ERR_RUNTIME : 0;
+        rc = xyz_write_frame(run->xyz, d->p, &d->box, s, d->time, NULL)
+                 ? ERR_RUNTIME
+                 : run_xyz_frame_done(run, NULL);
     timer_stop(&run->timers, TIMER_OUTPUT);
     return rc;
 }

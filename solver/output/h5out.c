@@ -1,12 +1,17 @@
 /* h5out: HDF5 snapshots and the XDMF sidecar for ParaView. */
 #include "output/h5out.h"
 
+#include <errno.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "output/provenance.h"
 #include "util/canon.h"
+#include "util/fault.h"
+#include "util/mem.h"
+#include "util/wfile.h"
 
 void h5out_attr_string(hid_t obj, const char *name, const char *value)
 {
@@ -41,19 +46,30 @@ int h5out_create(struct h5out *h, const char *path, const json_t *case_doc, stru
         *dot = '\0';
     strncat(h->xdmf_path, ".xdmf", sizeof h->xdmf_path - strlen(h->xdmf_path) - 1);
     H5Eset_auto2(H5E_DEFAULT, NULL, NULL);   /* errors are reported by us */
-    h->file = H5Fcreate(path, H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+    h->file = H5I_INVALID_HID;
+    if (snprintf(h->tmp_path, sizeof h->tmp_path, "%s.tmp", path) >= (int)sizeof h->tmp_path)
+        return err_set(e, ERR_RUNTIME, "cannot write %s: the name is too long", path);
+    if (fault_write(ENOSPC) != 0)
+        return err_set(e, ERR_RUNTIME, "cannot write %s: %s", path, strerror(errno));
+    h->file = H5Fcreate(h->tmp_path, H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
     if (h->file < 0)
-        return err_set(e, ERR_RUNTIME, "%s: cannot create HDF5 file", path);
+        return err_set(e, ERR_RUNTIME, "cannot write %s: cannot create the HDF5 file %s", path,
+                       h->tmp_path);
     json_t *prov = provenance_json();
     char *ptext = canon_json(prov);
     json_decref(prov);
-    h5out_attr_string(h->file, "provenance", ptext ? ptext : "{}");
-    free(ptext);
-    if (case_doc) {
-        char *ctext = canon_json(case_doc);
-        h5out_attr_string(h->file, "case", ctext ? ctext : "{}");
+    char *ctext = case_doc ? canon_json(case_doc) : NULL;
+    if (!ptext || (case_doc && !ctext)) {
+        free(ptext);
         free(ctext);
+        h5out_discard(h);
+        return err_set(e, ERR_RUNTIME, "cannot write %s: out of memory (provenance)", path);
     }
+    h5out_attr_string(h->file, "provenance", ptext);
+    free(ptext);
+    if (ctext)
+        h5out_attr_string(h->file, "case", ctext);
+    free(ctext);
     h5out_attr_string(h->file, "units",
                       "length: Å, time: ps, energy: eV, mass: amu, temperature: K, "
                       "velocity: Å/ps, force: eV/Å, stress: GPa");
@@ -69,7 +85,7 @@ hid_t h5out_begin_snapshot(struct h5out *h, const char *collection, long step, d
 {
     if (h->nsnaps >= h->cap_snaps) {
         int cap = h->cap_snaps ? 2 * h->cap_snaps : 16;
-        struct h5out_snap *s = realloc(h->snaps, (size_t)cap * sizeof *s);
+        struct h5out_snap *s = mem_realloc(h->snaps, (size_t)cap * sizeof *s);
         if (!s) {
             err_nomem(e, "snapshot index");
             return H5I_INVALID_HID;
@@ -96,7 +112,8 @@ hid_t h5out_begin_snapshot(struct h5out *h, const char *collection, long step, d
     }
     hid_t g = H5Gcreate2(h->file, s->group, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
     if (g < 0) {
-        err_set(e, ERR_RUNTIME, "%s: cannot create group %s", h->path, s->group);
+        h->failed = 1;
+        err_set(e, ERR_RUNTIME, "cannot write %s: cannot create group %s", h->path, s->group);
         return H5I_INVALID_HID;
     }
     char tname[32];
@@ -161,7 +178,9 @@ static int write_dataset_shaped(struct h5out *h, hid_t group, const char *name, 
         H5Pset_shuffle(dcpl);
         H5Pset_deflate(dcpl, 1);
     }
-    hid_t ds = H5Dcreate2(group, name, memtype, space, H5P_DEFAULT, dcpl, H5P_DEFAULT);
+    int injected = fault_write(ENOSPC) != 0;
+    hid_t ds = injected ? H5I_INVALID_HID
+                        : H5Dcreate2(group, name, memtype, space, H5P_DEFAULT, dcpl, H5P_DEFAULT);
     herr_t st = ds >= 0 && n > 0 ? H5Dwrite(ds, memtype, H5S_ALL, H5S_ALL, H5P_DEFAULT, data) : 0;
     if (ds >= 0)
         h5out_attr_string(ds, "unit", unit);
@@ -171,8 +190,11 @@ static int write_dataset_shaped(struct h5out *h, hid_t group, const char *name, 
         H5Dclose(ds);
     H5Pclose(dcpl);
     H5Sclose(space);
-    if (ds < 0 || st < 0)
-        return err_set(e, ERR_RUNTIME, "%s: cannot write dataset %s", h->path, name);
+    if (ds < 0 || st < 0) {
+        h->failed = 1;
+        return err_set(e, ERR_RUNTIME, "cannot write %s: dataset %s%s", h->path, name,
+                       injected ? ": No space left on device" : "");
+    }
     if (record && h->nsnaps > 0) {
         struct h5out_snap *s = &h->snaps[h->nsnaps - 1];
         if (s->nfields < H5OUT_MAX_FIELDS) {
@@ -230,8 +252,11 @@ int h5out_snapshot_cell(struct h5out *h, hid_t group, const double lo[3], const 
     static const double zero[3] = {0, 0, 0};
     const double *t = tilt ? tilt : zero;
     hid_t g = H5Gcreate2(group, "cell", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
-    if (g < 0)
-        return err_set(e, ERR_RUNTIME, "%s: cannot create %s/cell", h->path, s->group);
+    if (g < 0) {
+        h->failed = 1;
+        return err_set(e, ERR_RUNTIME, "cannot write %s: cannot create %s/cell", h->path,
+                       s->group);
+    }
     int64_t per[3] = {pbc[0] != 0, pbc[1] != 0, pbc[2] != 0};
     int rc = write_dataset(h, g, "lo", H5T_NATIVE_DOUBLE, lo, 3, 1, "Å", 0, 0, e);
     if (!rc)
@@ -369,9 +394,11 @@ static void write_xdmf_cell(FILE *f, const struct h5out_snap *s)
 
 static int write_xdmf(const struct h5out *h, struct err *e)
 {
-    FILE *f = fopen(h->xdmf_path, "w");
-    if (!f)
-        return err_set(e, ERR_RUNTIME, "%s: cannot create", h->xdmf_path);
+    struct wfile w;
+    int rc = wfile_open(&w, h->xdmf_path, e);
+    if (rc)
+        return rc;
+    FILE *f = w.f;
     const char *h5name = basename_of(h->path);
     fprintf(f, "<?xml version=\"1.0\" ?>\n<!DOCTYPE Xdmf SYSTEM \"Xdmf.dtd\" []>\n");
     fprintf(f, "<!-- written by cascade-solver %s (git %s) -->\n", provenance_version(),
@@ -437,20 +464,50 @@ static int write_xdmf(const struct h5out *h, struct err *e)
         fprintf(f, "  </Grid>\n");
     }
     fprintf(f, " </Domain>\n</Xdmf>\n");
-    int bad = ferror(f);
-    if (fclose(f) != 0 || bad)
-        return err_set(e, ERR_RUNTIME, "%s: write error", h->xdmf_path);
+    return wfile_commit(&w, e);
+}
+
+/* Flush and fsync the open file (the sec2 driver's descriptor). */
+static int flush_file(struct h5out *h, struct err *e)
+{
+    if (fault_write(ENOSPC) != 0 || H5Fflush(h->file, H5F_SCOPE_GLOBAL) < 0)
+        return err_set(e, ERR_RUNTIME, "cannot write %s: %s", h->path,
+                       errno ? strerror(errno) : "flushing the HDF5 file failed");
+    void *handle = NULL;
+    if (H5Fget_vfd_handle(h->file, H5P_DEFAULT, &handle) >= 0 && handle &&
+        (fault_write(EIO) != 0 || fsync(*(int *)handle) != 0))
+        return err_set(e, ERR_RUNTIME, "cannot write %s: fsync: %s", h->path, strerror(errno));
     return 0;
+}
+
+void h5out_discard(struct h5out *h)
+{
+    if (h->file >= 0)
+        H5Fclose(h->file);
+    h->file = H5I_INVALID_HID;
+    if (h->tmp_path[0])
+        unlink(h->tmp_path);
+    free(h->snaps);
+    h->snaps = NULL;
+    h->nsnaps = h->cap_snaps = 0;
 }
 
 int h5out_close(struct h5out *h, struct err *e)
 {
-    int rc = 0;
-    if (h->file >= 0) {
-        if (H5Fclose(h->file) < 0)
-            rc = err_set(e, ERR_RUNTIME, "%s: error closing HDF5 file", h->path);
-        h->file = H5I_INVALID_HID;
+    if (h->failed) {
+        h5out_discard(h);
+        return err_set(e, ERR_RUNTIME, "cannot write %s: an earlier write to it failed", h->path);
     }
+    errno = 0;
+    int rc = h->file >= 0 ? flush_file(h, e) : 0;
+    if (h->file >= 0 && H5Fclose(h->file) < 0 && !rc)
+        rc = err_set(e, ERR_RUNTIME, "cannot write %s: closing the HDF5 file failed", h->path);
+    h->file = H5I_INVALID_HID;
+    if (!rc && wfile_rename(h->tmp_path, h->path) != 0)
+        rc = err_set(e, ERR_RUNTIME, "cannot write %s: rename from %s: %s", h->path, h->tmp_path,
+                     strerror(errno));
+    if (rc)
+        unlink(h->tmp_path);
     if (!rc && h->nsnaps > 0)
         rc = write_xdmf(h, e);
     free(h->snaps);

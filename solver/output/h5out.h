@@ -70,7 +70,9 @@ struct h5out_snap {
 
 struct h5out {
     hid_t file;
-    char path[4096];
+    char path[4096];       /* the file's name; written as PATH.tmp until h5out_close */
+    char tmp_path[4096 + 8];
+    int failed;            /* a write failed: h5out_close removes PATH.tmp */
     char xdmf_path[4096];
     int nsnaps;
     struct h5out_snap *snaps;
@@ -78,7 +80,13 @@ struct h5out {
     char time_unit[16];    /* unit of snapshot times ("ps" unless set) */
 };
 
+/* Create PATH.tmp; h5out_close renames it over PATH (and writes the XDMF
+ * file), so a reader never finds a half-written fields.h5.  Fault points of
+ * CASCADE_FAULT_WRITE (util/fault.h): the create, each dataset, the flush,
+ * the fsync and the rename. */
 int h5out_create(struct h5out *h, const char *path, const json_t *case_doc, struct err *e);
+/* Close and remove PATH.tmp: the run ends without this file. */
+void h5out_discard(struct h5out *h);
 /* Begin a snapshot group; returns the group id or H5I_INVALID_HID. */
 hid_t h5out_begin_snapshot(struct h5out *h, const char *collection, long step, double time, long n,
                            struct err *e);

@@ -6,6 +6,8 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "util/wfile.h"
+
 int lammps_data_write(const char *path, const struct particles *p, const struct box *b,
                       const char *title, struct err *e)
 {
@@ -23,9 +25,11 @@ int lammps_data_write(const char *path, const struct particles *p, const struct 
         if (!(hi[d] > lo[d]))
             hi[d] = lo[d] + 1.0;
     }
-    FILE *f = fopen(path, "w");
-    if (!f)
-        return err_set(e, ERR_RUNTIME, "%s: cannot create: %s", path, strerror(errno));
+    struct wfile w;
+    int rc = wfile_open(&w, path, e);
+    if (rc)
+        return rc;
+    FILE *f = w.f;
     fprintf(f, "%s\n\n", title && title[0] ? title : "written by cascade-solver");
     fprintf(f, "%d atoms\n%d atom types\n\n", p->n_owned, p->ntypes);
     for (int d = 0; d < 3; d++)
@@ -45,8 +49,5 @@ int lammps_data_write(const char *path, const struct particles *p, const struct 
         const double *v = p->v + 3 * i;
         fprintf(f, "%lld %.17g %.17g %.17g\n", (long long)p->id[i], v[0], v[1], v[2]);
     }
-    int bad = ferror(f);
-    if (fclose(f) != 0 || bad)
-        return err_set(e, ERR_RUNTIME, "%s: write failed", path);
-    return 0;
+    return wfile_commit(&w, e);
 }

@@ -7,6 +7,8 @@
 
 #include "core/units.h"
 #include "output/xyz_write.h"
+#include "util/mem.h"
+#include "util/wfile.h"
 
 static const char *const thermo_cols[MD_THERMO_COLS] = {
     "step", "time_ps", "pe_eV", "ke_eV", "etotal_eV", "temp_K", "press_GPa",
@@ -20,7 +22,7 @@ int md_output_begin(struct md_output *o, struct run *run, struct md *md, struct 
     o->xyz_field = -1;
     (void)md;
     if (run_thermo_header(run, thermo_cols, MD_THERMO_COLS) != 0)
-        return err_set(e, ERR_RUNTIME, "%s: cannot write thermo.csv", run->opt.out_dir);
+        return err_set(e, ERR_RUNTIME, "%s", run->write_err.msg);
     return 0;
 }
 
@@ -33,12 +35,13 @@ static int thermo_row(struct md_output *o, struct run *run, struct md *md)
                                   (P[0] + P[1] + P[2]) / 3.0 * UNITS_EVA3_TO_GPA};
     for (int k = 0; k < 6; k++)
         row[7 + k] = P[k] * UNITS_EVA3_TO_GPA;
-    run_thermo_row(run, row, MD_THERMO_COLS);
+    if (run_thermo_row(run, row, MD_THERMO_COLS) != 0)
+        return err_set(&o->err, ERR_RUNTIME, "%s", run->write_err.msg);
     if (o->nrows >= o->cap) {
         long cap = o->cap ? 2 * o->cap : 256;
-        double *s = realloc(o->series, (size_t)cap * MD_THERMO_COLS * sizeof *s);
+        double *s = mem_realloc(o->series, (size_t)cap * MD_THERMO_COLS * sizeof *s);
         if (!s)
-            return ERR_RUNTIME;
+            return err_nomem(&o->err, "thermo series");
         o->series = s;
         o->cap = cap;
     }
@@ -52,7 +55,7 @@ int md_output_resume(struct md_output *o, struct run *run, const double *rows, l
 {
     if (nrows <= 0)
         return 0;
-    double *sr = malloc((size_t)nrows * MD_THERMO_COLS * sizeof *sr);
+    double *sr = mem_alloc((size_t)nrows * MD_THERMO_COLS * sizeof *sr);
     if (!sr)
         return err_nomem(e, "thermo series");
     memcpy(sr, rows, (size_t)nrows * MD_THERMO_COLS * sizeof *sr);
@@ -69,14 +72,14 @@ static int grow_atoms(struct md_output *o, long n)
 {
     if (n <= o->cap_atoms)
         return 0;
-    double *s = realloc(o->stress, (size_t)6 * (n ? n : 1) * sizeof *s);
+    double *s = mem_realloc(o->stress, (size_t)6 * (n ? n : 1) * sizeof *s);
     if (s)
         o->stress = s;
-    int64_t *ib = realloc(o->ibuf, (size_t)(n ? n : 1) * sizeof *ib);
+    int64_t *ib = mem_realloc(o->ibuf, (size_t)(n ? n : 1) * sizeof *ib);
     if (ib)
         o->ibuf = ib;
     if (!s || !ib)
-        return ERR_RUNTIME;
+        return err_nomem(&o->err, "per-atom buffers");
     o->cap_atoms = n;
     return 0;
 }
@@ -87,24 +90,24 @@ int md_output_snapshot(struct md_output *o, struct run *run, struct md *md)
         return 0;
     struct particles *p = md->p;
     long n = p->n_owned;
-    struct err e = {0};
+    struct err *ep = &o->err;
     if (grow_atoms(o, n) != 0)
         return ERR_RUNTIME;
-    hid_t g = h5out_begin_snapshot(&run->h5, "particles", md->step, md->time, n, &e);
+    hid_t g = h5out_begin_snapshot(&run->h5, "particles", md->step, md->time, n, ep);
     if (g < 0)
         return ERR_RUNTIME;
-    int rc = run_snapshot_particles(run, g, p, &md->box, o->ibuf, &e);
+    int rc = run_snapshot_particles(run, g, p, &md->box, o->ibuf, ep);
     if (!rc && md->peratom) {
-        rc = h5out_write_doubles(&run->h5, g, "pe", p->pe, n, 1, "eV", &e);
+        rc = h5out_write_doubles(&run->h5, g, "pe", p->pe, n, 1, "eV", ep);
         md_peratom_stress(md, o->stress);
         for (long k = 0; k < 6 * n; k++)
             o->stress[k] *= UNITS_EVA3_TO_GPA;
         if (!rc)
-            rc = h5out_write_doubles(&run->h5, g, "stress", o->stress, n, 6, "GPa", &e);
+            rc = h5out_write_doubles(&run->h5, g, "stress", o->stress, n, 6, "GPa", ep);
     }
     for (int k = 0; !rc && k < p->nfields; k++)
         rc = h5out_write_doubles(&run->h5, g, p->fields[k].name, p->fields[k].data, n,
-                                 p->fields[k].ncomp, "1", &e);
+                                 p->fields[k].ncomp, "1", ep);
     h5out_end_snapshot(&run->h5, g);
     return rc;
 }
@@ -113,21 +116,19 @@ int md_output_snapshot(struct md_output *o, struct run *run, struct md *md)
  * frame that system.read_xyz reads back (positions and velocities), so a
  * campaign's preparation job can hand an equilibrated state to later jobs.
  * Written to a temporary name and renamed: never seen half-written. */
-static int write_final(struct run *run, struct md *md)
+static int write_final(struct run *run, struct md *md, struct err *e)
 {
-    char path[4096], tmp[4200];
+    char path[4096];
     run_path(run, "final.xyz", path, sizeof path);
-    snprintf(tmp, sizeof tmp, "%s.tmp", path);
-    FILE *f = fopen(tmp, "w");
-    if (!f)
-        return ERR_RUNTIME;
-    int bad = xyz_write_frame(f, md->p, &md->box, md->step, md->time, NULL);
-    bad |= fclose(f) != 0;
-    if (bad || rename(tmp, path) != 0) {
-        remove(tmp);
-        return ERR_RUNTIME;
+    struct wfile w;
+    int rc = wfile_open(&w, path, e);
+    if (rc)
+        return rc;
+    if (xyz_write_frame(w.f, md->p, &md->box, md->step, md->time, NULL) != 0) {
+        wfile_discard(&w);
+        return err_set(e, ERR_RUNTIME, "cannot write %s: write error", path);
     }
-    return 0;
+    return wfile_commit(&w, e);
 }
 
 /* An extended XYZ frame: with the per-atom energies and stresses when this
@@ -138,8 +139,10 @@ static int xyz_frame(struct md_output *o, struct run *run, struct md *md)
     struct particles *p = md->p;
     struct xyz_extra x = {0};
     if (o->xyz_field >= 0 && o->xyz_field < p->nfields) {
-        int *buf = realloc(o->xyz_buf, (size_t)(p->n_owned + 1) * sizeof *buf);
-        if (buf) {
+        int *buf = mem_realloc(o->xyz_buf, (size_t)(p->n_owned + 1) * sizeof *buf);
+        if (!buf)
+            return err_nomem(&o->err, "XYZ column");
+        {
             o->xyz_buf = buf;
             const double *f = particles_field(p, o->xyz_field);
             for (int i = 0; i < p->n_owned; i++)
@@ -148,14 +151,19 @@ static int xyz_frame(struct md_output *o, struct run *run, struct md *md)
             x.int_values = buf;
         }
     }
-    if (md->peratom && grow_atoms(o, p->n_owned) == 0) {
+    if (md->peratom) {
+        if (grow_atoms(o, p->n_owned) != 0)
+            return ERR_RUNTIME;
         md_peratom_stress(md, o->stress);
         for (long k = 0; k < 6L * p->n_owned; k++)
             o->stress[k] *= UNITS_EVA3_TO_GPA;
         x.pe = p->pe;
         x.stress = o->stress;
     }
-    return xyz_write_frame(run->xyz, p, &md->box, md->step, md->time, &x) ? ERR_RUNTIME : 0;
+    if (xyz_write_frame(run->xyz, p, &md->box, md->step, md->time, &x) != 0)
+        return err_set(&o->err, ERR_RUNTIME, "cannot write %s/snapshots.xyz: write error",
+                       run->opt.out_dir);
+    return run_xyz_frame_done(run, &o->err);
 }
 
 int md_output_step(struct md_output *o, struct run *run, struct md *md, long total)
@@ -170,7 +178,7 @@ int md_output_step(struct md_output *o, struct run *run, struct md *md, long tot
     if (!rc && run->xyz && run->out.xyz_every > 0 && s % run->out.xyz_every == 0)
         rc = xyz_frame(o, run, md);
     if (!rc && run->xyz && s == total)
-        rc = write_final(run, md);
+        rc = write_final(run, md, &o->err);
     timer_stop(&run->timers, TIMER_OUTPUT);
     return rc;
 }

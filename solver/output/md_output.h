@@ -22,6 +22,7 @@ struct md_output {
     long cap_atoms;
     int xyz_field;    /* per-particle field written as an extra XYZ column (-1: none) */
     int *xyz_buf;
+    struct err err;   /* why the last md_output_step / md_output_snapshot failed */
 };
 
 int md_output_begin(struct md_output *o, struct run *run, struct md *md, struct err *e);

@@ -12,6 +12,7 @@
 #include "core/units.h"
 #include "mpm/mpm_hgrid.h"
 #include "scenarios/mpm_case.h"
+#include "util/mem.h"
 
 #define MAX_COLS MPM_OUTPUT_MAX_COLS
 
@@ -81,7 +82,7 @@ int mpm_output_begin(struct mpm_output *o, struct run *run, struct mpm_case *c, 
     for (int k = 0; k < o->ncols; k++)
         heads[k] = o->col_head[k];
     if (run_thermo_header(run, heads, o->ncols) != 0)
-        return err_set(e, ERR_RUNTIME, "%s: cannot write thermo.csv", run->opt.out_dir);
+        return err_set(e, ERR_RUNTIME, "%s", run->write_err.msg);
     if (run->h5_open) {
         char desc[256];
         snprintf(desc, sizeof desc,
@@ -126,7 +127,7 @@ int mpm_output_thermo(struct mpm_output *o, struct run *run, struct mpm_case *c,
     run_thermo_row(run, row, n);
     if (o->nrows >= o->rcap) {
         long cap = o->rcap ? 2 * o->rcap : 256;
-        double *s = realloc(o->series, (size_t)cap * o->ncols * sizeof *s);
+        double *s = mem_realloc(o->series, (size_t)cap * o->ncols * sizeof *s);
         if (!s)
             return err_nomem(e, "thermo series");
         o->series = s;
@@ -145,7 +146,7 @@ int mpm_output_resume(struct mpm_output *o, struct run *run, const double *rows,
     if (ncols != o->ncols)
         return err_set(e, ERR_INPUT, "checkpoint thermo rows have %ld columns, the case's %d",
                        ncols, o->ncols);
-    double *sr = malloc((size_t)nrows * ncols * sizeof *sr);
+    double *sr = mem_alloc((size_t)nrows * ncols * sizeof *sr);
     if (!sr)
         return err_nomem(e, "thermo series");
     memcpy(sr, rows, (size_t)nrows * ncols * sizeof *sr);
@@ -160,14 +161,14 @@ int mpm_output_resume(struct mpm_output *o, struct run *run, const double *rows,
 static int reserve(struct mpm_output *o, long n, struct err *e)
 {
     if (n > o->cap) {
-        double *b = realloc(o->buf, (size_t)n * sizeof *b);
+        double *b = mem_realloc(o->buf, (size_t)n * sizeof *b);
         if (!b)
             return err_nomem(e, "output buffer");
         o->buf = b;
         o->cap = n;
     }
     if (n > o->icap) {
-        int64_t *ib = realloc(o->ibuf, (size_t)n * sizeof *ib);
+        int64_t *ib = mem_realloc(o->ibuf, (size_t)n * sizeof *ib);
         if (!ib)
             return err_nomem(e, "output buffer");
         o->ibuf = ib;
@@ -290,7 +291,7 @@ static int grid_snapshot(struct mpm_output *o, struct run *run, struct mpm_case 
         mpm_map_to_grid(m, MPM_MAP_ALL);
     }
     long nn = g->nnodes;
-    double *tmp = malloc((size_t)nn * 7 * sizeof *tmp);
+    double *tmp = mem_alloc((size_t)nn * 7 * sizeof *tmp);
     if (!tmp)
         return err_nomem(e, "grid output");
     double *mass = tmp, *vel = tmp + nn, *force = tmp + 4 * nn;
@@ -347,7 +348,7 @@ int mpm_output_end(struct mpm_output *o, struct run *run, struct err *e)
 {
     int rc = 0;
     if (run->h5_open && o->nrows > 0) {
-        double *vals = malloc((size_t)o->nrows * sizeof *vals);
+        double *vals = mem_alloc((size_t)o->nrows * sizeof *vals);
         if (!vals)
             rc = err_nomem(e, "thermo series");
         for (int k = 0; k < o->ncols && !rc; k++) {

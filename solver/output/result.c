@@ -6,6 +6,8 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "util/wfile.h"
+
 int result_init(struct result *r)
 {
     r->root = json_object();
@@ -60,12 +62,13 @@ void result_set_status(struct result *r, const char *status, const char *message
 
 int result_write(const struct result *r, const char *path, struct err *e)
 {
-    char tmp[4096];
-    snprintf(tmp, sizeof tmp, "%s.tmp", path);
-    if (json_dump_file(r->root, tmp, JSON_INDENT(2) | JSON_SORT_KEYS | JSON_REAL_PRECISION(12)) !=
-        0)
-        return err_set(e, ERR_RUNTIME, "%s: cannot write: %s", tmp, strerror(errno));
-    if (rename(tmp, path) != 0)
-        return err_set(e, ERR_RUNTIME, "%s: cannot rename into place: %s", path, strerror(errno));
-    return 0;
+    struct wfile w;
+    int rc = wfile_open(&w, path, e);
+    if (rc)
+        return rc;
+    if (json_dumpf(r->root, w.f, JSON_INDENT(2) | JSON_SORT_KEYS | JSON_REAL_PRECISION(12)) != 0) {
+        wfile_discard(&w);
+        return err_set(e, ERR_RUNTIME, "cannot write %s: out of memory", path);
+    }
+    return wfile_commit(&w, e);
 }

@@ -12,6 +12,7 @@
 #include "output/provenance.h"
 #include "output/xyz_write.h"
 #include "util/canon.h"
+#include "util/mem.h"
 
 int output_settings_read(struct cfg_obj *root, struct output_settings *o)
 {
@@ -58,11 +59,11 @@ static int mkdir_p(const char *dir)
     for (char *s = tmp + 1; *s; s++)
         if (*s == '/') {
             *s = '\0';
-            if (mkdir(tmp, 0777) != 0 && errno != EEXIST)
+            if (wfile_mkdir(tmp, 0777) != 0 && errno != EEXIST)
                 return -1;
             *s = '/';
         }
-    if (mkdir(tmp, 0777) != 0 && errno != EEXIST)
+    if (wfile_mkdir(tmp, 0777) != 0 && errno != EEXIST)
         return -1;
     return 0;
 }
@@ -101,28 +102,39 @@ int run_open(struct run *r, const struct run_options *opt, const struct output_s
     r->seed = seed;
     snprintf(r->title, sizeof r->title, "%s", title ? title : "");
     r->log = opt->quiet || opt->rank != 0 ? NULL : stderr;
-    canon_key(case_doc, r->case_key);
-    if (result_init(&r->result) != 0)
+    if (canon_key(case_doc, r->case_key) != 0)
+        return err_nomem(e, "case key");
+    if (result_init(&r->result) != 0) {
+        result_free(&r->result);
         return err_nomem(e, "result");
+    }
     timer_start(&r->timers, TIMER_TOTAL);
     if (opt->rank != 0)
         return 0;   /* replicated ranks compute; rank 0 writes */
-    if (mkdir_p(opt->out_dir) != 0)
-        return err_set(e, ERR_RUNTIME, "%s: cannot create output directory: %s", opt->out_dir,
-                       strerror(errno));
+    if (mkdir_p(opt->out_dir) != 0) {
+        int rc = err_set(e, ERR_RUNTIME, "%s: cannot create output directory: %s", opt->out_dir,
+                         strerror(errno));
+        run_discard(r);
+        return rc;
+    }
     char path[4096];
     if (out->hdf5) {
         run_path(r, "fields.h5", path, sizeof path);
         int rc = h5out_create(&r->h5, path, case_doc, e);
-        if (rc)
+        if (rc) {
+            run_discard(r);
             return rc;
+        }
         r->h5_open = 1;
     }
     if (out->xyz_every > 0) {
         run_path(r, "snapshots.xyz", path, sizeof path);
-        r->xyz = fopen(path, "w");
-        if (!r->xyz)
-            return err_set(e, ERR_RUNTIME, "%s: cannot create: %s", path, strerror(errno));
+        int rc = wfile_open(&r->xyz_w, path, e);
+        if (rc) {
+            run_discard(r);
+            return rc;
+        }
+        r->xyz = r->xyz_w.f;
     }
     return 0;
 }
@@ -138,12 +150,15 @@ int run_write_final_state(struct run *r, const struct particles *p, const struct
     const char *dot = strrchr(name, '.');
     int rc = 0;
     if (dot && strcmp(dot, ".xyz") == 0) {
-        FILE *f = fopen(path, "w");
-        if (!f)
-            return err_set(e, ERR_RUNTIME, "%s: cannot create: %s", path, strerror(errno));
-        int bad = xyz_write_frame(f, p, b, step, time, NULL);
-        if (fclose(f) != 0 || bad)
-            return err_set(e, ERR_RUNTIME, "%s: write failed", path);
+        struct wfile w;
+        rc = wfile_open(&w, path, e);
+        if (rc)
+            return rc;
+        if (xyz_write_frame(w.f, p, b, step, time, NULL) != 0) {
+            wfile_discard(&w);
+            return err_set(e, ERR_RUNTIME, "cannot write %s: write error", path);
+        }
+        rc = wfile_commit(&w, e);
     } else {
         char title[512];
         snprintf(title, sizeof title, "cascade-solver final state: case %s, step %ld, time %g ps",
@@ -161,9 +176,9 @@ int run_thermo_header(struct run *r, const char *const *columns, int n)
         return 0;
     char path[4096];
     run_path(r, "thermo.csv", path, sizeof path);
-    r->thermo_csv = fopen(path, "w");
-    if (!r->thermo_csv)
+    if (wfile_open(&r->thermo_w, path, &r->write_err) != 0)
         return -1;
+    r->thermo_csv = r->thermo_w.f;
     /* provenance as a comment line (gnuplot, numpy and pandas skip '#') */
     fprintf(r->thermo_csv, "# cascade-solver %s (git %s), case key %s\n", provenance_version(),
             provenance_git_hash(), r->case_key);
@@ -173,14 +188,38 @@ int run_thermo_header(struct run *r, const char *const *columns, int n)
     return 0;
 }
 
-void run_thermo_row(struct run *r, const double *values, int n)
+/* A stream's write failed (wfile discarded it): keep the first error. */
+static int stream_failed(struct run *r, FILE **alias, const struct err *e)
+{
+    *alias = NULL;
+    if (!r->write_err.code)
+        r->write_err = *e;
+    return ERR_RUNTIME;
+}
+
+int run_thermo_row(struct run *r, const double *values, int n)
 {
     if (!r->thermo_csv)
-        return;
+        return r->write_err.code ? ERR_RUNTIME : 0;
     for (int k = 0; k < n; k++)
         fprintf(r->thermo_csv, "%s%.10g", k ? "," : "", values[k]);
     fputc('\n', r->thermo_csv);
-    fflush(r->thermo_csv);
+    struct err e = {0};
+    if (wfile_flush(&r->thermo_w, &e) != 0)
+        return stream_failed(r, &r->thermo_csv, &e);
+    return 0;
+}
+
+int run_xyz_frame_done(struct run *r, struct err *e)
+{
+    if (!r->xyz)
+        return 0;
+    struct err e2 = {0};
+    if (wfile_flush(&r->xyz_w, &e2) != 0) {
+        stream_failed(r, &r->xyz, &e2);
+        return err_set(e, ERR_RUNTIME, "%s", e2.msg);
+    }
+    return 0;
 }
 
 int run_snapshot_cell(struct run *r, hid_t g, const struct box *b, struct err *e)
@@ -222,7 +261,7 @@ int run_write_series_table(struct run *r, const double *rows, long nrows, int nc
 {
     if (!r->h5_open || nrows <= 0)
         return 0;
-    double *col = malloc((size_t)nrows * sizeof *col);
+    double *col = mem_alloc((size_t)nrows * sizeof *col);
     if (!col)
         return err_nomem(e, "thermo series");
     int rc = 0;
@@ -242,25 +281,59 @@ static double peak_rss_mib(void)
     return (double)ru.ru_maxrss / 1024.0;   /* Linux: kB */
 }
 
+void run_discard(struct run *r)
+{
+    wfile_discard(&r->thermo_w);
+    wfile_discard(&r->xyz_w);
+    r->thermo_csv = r->xyz = NULL;
+    if (r->h5_open)
+        h5out_discard(&r->h5);
+    r->h5_open = 0;
+    result_free(&r->result);
+}
+
 int run_close(struct run *r, const char *status, const char *message, long steps, long particles,
               struct err *e)
 {
     int rc = 0;
     timer_stop(&r->timers, TIMER_TOTAL);
-    if (r->thermo_csv)
-        fclose(r->thermo_csv);
-    r->thermo_csv = NULL;
-    if (r->xyz)
-        fclose(r->xyz);
-    r->xyz = NULL;
-    if (r->h5_open) {
-        struct err e2 = {0};
-        if (h5out_close(&r->h5, &e2) != 0 && !rc)
-            rc = err_set(e, ERR_RUNTIME, "%s", e2.msg);
-        r->h5_open = 0;
+    /* The streams become their files only now (written as NAME.tmp so far),
+     * and only for a run that ended as a result (ok, or diverged: its
+     * history shows how); a run that failed keeps none of them, so no
+     * reader takes a stream cut short for a run's output. */
+    struct err e2 = {0};
+    int keep = strcmp(status, "failed") != 0;
+    if (r->write_err.code) {
+        rc = err_set(e, ERR_RUNTIME, "%s", r->write_err.msg);
+        keep = 0;
+    }
+    if (keep && wfile_commit(&r->thermo_w, &e2) != 0) {
+        rc = err_set(e, ERR_RUNTIME, "%s", e2.msg);
+        keep = 0;
+    }
+    if (keep && wfile_commit(&r->xyz_w, &e2) != 0) {
+        rc = err_set(e, ERR_RUNTIME, "%s", e2.msg);
+        keep = 0;
+    }
+    wfile_discard(&r->thermo_w);
+    wfile_discard(&r->xyz_w);
+    r->thermo_csv = r->xyz = NULL;
+    if (r->h5_open && keep && h5out_close(&r->h5, &e2) != 0)
+        rc = err_set(e, ERR_RUNTIME, "%s", e2.msg);
+    else if (r->h5_open && !keep)
+        h5out_discard(&r->h5);
+    r->h5_open = 0;
+    /* result.json must not say ok when a file of the run is missing */
+    if (rc && strcmp(status, "ok") == 0) {
+        status = "failed";
+        message = e->msg;
     }
     /* timing per phase: seconds and µs per particle-step */
     json_t *timing = json_object();
+    if (!timing) {
+        result_free(&r->result);
+        return rc ? rc : err_nomem(e, "result.json");
+    }
     double denom = (double)steps * (double)particles;
     for (int t = 0; t < TIMER_COUNT; t++) {
         if (r->timers.calls[t] == 0 && t != TIMER_TOTAL)

@@ -19,6 +19,7 @@
 #include "output/result.h"
 #include "util/cfg.h"
 #include "util/err.h"
+#include "util/wfile.h"
 
 /* What the command line asks of a run. */
 struct run_options {
@@ -57,8 +58,11 @@ struct run {
     struct result result;
     struct h5out h5;
     int h5_open;
-    FILE *thermo_csv;
-    FILE *xyz;
+    struct wfile thermo_w;     /* thermo.csv (written as thermo.csv.tmp until run_close) */
+    struct wfile xyz_w;        /* snapshots.xyz (the same) */
+    FILE *thermo_csv;          /* thermo_w.f, NULL when not written (or after a failure) */
+    FILE *xyz;                 /* xyz_w.f, the same */
+    struct err write_err;      /* the first failed write of a stream: run_close reports it */
     FILE *log;                 /* stderr unless quiet */
     struct timers timers;
     struct progress progress;
@@ -69,9 +73,18 @@ struct run {
 int run_open(struct run *r, const struct run_options *opt, const struct output_settings *out,
              json_t *case_doc, uint64_t seed, const char *title, struct err *e);
 /* Write result.json with status and timing, close every file.  `status` is
- * "ok", "diverged" or "failed". */
+ * "ok", "diverged" or "failed"; when a file cannot be completed (a write
+ * failed), result.json says "failed" with that message, and so does e.
+ * thermo.csv, snapshots.xyz and fields.h5/.xdmf (written as NAME.tmp until
+ * here) are kept for "ok" and "diverged" and removed for "failed": a run
+ * that failed leaves no output cut short under its final name.  A run that
+ * never gets here (killed) leaves NAME.tmp. */
 int run_close(struct run *r, const char *status, const char *message, long steps, long particles,
               struct err *e);
+
+/* Close every file of a run that ends before run_close (an error while
+ * opening): the files written so far are removed, nothing is written. */
+void run_discard(struct run *r);
 
 /* Write the final particle state when the case asks for it
  * (output.final_state) and list it under "artifacts" in result.json. */
@@ -81,9 +94,16 @@ int run_write_final_state(struct run *r, const struct particles *p, const struct
 /* Path of a file inside the output directory. */
 void run_path(const struct run *r, const char *name, char *out, size_t len);
 
-/* Thermo CSV: header once, then rows (same number of values). */
+/* Thermo CSV: header once, then rows (same number of values).  A row is
+ * flushed as it is written; a failure to write it is remembered (the
+ * remaining rows go nowhere) and returned by run_close, and by
+ * run_thermo_row (ERR_RUNTIME, with r->write_err) for callers that can stop
+ * at once. */
 int run_thermo_header(struct run *r, const char *const *columns, int n);
-void run_thermo_row(struct run *r, const double *values, int n);
+int run_thermo_row(struct run *r, const double *values, int n);
+
+/* After a frame was written to r->xyz: flush it (the same rules). */
+int run_xyz_frame_done(struct run *r, struct err *e);
 
 /* The fields every particle snapshot starts with: the cell of box b
  * (run_snapshot_cell), position (Å), velocity (Å/ps), force (eV/Å), id and

@@ -158,8 +158,8 @@ void hs_case_free(struct hs_case *c)
     }
     potential_destroy(&c->pot);
     hs_profile_free(&c->prof);
-    if (c->profile_csv)
-        fclose(c->profile_csv);
+    wfile_discard(&c->profile_w);   /* a run that did not end well: no profile.csv */
+    c->profile_csv = NULL;
     free(c->ibuf);
     free(c->dbuf);
     free(c->thermo);
@@ -320,7 +320,7 @@ int hs_case_output_begin(struct hs_case *c, struct run *run, const char *const *
     for (int k = 0; k < nextra && n < HS_MAX_COLS; k++)
         cols[n++] = extra[k];
     if (run_thermo_header(run, cols, n) != 0)
-        return err_set(e, ERR_RUNTIME, "%s: cannot write thermo.csv", run->opt.out_dir);
+        return err_set(e, ERR_RUNTIME, "%s", run->write_err.msg);
     /* the rows of a restored checkpoint have this case's columns */
     if (c->nthermo > 0 && c->ncols != n)
         return err_set(e, ERR_INPUT, "checkpoint thermo rows have %d columns, the case writes %d",
@@ -331,9 +331,10 @@ int hs_case_output_begin(struct hs_case *c, struct run *run, const char *const *
     if (run->opt.rank == 0) {
         char path[4096];
         run_path(run, "profile.csv", path, sizeof path);
-        c->profile_csv = fopen(path, "w");
-        if (!c->profile_csv)
-            return err_set(e, ERR_RUNTIME, "%s: cannot create", path);
+        int rc = wfile_open(&c->profile_w, path, e);
+        if (rc)
+            return rc;
+        c->profile_csv = c->profile_w.f;
         fprintf(c->profile_csv,
                 "# stress along the bar: MD slabs (source 0: per-atom virial stress) and MPM "
                 "slabs (source 1: material point stress), slab %g Å\n"
@@ -512,8 +513,10 @@ int hs_case_profile(struct hs_case *c, struct run *run, double (*analytic)(const
             h5out_end_snapshot(&run->h5, g);
     }
     free(x);
-    if (c->profile_csv)
-        fflush(c->profile_csv);
+    if (!rc && c->profile_csv && wfile_flush(&c->profile_w, e) != 0) {
+        c->profile_csv = NULL;
+        rc = ERR_RUNTIME;
+    }
     return rc;
 }
 
@@ -588,9 +591,6 @@ int hs_case_output_end(struct hs_case *c, struct run *run, struct err *e)
     result_series(res, "profile_sxx", buf + 2 * nrow, (int)nrow, "GPa");
     result_series(res, "profile_szz", buf + 3 * nrow, (int)nrow, "GPa");
     free(buf);
-    if (c->profile_csv) {
-        fclose(c->profile_csv);
-        c->profile_csv = NULL;
-    }
-    return 0;
+    c->profile_csv = NULL;
+    return wfile_commit(&c->profile_w, e);
 }

@@ -41,6 +41,7 @@
 #include "couple/handshake_profile.h"
 #include "engine/models.h"
 #include "scenarios/case_type.h"
+#include "util/wfile.h"
 
 #define HS_PROFILE_COLS 14   /* a profile.csv row */
 
@@ -69,7 +70,8 @@ struct hs_case {
     struct hs_profile prof;
     struct handshake_model model;
     /* output */
-    FILE *profile_csv;
+    FILE *profile_csv;          /* profile_w.f (profile.csv.tmp until the run ends) */
+    struct wfile profile_w;
     int64_t *ibuf;
     double *dbuf;
     long cap;

@@ -615,7 +615,7 @@ static int hugoniot_run(void *state, struct run *run, struct err *e)
     static const char *const tcols[8] = {"up_km_s", "step", "time_ps", "front_A", "leading_A",
                                          "pe_eV", "ke_eV", "temp_K"};
     if (run_thermo_header(run, tcols, 8) != 0)
-        return err_set(e, ERR_RUNTIME, "%s: cannot write thermo.csv", run->opt.out_dir);
+        return err_set(e, ERR_RUNTIME, "%s", run->write_err.msg);
     timer_start(&run->timers, TIMER_LOOP);
     if (h->zero_pressure && h->th.temperature > 0) {
         struct thermal_spec small = h->th;

@@ -402,8 +402,7 @@ static int impact_output(void *state, struct sim *s, unsigned due, struct err *e
     struct impact *c = state;
     (void)due;   /* md_output_step reads the same schedule */
     return md_output_step(&c->out, s->run, &c->md, c->steps)
-               ? err_set(e, ERR_RUNTIME, "%s: cannot write the outputs of step %ld",
-                         s->run->opt.out_dir, s->step)
+               ? err_set(e, ERR_RUNTIME, "step %ld: %s", s->step, c->out.err.msg)
                : 0;
 }
 

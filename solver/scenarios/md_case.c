@@ -181,9 +181,7 @@ static int md_case_output(void *state, struct sim *s, unsigned due, struct err *
     struct md_case *c = state;
     (void)due;   /* md_output_step reads the same schedule */
     int rc = md_output_step(&c->out, s->run, &c->md, c->steps);
-    return rc ? err_set(e, ERR_RUNTIME, "%s: cannot write the outputs of step %ld",
-                        s->run->opt.out_dir, s->step)
-              : 0;
+    return rc ? err_set(e, ERR_RUNTIME, "step %ld: %s", s->step, c->out.err.msg) : 0;
 }
 
 static int md_case_report(void *state, struct sim *s, int run_rc, struct err *e)

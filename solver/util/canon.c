@@ -5,23 +5,27 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "util/mem.h"
 #include "util/sha256.h"
 
 struct sbuf {
     char *s;
     size_t len, cap;
     int oom;
+    int fixed;   /* s is the caller's buffer of cap bytes: cut, never grown */
 };
 
 static void sb_put(struct sbuf *b, const char *s, size_t n)
 {
     if (b->oom)
         return;
+    if (b->fixed && b->len + n + 1 > b->cap)
+        n = b->cap - 1 - b->len;
     if (b->len + n + 1 > b->cap) {
         size_t ncap = b->cap ? b->cap : 256;
         while (ncap < b->len + n + 1)
             ncap *= 2;
-        char *ns = realloc(b->s, ncap);
+        char *ns = mem_realloc(b->s, ncap);
         if (!ns) {
             b->oom = 1;
             return;
@@ -112,7 +116,7 @@ static void put_value(struct sbuf *b, const json_t *v)
     }
     case JSON_OBJECT: {
         size_t n = json_object_size(v), k = 0;
-        const char **keys = malloc((n ? n : 1) * sizeof *keys);
+        const char **keys = mem_alloc((n ? n : 1) * sizeof *keys);
         if (!keys) {
             b->oom = 1;
             return;
@@ -136,6 +140,16 @@ static void put_value(struct sbuf *b, const json_t *v)
     }
 }
 
+int canon_json_into(const json_t *v, char *buf, size_t len)
+{
+    if (len == 0)
+        return 0;
+    buf[0] = '\0';
+    struct sbuf b = {buf, 0, len, 0, 1};
+    put_value(&b, v);
+    return b.oom ? -1 : 0;
+}
+
 char *canon_json(const json_t *v)
 {
     struct sbuf b = {0};
@@ -147,12 +161,17 @@ char *canon_json(const json_t *v)
     return b.s;
 }
 
-void canon_key(const json_t *v, char key[CANON_KEY_LEN + 1])
+int canon_key(const json_t *v, char key[CANON_KEY_LEN + 1])
 {
     char *text = canon_json(v);
+    if (!text) {
+        key[0] = '\0';
+        return -1;
+    }
     char hex[65];
-    sha256_hex(text ? text : "", text ? strlen(text) : 0, hex);
+    sha256_hex(text, strlen(text), hex);
     free(text);
     memcpy(key, hex, CANON_KEY_LEN);
     key[CANON_KEY_LEN] = '\0';
+    return 0;
 }

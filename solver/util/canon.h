@@ -15,10 +15,16 @@
 
 /* Returns a malloc'ed NUL-terminated string, or NULL when out of memory. */
 char *canon_json(const json_t *v);
+/* The same text into buf (cut to len - 1 bytes): a scalar or an array of
+ * scalars needs no allocation; 0, or -1 when out of memory (an object
+ * sorts its keys in allocated memory). */
+int canon_json_into(const json_t *v, char *buf, size_t len);
 
-/* The job key: the first 16 hex digits of SHA-256 of the canonical text. */
+/* The job key: the first 16 hex digits of SHA-256 of the canonical text.
+ * 0, or -1 when out of memory (key is then "", never the key of another
+ * text). */
 #define CANON_KEY_LEN 16
-void canon_key(const json_t *v, char key[CANON_KEY_LEN + 1]);
+int canon_key(const json_t *v, char key[CANON_KEY_LEN + 1]);
 
 /* Shortest round-trip text of a double (for any output that must be exact). */
 void canon_real(double x, char *buf, size_t len);

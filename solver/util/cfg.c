@@ -7,6 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
+#include "util/mem.h"
 
 static void child_path(const struct cfg_obj *o, const char *key, char *out, size_t len)
 {
@@ -523,7 +524,7 @@ int cfg_real_list(struct cfg_obj *o, const char *key, int required, struct cfg_b
     if (!json_is_array(v))
         return fail(o->cfg, path, 0, "must be a list of numbers, found %s", type_name(v));
     size_t len = json_array_size(v);
-    double *vals = malloc((len ? len : 1) * sizeof *vals);
+    double *vals = mem_alloc((len ? len : 1) * sizeof *vals);
     if (!vals)
         return err_nomem(o->cfg->err, "list");
     int rc = array_of_numbers(o, key, v, path, 0, b, vals);

@@ -4,6 +4,7 @@
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
+#include "util/mem.h"
 
 struct locmap_slot {
     char *path;
@@ -27,11 +28,11 @@ static uint64_t path_hash(const char *s)
 
 struct locmap *locmap_create(void)
 {
-    struct locmap *m = calloc(1, sizeof *m);
+    struct locmap *m = mem_calloc(1, sizeof *m);
     if (!m)
         return NULL;
     m->cap = 64;
-    m->slots = calloc(m->cap, sizeof *m->slots);
+    m->slots = mem_calloc(m->cap, sizeof *m->slots);
     if (!m->slots) {
         free(m);
         return NULL;
@@ -62,7 +63,7 @@ static struct locmap_slot *find_slot(struct locmap_slot *slots, size_t cap, cons
 static int grow(struct locmap *m)
 {
     size_t ncap = m->cap * 2;
-    struct locmap_slot *ns = calloc(ncap, sizeof *ns);
+    struct locmap_slot *ns = mem_calloc(ncap, sizeof *ns);
     if (!ns)
         return -1;
     for (size_t i = 0; i < m->cap; i++)
@@ -80,7 +81,7 @@ int locmap_put(struct locmap *m, const char *path, struct loc loc)
         return -1;
     struct locmap_slot *s = find_slot(m->slots, m->cap, path);
     if (!s->path) {
-        s->path = strdup(path);
+        s->path = mem_strdup(path);
         if (!s->path)
             return -1;
         m->count++;

@@ -8,6 +8,7 @@
 #include <yaml.h>
 
 #include "util/canon.h"
+#include "util/mem.h"
 
 #define PATH_MAX_LEN 512
 #define MAX_ANCHORS 256
@@ -83,14 +84,16 @@ static json_t *plain_scalar(const char *s, size_t len)
     return json_stringn(s, len);
 }
 
-static void record(struct ydoc_parser *p, const char *path, const yaml_mark_t *key, yaml_mark_t val)
+static int record(struct ydoc_parser *p, const char *path, const yaml_mark_t *key, yaml_mark_t val)
 {
     struct loc l = {0, 0, (int)val.line + 1, (int)val.column + 1};
     if (key) {
         l.key_line = (int)key->line + 1;
         l.key_col = (int)key->column + 1;
     }
-    locmap_put(p->locs, path, l);
+    if (p->locs && locmap_put(p->locs, path, l) != 0)
+        return err_set(p->e, ERR_RUNTIME, "%s: out of memory (location map)", p->name);
+    return 0;
 }
 
 static int parse_node(struct ydoc_parser *p, yaml_event_t *ev, const char *path,
@@ -102,7 +105,7 @@ static int add_anchor(struct ydoc_parser *p, const yaml_char_t *anchor, json_t *
         return 0;
     if (p->nanchors >= MAX_ANCHORS)
         return fail_at(p, m, "too many YAML anchors%s", NULL);
-    p->anchors[p->nanchors].name = strdup((const char *)anchor);
+    p->anchors[p->nanchors].name = mem_strdup((const char *)anchor);
     p->anchors[p->nanchors].value = json_incref(v);
     p->nanchors++;
     return 0;
@@ -196,7 +199,10 @@ static int parse_node(struct ydoc_parser *p, yaml_event_t *ev, const char *path,
         yaml_event_delete(ev);
         return fail_at(p, m, "document nested too deeply%s", NULL);
     }
-    record(p, path, keymark, m);
+    if (record(p, path, keymark, m) != 0) {
+        yaml_event_delete(ev);
+        return ERR_RUNTIME;
+    }
     switch (ev->type) {
     case YAML_SCALAR_EVENT: {
         const char *s = (const char *)ev->data.scalar.value;
@@ -215,7 +221,7 @@ static int parse_node(struct ydoc_parser *p, yaml_event_t *ev, const char *path,
     }
     case YAML_MAPPING_START_EVENT: {
         yaml_char_t *anchor = ev->data.mapping_start.anchor
-                                  ? (yaml_char_t *)strdup((char *)ev->data.mapping_start.anchor)
+                                  ? (yaml_char_t *)mem_strdup((char *)ev->data.mapping_start.anchor)
                                   : NULL;
         yaml_event_delete(ev);
         rc = parse_mapping(p, path, depth, out);
@@ -226,7 +232,7 @@ static int parse_node(struct ydoc_parser *p, yaml_event_t *ev, const char *path,
     }
     case YAML_SEQUENCE_START_EVENT: {
         yaml_char_t *anchor = ev->data.sequence_start.anchor
-                                  ? (yaml_char_t *)strdup((char *)ev->data.sequence_start.anchor)
+                                  ? (yaml_char_t *)mem_strdup((char *)ev->data.sequence_start.anchor)
                                   : NULL;
         yaml_event_delete(ev);
         rc = parse_sequence(p, path, depth, out);
@@ -323,7 +329,7 @@ int yamldoc_load_file(const char *path, json_t **doc, struct locmap **locs, stru
     if (!f)
         return err_set(e, ERR_INPUT, "%s: cannot open: %s", path, strerror(errno));
     size_t cap = 8192, len = 0;
-    char *buf = malloc(cap);
+    char *buf = mem_alloc(cap);
     if (!buf) {
         fclose(f);
         return err_nomem(e, "file buffer");
@@ -332,7 +338,7 @@ int yamldoc_load_file(const char *path, json_t **doc, struct locmap **locs, stru
     while ((got = fread(buf + len, 1, cap - len, f)) > 0) {
         len += got;
         if (len == cap) {
-            char *nb = realloc(buf, cap *= 2);
+            char *nb = mem_realloc(buf, cap *= 2);
             if (!nb) {
                 free(buf);
                 fclose(f);
@@ -418,41 +424,48 @@ static int cmp_keys(const void *a, const void *b)
     return strcmp(*(const char *const *)a, *(const char *const *)b);
 }
 
-static void write_node(FILE *out, const json_t *v, int indent);
+/* The writers return 0, or -1 when out of memory (the output is then
+ * incomplete). */
+static int write_node(FILE *out, const json_t *v, int indent);
 
-static void write_object(FILE *out, const json_t *obj, int indent)
+static int write_object(FILE *out, const json_t *obj, int indent)
 {
     size_t n = json_object_size(obj), k = 0;
-    const char **keys = malloc((n ? n : 1) * sizeof *keys);
+    const char **keys = mem_alloc((n ? n : 1) * sizeof *keys);
+    if (!keys)
+        return -1;
     const char *key;
     json_t *val;
     json_object_foreach((json_t *)obj, key, val) keys[k++] = key;
     qsort(keys, n, sizeof *keys, cmp_keys);
-    for (size_t i = 0; i < n; i++) {
+    int rc = 0;
+    for (size_t i = 0; i < n && !rc; i++) {
         val = json_object_get(obj, keys[i]);
         fprintf(out, "%*s%s:", indent, "", keys[i]);
         if (json_is_object(val) && json_object_size(val) > 0) {
             fputc('\n', out);
-            write_object(out, val, indent + 2);
+            rc = write_object(out, val, indent + 2);
         } else if (json_is_array(val) && !is_flow_array(val)) {
             fputc('\n', out);
-            write_node(out, val, indent + 2);
+            rc = write_node(out, val, indent + 2);
         } else {
             fputc(' ', out);
-            write_node(out, val, indent + 2);
+            rc = write_node(out, val, indent + 2);
             fputc('\n', out);
         }
     }
     free(keys);
+    return rc;
 }
 
-static void write_node(FILE *out, const json_t *v, int indent)
+static int write_node(FILE *out, const json_t *v, int indent)
 {
+    int rc = 0;
     if (json_is_object(v)) {
         if (json_object_size(v) == 0)
             fputs("{}", out);
         else
-            write_object(out, v, indent);
+            rc = write_object(out, v, indent);
     } else if (json_is_array(v)) {
         size_t i;
         json_t *x;
@@ -468,14 +481,16 @@ static void write_node(FILE *out, const json_t *v, int indent)
         } else {
             json_array_foreach(v, i, x)
             {
+                if (rc)
+                    break;
                 fprintf(out, "%*s-", indent, "");
                 if (json_is_object(x) && json_object_size(x) > 0) {
                     /* first key on the dash line, the rest indented */
                     fputc('\n', out);
-                    write_object(out, x, indent + 2);
+                    rc = write_object(out, x, indent + 2);
                 } else {
                     fputc(' ', out);
-                    write_node(out, x, indent + 2);
+                    rc = write_node(out, x, indent + 2);
                     fputc('\n', out);
                 }
             }
@@ -483,15 +498,19 @@ static void write_node(FILE *out, const json_t *v, int indent)
     } else {
         write_scalar(out, v);
     }
+    return rc;
 }
 
 int yamldoc_write(FILE *out, const json_t *doc)
 {
+    int rc;
     if (json_is_object(doc)) {
-        write_object(out, doc, 0);
+        rc = write_object(out, doc, 0);
     } else {
-        write_node(out, doc, 0);
+        rc = write_node(out, doc, 0);
         fputc('\n', out);
     }
+    if (rc)
+        return -1;
     return ferror(out) ? -1 : 0;
 }

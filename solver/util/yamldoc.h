@@ -26,7 +26,8 @@ int yamldoc_load_string(const char *text, size_t len, const char *name,
                         json_t **doc, struct locmap **locs, struct err *e);
 
 /* Write a JSON tree as block-style YAML (used for case.yaml files written by
- * the campaign runner and for echoing resolved cases).  Keys are sorted. */
+ * the campaign runner and for echoing resolved cases).  Keys are sorted.
+ * 0, or -1 when writing failed or memory ran out (the output is incomplete). */
 int yamldoc_write(FILE *out, const json_t *doc);
 
 #endif
