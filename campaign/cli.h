@@ -19,6 +19,7 @@ int cmd_export(int argc, char **argv);
 int cmd_retry(int argc, char **argv);
 int cmd_report(int argc, char **argv);
 int cmd_regress(int argc, char **argv);
+int cmd_cancel(int argc, char **argv);
 
 /* Whether argv holds --help or -h. */
 int cli_wants_help(int argc, char **argv);

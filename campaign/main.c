@@ -23,6 +23,7 @@ static const char *usage =
     "  show KEY                  one job: parameters, attempts, metrics, files\n"
     "  export STUDY --csv        one row per job: parameters and metrics\n"
     "  retry STUDY [--failed]    run the study's jobs again (or only the failed ones)\n"
+    "  cancel STUDY              scancel what the study has queued or running in Slurm\n"
     "  report STUDY              convergence report (Markdown + HTML with figures)\n"
     "  regress STUDY.yaml        rerun a study and compare it with its baseline\n"
     "\n"
@@ -46,7 +47,8 @@ int main(int argc, char **argv)
         int (*fn)(int, char **);
     } cmds[] = {{"plan", cmd_plan},     {"run", cmd_run},       {"status", cmd_status},
                 {"query", cmd_query},   {"show", cmd_show},     {"export", cmd_export},
-                {"retry", cmd_retry},   {"report", cmd_report}, {"regress", cmd_regress}};
+                {"retry", cmd_retry},   {"report", cmd_report}, {"regress", cmd_regress},
+                {"cancel", cmd_cancel}};
     /* fault injection for the database tests (campaign/db_fault.h): read
      * here, once, before SQLite is first used */
     const char *fault_io = getenv("CASCADE_FAULT_IO"), *fault_mem = getenv("CASCADE_FAULT_MALLOC");

@@ -244,6 +244,7 @@ static int try_start(struct run_state *r, long k, int slot)
     if (!rc) {
         L.job_id = r->job_ids[j];
         L.run_id = run_id;
+        L.plan_index = j;
         rc = r->b->start(r->b, slot, &L, r->e);
         launch_free(&L);
     }
@@ -416,7 +417,11 @@ static void drop_lost_leases(struct run_state *r)
         progress_view_note(&r->view, "%s: our lease expired and another runner took the job; "
                                      "stopping attempt %d, nothing of it is recorded",
                            r->p->jobs[sl->j].key, sl->attempt);
-        r->b->cancel(r->b, i);
+        /* a job in Slurm is the other runner's now: leave it running */
+        if (r->b->release)
+            r->b->release(r->b, i);
+        else
+            r->b->cancel(r->b, i);
     }
 }
 
@@ -447,6 +452,81 @@ static void handle_signal(struct run_state *r, int sig)
     cancel_all(r);
 }
 
+/* The backend submitted attempts (Slurm): their ids are recorded before
+ * they may start, so a runner that dies finds them again. */
+static int on_submitted(void *ctx, int n, const int *slots, const char *const *ids,
+                        struct err *e)
+{
+    struct run_state *r = ctx;
+    long long *run_ids = malloc((size_t)(n ? n : 1) * sizeof *run_ids);
+    if (!run_ids)
+        return err_nomem(e, "run ids");
+    for (int i = 0; i < n; i++)
+        run_ids[i] = r->slots[slots[i]].run_id;
+    int rc = store_record_slurm_ids(&r->store, n, run_ids, ids, e);
+    free(run_ids);
+    return rc;
+}
+
+struct job_index {
+    long long id;
+    long j;
+};
+
+static int cmp_job_index(const void *a, const void *b)
+{
+    long long x = ((const struct job_index *)a)->id, y = ((const struct job_index *)b)->id;
+    return x < y ? -1 : x > y;
+}
+
+/* Attempts an earlier runner submitted to Slurm and left there: followed
+ * from where they are, not submitted again.  skip[j] is set for them. */
+static int adopt_jobs(struct run_state *r, char *skip)
+{
+    struct store_adopted *a = NULL;
+    int n = 0;
+    int rc = store_adopt(&r->store, r->study_id, &a, &n, r->e);
+    if (rc || !n) {
+        free(a);
+        return rc;
+    }
+    struct job_index *ix = malloc((size_t)r->p->njobs * sizeof *ix);
+    if (!ix) {
+        free(a);
+        return err_nomem(r->e, "job index");
+    }
+    for (long j = 0; j < r->p->njobs; j++)
+        ix[j] = (struct job_index){r->job_ids[j], j};
+    qsort(ix, (size_t)r->p->njobs, sizeof *ix, cmp_job_index);
+    int slot = 0, adopted = 0;
+    for (int i = 0; i < n && !rc; i++) {
+        struct job_index key = {a[i].job_id, 0}, *hit;
+        hit = bsearch(&key, ix, (size_t)r->p->njobs, sizeof *ix, cmp_job_index);
+        if (!hit || skip[hit->j])
+            continue;
+        while (slot < r->b->nslots && r->slots[slot].busy)
+            slot++;
+        if (slot == r->b->nslots)
+            break;   /* more than the slots: the rest wait for their lease to lapse */
+        rc = r->b->adopt(r->b, slot, hit->j, a[i].run_dir, a[i].slurm_id, r->e);
+        if (rc)
+            break;
+        r->slots[slot] = (struct slot){1, hit->j, a[i].run_id, a[i].attempt, 0, ""};
+        snprintf(r->slots[slot].run_dir, sizeof r->slots[slot].run_dir, "%s", a[i].run_dir);
+        r->mem[hit->j] = M_RUNNING;
+        r->running++;
+        skip[hit->j] = 1;
+        adopted++;
+    }
+    if (adopted)
+        progress_view_note(&r->view, "%d job%s already in Slurm (submitted by a runner that is "
+                                     "gone) followed from where they are",
+                           adopted, adopted == 1 ? "" : "s");
+    free(ix);
+    free(a);
+    return rc;
+}
+
 int runner_run(const struct study *s, const struct plan *p, const struct solver *sv, sqlite3 *db,
                struct backend *b, const struct runner_options *o, struct runner_summary *sum,
                struct err *e)
@@ -475,11 +555,21 @@ int runner_run(const struct study *s, const struct plan *p, const struct solver 
     if (!rc)
         rc = store_register(&r.store, s, p, &r.study_id, r.job_ids, e);
     int reaped = 0;
+    char *adopted = calloc((size_t)(p->njobs ? p->njobs : 1), 1);
+    if (!rc && !adopted)
+        rc = err_nomem(e, "runner");
+    progress_view_init(&r.view, o->log, o->quiet, p->njobs);
+    if (!rc && b->adopt) {
+        b->submitted = on_submitted;
+        b->submitted_ctx = &r;
+        rc = adopt_jobs(&r, adopted);
+    }
     if (!rc)
         rc = store_reap(&r.store, &reaped, e);
     for (long j = 0; j < p->njobs && !rc; j++)
-        if (push(&r, j, 0) != 0)
+        if (!adopted[j] && push(&r, j, 0) != 0)
             rc = err_nomem(e, "queue");
+    free(adopted);
     if (rc) {
         sum->not_run = sum->total;   /* the summary says so, not "0 done, 0 failed" */
         store_fini(&r.store);
@@ -491,7 +581,7 @@ int runner_run(const struct study *s, const struct plan *p, const struct solver 
         free(r.q);
         return rc;
     }
-    progress_view_init(&r.view, o->log, o->quiet, p->njobs);
+    r.view.running = r.running;
     if (reaped)
         progress_view_note(&r.view, "%d job%s left running by a runner that is gone will run again",
                            reaped, reaped == 1 ? "" : "s");

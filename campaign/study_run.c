@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "backend_mpi.h"
+#include "backend_slurm.h"
 #include "db.h"
 #include "launch.h"
 #include "plan.h"
@@ -22,6 +23,17 @@ int study_run(const struct study *s, const struct study_run_opts *o, struct runn
         rc = plan_build(&p, s, &sv, e);
     if (rc)
         return rc;
+    struct backend b;
+    memset(&b, 0, sizeof b);
+    /* Slurm: the resources of every job are checked against the cluster
+     * before anything is written */
+    if (s->backend == STUDY_BACKEND_SLURM && o->mpi_size <= 1) {
+        rc = backend_slurm_create(&b, s, &p, o->runs, e);
+        if (rc) {
+            plan_free(&p);
+            return rc;
+        }
+    }
     /* every check has passed: from here on the database and runs/ are written */
     char runs_abs[4096];
     sqlite3 *db = NULL;
@@ -30,9 +42,7 @@ int study_run(const struct study *s, const struct study_run_opts *o, struct runn
         rc = err_set(e, ERR_RUNTIME, "%s: %s", o->runs, strerror(errno));
     if (!rc)
         rc = db_open(o->db_path, &db, e);
-    struct backend b;
-    memset(&b, 0, sizeof b);
-    if (!rc) {
+    if (!rc && !b.impl) {
         if (o->mpi_size > 1) {
             rc = backend_mpi_create(&b, o->mpi_size - 1, e);
         } else {
