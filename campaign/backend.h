@@ -33,9 +33,11 @@ struct backend {
     /* Stop following a slot without touching the job (its lease went to
      * another runner); its outcome (not recorded) arrives through wait. */
     void (*release)(struct backend *b, int slot);
-    /* Set by the runner: called with the ids of attempts just submitted,
-     * before they may start; a non-zero return calls the submission off. */
-    int (*submitted)(void *ctx, int n, const int *slots, const char *const *ids, struct err *e);
+    /* Set by the runner: called with the ids of attempts just submitted
+     * (state "PENDING"), before they may start -- a non-zero return calls
+     * the submission off -- and again when they are seen running. */
+    int (*submitted)(void *ctx, int n, const int *slots, const char *const *ids,
+                     const char *state, struct err *e);
     void *submitted_ctx;
 };
 

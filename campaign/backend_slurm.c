@@ -28,6 +28,7 @@ struct sl_slot {
     char id[32];             /* "ARRAY_TASK" once submitted */
     int cancel_req, cancel_sent, forget;
     int missing;             /* polls in a row it was not in squeue's answer */
+    int seen_running;        /* RUNNING was recorded */
     int no_result;           /* polls it was COMPLETED without a result.json yet */
     enum sl_report report;
     char msg[512];
@@ -51,16 +52,27 @@ struct slurm_backend {
     double next_poll;
     long polls, squeue_failures;
     int narrays;
+    int accounting;                /* sacct answers (AccountingStorageType not none) */
+    long nsubmitted;               /* attempts submitted */
+    int arrays_submitted;
+    double submit_s;               /* time submitting (array script, sbatch, ids, release) */
+    long poll_calls;               /* client calls made while polling */
 };
 
-const struct slurm_cli *backend_slurm_cli(const struct backend *b)
+void backend_slurm_report(const struct backend *b, FILE *out)
 {
-    return &((const struct slurm_backend *)b->impl)->cli;
-}
-
-long backend_slurm_polls(const struct backend *b)
-{
-    return ((const struct slurm_backend *)b->impl)->polls;
+    const struct slurm_backend *x = b->impl;
+    if (!x->nsubmitted && !x->polls)
+        return;
+    fprintf(out,
+            "[cascade] slurm: %ld attempt%s submitted in %d array%s, %.3f ms per attempt "
+            "(array script, sbatch, recording the ids, release); %ld poll%s, "
+            "%.2f client calls per poll (squeue %ld, scontrol %ld, sacct %ld in all)\n",
+            x->nsubmitted, x->nsubmitted == 1 ? "" : "s", x->arrays_submitted,
+            x->arrays_submitted == 1 ? "" : "s",
+            x->nsubmitted ? 1e3 * x->submit_s / (double)x->nsubmitted : 0.0, x->polls,
+            x->polls == 1 ? "" : "s", x->polls ? (double)x->poll_calls / (double)x->polls : 0.0,
+            x->cli.calls[SP_SQUEUE], x->cli.calls[SP_SCONTROL], x->cli.calls[SP_SACCT]);
 }
 
 /* --- the cluster's limits and partitions -------------------------------------- */
@@ -264,6 +276,7 @@ static int read_limits(struct slurm_backend *x, long *max_submit, struct err *e)
     int accounting = conf_value(text, "AccountingStorageType", v, sizeof v) &&
                      strstr(v, "none") == NULL;
     free(text);
+    x->accounting = accounting;
     *max_submit = max_jobs > 0 ? max_jobs : 10000;
     if (accounting) {
         /* the user's association limit, when accounting knows one */
@@ -410,7 +423,7 @@ static void submit_array(struct backend *b, const int *slots, int n)
             snprintf(ids[i], sizeof ids[i], "%ld_%d", array, i);
             idp[i] = ids[i];
         }
-        rc = b->submitted ? b->submitted(b->submitted_ctx, n, slots, idp, &e) : 0;
+        rc = b->submitted ? b->submitted(b->submitted_ctx, n, slots, idp, "PENDING", &e) : 0;
         char arr[32];
         snprintf(arr, sizeof arr, "%ld", array);
         if (rc) {
@@ -426,6 +439,8 @@ static void submit_array(struct backend *b, const int *slots, int n)
                 sl->st = SL_SUBMITTED;
                 snprintf(sl->id, sizeof sl->id, "%s", ids[i]);
             }
+            x->nsubmitted += n;
+            x->arrays_submitted++;
             snprintf(x->last_array, sizeof x->last_array, "%s", arr);
             /* a release that fails is tried again at the next poll (held tasks) */
             const char *rargs[] = {"release", arr, NULL};
@@ -452,6 +467,7 @@ static void submit_started(struct backend *b)
         n += x->slots[i].st == SL_STARTED;
     if (!n)
         return;
+    double t0 = sys_mono();
     struct seq_slot *ss = malloc((size_t)n * sizeof *ss);
     int *order = malloc((size_t)n * sizeof *order), *chunk = malloc((size_t)n * sizeof *chunk);
     if (!ss || !order || !chunk) {
@@ -485,6 +501,7 @@ static void submit_started(struct backend *b)
     }
     free(order);
     free(chunk);
+    x->submit_s += sys_mono() - t0;
 }
 
 /* --- cancelling ---------------------------------------------------------------- */
@@ -569,10 +586,36 @@ static int has_result(const char *dir)
     return stat(path, &sb) == 0;
 }
 
-/* A task gone from the controller's memory before we saw it end (the
- * runner was away longer than MinJobAge): its files say what they can. */
+static void cancelled_outcome(struct outcome *o, const char *msg)
+{
+    memset(o, 0, sizeof *o);
+    o->status = RS_CANCELLED;
+    o->failure = FC_NONE;
+    o->exit_code = -1;
+    o->last_step = -1;
+    o->resumed_from_step = -1;
+    o->started = o->finished = sys_now();
+    sys_hostname(o->host, sizeof o->host);
+    snprintf(o->slurm_state, sizeof o->slurm_state, "CANCELLED");
+    snprintf(o->message, sizeof o->message, "%s", msg);
+}
+
+/* A task gone from the controller's memory before we saw it end: a pending
+ * array task cancelled by its id leaves no record at all; otherwise the
+ * runner was away longer than MinJobAge.  Its files say what they can. */
 static void vanished_outcome(struct outcome *o, const struct sl_slot *sl)
 {
+    char path[4096 + 16];
+    struct stat sb;
+    snprintf(path, sizeof path, "%s/stdout", sl->run_dir);
+    if (sl->cancel_req) {
+        cancelled_outcome(o, "cancelled: the runner was asked to stop");
+        return;
+    }
+    if (stat(path, &sb) != 0) {   /* the job script never ran */
+        cancelled_outcome(o, "cancelled in Slurm before it started (scancel)");
+        return;
+    }
     struct slurm_task t;
     memset(&t, 0, sizeof t);
     snprintf(t.id, sizeof t.id, "%s", sl->id);
@@ -593,8 +636,70 @@ static void vanished_outcome(struct outcome *o, const struct sl_slot *sl)
     }
 }
 
-static int poll_queue(struct slurm_backend *x, backend_done_fn done, void *ctx)
+struct ended {
+    int slot;
+    int known;                /* t holds what Slurm said */
+    struct slurm_task t;
+    double rss_mib;
+};
+
+/* Accounting, when the cluster has it: MaxRSS of the tasks that ended, and
+ * how the tasks that left the controller's memory ended -- one sacct call. */
+static void ask_accounting(struct slurm_backend *x, struct ended *en, int n)
 {
+    size_t len = 1;
+    for (int i = 0; i < n; i++)
+        len += strlen(x->slots[en[i].slot].id) + 1;
+    char *ids = malloc(len + 8), fmt[128];
+    if (!ids)
+        return;
+    ids[0] = '\0';
+    for (int i = 0; i < n; i++) {
+        strcat(ids, i ? "," : "");
+        strcat(ids, x->slots[en[i].slot].id);
+    }
+    char *jobs = malloc(len + 16);
+    if (!jobs) {
+        free(ids);
+        return;
+    }
+    snprintf(jobs, len + 16, "--jobs=%s", ids);
+    snprintf(fmt, sizeof fmt, "--format=%s", slurm_sacct_format);
+    const char *args[] = {"--noheader", "--parsable2", jobs, fmt, NULL};
+    char *text = NULL, why[512];
+    int status;
+    struct err e = {0};
+    if (slurm_cli_run(&x->cli, SP_SACCT, args, &text, why, sizeof why, &status, &e) == 0 &&
+        status == 0) {
+        for (char *l = text; l && *l;) {
+            char *nl = strchr(l, '\n');
+            if (nl)
+                *nl = '\0';
+            struct slurm_task t;
+            int step;
+            double rss;
+            if (slurm_parse_sacct(l, &t, &step, &rss) == 0)
+                for (int i = 0; i < n; i++) {
+                    if (strcmp(t.id, x->slots[en[i].slot].id) != 0)
+                        continue;
+                    if (rss > en[i].rss_mib)
+                        en[i].rss_mib = rss;
+                    if (!step && !en[i].known && slurm_state_final(t.state)) {
+                        en[i].t = t;
+                        en[i].known = 1;
+                    }
+                }
+            l = nl ? nl + 1 : NULL;
+        }
+    }
+    free(text);
+    free(jobs);
+    free(ids);
+}
+
+static int poll_queue(struct backend *b, backend_done_fn done, void *ctx)
+{
+    struct slurm_backend *x = b->impl;
     int n = 0;
     for (int i = 0; i < x->nslots; i++)
         n += x->slots[i].st == SL_SUBMITTED;
@@ -602,9 +707,15 @@ static int poll_queue(struct slurm_backend *x, backend_done_fn done, void *ctx)
         return 0;
     struct id_index *ix = malloc((size_t)n * sizeof *ix);
     char *seen = calloc((size_t)x->nslots, 1);
-    if (!ix || !seen) {
+    int *started = malloc((size_t)n * sizeof *started), nstarted = 0, nended = 0;
+    const char **started_ids = malloc((size_t)n * sizeof *started_ids);
+    struct ended *en = malloc((size_t)n * sizeof *en);
+    if (!ix || !seen || !started || !started_ids || !en) {
         free(ix);
         free(seen);
+        free(started);
+        free(started_ids);
+        free(en);
         return 0;
     }
     n = 0;
@@ -629,6 +740,9 @@ static int poll_queue(struct slurm_backend *x, backend_done_fn done, void *ctx)
         free(text);
         free(ix);
         free(seen);
+        free(started);
+        free(started_ids);
+        free(en);
         return 0;
     }
     x->squeue_failures = 0;
@@ -645,10 +759,15 @@ static int poll_queue(struct slurm_backend *x, backend_done_fn done, void *ctx)
         if (!hit)
             continue;
         struct sl_slot *sl = &x->slots[hit->slot];
-        if (sl->st != SL_SUBMITTED)
+        if (sl->st != SL_SUBMITTED || seen[hit->slot])
             continue;
         seen[hit->slot] = 1;
         sl->missing = 0;
+        if (strcmp(t.state, "RUNNING") == 0 && !sl->seen_running) {
+            sl->seen_running = 1;
+            started_ids[nstarted] = sl->id;
+            started[nstarted++] = hit->slot;
+        }
         if (!slurm_state_final(t.state)) {
             /* submitted held by a runner that died before releasing it */
             if (strcmp(t.reason, "JobHeldUser") == 0 && strlen(held) + 40 < sizeof held) {
@@ -665,25 +784,41 @@ static int poll_queue(struct slurm_backend *x, backend_done_fn done, void *ctx)
             sl->no_result++;
             continue;
         }
-        struct outcome o;
-        char limit[SLURM_VALUE_MAX];
-        snprintf(limit, sizeof limit, "%s", x->groups[x->group_of[sl->j]].v[SR_TIME]);
-        slurm_outcome(&o, &t, sl->run_dir, sl->cancel_req, limit);
-        reported += report(x, hit->slot, &o, done, ctx);
+        en[nended++] = (struct ended){hit->slot, 1, t, 0};
     }
     free(text);
     for (int k = 0; k < n; k++) {
         int i = ix[k].slot;
         struct sl_slot *sl = &x->slots[i];
-        if (seen[i] || sl->st != SL_SUBMITTED)
-            continue;
         /* twice absent: gone from the controller (MinJobAge) */
-        if (++sl->missing < 2)
-            continue;
-        struct outcome o;
-        vanished_outcome(&o, sl);
-        reported += report(x, i, &o, done, ctx);
+        if (!seen[i] && sl->st == SL_SUBMITTED && ++sl->missing >= 2) {
+            memset(&en[nended], 0, sizeof en[nended]);
+            en[nended++].slot = i;
+        }
     }
+    if (x->accounting && nended)
+        ask_accounting(x, en, nended);
+    /* cascade status tells queued from running by what the runner saw last */
+    if (nstarted && b->submitted &&
+        b->submitted(b->submitted_ctx, nstarted, started, started_ids, "RUNNING", &e) != 0)
+        fprintf(stderr, "cascade: cannot record that Slurm jobs started: %s\n", e.msg);
+    for (int k = 0; k < nended; k++) {
+        struct sl_slot *sl = &x->slots[en[k].slot];
+        struct outcome o;
+        if (en[k].known) {
+            char limit[SLURM_VALUE_MAX];
+            snprintf(limit, sizeof limit, "%s", x->groups[x->group_of[sl->j]].v[SR_TIME]);
+            slurm_outcome(&o, &en[k].t, sl->run_dir, sl->cancel_req, limit);
+        } else {
+            vanished_outcome(&o, sl);
+        }
+        if (en[k].rss_mib > 0)
+            o.peak_rss_mib = en[k].rss_mib;
+        reported += report(x, en[k].slot, &o, done, ctx);
+    }
+    free(started);
+    free(started_ids);
+    free(en);
     free(ix);
     free(seen);
     if (held[0]) {
@@ -706,15 +841,8 @@ static int report_local(struct slurm_backend *x, backend_done_fn done, void *ctx
         if (sl->report == REP_SUBMIT_FAILED) {
             outcome_start_failure(&o, sl->msg);
         } else {
-            memset(&o, 0, sizeof o);
-            o.status = RS_CANCELLED;
-            o.failure = FC_NONE;
-            o.exit_code = -1;
-            o.last_step = -1;
-            o.resumed_from_step = -1;
-            o.started = o.finished = sys_now();
-            sys_hostname(o.host, sizeof o.host);
-            snprintf(o.message, sizeof o.message, "%s", sl->msg);
+            cancelled_outcome(&o, sl->msg);
+            o.slurm_state[0] = '\0';
         }
         reported += report(x, i, &o, done, ctx);
     }
@@ -732,7 +860,13 @@ static int sl_wait(struct backend *b, double max_wait, backend_done_fn done, voi
     for (int i = 0; i < x->nslots && !submitted; i++)
         submitted = x->slots[i].st == SL_SUBMITTED;
     if (submitted && now >= x->next_poll) {
-        reported += poll_queue(x, done, ctx);
+        long before = 0, after = 0;
+        for (int k = 0; k < SP_COUNT; k++)
+            before += x->cli.calls[k];
+        reported += poll_queue(b, done, ctx);
+        for (int k = 0; k < SP_COUNT; k++)
+            after += x->cli.calls[k];
+        x->poll_calls += after - before;
         x->next_poll = sys_mono() + x->s->slurm.poll_s;
     }
     double t = reported ? 0 : max_wait;

@@ -22,6 +22,8 @@
 #ifndef CASCADE_CAMPAIGN_BACKEND_SLURM_H
 #define CASCADE_CAMPAIGN_BACKEND_SLURM_H
 
+#include <stdio.h>
+
 #include "backend.h"
 #include "plan.h"
 #include "slurm_cli.h"
@@ -30,8 +32,10 @@
 int backend_slurm_create(struct backend *b, const struct study *s, const struct plan *p,
                          const char *runs_root, struct err *e);
 
-/* The counters of client calls, and of polls (for the benchmark). */
-const struct slurm_cli *backend_slurm_cli(const struct backend *b);
-long backend_slurm_polls(const struct backend *b);
+/* One line: attempts submitted, time per attempt to submit them (array
+ * script, sbatch, recording the ids, release: the runner's "claim and
+ * start" covers the directory and job script), polls and client calls per
+ * poll. */
+void backend_slurm_report(const struct backend *b, FILE *out);
 
 #endif

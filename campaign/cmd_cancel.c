@@ -12,8 +12,8 @@
 static const char *usage =
     "usage: cascade cancel STUDY [--db FILE]\n"
     "\n"
-    "Cancels (scancel, one call) every attempt of the study that the database\n"
-    "shows queued or running in Slurm.  A runner still following the study on\n"
+    "Cancels (scancel, one call) the Slurm arrays of every attempt of the study\n"
+    "that the database shows queued or running in Slurm.  A runner still following the study on\n"
     "this host is told to stop (SIGTERM: it records its jobs as cancelled and\n"
     "submits nothing more); attempts whose runner is gone are recorded as\n"
     "cancelled here.  Cancelled jobs run again at the next 'cascade run'.\n";
@@ -136,11 +136,20 @@ int cmd_cancel(int argc, char **argv)
     if (!rc && n) {
         struct slurm_cli cli;
         rc = slurm_cli_init(&cli, &e);
+        /* whole arrays: a pending array task cancelled by its own id leaves
+         * no record in Slurm, a cancelled array leaves one per task */
         const char **args = rc ? NULL : calloc((size_t)n + 1, sizeof *args);
         if (!rc && !args)
             rc = err_nomem(&e, "cancel");
-        for (int i = 0; !rc && i < n; i++)
-            args[i] = v[i].slurm_id;
+        int na = 0;
+        for (int i = 0; !rc && i < n; i++) {
+            v[i].slurm_id[strcspn(v[i].slurm_id, "_")] = '\0';
+            int dup = 0;
+            for (int k = 0; k < na && !dup; k++)
+                dup = strcmp(args[k], v[i].slurm_id) == 0;
+            if (!dup)
+                args[na++] = v[i].slurm_id;
+        }
         char *out = NULL, why[512];
         int status = 0;
         if (!rc)

@@ -42,6 +42,7 @@ struct run_state {
     struct slot *slots;
     int running;
     int stopping, cancelling;
+    int detached;        /* SIGHUP with jobs in Slurm: left there for the next runner */
     struct progress_view view;
     struct runner_summary *sum;
     struct err *e;
@@ -449,13 +450,23 @@ static void handle_signal(struct run_state *r, int sig)
         return;
     }
     r->sum->interrupted = sig;
+    /* logged out: jobs in Slurm outlive the runner; the next `cascade run`
+     * adopts them (their leases lapse with this process) */
+    if (sig == SIGHUP && r->b->adopt) {
+        r->stopping = 1;
+        r->detached = 1;
+        progress_view_note(&r->view, "hung up: leaving %d job%s in Slurm; 'cascade run' again "
+                                     "follows them",
+                           r->running, r->running == 1 ? "" : "s");
+        return;
+    }
     cancel_all(r);
 }
 
 /* The backend submitted attempts (Slurm): their ids are recorded before
  * they may start, so a runner that dies finds them again. */
 static int on_submitted(void *ctx, int n, const int *slots, const char *const *ids,
-                        struct err *e)
+                        const char *state, struct err *e)
 {
     struct run_state *r = ctx;
     long long *run_ids = malloc((size_t)(n ? n : 1) * sizeof *run_ids);
@@ -463,7 +474,7 @@ static int on_submitted(void *ctx, int n, const int *slots, const char *const *i
         return err_nomem(e, "run ids");
     for (int i = 0; i < n; i++)
         run_ids[i] = r->slots[slots[i]].run_id;
-    int rc = store_record_slurm_ids(&r->store, n, run_ids, ids, e);
+    int rc = store_record_slurm_ids(&r->store, n, run_ids, ids, state, e);
     free(run_ids);
     return rc;
 }
@@ -563,6 +574,17 @@ int runner_run(const struct study *s, const struct plan *p, const struct solver 
         b->submitted = on_submitted;
         b->submitted_ctx = &r;
         rc = adopt_jobs(&r, adopted);
+    } else if (!rc) {
+        /* attempts left in Slurm would run a second time here */
+        int orphans = 0;
+        rc = store_slurm_orphans(&r.store, r.study_id, &orphans, e);
+        if (!rc && orphans)
+            rc = err_set(e, ERR_INPUT,
+                         "%d attempt%s of study %s %s in Slurm with no runner following them: "
+                         "run it with --backend slurm (which adopts them) or 'cascade cancel "
+                         "%s' first",
+                         orphans, orphans == 1 ? "" : "s", s->name, orphans == 1 ? "is" : "are",
+                         s->name);
     }
     if (!rc)
         rc = store_reap(&r.store, &reaped, e);
@@ -594,6 +616,8 @@ int runner_run(const struct study *s, const struct plan *p, const struct solver 
         if (r.fatal && r.running == 0)
             break;
         if (r.running == 0 && (r.stopping || queue_empty(&r)))
+            break;
+        if (r.detached)
             break;
         double now = sys_mono(), wait = 0.5;
         if (r.running == 0) {

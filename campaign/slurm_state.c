@@ -152,3 +152,64 @@ void slurm_outcome(struct outcome *o, const struct slurm_task *t, const char *ru
     o->started = t->start > 0 ? t->start : sys_now() - t->elapsed_s;
     o->finished = t->end > 0 ? t->end : sys_now();
 }
+
+const char slurm_sacct_format[] = "JobID,State,ExitCode,Elapsed,NodeList,Start,End,MaxRSS";
+
+static double rss_mib(const char *t)
+{
+    char *end;
+    double v = strtod(t, &end);
+    if (end == t || v < 0)
+        return 0;
+    switch (*end) {
+    case 'K': return v / 1024.0;
+    case 'M': return v;
+    case 'G': return v * 1024.0;
+    case 'T': return v * 1024.0 * 1024.0;
+    default: return v / (1024.0 * 1024.0);   /* bytes */
+    }
+}
+
+int slurm_parse_sacct(const char *line, struct slurm_task *t, int *step, double *rss)
+{
+    memset(t, 0, sizeof *t);
+    const char *f[8];
+    size_t fl[8];
+    const char *p = line;
+    for (int k = 0; k < 8; k++) {
+        const char *bar = k < 7 ? strchr(p, '|') : NULL;
+        if (k < 7 && !bar)
+            return -1;
+        f[k] = p;
+        fl[k] = bar ? (size_t)(bar - p) : strcspn(p, "|\r\n");
+        p = bar ? bar + 1 : p;
+    }
+    char tmp[64];
+    field(t->id, sizeof t->id, f[0], fl[0]);
+    char *dot = strchr(t->id, '.');
+    *step = dot != NULL;
+    if (dot)
+        *dot = '\0';
+    field(t->state, sizeof t->state, f[1], fl[1]);
+    char *sp = strchr(t->state, ' ');
+    if (sp)
+        *sp = '\0';
+    /* ExitCode "code:signal" */
+    field(tmp, sizeof tmp, f[2], fl[2]);
+    int code = atoi(tmp), sig = strchr(tmp, ':') ? atoi(strchr(tmp, ':') + 1) : 0;
+    t->exit_status = sig ? (sig & 0x7f) : (code & 0xff) << 8;
+    field(tmp, sizeof tmp, f[3], fl[3]);
+    t->elapsed_s = slurm_elapsed_seconds(tmp);
+    if (t->elapsed_s < 0)
+        t->elapsed_s = 0;
+    field(t->nodes, sizeof t->nodes, f[4], fl[4]);
+    if (strcmp(t->nodes, "None assigned") == 0)
+        t->nodes[0] = '\0';
+    field(tmp, sizeof tmp, f[5], fl[5]);
+    t->start = parse_time(tmp);
+    field(tmp, sizeof tmp, f[6], fl[6]);
+    t->end = parse_time(tmp);
+    field(tmp, sizeof tmp, f[7], fl[7]);
+    *rss = rss_mib(tmp);
+    return t->id[0] && t->state[0] ? 0 : -1;
+}

@@ -43,6 +43,12 @@ int slurm_state_final(const char *state);
 void slurm_outcome(struct outcome *o, const struct slurm_task *t, const char *run_dir,
                    int by_runner, const char *limit);
 
+/* Accounting (when the cluster has it): the --format of sacct -n -P that
+ * slurm_parse_sacct reads, one line per job and per step ("4711_3.batch");
+ * *step says which, *rss is MaxRSS in MiB (0 when not given). */
+extern const char slurm_sacct_format[];
+int slurm_parse_sacct(const char *line, struct slurm_task *t, int *step, double *rss);
+
 /* Seconds of "M:SS", "H:MM:SS", "D-HH:MM:SS" (squeue's TimeUsed); -1 when not. */
 double slurm_elapsed_seconds(const char *text);
 

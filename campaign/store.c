@@ -767,14 +767,17 @@ int store_reap(struct store *st, int *n, struct err *e)
 /* --- Slurm attempts ----------------------------------------------------------- */
 
 int store_record_slurm_ids(struct store *st, int n, const long long *run_ids,
-                           const char *const *slurm_ids, struct err *e)
+                           const char *const *slurm_ids, const char *state, struct err *e)
 {
     sqlite3 *db = st->db;
     int rc = db_begin(db, e);
     if (rc)
         return rc;
     sqlite3_stmt *s;
-    if ((rc = db_prepare(db, "UPDATE runs SET slurm_job_id = ?2 WHERE id = ?1", &s, e))) {
+    if ((rc = db_prepare(db,
+                         "UPDATE runs SET slurm_job_id = ?2, slurm_state = ?3 "
+                         "WHERE id = ?1 AND status = 'running'",
+                         &s, e))) {
         db_rollback(db);
         return rc;
     }
@@ -782,6 +785,7 @@ int store_record_slurm_ids(struct store *st, int n, const long long *run_ids,
         sqlite3_reset(s);
         sqlite3_bind_int64(s, 1, run_ids[i]);
         bind_text(s, 2, slurm_ids[i]);
+        bind_text(s, 3, state);
         rc = step_done(db, s, e, "recording Slurm job ids");
     }
     sqlite3_finalize(s);
@@ -865,4 +869,26 @@ int store_adopt(struct store *st, long long study_id, struct store_adopted **out
         *n = 0;
     }
     return rc;
+}
+
+int store_slurm_orphans(struct store *st, long long study_id, int *n, struct err *e)
+{
+    *n = 0;
+    sqlite3_stmt *s;
+    int rc = db_prepare(st->db,
+                        "SELECT l.runner, l.expires FROM runs r JOIN jobs j ON j.id = r.job_id "
+                        "LEFT JOIN leases l ON l.run_id = r.id WHERE j.study_id = ?1 "
+                        "AND r.status = 'running' AND r.slurm_job_id IS NOT NULL",
+                        &s, e);
+    if (rc)
+        return rc;
+    sqlite3_bind_int64(s, 1, study_id);
+    while (sqlite3_step(s) == SQLITE_ROW) {
+        const char *runner = (const char *)sqlite3_column_text(s, 0);
+        char why[512];
+        if (!runner || lease_stale(runner, sqlite3_column_double(s, 1), why, sizeof why))
+            (*n)++;
+    }
+    sqlite3_finalize(s);
+    return 0;
 }

@@ -65,6 +65,8 @@ int study_run(const struct study *s, const struct study_run_opts *o, struct runn
                                     .infra_backoff_s = 0.5,
                                     .infra_limit = 3};
         rc = runner_run(s, &p, &sv, db, &b, &ro, sum, e);
+        if (s->backend == STUDY_BACKEND_SLURM && b.impl && !o->quiet)
+            backend_slurm_report(&b, stderr);
     }
     if (b.destroy)
         b.destroy(&b);

@@ -121,6 +121,29 @@ Test(campaign_slurm, squeue_lines_and_states)
     cr_assert(!slurm_state_final("PENDING"));
     cr_assert_neq(slurm_parse_task("garbage", &t), 0);
 
+    /* accounting: the job line and its steps' MaxRSS */
+    int step;
+    double rss;
+    cr_assert_eq(slurm_parse_sacct("12_3.batch|COMPLETED|0:0|00:01:05|node1|2026-11-25T14:38:04|"
+                                   "2026-11-25T14:39:09|2048K",
+                                   &t, &step, &rss),
+                 0);
+    cr_assert_str_eq(t.id, "12_3");
+    cr_assert(step);
+    cr_assert_float_eq(rss, 2.0, 1e-12);
+    cr_assert_float_eq(t.elapsed_s, 65.0, 1e-9);
+    cr_assert_eq(slurm_parse_sacct("12_4|CANCELLED by 0|0:15|00:00:07|node2|Unknown|Unknown|",
+                                   &t, &step, &rss),
+                 0);
+    cr_assert(!step);
+    cr_assert_str_eq(t.state, "CANCELLED");
+    cr_assert(WIFSIGNALED(t.exit_status) && WTERMSIG(t.exit_status) == 15);
+    cr_assert_float_eq(rss, 0.0, 0.0);
+    cr_assert_eq(slurm_parse_sacct("12_5|FAILED|3:0|1-00:00:01|n|x|y|1.5G", &t, &step, &rss), 0);
+    cr_assert(WIFEXITED(t.exit_status) && WEXITSTATUS(t.exit_status) == 3);
+    cr_assert_float_eq(rss, 1536.0, 1e-9);
+    cr_assert_float_eq(t.elapsed_s, 86401.0, 1e-9);
+
     /* the mapping, on an empty run directory */
     char dir[64];
     ct_mkdir(dir, sizeof dir);
@@ -467,8 +490,12 @@ Test(campaign_slurm, kill9_runner_then_run_again_adopts, .fini = stop_cluster, .
     kill(pid, SIGKILL);
     cr_assert_eq(ct_wait(pid), 128 + SIGKILL);
     cr_assert_gt(db_count(dir, "SELECT count(*) FROM runs WHERE status = 'running'"), 0);
-    int rc = ct_cascade(dir, env, out, sizeof out, "run", "s.yaml", "--solver", ct_standin(),
-                        "--lease", "5", NULL);
+    /* status says so from the database */
+    int rc = ct_cascade(dir, NULL, out, sizeof out, "status", "adopt", NULL);
+    cr_assert_eq(rc, 0, "%s", out);
+    cr_assert(strstr(out, "in Slurm: ") && strstr(out, "with no runner following"), "%s", out);
+    rc = ct_cascade(dir, env, out, sizeof out, "run", "s.yaml", "--solver", ct_standin(),
+                    "--lease", "5", NULL);
     cr_assert_eq(rc, 0, "%s", out);
     cr_assert(strstr(out, "already in Slurm"), "%s", out);
     sqlite3 *db = ct_db(dir);
@@ -563,6 +590,122 @@ Test(campaign_slurm, timeout_resumes_from_the_checkpoint, .fini = stop_cluster, 
     cr_assert_eq(ct_int(db, "SELECT count(*) FROM runs WHERE attempt = 1 AND resumed_from_step "
                             "IS NOT NULL"),
                  0);
+    sqlite3_close(db);
+    ct_rmrf(dir);
+}
+
+/* A hang-up (logged out) leaves the jobs in Slurm; a local runner refuses
+ * to run them a second time; the next Slurm runner adopts them. */
+Test(campaign_slurm, hangup_leaves_jobs_in_slurm, .fini = stop_cluster, .timeout = 180)
+{
+    start_cluster(NULL);
+    char dir[64], out[16384];
+    ct_mkdir(dir, sizeof dir);
+    ct_write(0, dir, "s.yaml",
+             "name: hup\nbase: {fake: {action: sleep, seconds: 2}}\n"
+             "sweep: {grid: {fake.x: [1, 2, 3, 4]}}\n"
+             "backend: slurm\nmax_running: 2\nslurm: {poll: 0.3, time: 2}\n");
+    const char *env[] = {wrap_sbatch(dir), NULL};
+    const char *argv[] = {ct_cascade_bin(), "run", "s.yaml", "--solver", ct_standin(), NULL};
+    pid_t pid = ct_spawn(dir, env, argv, "run1.log");
+    for (int i = 0; i < 600; i++) {
+        usleep(100000);
+        if (db_count(dir, "SELECT count(*) FROM runs WHERE slurm_job_id IS NOT NULL") == 4)
+            break;
+    }
+    kill(pid, SIGHUP);
+    cr_assert_eq(ct_wait(pid), 128 + SIGHUP);
+    long long left = db_count(dir, "SELECT count(*) FROM runs WHERE status = 'running'");
+    cr_assert_gt(left, 0, "nothing left in Slurm to adopt");
+    cr_assert_eq(db_count(dir, "SELECT count(*) FROM runs WHERE status = 'cancelled'"), 0);
+    int rc = ct_cascade(dir, NULL, out, sizeof out, "run", "s.yaml", "--backend", "local",
+                        "--solver", ct_standin(), NULL);
+    cr_assert_eq(rc, 2, "%s", out);
+    cr_assert(strstr(out, "in Slurm with no runner following them"), "%s", out);
+    rc = ct_cascade(dir, env, out, sizeof out, "run", "s.yaml", "--solver", ct_standin(), NULL);
+    cr_assert_eq(rc, 0, "%s", out);
+    sqlite3 *db = ct_db(dir);
+    cr_assert_eq(ct_int(db, "SELECT count(*) FROM runs"), 4);
+    cr_assert_eq(ct_int(db, "SELECT count(*) FROM runs WHERE status = 'done'"), 4);
+    sqlite3_close(db);
+    cr_assert_eq(submissions(dir), 1);
+    ct_rmrf(dir);
+}
+
+/* ntasks > 1: the job script starts the solver through srun, on that many
+ * tasks (each copy of the stand-in says so on stderr). */
+Test(campaign_slurm, ntasks_runs_the_solver_through_srun, .fini = stop_cluster, .timeout = 120)
+{
+    start_cluster(NULL);
+    char dir[64], out[16384];
+    ct_mkdir(dir, sizeof dir);
+    ct_write(0, dir, "s.yaml",
+             "name: mpi\nbase: {fake: {action: ok}}\nsweep: {grid: {fake.x: [3]}}\n"
+             "backend: slurm\nslurm: {poll: 0.3, time: 2, ntasks: 2, mem: 200M}\n");
+    int rc = ct_cascade(dir, NULL, out, sizeof out, "run", "s.yaml", "--solver", ct_standin(),
+                        "--quiet", NULL);
+    cr_assert_eq(rc, 0, "%s", out);
+    sqlite3 *db = ct_db(dir);
+    char rd[512], path[600], text[8192];
+    ct_text(db, "SELECT run_dir FROM runs", rd, sizeof rd);
+    cr_assert_eq(ct_int(db, "SELECT count(*) FROM runs WHERE status = 'done'"), 1);
+    sqlite3_close(db);
+    snprintf(path, sizeof path, "%s/job.sbatch", rd);
+    FILE *f = fopen(path, "r");
+    cr_assert_not_null(f, "%s", path);
+    size_t n = fread(text, 1, sizeof text - 1, f);
+    text[n] = '\0';
+    fclose(f);
+    cr_assert(strstr(text, "\n#SBATCH --ntasks=2\n") && strstr(text, "\n#SBATCH --mem=200M\n") &&
+                  strstr(text, "\nexec srun --ntasks=2 --cpus-per-task=1 '"),
+              "%s", text);
+    snprintf(path, sizeof path, "%s/stderr", rd);
+    f = fopen(path, "r");
+    cr_assert_not_null(f);
+    n = fread(text, 1, sizeof text - 1, f);
+    text[n] = '\0';
+    fclose(f);
+    int copies = 0;
+    for (const char *p = text; (p = strstr(p, "action ok")); p++)
+        copies++;
+    cr_assert_eq(copies, 2, "%s", text);
+    ct_rmrf(dir);
+}
+
+/* slurm.max_submit (as MaxSubmitJobs would): never more of the study's
+ * jobs in the queue than that, the rest submitted as earlier ones end. */
+Test(campaign_slurm, max_submit_bounds_the_queue, .fini = stop_cluster, .timeout = 180)
+{
+    start_cluster(NULL);
+    char dir[64];
+    ct_mkdir(dir, sizeof dir);
+    ct_write(0, dir, "s.yaml",
+             "name: msub\nbase: {fake: {action: sleep, seconds: 1}}\n"
+             "sweep: {grid: {fake.x: [1, 2, 3, 4, 5, 6, 7, 8, 9]}}\n"
+             "backend: slurm\nslurm: {poll: 0.3, time: 2, max_submit: 3}\n");
+    const char *argv[] = {ct_cascade_bin(), "run", "s.yaml", "--solver", ct_standin(), "--quiet",
+                          NULL};
+    pid_t pid = ct_spawn(dir, NULL, argv, "run.log");
+    int most = 0, status = -1;
+    for (int i = 0; i < 1200; i++) {
+        char q[4096] = "";
+        const char *sq[] = {"squeue", "-h", "-r", "-t", "PENDING,RUNNING,CONFIGURING",
+                            "--name=cascade.msub", "-o", "%i", NULL};
+        if (slurmfx_client(sq, q, sizeof q) == 0 && count_lines(q) > most)
+            most = count_lines(q);
+        int st;
+        if (waitpid(pid, &st, WNOHANG) == pid) {
+            status = WIFEXITED(st) ? WEXITSTATUS(st) : 128 + WTERMSIG(st);
+            break;
+        }
+        usleep(100000);
+    }
+    cr_assert_eq(status, 0);
+    cr_assert_leq(most, 3, "%d of the study's jobs in the queue at once", most);
+    cr_assert_geq(most, 2);
+    sqlite3 *db = ct_db(dir);
+    cr_assert_eq(ct_int(db, "SELECT count(*) FROM runs WHERE status = 'done'"), 9);
+    cr_assert_eq(ct_int(db, "SELECT count(*) FROM runs"), 9);
     sqlite3_close(db);
     ct_rmrf(dir);
 }
