@@ -38,7 +38,9 @@ static const char *usage =
     "  --quiet         no progress output\n"
     "\n"
     "Ctrl-C once: no new jobs, running ones finish; twice: running jobs are\n"
-    "cancelled.  Under mpirun, rank 0 alone opens the database and ranks 1..N-1\n"
+    "cancelled.  With Slurm, a hang-up (SIGHUP, a closed login) leaves the jobs\n"
+    "in Slurm, and 'cascade run' again follows them (nothing is submitted twice).\n"
+    "Under mpirun, rank 0 alone opens the database and ranks 1..N-1\n"
     "run the jobs.  Exit code 0 when every job is done, 1 when some failed or the\n"
     "runner had to stop (infrastructure, database), 2 on bad input (nothing is\n"
     "written then), 130 when interrupted.\n";

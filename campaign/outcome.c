@@ -166,7 +166,8 @@ static void collect_artifacts(struct outcome *o, const char *dir)
             n++;
     }
     closedir(d);
-    qsort(names, (size_t)n, sizeof *names, cmp_name);
+    if (n > 0)   /* names is NULL for an empty directory */
+        qsort(names, (size_t)n, sizeof *names, cmp_name);
     o->artifacts = calloc((size_t)(n ? n : 1), sizeof *o->artifacts);
     for (int i = 0; i < n; i++) {
         if (o->artifacts) {

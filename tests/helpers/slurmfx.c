@@ -130,9 +130,13 @@ static int died(struct slurmfx *f, int k, const char *cmd, const char *log)
     if (waitpid(f->pid[k], &st, WNOHANG) != f->pid[k])
         return 0;
     f->pid[k] = 0;
-    char t[1600];
+    char t[800], o[800], out[256];
     tail_of(log, t, sizeof t);
-    snprintf(f->skip, sizeof f->skip, "'%s' exited (status %d): %s", cmd, st, t);
+    snprintf(out, sizeof out, "%s/log/%s.out", f->dir, daemon_names[k]);
+    tail_of(out, o, sizeof o);
+    snprintf(f->skip, sizeof f->skip, "'%s' exited (%s %d): %s%s%s", cmd,
+             WIFEXITED(st) ? "exit" : "signal", WIFEXITED(st) ? WEXITSTATUS(st) : WTERMSIG(st),
+             o, o[0] && t[0] ? " / " : "", t);
     return 1;
 }
 
