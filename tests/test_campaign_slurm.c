@@ -709,3 +709,53 @@ Test(campaign_slurm, max_submit_bounds_the_queue, .fini = stop_cluster, .timeout
     sqlite3_close(db);
     ct_rmrf(dir);
 }
+
+/* cascade cancel with the runner gone: the attempts are cancelled in Slurm
+ * and recorded as cancelled by cascade cancel itself. */
+Test(campaign_slurm, cancel_with_the_runner_gone, .fini = stop_cluster, .timeout = 120)
+{
+    start_cluster(NULL);
+    char dir[64], out[16384];
+    ct_mkdir(dir, sizeof dir);
+    ct_write(0, dir, "s.yaml",
+             "name: gone\nbase: {fake: {action: sleep, seconds: 60}}\n"
+             "sweep: {grid: {fake.x: [1, 2, 3]}}\n"
+             "backend: slurm\nmax_running: 1\nslurm: {poll: 0.3, time: 3}\n");
+    const char *argv[] = {ct_cascade_bin(), "run", "s.yaml", "--solver", ct_standin(), "--quiet",
+                          NULL};
+    pid_t pid = ct_spawn(dir, NULL, argv, "run.log");
+    for (int i = 0; i < 600; i++) {
+        usleep(100000);
+        if (db_count(dir, "SELECT count(*) FROM runs WHERE slurm_job_id IS NOT NULL") == 3)
+            break;
+    }
+    kill(pid, SIGKILL);
+    cr_assert_eq(ct_wait(pid), 128 + SIGKILL);
+    int rc = ct_cascade(dir, NULL, out, sizeof out, "cancel", "gone", NULL);
+    cr_assert_eq(rc, 0, "%s", out);
+    cr_assert(strstr(out, "cancelled 3 Slurm jobs (0 followed by a live runner"), "%s", out);
+    sqlite3 *db = ct_db(dir);
+    cr_assert_eq(ct_int(db, "SELECT count(*) FROM runs WHERE status = 'cancelled' AND "
+                            "message = 'cancelled by cascade cancel' AND slurm_state = "
+                            "'CANCELLED' AND failure_class IS NULL"),
+                 3);
+    cr_assert_eq(ct_int(db, "SELECT count(*) FROM leases"), 0);
+    sqlite3_close(db);
+    char q[4096] = "x";
+    const char *sq[] = {"squeue", "-h", "-r", "-t", "PENDING,RUNNING,COMPLETING",
+                        "--name=cascade.gone", "-o", "%i", NULL};
+    for (int i = 0; i < 50 && q[0]; i++) {
+        q[0] = '\0';
+        slurmfx_client(sq, q, sizeof q);
+        if (q[0])
+            usleep(100000);
+    }
+    cr_assert_str_eq(q, "", "still in the queue: %s", q);
+    /* nothing left to cancel */
+    rc = ct_cascade(dir, NULL, out, sizeof out, "cancel", "gone", NULL);
+    cr_assert_eq(rc, 0, "%s", out);
+    cr_assert(strstr(out, "nothing queued or running in Slurm"), "%s", out);
+    rc = ct_cascade(dir, NULL, out, sizeof out, "cancel", "nosuch", NULL);
+    cr_assert_eq(rc, 2, "%s", out);
+    ct_rmrf(dir);
+}
