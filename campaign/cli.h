@@ -20,6 +20,7 @@ int cmd_retry(int argc, char **argv);
 int cmd_report(int argc, char **argv);
 int cmd_regress(int argc, char **argv);
 int cmd_import(int argc, char **argv);
+int cmd_cancel(int argc, char **argv);
 
 /* Whether argv holds --help or -h. */
 int cli_wants_help(int argc, char **argv);

@@ -43,12 +43,16 @@ static int overview(sqlite3 *db, struct err *e)
     return rc;
 }
 
-static int stale_running(sqlite3 *db, long long study_id, long *stale, struct err *e)
+/* Running jobs whose runner is gone: *stale of them run again, *orphans
+ * (in Slurm) are adopted by the next runner. */
+static int stale_running(sqlite3 *db, long long study_id, long *stale, long *orphans,
+                         struct err *e)
 {
     sqlite3_stmt *st;
-    *stale = 0;
+    *stale = *orphans = 0;
     int rc = db_prepare(db,
-                        "SELECT l.runner, l.expires FROM leases l JOIN jobs j ON j.id = l.job_id "
+                        "SELECT l.runner, l.expires, r.slurm_job_id IS NOT NULL FROM leases l "
+                        "JOIN jobs j ON j.id = l.job_id JOIN runs r ON r.id = l.run_id "
                         "WHERE j.study_id = ?1",
                         &st, e);
     if (rc)
@@ -58,7 +62,7 @@ static int stale_running(sqlite3 *db, long long study_id, long *stale, struct er
     while (sqlite3_step(st) == SQLITE_ROW) {
         const char *runner = (const char *)sqlite3_column_text(st, 0);
         if (sys_runner_alive(runner) == 0 || sqlite3_column_double(st, 1) < now)
-            (*stale)++;
+            (*(sqlite3_column_int(st, 2) ? orphans : stale))++;
     }
     sqlite3_finalize(st);
     return 0;
@@ -108,9 +112,30 @@ static int one_study(sqlite3 *db, const char *name, struct err *e)
     sqlite3_finalize(st);
     printf("  %ld jobs: %ld done, %ld failed, %ld running, %ld other (%s)\n", total, done, failed,
            running, total - done - failed - running, states[0] ? states : "none");
-    long stale;
-    if ((rc = stale_running(db, id, &stale, e)))
+    long stale, orphans;
+    if ((rc = stale_running(db, id, &stale, &orphans, e)))
         return rc;
+    if (running) {
+        /* Slurm: queued or running as the runner last saw them (no Slurm call) */
+        if ((rc = db_prepare(db,
+                             "SELECT count(*) FILTER (WHERE r.slurm_state = 'PENDING'), "
+                             "count(*) FILTER (WHERE r.slurm_state = 'RUNNING') FROM jobs j "
+                             "JOIN runs r ON r.id = j.last_run_id WHERE j.study_id = ?1 "
+                             "AND j.active = 1 AND j.state = 'running' "
+                             "AND r.slurm_job_id IS NOT NULL",
+                             &st, e)))
+            return rc;
+        sqlite3_bind_int64(st, 1, id);
+        if (sqlite3_step(st) == SQLITE_ROW &&
+            sqlite3_column_int64(st, 0) + sqlite3_column_int64(st, 1) > 0)
+            printf("  in Slurm: %lld queued, %lld running (as the runner last saw them)\n",
+                   (long long)sqlite3_column_int64(st, 0), (long long)sqlite3_column_int64(st, 1));
+        sqlite3_finalize(st);
+    }
+    if (orphans)
+        printf("  %ld job%s in Slurm with no runner following; the next 'cascade run' "
+               "adopts %s\n",
+               orphans, orphans == 1 ? "" : "s", orphans == 1 ? "it" : "them");
     if (stale)
         printf("  %ld running job%s belong to a runner that is gone; the next 'cascade run' "
                "runs them again\n",
