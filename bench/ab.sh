@@ -31,6 +31,7 @@ while [ $i -lt "$REPEAT" ]; do
         OMP_NUM_THREADS=$THREADS "$bin/cascade-solver" run "$CASE" --out "$WORK/$side" \
             --threads "$THREADS" --quiet --no-progress
         timers "$WORK/$side/result.json" | sed "s/^/$side /" >> "$WORK/t"
+        echo "ab: run $i $side loop $(json_timer "$WORK/$side/result.json" loop) s, $(bench_load)" >&2
     done
 done
 echo "ab: $(bench_load) at end" >&2
