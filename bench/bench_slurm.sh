@@ -21,6 +21,7 @@
 # of REPEAT runs.  Skipped (with the reason) when the daemons cannot start.
 set -eu
 : "${BIN:?}" "${ROOT:?}" "${WORK:?}" "${REPEAT:=3}"
+. "$ROOT/bench/lib.sh"
 for p in munged slurmctld slurmd sbatch squeue; do
     if ! command -v $p >/dev/null 2>&1; then
         echo "bench_slurm: $p not installed (make deps installs slurm-wlm and munge); skipped" >&2
@@ -36,7 +37,6 @@ if [ ! -x "$FAKE" ]; then
         make -s -C "$ROOT" BUILD="$variant" "build/$variant/bin/fake-solver" >&2
     fi
 fi
-median() { sort -g | awk '{a[NR]=$1} END {if (NR%2) print a[(NR+1)/2]; else print (a[NR/2]+a[NR/2+1])/2}'; }
 
 # munged wants every directory up to its socket searchable by all, which
 # $WORK (mktemp -d) is not: the cluster gets a directory of its own
@@ -148,7 +148,9 @@ while [ $r -lt "$REPEAT" ]; do
     sleep 1
 done
 if [ -s "$WORK/slurm.submit" ]; then
-    echo "BENCH slurm_submit_ms_per_job $(median < "$WORK/slurm.submit" | xargs printf '%.3f') ms"
-    echo "BENCH slurm_runner_cpu_ms_per_job $(median < "$WORK/slurm.cpu" | xargs printf '%.3f') ms"
-    echo "BENCH slurm_calls_per_poll $(median < "$WORK/slurm.calls" | xargs printf '%.2f') calls"
+    bench_line slurm_submit_ms_per_job "$(median < "$WORK/slurm.submit" | xargs printf '%.3f')" ms \
+        "target 2"
+    bench_line slurm_runner_cpu_ms_per_job "$(median < "$WORK/slurm.cpu" | xargs printf '%.3f')" ms
+    bench_line slurm_calls_per_poll "$(median < "$WORK/slurm.calls" | xargs printf '%.2f')" calls \
+        "target O(1): 1"
 fi
