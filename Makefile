@@ -100,7 +100,8 @@ all: $(SOLVER_BIN) $(CAMPAIGN_BIN)
 # --- dependencies (Debian) -------------------------------------------------
 DEB_PKGS := build-essential pkg-config libsqlite3-dev libhdf5-openmpi-dev libgsl-dev \
             libopenmpi-dev openmpi-bin libyaml-dev libjansson-dev libcriterion-dev \
-            gnuplot-nox lammps-data sqlite3 time bc hdf5-tools python3-ase lammps nettle-dev
+            gnuplot-nox lammps-data sqlite3 time bc hdf5-tools python3-ase lammps \
+            slurm-wlm munge nettle-dev
 deps:
 	@missing=""; for p in $(DEB_PKGS); do \
 	  dpkg-query -W -f='$${Status}' $$p 2>/dev/null | grep -q 'install ok installed' || missing="$$missing $$p"; \

@@ -1,23 +1,39 @@
 #!/bin/sh
-# make bench: speed and memory figures, one "BENCH <name> <value> <unit>"
-# line each.  Runs are repeated and interleaved with the reference code, and
-# the medians are reported, because this machine is shared and noisy.
-#   usage: sh bench/bench.sh BINDIR
+# make bench: speed and memory figures, one "BENCH <name> <value> <unit>
+# (<anchor>)" line each -- the anchor is what to read the figure against: a
+# target, a peer measured in the same run, or a physical limit -- and all of
+# them in bench.json (BENCH_JSON, default ./bench.json) with the commit,
+# date and load, so that `sh bench/compare old.json new.json` shows two runs
+# side by side.  Runs are repeated and interleaved with the reference code,
+# and the medians are reported, because this machine is shared and noisy.
+#   usage: bench.sh BINDIR
+#   BENCH_REPEAT=N   runs per figure (3); BENCH_JSON=FILE (./bench.json)
+#   BENCH_ONLY="md stream mpm dpd ..."   only these parts (md and stream are
+#                    the sections of this file, the others bench_NAME.sh)
+# A benchmark of its own is bench/bench_NAME.sh reporting through bench_line
+# (bench/lib.sh) and one run_bench line at the end of this file.
 set -eu
 BIN=${1:?usage: bench.sh BINDIR}
+BIN=$(cd "$BIN" && pwd)
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
 REPEAT=${BENCH_REPEAT:-3}
+BENCH_JSON=${BENCH_JSON:-$PWD/bench.json}
 WORK=$(mktemp -d /tmp/cascade-bench.XXXXXX)
 trap 'rm -rf "$WORK"' EXIT
 export OMP_NUM_THREADS=1
+. "$ROOT/bench/lib.sh"
+BENCH_RECORD="$WORK/records.jsonl"
+: > "$BENCH_RECORD"
+export BENCH_RECORD
+load_start=$(bench_load)
+started=$(date -u +%Y-%m-%dT%H:%M:%SZ)
+echo "bench: $load_start at start" >&2
 
-median() { sort -g | awk '{a[NR]=$1} END {if (NR%2) print a[(NR+1)/2]; else print (a[NR/2]+a[NR/2+1])/2}'; }
-jget() { # jget FILE key.path  -> number (result.json)
-    sed 's/[[:space:]]//g' "$1" | tr -d '\n' | grep -o "\"$2\":{[^}]*}" | grep -o '"value":[-0-9.eE+]*' | head -n1 | cut -d: -f2
-}
+wanted() { [ -z "${BENCH_ONLY:-}" ] || case " $BENCH_ONLY " in *" $1 "*) true ;; *) false ;; esac; }
 
 # --- MD: 32,000-atom EAM Cu, ours against LAMMPS ---------------------------
-: > "$WORK/ours.t"; : > "$WORK/ours.rss"; : > "$WORK/lmp.t"; : > "$WORK/lmp.rss"
+if wanted md; then
+: > "$WORK/ours.t"; : > "$WORK/ours.f"; : > "$WORK/ours.rss"; : > "$WORK/lmp.t"; : > "$WORK/lmp.rss"
 have_lmp=0; command -v lmp >/dev/null 2>&1 && have_lmp=1
 i=0
 while [ $i -lt "$REPEAT" ]; do
@@ -25,8 +41,8 @@ while [ $i -lt "$REPEAT" ]; do
     out="$WORK/md$i"
     /usr/bin/time -f '%M' -o "$WORK/rss" "$BIN/cascade-solver" run "$ROOT/bench/cases/md_eam_32k.yaml" \
         --out "$out" --threads 1 --quiet --no-progress
-    tr -d ' \n' < "$out/result.json" | grep -o '"loop":{"calls":[0-9]*,"seconds":[0-9.eE+-]*' \
-        | sed 's/.*"seconds"://' >> "$WORK/ours.t"
+    json_timer "$out/result.json" loop >> "$WORK/ours.t"
+    json_timer "$out/result.json" force >> "$WORK/ours.f"
     echo "$(cat "$WORK/rss") / 1024" | bc -l >> "$WORK/ours.rss"
     if [ $have_lmp = 1 ]; then
         (cd "$WORK" && /usr/bin/time -f '%M' -o "$WORK/rss" lmp -in "$ROOT/bench/lammps_eam_32k.in" \
@@ -36,20 +52,69 @@ while [ $i -lt "$REPEAT" ]; do
     fi
 done
 natoms=32000; steps=200
+# pairs closer than the Mishin cutoff (5.50679 Å) in the perfect 600 K
+# lattice's 0 K sites: 27 per atom (thermal motion moves it by a few %)
+pairs=$(fcc_pairs 3.615 5.50679 20 20 20 p)
 t_ours=$(median < "$WORK/ours.t")
-echo "BENCH md_eam_us_per_atom_step $(echo "$t_ours * 1000000 / ($natoms * $steps)" | bc -l | xargs printf '%.4f') us"
-echo "BENCH md_eam_peak_rss_mib $(median < "$WORK/ours.rss" | xargs printf '%.1f') MiB"
+us_ours=$(echo "$t_ours * 1000000 / ($natoms * $steps)" | bc -l | xargs printf '%.4f')
+t_lmp=""
+[ $have_lmp = 1 ] && t_lmp=$(median < "$WORK/lmp.t")
+us_lmp=""
+[ -n "$t_lmp" ] && us_lmp=$(echo "$t_lmp * 1000000 / ($natoms * $steps)" | bc -l | xargs printf '%.4f')
+bench_line md_eam_us_per_atom_step "$us_ours" us "${us_lmp:+LAMMPS $us_lmp us in this run}"
+bench_line md_eam_peak_rss_mib "$(median < "$WORK/ours.rss" | xargs printf '%.1f')" MiB \
+    "$( [ $have_lmp = 1 ] && echo "LAMMPS $(median < "$WORK/lmp.rss" | xargs printf '%.1f') MiB in this run")"
+# the whole force call (density, embedding and force passes) per pair
+bench_line md_eam_ns_per_pair "$(median < "$WORK/ours.f" | awk -v p="$pairs" -v s=$((steps + 1)) '{printf "%.2f", $1 * 1e9 / (p * s)}')" ns \
+    "force call per pair within the cutoff, $pairs pairs"
 if [ $have_lmp = 1 ]; then
-    t_lmp=$(median < "$WORK/lmp.t")
-    echo "BENCH md_eam_lammps_us_per_atom_step $(echo "$t_lmp * 1000000 / ($natoms * $steps)" | bc -l | xargs printf '%.4f') us"
-    echo "BENCH md_eam_lammps_peak_rss_mib $(median < "$WORK/lmp.rss" | xargs printf '%.1f') MiB"
-    echo "BENCH md_eam_ratio_vs_lammps $(echo "$t_ours / $t_lmp" | bc -l | xargs printf '%.3f') x"
+    bench_line md_eam_lammps_us_per_atom_step "$us_lmp" us "LAMMPS plain, 1 thread"
+    bench_line md_eam_lammps_peak_rss_mib "$(median < "$WORK/lmp.rss" | xargs printf '%.1f')" MiB
+    bench_line md_eam_ratio_vs_lammps "$(echo "$t_ours / $t_lmp" | bc -l | xargs printf '%.3f')" x "target 0.75"
 else
     echo "bench: lmp not installed (apt-get install lammps) -- no LAMMPS ratio" >&2
 fi
+fi
 
-# further benchmarks register themselves as bench/bench_*.sh
-for extra in "$ROOT"/bench/bench_*.sh; do
-    [ -f "$extra" ] || continue
-    BIN="$BIN" ROOT="$ROOT" WORK="$WORK" REPEAT="$REPEAT" sh "$extra"
-done
+# The machine's memory bandwidth for the roofline figures of the kernels
+# (bench/stream_probe.c, one thread, three arrays of 64 MiB)
+if wanted stream || wanted mpm || wanted dpd; then
+    set -- $(bench_stream 64)
+    BENCH_STREAM_GBS=$2
+    export BENCH_STREAM_GBS
+    bench_line stream_copy_gbs "$1" GB/s "one thread, 3 x 64 MiB arrays"
+    bench_line stream_triad_gbs "$2" GB/s "one thread: the roofline's bandwidth"
+fi
+
+# Each benchmark script, one line each (BIN ROOT WORK REPEAT in the environment)
+run_bench() {
+    name=${1#bench_}
+    wanted "${name%.sh}" || return 0
+    BIN="$BIN" ROOT="$ROOT" WORK="$WORK" REPEAT="$REPEAT" sh "$ROOT/bench/$1"
+}
+run_bench bench_mpm.sh
+run_bench bench_dpd.sh
+run_bench bench_dpd_mpm.sh
+run_bench bench_handshake.sh
+run_bench bench_campaign.sh
+run_bench bench_report.sh
+run_bench bench_cna.sh
+run_bench bench_checkpoint.sh
+run_bench bench_slurm.sh
+
+# bench.json: the run's circumstances and every BENCH line, one a line
+load_end=$(bench_load)
+echo "bench: $load_end at end" >&2
+commit=$(git -C "$ROOT" rev-parse --short HEAD 2>/dev/null || echo unknown)
+dirty=$(git -C "$ROOT" status --porcelain --untracked-files=no 2>/dev/null | head -c1)
+{
+    printf '{\n  "commit": "%s%s",\n  "started": "%s",\n  "finished": "%s",\n' \
+        "$commit" "${dirty:+-dirty}" "$started" "$(date -u +%Y-%m-%dT%H:%M:%SZ)"
+    printf '  "host": "%s",\n  "load_start": "%s",\n  "load_end": "%s",\n  "repeat": %s,\n' \
+        "$(bench_json_str "$(uname -n)")" "$load_start" "$load_end" "$REPEAT"
+    printf '  "results": [\n'
+    sed '$!s/$/,/; s/^/    /' "$BENCH_RECORD"
+    printf '  ]\n}\n'
+} > "$BENCH_JSON.tmp"
+mv "$BENCH_JSON.tmp" "$BENCH_JSON"
+echo "bench: wrote $BENCH_JSON" >&2

@@ -6,7 +6,7 @@
 # to the run time (target: under 2 %).
 #   env: BIN ROOT WORK REPEAT (from bench.sh)
 set -eu
-median() { sort -g | awk '{a[NR]=$1} END {if (NR%2) print a[(NR+1)/2]; else print (a[NR/2]+a[NR/2+1])/2}'; }
+. "$ROOT/bench/lib.sh"
 natoms=32000; steps=200
 sed 's/^output: .*/output: {thermo_every: 100, hdf5: false, checkpoint_every: 50}/' \
     "$ROOT/bench/cases/md_eam_32k.yaml" > "$WORK/ckpt.yaml"
@@ -28,6 +28,6 @@ done
 ms=$(median < "$WORK/ckpt.ms")
 step_ms=$(median < "$WORK/ckpt.step")
 bytes=$(median < "$WORK/ckpt.bytes")
-echo "BENCH checkpoint_write_ms_per_million_particles $(echo "$ms * 1000000 / $natoms" | bc -l | xargs printf '%.1f') ms"
-echo "BENCH checkpoint_bytes_per_particle $(echo "$bytes / $natoms" | bc -l | xargs printf '%.1f') B"
-echo "BENCH checkpoint_every_1000_steps_overhead $(echo "100 * $ms / (1000 * $step_ms)" | bc -l | xargs printf '%.3f') %"
+bench_line checkpoint_write_ms_per_million_particles "$(echo "$ms * 1000000 / $natoms" | bc -l | xargs printf '%.1f')" ms "one checkpoint of the 32,000-atom run, scaled"
+bench_line checkpoint_bytes_per_particle "$(echo "$bytes / $natoms" | bc -l | xargs printf '%.1f')" B "HDF5 file size / particles"
+bench_line checkpoint_every_1000_steps_overhead "$(echo "100 * $ms / (1000 * $step_ms)" | bc -l | xargs printf '%.3f')" % "target 2"

@@ -7,7 +7,7 @@
 set -eu
 : "${BIN:?}" "${ROOT:?}" "${WORK:?}"
 REPEAT=${REPEAT:-3}
-median() { sort -g | awk '{a[NR]=$1} END {if (NR%2) print a[(NR+1)/2]; else print (a[NR/2]+a[NR/2+1])/2}'; }
+. "$ROOT/bench/lib.sh"
 : > "$WORK/cna.t"; : > "$WORK/cna.c"
 i=0
 while [ "$i" -lt "$REPEAT" ]; do
@@ -20,5 +20,5 @@ while [ "$i" -lt "$REPEAT" ]; do
     tr -d ' \n' < "$out/result.json" | grep -o '"cna_cpu_us_per_atom":{[^}]*}' \
         | grep -o '"value":[-0-9.eE+]*' | cut -d: -f2 >> "$WORK/cna.c"
 done
-echo "BENCH cna_us_per_atom $(median < "$WORK/cna.t" | xargs printf '%.4f') us"
-echo "BENCH cna_cpu_us_per_atom $(median < "$WORK/cna.c" | xargs printf '%.4f') us"
+bench_line cna_us_per_atom "$(median < "$WORK/cna.t" | xargs printf '%.4f')" us "108,000 atoms, 1 thread, wall clock"
+bench_line cna_cpu_us_per_atom "$(median < "$WORK/cna.c" | xargs printf '%.4f')" us "process CPU time, less disturbed by load"

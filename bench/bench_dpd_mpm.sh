@@ -6,7 +6,7 @@
 # Environment (from bench.sh): BIN, ROOT, WORK, REPEAT.
 set -eu
 : "${BIN:?}" "${ROOT:?}" "${WORK:?}" "${REPEAT:=3}"
-median() { sort -g | awk '{a[NR]=$1} END {if (NR%2) print a[(NR+1)/2]; else print (a[NR/2]+a[NR/2+1])/2}'; }
+. "$ROOT/bench/lib.sh"
 : > "$WORK/dpd_mpm.t"
 i=0
 while [ $i -lt "$REPEAT" ]; do
@@ -17,4 +17,4 @@ while [ $i -lt "$REPEAT" ]; do
     tr -d ' \n' < "$out/result.json" | grep -o '"loop":{[^}]*}' \
         | grep -o '"us_per_particle_step":[0-9.eE+-]*' | cut -d: -f2 >> "$WORK/dpd_mpm.t"
 done
-echo "BENCH dpd_mpm_grid_us_per_particle_step $(median < "$WORK/dpd_mpm.t" | xargs printf '%.4f') us"
+bench_line dpd_mpm_grid_us_per_particle_step "$(median < "$WORK/dpd_mpm.t" | xargs printf '%.4f')" us "beside dpd_us_per_particle_step"

@@ -5,6 +5,10 @@
 #   BENCH handshake_us_per_step       whole coupled step (MPM step, copies,
 #                                     MD step; the run's loop time / steps)
 #   BENCH handshake_md_us_per_step    of which the MD forces
+#   BENCH handshake_mpm_us_per_step   of which the MPM step (p2g, grid, g2p)
+#   BENCH handshake_band_us_per_step  of which the band's transfers (region I
+#                                     to the points, the copies to the MD)
+#   BENCH handshake_mpm_share_pct     the MPM step's share of the coupled step
 #   BENCH handshake_atoms_replaced    lattice sites of the MPM part: the atoms
 #                                     a full MD bar would need there
 #   BENCH handshake_mpm_points        the material points standing in for them
@@ -21,11 +25,11 @@ fi
 CASE="$ROOT/bench/cases/handshake_step_wave.yaml"
 steps=400
 
-median() { sort -g | awk '{a[NR]=$1} END {if (NR%2) print a[(NR+1)/2]; else print (a[NR/2]+a[NR/2+1])/2}'; }
-timer() { tr -d ' \n' < "$1/result.json" | grep -o "\"$2\":{\"calls\":[0-9]*,\"seconds\":[0-9.eE+-]*" | sed 's/.*"seconds"://'; }
-metric() { tr -d ' \n' < "$1/result.json" | grep -o "\"$2\":{\"unit\":\"[^\"]*\",\"value\":[-0-9.eE+]*" | sed 's/.*"value"://'; }
+. "$ROOT/bench/lib.sh"
+timer() { json_timer "$1/result.json" "$2"; }
+metric() { json_number "$1/result.json" "$2"; }
 
-: > "$WORK/hs.t"; : > "$WORK/hs.f"
+: > "$WORK/hs.t"; : > "$WORK/hs.f"; : > "$WORK/hs.mpm"; : > "$WORK/hs.band"
 i=0
 while [ $i -lt "$REPEAT" ]; do
     i=$((i + 1))
@@ -33,6 +37,8 @@ while [ $i -lt "$REPEAT" ]; do
     OMP_NUM_THREADS=1 "$BIN/cascade-solver" run "$CASE" --out "$out" --threads 1 --quiet --no-progress
     timer "$out" loop >> "$WORK/hs.t"
     timer "$out" force >> "$WORK/hs.f"
+    echo "$(timer "$out" mpm_p2g) + $(timer "$out" mpm_grid) + $(timer "$out" mpm_g2p)" | bc -l >> "$WORK/hs.mpm"
+    timer "$out" coupling >> "$WORK/hs.band"
 done
 t=$(median < "$WORK/hs.t")
 f=$(median < "$WORK/hs.f")
@@ -40,9 +46,14 @@ last="$WORK/hs_$REPEAT"
 atoms=$(metric "$last" atoms)
 replaced=$(metric "$last" atoms_replaced)
 points=$(metric "$last" points)
-echo "BENCH handshake_us_per_step $(echo "$t * 1000000 / $steps" | bc -l | xargs printf '%.0f') us"
-echo "BENCH handshake_md_us_per_step $(echo "$f * 1000000 / $steps" | bc -l | xargs printf '%.0f') us"
-echo "BENCH handshake_atoms_replaced $(printf '%.0f' "$replaced") atoms"
-echo "BENCH handshake_mpm_points $(printf '%.0f' "$points") points"
+mpm=$(median < "$WORK/hs.mpm")
+band=$(median < "$WORK/hs.band")
+bench_line handshake_us_per_step "$(echo "$t * 1000000 / $steps" | bc -l | xargs printf '%.0f')" us "MD + MPM + band + rest"
+bench_line handshake_md_us_per_step "$(echo "$f * 1000000 / $steps" | bc -l | xargs printf '%.0f')" us "MD forces, $(printf '%.0f' "$atoms") atoms"
+bench_line handshake_mpm_us_per_step "$(echo "$mpm * 1000000 / $steps" | bc -l | xargs printf '%.0f')" us "MPM step, $(printf '%.0f' "$points") points"
+bench_line handshake_band_us_per_step "$(echo "$band * 1000000 / $steps" | bc -l | xargs printf '%.0f')" us "region I to the points, copies to the MD"
+bench_line handshake_mpm_share_pct "$(echo "100 * $mpm / $t" | bc -l | xargs printf '%.1f')" % "target < 15"
+bench_line handshake_atoms_replaced "$(printf '%.0f' "$replaced")" atoms "lattice sites the MPM part stands for"
+bench_line handshake_mpm_points "$(printf '%.0f' "$points")" points
 echo "handshake bench: the MPM part replaces $(printf '%.0f' "$replaced") atoms by $(printf '%.0f' "$points") material points ($(echo "$replaced / $points" | bc -l | xargs printf '%.2f') atoms per point); MD atoms $(printf '%.0f' "$atoms")" >&2
-echo "handshake bench: loop seconds $(tr '\n' ' ' < "$WORK/hs.t"); load average $(cut -d' ' -f1-3 /proc/loadavg 2>/dev/null) on $(nproc --all) cores" >&2
+echo "handshake bench: loop seconds $(tr '\n' ' ' < "$WORK/hs.t"); $(bench_load)" >&2

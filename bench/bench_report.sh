@@ -21,7 +21,7 @@ if [ ! -x "$FAKE" ]; then
         make -s -C "$ROOT" BUILD="$variant" "build/$variant/bin/fake-solver" >&2
     fi
 fi
-median() { sort -g | awk '{a[NR]=$1} END {if (NR%2) print a[(NR+1)/2]; else print (a[NR/2]+a[NR/2+1])/2}'; }
+. "$ROOT/bench/lib.sh"
 now_ns() { date +%s%N; }
 values() { seq -s ', ' 1 "$1" | sed 's/^/[/; s/$/]/'; }
 study() { # study NAME NSERIES
@@ -47,6 +47,6 @@ while [ $i -lt "$REPEAT" ]; do
     timed "$BIN/cascade" report large >> "$D/t_large"
     timed "$BIN/cascade" regress large.yaml --solver "$FAKE" --no-run >> "$D/t_regress"
 done
-echo "BENCH report_32jobs_s $(median < "$D/t_small" | xargs printf '%.2f') s"
-echo "BENCH report_4000jobs_s $(median < "$D/t_large" | xargs printf '%.2f') s"
-echo "BENCH regress_4000jobs_s $(median < "$D/t_regress" | xargs printf '%.2f') s"
+bench_line report_32jobs_s "$(median < "$D/t_small" | xargs printf '%.2f')" s "32 jobs, 20 figures, Markdown and HTML"
+bench_line report_4000jobs_s "$(median < "$D/t_large" | xargs printf '%.2f')" s "4,000 jobs"
+bench_line regress_4000jobs_s "$(median < "$D/t_regress" | xargs printf '%.2f')" s "8,000 values, 2,000 orders"

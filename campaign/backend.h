@@ -24,6 +24,21 @@ struct backend {
     /* Stop the job in a slot; its outcome (cancelled) arrives through wait. */
     void (*cancel)(struct backend *b, int slot);
     void (*destroy)(struct backend *b);
+
+    /* Backends whose jobs outlive the runner (Slurm); NULL elsewhere. */
+    /* Follow an attempt submitted by an earlier runner (job plan index,
+     * run directory, the id it had there) in a free slot. */
+    int (*adopt)(struct backend *b, int slot, long plan_index, const char *run_dir,
+                 const char *external_id, struct err *e);
+    /* Stop following a slot without touching the job (its lease went to
+     * another runner); its outcome (not recorded) arrives through wait. */
+    void (*release)(struct backend *b, int slot);
+    /* Set by the runner: called with the ids of attempts just submitted
+     * (state "PENDING"), before they may start -- a non-zero return calls
+     * the submission off -- and again when they are seen running. */
+    int (*submitted)(void *ctx, int n, const int *slots, const char *const *ids,
+                     const char *state, struct err *e);
+    void *submitted_ctx;
 };
 
 /* The signals the runner handles are blocked from here on and taken with

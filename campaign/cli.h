@@ -20,6 +20,7 @@ int cmd_retry(int argc, char **argv);
 int cmd_report(int argc, char **argv);
 int cmd_regress(int argc, char **argv);
 int cmd_import(int argc, char **argv);
+int cmd_cancel(int argc, char **argv);
 /* cascade report --nightly (cmd_report_nightly.c) */
 int cmd_report_nightly(int argc, char **argv);
 

@@ -12,7 +12,8 @@
 
 static const char *usage =
     "usage: cascade run STUDY.yaml [--jobs N] [--db FILE] [--runs DIR] [--solver PATH]\n"
-    "                  [--lease SECONDS] [--infra-pause SECONDS] [--quiet]\n"
+    "                  [--lease SECONDS] [--infra-pause SECONDS] [--backend local|slurm]\n"
+    "                  [--quiet]\n"
     "       mpirun -np N cascade run STUDY.yaml [options]\n"
     "\n"
     "Runs every job of the study that is not yet done for the current solver\n"
@@ -35,16 +36,21 @@ static const char *usage =
     "                  heartbeating for that long loses its jobs to the next runner\n"
     "  --infra-pause S the pause after an infrastructure failure (default 0.5;\n"
     "                  doubling with each one in a row)\n"
+    "  --backend B     local (child processes here) or slurm (job arrays submitted\n"
+    "                  from this host; see docs/campaign.md); default: the study's\n"
+    "                  'backend', else local\n"
     "  --quiet         no progress output\n"
     "\n"
     "Ctrl-C once: no new jobs, running ones finish; twice: running jobs are\n"
-    "cancelled.  Under mpirun, rank 0 alone opens the database and ranks 1..N-1\n"
+    "cancelled.  With Slurm, a hang-up (SIGHUP, a closed login) leaves the jobs\n"
+    "in Slurm, and 'cascade run' again follows them (nothing is submitted twice).\n"
+    "Under mpirun, rank 0 alone opens the database and ranks 1..N-1\n"
     "run the jobs.  Exit code 0 when every job is done, 1 when some failed or the\n"
     "runner had to stop (infrastructure, database), 2 on bad input (nothing is\n"
     "written then), 130 when interrupted.\n";
 
 struct run_args {
-    const char *file, *db_path, *runs, *solver;
+    const char *file, *db_path, *runs, *solver, *backend;
     long jobs;
     double lease, infra_pause;
     int quiet;
@@ -73,6 +79,12 @@ static int parse(int argc, char **argv, struct run_args *a)
                    (m = cli_opt(argc, argv, &i, "--solver", &a->solver))) {
             if (m < 0)
                 return 2;
+        } else if ((m = cli_opt(argc, argv, &i, "--backend", &a->backend))) {
+            if (m < 0)
+                return 2;
+            if (strcmp(a->backend, "local") != 0 && strcmp(a->backend, "slurm") != 0)
+                return cli_usage_error(usage, "--backend must be local or slurm, not '%s'",
+                                       a->backend);
         } else if (strcmp(argv[i], "--quiet") == 0 || strcmp(argv[i], "-q") == 0) {
             a->quiet = 1;
         } else if (argv[i][0] != '-' && !a->file) {
@@ -107,6 +119,15 @@ static int run_study(const struct run_args *a, int mpi_size)
     if (rc) {
         fprintf(stderr, "error: %s\n", e.msg);
         return cli_exit_code(rc);
+    }
+    if (a->backend)
+        s.backend = strcmp(a->backend, "slurm") == 0 ? STUDY_BACKEND_SLURM : STUDY_BACKEND_LOCAL;
+    if (s.backend == STUDY_BACKEND_SLURM && (s.mpirun_np || mpi_size > 1)) {
+        fprintf(stderr, "error: %s: the Slurm backend runs MPI jobs with slurm.ntasks (srun), "
+                        "not with the study's mpirun launcher or under mpirun\n",
+                s.file);
+        study_free(&s);
+        return 2;
     }
     struct study_run_opts o = {a->db_path, a->runs,  a->solver, a->jobs,       a->lease,
                                a->quiet,   mpi_size, NULL,      NULL,          a->infra_pause};

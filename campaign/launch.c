@@ -175,7 +175,7 @@ int launch_from_json(struct launch_spec *L, const json_t *j, struct err *e)
 }
 
 /* mkdir that accepts an existing directory, and only a directory; returns
- * 0 or the errno (ENOTDIR for a file in the way), with e set. */
+ * 0 or the errno (EEXIST for a file in the way), with e set. */
 static int mkdir_one(const char *path, struct err *e)
 {
     if (wfile_mkdir(path, 0777) == 0)
@@ -187,33 +187,42 @@ static int mkdir_one(const char *path, struct err *e)
     if (err == EEXIST) {
         err_set(e, ERR_RUNTIME, "cannot create directory %s: a file of that name is in the way",
                 path);
-        return ENOTDIR;
+        return EEXIST;
     }
     err_set(e, ERR_RUNTIME, "cannot create directory %s: %s", path, strerror(err));
     return err;
 }
 
+/* Create buf and its missing parents, bottom up: the leaf first, and only
+ * on ENOENT (or ENOTDIR) its parent, recursively.  Existing ancestors are
+ * never touched: a mkdir that fails with EEXIST still takes the parent
+ * directory's lock, which in a busy /tmp costs milliseconds per call.  A file
+ * in the way is found where its child fails, so the message names it. */
+static int mkdirs_up(char *buf, struct err *e)
+{
+    int err = mkdir_one(buf, e);
+    if (err == 0 || (err != ENOENT && err != ENOTDIR))
+        return err;
+    char *slash = strrchr(buf, '/');
+    if (!slash || slash == buf)
+        return err;   /* the root or a relative first component: nothing above */
+    *slash = '\0';
+    int perr = mkdirs_up(buf, e);
+    *slash = '/';
+    if (perr)
+        return perr;
+    return mkdir_one(buf, e);
+}
+
 int launch_mkdirs(const char *path, struct err *e)
 {
-    /* usually only the last component is missing: try that first */
-    int err = mkdir_one(path, e);
-    if (err == 0)
-        return 0;
-    /* a missing parent, or a file where a parent should be: walk down from
-     * the root, so the message names the component that is in the way */
-    if (err != ENOENT && err != ENOTDIR)
-        return ERR_RUNTIME;
     char buf[4096];
-    snprintf(buf, sizeof buf, "%s", path);
-    for (char *p = buf + 1; *p; p++) {
-        if (*p != '/')
-            continue;
-        *p = '\0';
-        if (mkdir_one(buf, e) != 0)
-            return ERR_RUNTIME;
-        *p = '/';
-    }
-    return mkdir_one(buf, e) ? ERR_RUNTIME : 0;
+    if (snprintf(buf, sizeof buf, "%s", path) >= (int)sizeof buf)
+        return err_set(e, ERR_RUNTIME, "cannot create directory %.64s...: path too long", path);
+    /* trailing slashes would make an empty last component */
+    for (size_t n = strlen(buf); n > 1 && buf[n - 1] == '/'; n--)
+        buf[n - 1] = '\0';
+    return mkdirs_up(buf, e) ? ERR_RUNTIME : 0;
 }
 
 void launch_attempt_dir(const char *job_dir, int attempt, char *out, size_t len)

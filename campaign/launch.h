@@ -26,6 +26,7 @@
 
 struct launch_spec {
     long long job_id, run_id;
+    long plan_index;      /* the job's index in the plan (for the Slurm backend) */
     char run_dir[4096];
     char cwd[4096];
     char *case_yaml;      /* owned */

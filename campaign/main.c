@@ -25,6 +25,7 @@ static const char *usage =
     "  show KEY                  one job: parameters, attempts, metrics, files\n"
     "  export STUDY              one row per job: parameters and metrics (CSV or JSON lines)\n"
     "  retry STUDY [--failed]    run the study's jobs again (or only the failed ones)\n"
+    "  cancel STUDY              scancel what the study has queued or running in Slurm\n"
     "  report STUDY              convergence report (Markdown + HTML with figures)\n"
     "  regress STUDY.yaml        rerun a study and compare it with its baseline\n"
     "  import STUDY FILE.csv     reference values of an external source (experiment, ...)\n"
@@ -55,7 +56,7 @@ int main(int argc, char **argv)
     } cmds[] = {{"plan", cmd_plan},     {"run", cmd_run},       {"status", cmd_status},
                 {"query", cmd_query},   {"show", cmd_show},     {"export", cmd_export},
                 {"retry", cmd_retry},   {"report", cmd_report}, {"regress", cmd_regress},
-                {"import", cmd_import}};
+                {"import", cmd_import}, {"cancel", cmd_cancel}};
     /* fault injection for the tests (docs/fuzzing.md): SQLite's writes and
      * allocations (campaign/db_fault.h), read here, once, before SQLite is
      * first used; Cascade's own allocations and file writes (util/fault.h) */

@@ -17,7 +17,7 @@ struct np_night {
     long long id;
     char checked[40], git[64], version[64], machine[128];
     int passed, compared, regressed;
-    int recorded;           /* it has regress_values rows (schema version 6 on) */
+    int recorded;           /* it has regress_values rows (schema version 8 on) */
     json_t *dirs;           /* owned: distinct run directories of its values */
 };
 

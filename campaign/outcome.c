@@ -174,7 +174,7 @@ static int collect_artifacts(struct outcome *o, const char *dir)
             oom = 1;
     }
     closedir(d);
-    if (n > 1)
+    if (n > 1)   /* names is NULL for an empty directory */
         qsort(names, (size_t)n, sizeof *names, cmp_name);
     o->artifacts = oom ? NULL : mem_calloc((size_t)(n ? n : 1), sizeof *o->artifacts);
     oom |= !o->artifacts;

@@ -69,6 +69,7 @@ struct outcome {
     struct artifact *artifacts; /* owned */
     int nartifacts;
     double collect_s;           /* time spent reading result.json and hashing files */
+    char slurm_state[24];       /* the Slurm state it ended in (runs.slurm_state), or "" */
 };
 
 /* How the process ended, as the executor saw it. */

@@ -1,6 +1,6 @@
 /*
  * regress_history: the night-by-night record of `cascade regress` (tables
- * regress_values and the view regress_history of schema version 6;
+ * regress_values and the view regress_history of schema version 8;
  * db/README.md): every compared entry of every check with that night's
  * value, the baseline, the tolerance, the verdict and the run directories
  * the value came from, and the machine the check ran on.  The nightly

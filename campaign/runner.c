@@ -43,6 +43,7 @@ struct run_state {
     struct slot *slots;
     int running;
     int stopping, cancelling;
+    int detached;        /* SIGHUP with jobs in Slurm: left there for the next runner */
     struct progress_view view;
     struct runner_summary *sum;
     struct err *e;
@@ -245,6 +246,7 @@ static int try_start(struct run_state *r, long k, int slot)
     if (!rc) {
         L.job_id = r->job_ids[j];
         L.run_id = run_id;
+        L.plan_index = j;
         rc = r->b->start(r->b, slot, &L, r->e);
         launch_free(&L);
     }
@@ -417,7 +419,11 @@ static void drop_lost_leases(struct run_state *r)
         progress_view_note(&r->view, "%s: our lease expired and another runner took the job; "
                                      "stopping attempt %d, nothing of it is recorded",
                            r->p->jobs[sl->j].key, sl->attempt);
-        r->b->cancel(r->b, i);
+        /* a job in Slurm is the other runner's now: leave it running */
+        if (r->b->release)
+            r->b->release(r->b, i);
+        else
+            r->b->cancel(r->b, i);
     }
 }
 
@@ -445,7 +451,92 @@ static void handle_signal(struct run_state *r, int sig)
         return;
     }
     r->sum->interrupted = sig;
+    /* logged out: jobs in Slurm outlive the runner; the next `cascade run`
+     * adopts them (their leases lapse with this process) */
+    if (sig == SIGHUP && r->b->adopt) {
+        r->stopping = 1;
+        r->detached = 1;
+        progress_view_note(&r->view, "hung up: leaving %d job%s in Slurm; 'cascade run' again "
+                                     "follows them",
+                           r->running, r->running == 1 ? "" : "s");
+        return;
+    }
     cancel_all(r);
+}
+
+/* The backend submitted attempts (Slurm): their ids are recorded before
+ * they may start, so a runner that dies finds them again. */
+static int on_submitted(void *ctx, int n, const int *slots, const char *const *ids,
+                        const char *state, struct err *e)
+{
+    struct run_state *r = ctx;
+    long long *run_ids = malloc((size_t)(n ? n : 1) * sizeof *run_ids);
+    if (!run_ids)
+        return err_nomem(e, "run ids");
+    for (int i = 0; i < n; i++)
+        run_ids[i] = r->slots[slots[i]].run_id;
+    int rc = store_record_slurm_ids(&r->store, n, run_ids, ids, state, e);
+    free(run_ids);
+    return rc;
+}
+
+struct job_index {
+    long long id;
+    long j;
+};
+
+static int cmp_job_index(const void *a, const void *b)
+{
+    long long x = ((const struct job_index *)a)->id, y = ((const struct job_index *)b)->id;
+    return x < y ? -1 : x > y;
+}
+
+/* Attempts an earlier runner submitted to Slurm and left there: followed
+ * from where they are, not submitted again.  skip[j] is set for them. */
+static int adopt_jobs(struct run_state *r, char *skip)
+{
+    struct store_adopted *a = NULL;
+    int n = 0;
+    int rc = store_adopt(&r->store, r->study_id, &a, &n, r->e);
+    if (rc || !n) {
+        free(a);
+        return rc;
+    }
+    struct job_index *ix = malloc((size_t)r->p->njobs * sizeof *ix);
+    if (!ix) {
+        free(a);
+        return err_nomem(r->e, "job index");
+    }
+    for (long j = 0; j < r->p->njobs; j++)
+        ix[j] = (struct job_index){r->job_ids[j], j};
+    qsort(ix, (size_t)r->p->njobs, sizeof *ix, cmp_job_index);
+    int slot = 0, adopted = 0;
+    for (int i = 0; i < n && !rc; i++) {
+        struct job_index key = {a[i].job_id, 0}, *hit;
+        hit = bsearch(&key, ix, (size_t)r->p->njobs, sizeof *ix, cmp_job_index);
+        if (!hit || skip[hit->j])
+            continue;
+        while (slot < r->b->nslots && r->slots[slot].busy)
+            slot++;
+        if (slot == r->b->nslots)
+            break;   /* more than the slots: the rest wait for their lease to lapse */
+        rc = r->b->adopt(r->b, slot, hit->j, a[i].run_dir, a[i].slurm_id, r->e);
+        if (rc)
+            break;
+        r->slots[slot] = (struct slot){1, hit->j, a[i].run_id, a[i].attempt, 0, ""};
+        snprintf(r->slots[slot].run_dir, sizeof r->slots[slot].run_dir, "%s", a[i].run_dir);
+        r->mem[hit->j] = M_RUNNING;
+        r->running++;
+        skip[hit->j] = 1;
+        adopted++;
+    }
+    if (adopted)
+        progress_view_note(&r->view, "%d job%s already in Slurm (submitted by a runner that is "
+                                     "gone) followed from where they are",
+                           adopted, adopted == 1 ? "" : "s");
+    free(ix);
+    free(a);
+    return rc;
 }
 
 int runner_run(const struct study *s, const struct plan *p, const struct solver *sv, sqlite3 *db,
@@ -476,11 +567,32 @@ int runner_run(const struct study *s, const struct plan *p, const struct solver 
     if (!rc)
         rc = store_register(&r.store, s, p, &r.study_id, r.job_ids, e);
     int reaped = 0;
+    char *adopted = calloc((size_t)(p->njobs ? p->njobs : 1), 1);
+    if (!rc && !adopted)
+        rc = err_nomem(e, "runner");
+    progress_view_init(&r.view, o->log, o->quiet, p->njobs);
+    if (!rc && b->adopt) {
+        b->submitted = on_submitted;
+        b->submitted_ctx = &r;
+        rc = adopt_jobs(&r, adopted);
+    } else if (!rc) {
+        /* attempts left in Slurm would run a second time here */
+        int orphans = 0;
+        rc = store_slurm_orphans(&r.store, r.study_id, &orphans, e);
+        if (!rc && orphans)
+            rc = err_set(e, ERR_INPUT,
+                         "%d attempt%s of study %s %s in Slurm with no runner following them: "
+                         "run it with --backend slurm (which adopts them) or 'cascade cancel "
+                         "%s' first",
+                         orphans, orphans == 1 ? "" : "s", s->name, orphans == 1 ? "is" : "are",
+                         s->name);
+    }
     if (!rc)
         rc = store_reap(&r.store, &reaped, e);
     for (long j = 0; j < p->njobs && !rc; j++)
-        if (push(&r, j, 0) != 0)
+        if (!adopted[j] && push(&r, j, 0) != 0)
             rc = err_nomem(e, "queue");
+    free(adopted);
     if (rc) {
         sum->not_run = sum->total;   /* the summary says so, not "0 done, 0 failed" */
         store_fini(&r.store);
@@ -492,7 +604,7 @@ int runner_run(const struct study *s, const struct plan *p, const struct solver 
         free(r.q);
         return rc;
     }
-    progress_view_init(&r.view, o->log, o->quiet, p->njobs);
+    r.view.running = r.running;
     if (reaped)
         progress_view_note(&r.view, "%d job%s left running by a runner that is gone will run again",
                            reaped, reaped == 1 ? "" : "s");
@@ -505,6 +617,8 @@ int runner_run(const struct study *s, const struct plan *p, const struct solver 
         if (r.fatal && r.running == 0)
             break;
         if (r.running == 0 && (r.stopping || queue_empty(&r)))
+            break;
+        if (r.detached)
             break;
         double now = sys_mono(), wait = 0.5;
         if (r.running == 0) {

@@ -23,6 +23,9 @@
  *
  * Signals: the first SIGINT stops claiming and lets running jobs finish; a
  * second SIGINT, or SIGTERM/SIGHUP, cancels them (recorded 'cancelled').
+ * With a backend whose jobs outlive the runner (Slurm), SIGHUP (a closed
+ * login session) leaves them queued and running instead: the next runner
+ * adopts them (store_adopt).
  */
 #ifndef CASCADE_CAMPAIGN_RUNNER_H
 #define CASCADE_CAMPAIGN_RUNNER_H

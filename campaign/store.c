@@ -32,7 +32,9 @@ enum {
 };
 
 static const char *const queries[Q_COUNT] = {
-    [Q_LEASE_GET] = "SELECT runner, expires, run_id FROM leases WHERE job_id = ?1",
+    [Q_LEASE_GET] = "SELECT runner, expires, run_id, "
+                    "(SELECT slurm_job_id IS NOT NULL FROM runs WHERE id = leases.run_id) "
+                    "FROM leases WHERE job_id = ?1",
     [Q_RETRY_AFTER] = "SELECT retry_after FROM jobs WHERE id = ?1",
     [Q_DONE] = "SELECT 1 FROM runs WHERE job_id = ?1 AND status = 'done' AND solver_version = ?2 "
                "AND solver_git = ?3 AND attempt > ?4 LIMIT 1",
@@ -52,7 +54,8 @@ static const char *const queries[Q_COUNT] = {
     [Q_RUN_UPDATE] = "UPDATE runs SET status = ?2, exit_code = ?3, signal = ?4, message = ?5, "
                      "started = ?6, finished = ?7, wall_s = ?8, peak_rss_mib = ?9, host = ?10, "
                      "pid = ?11, stderr_tail = ?12, solver_version = ?13, solver_git = ?14, "
-                     "failure_class = ?15, last_step = ?16, resumed_from_step = ?17 WHERE id = ?1",
+                     "failure_class = ?15, last_step = ?16, resumed_from_step = ?17, "
+                     "slurm_state = ?18 WHERE id = ?1",
     [Q_METRIC_INSERT] = "INSERT OR REPLACE INTO metrics (run_id, name, value, unit) "
                         "VALUES (?1, ?2, ?3, ?4)",
     [Q_ARTIFACT_INSERT] = "INSERT OR REPLACE INTO artifacts (run_id, path, kind, bytes, sha256) "
@@ -80,7 +83,8 @@ int store_init(struct store *st, sqlite3 *db, const struct study *s, const struc
     st->pid = (int)getpid();
     snprintf(st->solver_version, sizeof st->solver_version, "%s", sv->version);
     snprintf(st->solver_git, sizeof st->solver_git, "%s", sv->git);
-    snprintf(st->launcher, sizeof st->launcher, "%s", s->launcher);
+    snprintf(st->launcher, sizeof st->launcher, "%s",
+             s->backend == STUDY_BACKEND_SLURM ? "slurm" : s->launcher);
     st->lease_s = lease_s;
     st->retries = s->retries;
     st->metrics = (const char *const *)s->metrics;
@@ -413,8 +417,12 @@ int store_claim(struct store *st, long long job_id, const char *job_dir, enum cl
         snprintf(runner, sizeof runner, "%s", (const char *)sqlite3_column_text(s, 0));
         double expires = sqlite3_column_double(s, 1);
         long long old_run = sqlite3_column_int64(s, 2);
+        int in_slurm = sqlite3_column_int(s, 3);
         sqlite3_reset(s);
-        if (!lease_stale(runner, expires, why, sizeof why)) {
+        /* an attempt in Slurm outlives its runner: the next Slurm runner of
+         * the study adopts it (store_adopt); running it again here would run
+         * the job twice */
+        if (in_slurm || !lease_stale(runner, expires, why, sizeof why)) {
             *res = CLAIM_LEASED;
             db_rollback(db);
             return 0;
@@ -602,6 +610,8 @@ int store_finish(struct store *st, long long job_id, long long run_id, const cha
         sqlite3_bind_int64(s, 16, o->last_step);
     if (o->resumed_from_step >= 0)
         sqlite3_bind_int64(s, 17, o->resumed_from_step);
+    if (o->slurm_state[0])
+        bind_text(s, 18, o->slurm_state);
     if (sqlite3_step(s) != SQLITE_DONE)
         rc = db_fail(db, e, "recording the run");
     sqlite3_reset(s);
@@ -720,7 +730,11 @@ int store_reap(struct store *st, int *n, struct err *e)
     if (rc)
         return rc;
     sqlite3_stmt *s;
-    if ((rc = db_prepare(db, "SELECT job_id, run_id, runner, expires FROM leases", &s, e))) {
+    /* attempts in Slurm are adopted, not reaped (store_adopt) */
+    if ((rc = db_prepare(db,
+                         "SELECT l.job_id, l.run_id, l.runner, l.expires FROM leases l "
+                         "JOIN runs r ON r.id = l.run_id WHERE r.slurm_job_id IS NULL",
+                         &s, e))) {
         db_rollback(db);
         return rc;
     }
@@ -761,4 +775,133 @@ int store_reap(struct store *st, int *n, struct err *e)
     if (rc)
         db_rollback(db);
     return rc;
+}
+
+/* --- Slurm attempts ----------------------------------------------------------- */
+
+int store_record_slurm_ids(struct store *st, int n, const long long *run_ids,
+                           const char *const *slurm_ids, const char *state, struct err *e)
+{
+    sqlite3 *db = st->db;
+    int rc = db_begin(db, e);
+    if (rc)
+        return rc;
+    sqlite3_stmt *s;
+    if ((rc = db_prepare(db,
+                         "UPDATE runs SET slurm_job_id = ?2, slurm_state = ?3 "
+                         "WHERE id = ?1 AND status = 'running'",
+                         &s, e))) {
+        db_rollback(db);
+        return rc;
+    }
+    for (int i = 0; i < n && !rc; i++) {
+        sqlite3_reset(s);
+        sqlite3_bind_int64(s, 1, run_ids[i]);
+        bind_text(s, 2, slurm_ids[i]);
+        bind_text(s, 3, state);
+        rc = step_done(db, s, e, "recording Slurm job ids");
+    }
+    sqlite3_finalize(s);
+    if (!rc)
+        rc = db_commit(db, e);
+    if (rc)
+        db_rollback(db);
+    return rc;
+}
+
+int store_adopt(struct store *st, long long study_id, struct store_adopted **out, int *n,
+                struct err *e)
+{
+    sqlite3 *db = st->db;
+    *out = NULL;
+    *n = 0;
+    int rc = db_begin(db, e);
+    if (rc)
+        return rc;
+    sqlite3_stmt *s, *take;
+    if ((rc = db_prepare(db,
+                         "SELECT r.job_id, r.id, r.attempt, r.run_dir, r.slurm_job_id, l.runner, "
+                         "l.expires FROM runs r JOIN jobs j ON j.id = r.job_id "
+                         "LEFT JOIN leases l ON l.job_id = r.job_id "
+                         "WHERE j.study_id = ?1 AND j.active = 1 AND r.status = 'running' "
+                         "AND r.slurm_job_id IS NOT NULL ORDER BY r.job_id",
+                         &s, e))) {
+        db_rollback(db);
+        return rc;
+    }
+    if ((rc = db_prepare(db,
+                         "INSERT OR REPLACE INTO leases (job_id, run_id, runner, host, pid, "
+                         "expires) VALUES (?1, ?2, ?3, ?4, ?5, ?6)",
+                         &take, e))) {
+        sqlite3_finalize(s);
+        db_rollback(db);
+        return rc;
+    }
+    sqlite3_bind_int64(s, 1, study_id);
+    int cap = 0, r;
+    while (!rc && (r = sqlite3_step(s)) == SQLITE_ROW) {
+        const char *runner = (const char *)sqlite3_column_text(s, 5);
+        char why[512];
+        /* a live runner (another process) follows it: leave it alone */
+        if (runner && strcmp(runner, st->runner) != 0 &&
+            !lease_stale(runner, sqlite3_column_double(s, 6), why, sizeof why))
+            continue;
+        if (*n == cap) {
+            cap = cap ? 2 * cap : 64;
+            struct store_adopted *g = realloc(*out, (size_t)cap * sizeof *g);
+            if (!g) {
+                rc = err_nomem(e, "adopted jobs");
+                break;
+            }
+            *out = g;
+        }
+        struct store_adopted *a = &(*out)[*n];
+        a->job_id = sqlite3_column_int64(s, 0);
+        a->run_id = sqlite3_column_int64(s, 1);
+        a->attempt = sqlite3_column_int(s, 2);
+        snprintf(a->run_dir, sizeof a->run_dir, "%s", (const char *)sqlite3_column_text(s, 3));
+        snprintf(a->slurm_id, sizeof a->slurm_id, "%s", (const char *)sqlite3_column_text(s, 4));
+        sqlite3_reset(take);
+        sqlite3_bind_int64(take, 1, a->job_id);
+        sqlite3_bind_int64(take, 2, a->run_id);
+        bind_text(take, 3, st->runner);
+        bind_text(take, 4, st->host);
+        sqlite3_bind_int(take, 5, st->pid);
+        sqlite3_bind_double(take, 6, sys_now() + st->lease_s);
+        rc = step_done(db, take, e, "taking over the lease of a Slurm job");
+        (*n)++;
+    }
+    sqlite3_finalize(s);
+    sqlite3_finalize(take);
+    if (!rc)
+        rc = db_commit(db, e);
+    if (rc) {
+        db_rollback(db);
+        free(*out);
+        *out = NULL;
+        *n = 0;
+    }
+    return rc;
+}
+
+int store_slurm_orphans(struct store *st, long long study_id, int *n, struct err *e)
+{
+    *n = 0;
+    sqlite3_stmt *s;
+    int rc = db_prepare(st->db,
+                        "SELECT l.runner, l.expires FROM runs r JOIN jobs j ON j.id = r.job_id "
+                        "LEFT JOIN leases l ON l.run_id = r.id WHERE j.study_id = ?1 "
+                        "AND r.status = 'running' AND r.slurm_job_id IS NOT NULL",
+                        &s, e);
+    if (rc)
+        return rc;
+    sqlite3_bind_int64(s, 1, study_id);
+    while (sqlite3_step(s) == SQLITE_ROW) {
+        const char *runner = (const char *)sqlite3_column_text(s, 0);
+        char why[512];
+        if (!runner || lease_stale(runner, sqlite3_column_double(s, 1), why, sizeof why))
+            (*n)++;
+    }
+    sqlite3_finalize(s);
+    return 0;
 }

@@ -83,6 +83,29 @@ int store_done_dir(struct store *st, long long job_id, char *dir, size_t len, st
 /* Reap expired and orphaned leases; *n the number reaped. */
 int store_reap(struct store *st, int *n, struct err *e);
 
+/* Slurm: record the Slurm ids of submitted attempts and the state Slurm
+ * shows (PENDING when submitted, RUNNING once seen running), in one
+ * transaction; ids are recorded before their array is released to run. */
+int store_record_slurm_ids(struct store *st, int n, const long long *run_ids,
+                           const char *const *slurm_ids, const char *state, struct err *e);
+
+/* Slurm: the attempts of a study submitted to Slurm ('running' with a
+ * Slurm id) whose runner is gone (or that are this runner's): their leases
+ * become this runner's, and the runner follows them in Slurm instead of
+ * submitting the jobs again.  *out is malloc'ed (the caller frees). */
+struct store_adopted {
+    long long job_id, run_id;
+    int attempt;
+    char run_dir[4096];
+    char slurm_id[32];
+};
+int store_adopt(struct store *st, long long study_id, struct store_adopted **out, int *n,
+                struct err *e);
+
+/* Slurm: how many attempts of a study are in Slurm with no live runner
+ * following them (a runner without Slurm must not run those jobs again). */
+int store_slurm_orphans(struct store *st, long long study_id, int *n, struct err *e);
+
 /* The verdict on a job for this solver, without changing anything. */
 int store_job_verdict(struct store *st, long long job_id, enum claim_result *res, struct err *e);
 

@@ -857,6 +857,18 @@ static int study_read(struct study *s, struct err *e)
         (rc = cfg_real(&root, "timeout", 0.0, CFG_GE(0), &s->timeout)) ||
         (rc = cfg_int(&root, "retries", 0, CFG_RANGE(0, 100), &s->retries)))
         return rc;
+    static const char *const backends[] = {"local", "slurm", NULL};
+    int backend = 0;
+    if ((rc = cfg_enum(&root, "backend", "local", backends, &backend)) ||
+        (rc = cfg_int(&root, "max_running", 0, CFG_RANGE(0, 1000000), &s->max_running)))
+        return rc;
+    s->backend = backend ? STUDY_BACKEND_SLURM : STUDY_BACKEND_LOCAL;
+    cfg_allow(&root, "slurm");
+    if ((rc = slurm_spec_read(s, json_object_get(s->doc, "slurm"), e)))
+        return rc;
+    if (s->backend == STUDY_BACKEND_SLURM && s->mpirun_np)
+        return fail_at(s, "launcher", e, "with backend slurm, ask for MPI ranks with "
+                                         "slurm.ntasks (srun starts them), not mpirun");
     if ((rc = report_spec_read(&root, &s->report)) || (rc = check_report(s, e)))
         return rc;
     if ((rc = refine_spec_read(&root, &s->refine)) || (rc = check_refine(s, e)))
@@ -909,6 +921,7 @@ void study_free(struct study *s)
         free(s->metrics[i]);
     free(s->metrics);
     report_spec_free(&s->report);
+    slurm_spec_free(&s->slurm);
     memset(s, 0, sizeof *s);
 }
 

@@ -18,6 +18,9 @@
  *   threads: 1                         # --threads of each job
  *   timeout: 600                       # seconds per job (0: none)
  *   retries: 1                         # extra attempts after failed/crashed/timeout
+ *   backend: local | slurm             # where jobs run (cascade run --backend overrides)
+ *   max_running: 0                     # slurm: at most this many at once (0: no limit)
+ *   slurm: {...}                       # Slurm resources (slurm_spec.h)
  *   report: {...}                      # report and regression settings (report_spec.h)
  *   refine: {...}                      # adaptive refinement (refine_spec.h)
  *   regress: {...}
@@ -33,6 +36,7 @@
 #include "docpath.h"
 #include "refine_spec.h"
 #include "report_spec.h"
+#include "slurm_spec.h"
 #include "util/err.h"
 #include "util/locmap.h"
 
@@ -42,6 +46,7 @@
 #define STUDY_MAX_JOBS 10000000L
 
 enum axis_kind { AXIS_GRID, AXIS_ZIP, AXIS_REPEAT };
+enum study_backend { STUDY_BACKEND_LOCAL, STUDY_BACKEND_SLURM };
 
 /* A case document and where it was written. */
 struct study_source {
@@ -103,6 +108,9 @@ struct study {
     long threads;
     double timeout;                /* seconds, 0: none */
     long retries;
+    enum study_backend backend;
+    long max_running;              /* slurm: jobs running at once, 0: no limit */
+    struct slurm_spec slurm;       /* the `slurm` section */
     long njobs;                    /* sweep jobs (product of group_len) */
     struct report_spec report;     /* the `report` and `regress` sections */
     struct refine_spec refine;     /* the `refine` section (adaptive refinement) */

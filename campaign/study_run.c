@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "backend_mpi.h"
+#include "backend_slurm.h"
 #include "db.h"
 #include "launch.h"
 #include "plan.h"
@@ -26,6 +27,17 @@ int study_run(const struct study *s, const struct study_run_opts *o, struct runn
         plan_free(&p);
         return rc;
     }
+    struct backend b;
+    memset(&b, 0, sizeof b);
+    /* Slurm: the resources of every job are checked against the cluster
+     * before anything is written */
+    if (s->backend == STUDY_BACKEND_SLURM && o->mpi_size <= 1) {
+        rc = backend_slurm_create(&b, s, &p, o->runs, e);
+        if (rc) {
+            plan_free(&p);
+            return rc;
+        }
+    }
     /* every check has passed: from here on the database and runs/ are written */
     char runs_abs[4096];
     sqlite3 *db = NULL;
@@ -34,9 +46,7 @@ int study_run(const struct study *s, const struct study_run_opts *o, struct runn
         rc = err_set(e, ERR_RUNTIME, "%s: %s", o->runs, strerror(errno));
     if (!rc)
         rc = db_open(o->db_path, &db, e);
-    struct backend b;
-    memset(&b, 0, sizeof b);
-    if (!rc) {
+    if (!rc && !b.impl) {
         if (o->mpi_size > 1) {
             rc = backend_mpi_create(&b, o->mpi_size - 1, e);
         } else {
@@ -59,6 +69,8 @@ int study_run(const struct study *s, const struct study_run_opts *o, struct runn
                                     .infra_backoff_s = o->infra_pause > 0 ? o->infra_pause : 0.5,
                                     .infra_limit = 3};
         rc = runner_run(s, &p, &sv, db, &b, &ro, sum, e);
+        if (s->backend == STUDY_BACKEND_SLURM && b.impl && !o->quiet)
+            backend_slurm_report(&b, stderr);
     }
     if (b.destroy)
         b.destroy(&b);

@@ -138,6 +138,62 @@ Test(mpm_hier, shape_functions_partition_of_unity_and_linear)
     mpm_free(&m);
 }
 
+/* Cells without hanging nodes (most of a graded grid) take a short path in
+ * mpm_stencil_hier: there the stencil is the 8 corners in candidate order
+ * with the trilinear weights and gradients of the cell, as the general
+ * path gives; cells with hanging nodes keep their midpoint nodes. */
+Test(mpm_hier, cells_without_hanging_nodes_give_the_trilinear_corners)
+{
+    struct mpm m;
+    two_level_model(&m, 7, MPM_HANGING_MODIFIED);
+    const struct mpm_hgrid *hg = m.grid.hg;
+    long plain = 0, hanging = 0;
+    for (long c = 0; c < hg->ncell; c++) {
+        const struct mpm_hcell *cl = &hg->cell[c];
+        int nmid = 0;
+        for (int q = 0; q < 27; q++)
+            if ((q % 3 == 1 || (q / 3) % 3 == 1 || q / 9 == 1) && cl->node[q] >= 0)
+                nmid++;
+        double x[3], t[3], size[3];
+        for (int d = 0; d < 3; d++) {
+            size[d] = (double)(1 << cl->lg[d]);
+            t[d] = 0.3 + 0.2 * d;
+            x[d] = cl->lo[d] + t[d] * size[d];
+        }
+        struct mpm_stencil st;
+        mpm_stencil_hier(&m.grid, c, x, &st);
+        if (nmid > 0) {
+            hanging++;
+            cr_assert_eq(st.n, 8 + nmid, "cell %ld: %d nodes for 8 corners and %d midpoints", c,
+                         st.n, nmid);
+            continue;
+        }
+        plain++;
+        cr_assert_eq(st.n, 8, "cell %ld: %d nodes", c, st.n);
+        for (int k = 0; k < 8; k++) {
+            int a[3] = {k & 1, (k >> 1) & 1, k >> 2};
+            cr_assert_eq(st.node[k], cl->node[2 * a[0] + 6 * a[1] + 18 * a[2]], "cell %ld corner %d",
+                         c, k);
+            double w = 1, g[3] = {1, 1, 1};
+            for (int d = 0; d < 3; d++) {
+                double wd = a[d] ? t[d] : 1 - t[d], dd = (a[d] ? 1.0 : -1.0) / size[d];
+                w *= wd;
+                for (int e = 0; e < 3; e++)
+                    g[e] *= e == d ? dd : wd;
+            }
+            cr_assert(fabs(st.w[k] - w) < 1e-14, "cell %ld corner %d: N = %.17g, not %.17g", c, k,
+                      st.w[k], w);
+            cr_assert(fabs(st.gx[k] - g[0]) < 1e-14 && fabs(st.gy[k] - g[1]) < 1e-14 &&
+                          fabs(st.gz[k] - g[2]) < 1e-14,
+                      "cell %ld corner %d: gradient (%g %g %g), not (%g %g %g)", c, k, st.gx[k],
+                      st.gy[k], st.gz[k], g[0], g[1], g[2]);
+        }
+    }
+    cr_assert(plain > 0 && hanging > 0, "%ld plain and %ld hanging cells: both paths wanted", plain,
+              hanging);
+    mpm_free(&m);
+}
+
 /* Every node on the closed boundary of a cell is a corner, an edge
  * midpoint or a face centre of that cell (brute force). */
 static void assert_balanced(const struct mpm_hgrid *hg)

@@ -5,11 +5,13 @@
 
 const char *const timer_names[TIMER_COUNT] = {
     "total", "  setup", "  loop", "    neighbor", "    comm", "    force", "    integrate",
-    "    mpm p2g", "    mpm grid", "    mpm g2p", "    analysis", "    output",
+    "    mpm p2g", "    mpm grid", "    mpm g2p", "    dpd sweep", "    coupling",
+    "    analysis", "    output",
     "    checkpoint"};
 const char *const timer_keys[TIMER_COUNT] = {
     "total", "setup", "loop", "neighbor", "comm", "force", "integrate",
-    "mpm_p2g", "mpm_grid", "mpm_g2p", "analysis", "output", "checkpoint"};
+    "mpm_p2g", "mpm_grid", "mpm_g2p", "dpd_sweep", "coupling", "analysis", "output",
+    "checkpoint"};
 
 double timers_now(void)
 {

@@ -16,6 +16,8 @@ enum timer_id {
     TIMER_MPM_P2G,
     TIMER_MPM_GRID,
     TIMER_MPM_G2P,
+    TIMER_DPD_SWEEP,   /* DPD: the pair-by-pair dissipative + random sweep */
+    TIMER_COUPLING,    /* couplings: the transfers between the two sides (handshake band) */
     TIMER_ANALYSIS,
     TIMER_OUTPUT,
     TIMER_CHECKPOINT,

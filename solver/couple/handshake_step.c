@@ -158,16 +158,26 @@ int handshake_connect(struct handshake *hs, struct md *md, struct err *e)
 int handshake_advance_mpm(struct handshake *hs, struct err *e)
 {
     struct md *md = hs->md;
+    struct mpm *m = &hs->mpm;
     int rc;
+    /* the band's transfers (region I to the points, the copies to the MD)
+     * are timed as coupling; the MPM step times itself */
+    if (m->timers)
+        timer_start(m->timers, TIMER_COUPLING);
     if (md->nrebuilds != hs->seen_builds && (rc = reindex(hs, e)))
         return rc;
     gather_region_I(hs);
-    struct mpm *m = &hs->mpm;
+    if (m->timers)
+        timer_stop(m->timers, TIMER_COUPLING);
     double dt = md->dt;
     m->fext_scale = hs->ramp > 0 ? fmin(1.0, (m->time + dt) / hs->ramp) : 1.0;
     if ((rc = mpm_step(m, dt, e)))
         return rc;
+    if (m->timers)
+        timer_start(m->timers, TIMER_COUPLING);
     sync_copies(hs);
+    if (m->timers)
+        timer_stop(m->timers, TIMER_COUPLING);
     return 0;
 }
 

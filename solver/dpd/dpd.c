@@ -250,10 +250,10 @@ int dpd_step_sweep_drift(struct dpd *d, struct err *e)
     /* 1. dissipative + random, pair by pair (positions at t, forces f(t) kept) */
     memset(d->body_impulse, 0, sizeof d->body_impulse);
     if (d->set.gamma > 0) {
-        tstart(d, TIMER_INTEGRATE);
+        tstart(d, TIMER_DPD_SWEEP);
         rc = dpd_sweep(d, e);
         sync_bodies(d);
-        tstop(d, TIMER_INTEGRATE);
+        tstop(d, TIMER_DPD_SWEEP);
         if (rc)
             return rc;
     }

@@ -237,7 +237,7 @@ static int check_close_atoms(struct textfile *t, const struct particles *p, int 
         }
         /* the distinct neighbour cells along each axis (fewer than 3 when
          * the axis has fewer cells) */
-        int nb[3][3], nnb[3];
+        int nb[3][3] = {{0}}, nnb[3];   /* initialised: gcc -O3 cannot see that only set entries are read */
         for (int d = 0; d < 3; d++) {
             nnb[d] = 0;
             for (int o = -1; o <= 1; o++) {

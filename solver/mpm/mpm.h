@@ -136,6 +136,10 @@ struct mpm {
     double ke, ke_centred, strain, strain_before;
     double cmax;             /* largest material wave speed (Å/ps)                */
     struct timers *timers;   /* optional */
+    double fused_map_seconds;   /* of the last fused pass, the part that mapped the
+                                   next step (s1-s3: clearing the second buffer and
+                                   the scatter), per thread; mpm_step books it as
+                                   p2g when timers are on */
     double *scratch;         /* reorder scratch, n doubles */
     long scratch_cap;
 };

@@ -390,10 +390,10 @@ void mpm_update_particles_and_map(struct mpm *m, double dt)
         }
     }
     struct mpm_node *next = g->node_next;
-    long nn = g->nnodes;
-#pragma omp parallel for schedule(static) num_threads(m->nthreads)
-    for (long i = 0; i < nn; i++)
-        memset(&next[i], 0, sizeof next[i]);
+    const int timed = m->timers != NULL;
+    double t_clear = timed ? timers_now() : 0;
+    mpm_grid_clear_nodes(next, g->nnodes, m->nthreads);
+    double t_map = timed ? timers_now() - t_clear : 0;   /* s1-s3 of the next step */
     struct mpm_view views[1 + MPM_MAX_EXTRA];
     mpm_views(m, views);
     const struct mpm_view *w = &views[0];
@@ -410,7 +410,8 @@ void mpm_update_particles_and_map(struct mpm *m, double dt)
     int far = 0;   /* a point moved too far for the colouring: map afresh next step */
     const int ax = g->slab_axis;
     const long width = g->bw[ax];
-#pragma omp parallel num_threads(m->nthreads) reduction(+ : se) reduction(| : far)
+    double t_scatter = 0;   /* summed over threads */
+#pragma omp parallel num_threads(m->nthreads) reduction(+ : se, t_scatter) reduction(| : far)
     for (int c = 0; c < MPM_COLOURS; c++) {
         if (g->ncolour[c] == 0)
             continue;
@@ -436,6 +437,7 @@ void mpm_update_particles_and_map(struct mpm *m, double dt)
                     for (long k = k0; k < k1; k++)
                         update_point_linear(m, idx[k], dt, vel, node, s1, s2, 0, pts, blk);
                 }
+                double t0 = timed ? timers_now() : 0;
                 for (long k = k0; k < k1; k++) {
                     long p = idx[k];
                     se += pts->eint[p];
@@ -462,12 +464,15 @@ void mpm_update_particles_and_map(struct mpm *m, double dt)
                     }
                     p2g_lin_add(m, w, p, &st, 1, 1, 0, A, B, aux);   /* Eqs. (s1)-(s3a) */
                 }
+                if (timed)
+                    t_scatter += timers_now() - t0;
             }
             if (cur >= 0)
                 p2g_flush(next, cur, off, A, B, aux);
         }
     }
     m->strain = se;
+    m->fused_map_seconds = t_map + t_scatter / m->nthreads;
     b0->blk_step = m->step + 1;
     if (!far) {   /* the new mapping becomes the grid */
         g->node_next = g->node;

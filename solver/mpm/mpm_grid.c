@@ -2,6 +2,7 @@
 #include "mpm/mpm_grid.h"
 
 #include <math.h>
+#include <omp.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -225,13 +226,22 @@ int mpm_grid_contains(const struct mpm_grid *g, const double x[3])
     return 1;
 }
 
+void mpm_grid_clear_nodes(struct mpm_node *nd, long n, int nthreads)
+{
+    /* one memset per thread over the same contiguous share of the nodes a
+     * static loop would give it (so each thread touches the pages it maps) */
+#pragma omp parallel num_threads(nthreads)
+    {
+        int nt = omp_get_num_threads(), t = omp_get_thread_num();
+        long lo = n * t / nt, hi = n * (t + 1) / nt;
+        if (hi > lo)
+            memset(nd + lo, 0, (size_t)(hi - lo) * sizeof *nd);
+    }
+}
+
 void mpm_grid_clear(struct mpm_grid *g, int nthreads)
 {
-    struct mpm_node *nd = g->node;
-    long n = g->nnodes;
-#pragma omp parallel for schedule(static) num_threads(nthreads)
-    for (long i = 0; i < n; i++)
-        memset(&nd[i], 0, sizeof nd[i]);
+    mpm_grid_clear_nodes(g->node, g->nnodes, nthreads);
 }
 
 double mpm_grid_bytes(const struct mpm_grid *g)

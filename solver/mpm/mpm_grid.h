@@ -108,6 +108,8 @@ void mpm_grid_bounds(const struct mpm_grid *g, double lo[3], double hi[3]);
 
 /* Zero the accumulators (m, q, f, aux) of every node. */
 void mpm_grid_clear(struct mpm_grid *g, int nthreads);
+/* Zero n nodes (the grid's or its second buffer), threads sharing the work. */
+void mpm_grid_clear_nodes(struct mpm_node *nd, long n, int nthreads);
 
 /* Bytes held by the grid. */
 double mpm_grid_bytes(const struct mpm_grid *g);

@@ -21,6 +21,12 @@
  */
 #include "mpm/mpm_shape.h"
 
+/* Candidates a + 3b + 9c in increasing order: the 8 corners (a, b, c in
+ * {0, 2}) and the 19 others (some coordinate 1: a midpoint). */
+static const int hier_corner[8] = {0, 2, 6, 8, 18, 20, 24, 26};
+static const int hier_midpoint[19] = {1,  3,  4,  5,  7,  9,  10, 11, 12, 13,
+                                      14, 15, 16, 17, 19, 21, 22, 23, 25};
+
 void mpm_stencil_hier(const struct mpm_grid *g, long c, const double *x, struct mpm_stencil *s)
 {
     const struct mpm_hgrid *hg = g->hg;
@@ -43,6 +49,26 @@ void mpm_stencil_hier(const struct mpm_grid *g, long c, const double *x, struct 
             b[d][1] = 1.0 - fabs(xi);           /* Guo & Yang 2005, Eq. (11) */
             db[d][1] = (xi < 0 ? 2.0 : -2.0) * inv;
         }
+    }
+    /* Most cells of a graded grid have no hanging node: their functions are
+     * the trilinear products of the corners, which the general path below
+     * leaves untouched (it only moves surplus weight from midpoint nodes).
+     * Same products, same order of the nodes, so the same bits. */
+    int hanging = 0;
+    for (int k = 0; k < 19; k++)
+        hanging |= cl->node[hier_midpoint[k]] >= 0;
+    if (!hanging) {
+        for (int k = 0; k < 8; k++) {
+            int q = hier_corner[k];
+            int a0 = q % 3, a1 = (q / 3) % 3, a2 = q / 9;
+            s->node[k] = cl->node[q];
+            s->w[k] = b[0][a0] * b[1][a1] * b[2][a2];
+            s->gx[k] = db[0][a0] * b[1][a1] * b[2][a2];
+            s->gy[k] = b[0][a0] * db[1][a1] * b[2][a2];
+            s->gz[k] = b[0][a0] * b[1][a1] * db[2][a2];
+        }
+        s->n = 8;
+        return;
     }
     double N[27], Gx[27], Gy[27], Gz[27];
     for (int q = 0; q < 27; q++) {

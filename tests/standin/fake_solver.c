@@ -8,7 +8,7 @@
  * Case schema (every key optional):
  *   type: fake   seed: 1   title: ""
  *   fake:
- *     action: ok | sleep | crash | hang | exit | diverge | fail_once | env | slow_once
+ *     action: ok | sleep | crash | hang | exit | diverge | fail_once | env | slow_once | steps
  *     seconds: 0        # sleep first (every action)
  *     code: 3           # exit code for 'exit'
  *     message: ""       # exit: a line for stderr before exiting
@@ -24,8 +24,13 @@
  *     ignore_term: false  # hang: ignore SIGTERM too (the runner must escalate)
  *     read: ""          # a file that must exist; its size becomes metric read_bytes
  *     write: ""         # a file to write into the output directory
+ *     step_seconds: 0   # steps: `steps` steps of this many seconds each, writing
+ *     checkpoint_every: 0  # an (empty) checkpoint-<step>.h5 every so many steps; run
+ *                       # with --resume DIR it continues from DIR's newest one and
+ *                       # result.json says restarted_from_step (as the solver does)
  * CASCADE_FAKE_VERSION overrides the version `info` reports.
  */
+#include <dirent.h>
 #include <errno.h>
 #include <signal.h>
 #include <stdio.h>
@@ -42,14 +47,15 @@
 extern char **environ;
 
 static const char *const actions[] = {"ok",      "sleep",     "crash", "hang",      "exit",
-                                      "diverge", "fail_once", "env",   "slow_once", NULL};
-enum { A_OK, A_SLEEP, A_CRASH, A_HANG, A_EXIT, A_DIVERGE, A_FAIL_ONCE, A_ENV, A_SLOW_ONCE };
+                                      "diverge", "fail_once", "env",   "slow_once", "steps",
+                                      NULL};
+enum { A_OK, A_SLEEP, A_CRASH, A_HANG, A_EXIT, A_DIVERGE, A_FAIL_ONCE, A_ENV, A_SLOW_ONCE, A_STEPS };
 
 struct fake_case {
     long seed;
     int action;
-    double seconds, x, y;
-    long code, metrics, signal, steps;
+    double seconds, x, y, step_seconds;
+    long code, metrics, signal, steps, checkpoint_every;
     int ignore_term;
     const char *flag, *read, *write, *message, *counter;
 };
@@ -76,7 +82,11 @@ static int fake_read(struct cfg *c, json_t *doc, struct fake_case *fc)
         (rc = cfg_bool(&f, "ignore_term", 0, &fc->ignore_term)) ||
         (rc = cfg_string(&f, "flag", "", &fc->flag)) ||
         (rc = cfg_string(&f, "read", "", &fc->read)) ||
-        (rc = cfg_string(&f, "write", "", &fc->write)) || (rc = cfg_close(&f)) ||
+        (rc = cfg_string(&f, "write", "", &fc->write)) ||
+        (fc->action == A_STEPS &&
+         ((rc = cfg_real(&f, "step_seconds", 0.0, CFG_GE(0), &fc->step_seconds)) ||
+          (rc = cfg_int(&f, "checkpoint_every", 0, CFG_GE(0), &fc->checkpoint_every)))) ||
+        (rc = cfg_close(&f)) ||
         (rc = cfg_close(&root)))
         return rc;
     if (strcmp(type, "fake") != 0)
@@ -124,7 +134,7 @@ static const char *version(void)
 }
 
 static int write_result(const char *dir, json_t *doc, const char *status, const char *message,
-                        const struct fake_case *fc)
+                        const struct fake_case *fc, long restarted_from)
 {
     json_t *metrics = json_object();
     json_object_set_new(metrics, "x_squared", json_pack("{s:f, s:s}", "value", fc->x * fc->x, "unit", "1"));
@@ -159,6 +169,8 @@ static int write_result(const char *dir, json_t *doc, const char *status, const 
                           (int)getpid());
     if (message)
         json_object_set_new(r, "message", json_string(message));
+    if (restarted_from >= 0)
+        json_object_set_new(r, "restarted_from_step", json_integer(restarted_from));
     char path[4096], tmp[4200];
     snprintf(path, sizeof path, "%s/result.json", dir);
     snprintf(tmp, sizeof tmp, "%s.tmp%d", path, (int)getpid());
@@ -176,12 +188,50 @@ static void nap(double s)
     }
 }
 
+/* The newest checkpoint-<step>.h5 of dir, or -1. */
+static long newest_checkpoint(const char *dir)
+{
+    DIR *d = opendir(dir);
+    long best = -1;
+    struct dirent *de;
+    while (d && (de = readdir(d))) {
+        long step;
+        char tail[8];
+        if (sscanf(de->d_name, "checkpoint-%ld%4s", &step, tail) == 2 &&
+            strcmp(tail, ".h5") == 0 && step > best)
+            best = step;
+    }
+    if (d)
+        closedir(d);
+    return best;
+}
+
+/* action steps: returns the step it continued from, or -1 */
+static long run_steps(const struct fake_case *fc, const char *out, const char *resume)
+{
+    long from = resume ? newest_checkpoint(resume) : -1;
+    for (long k = from < 0 ? 1 : from + 1; k <= fc->steps; k++) {
+        nap(fc->step_seconds);
+        if (fc->checkpoint_every > 0 && k % fc->checkpoint_every == 0) {
+            char path[4096 + 64];
+            snprintf(path, sizeof path, "%s/checkpoint-%08ld.h5", out, k);
+            FILE *f = fopen(path, "w");
+            if (f)
+                fclose(f);
+        }
+    }
+    return from;
+}
+
 static int cmd_run(int argc, char **argv)
 {
-    const char *file = NULL, *out = ".";
+    const char *file = NULL, *out = ".", *resume = NULL;
+    long restarted_from = -1;
     for (int i = 0; i < argc; i++) {
         if (strcmp(argv[i], "--out") == 0 && i + 1 < argc)
             out = argv[++i];
+        else if (strcmp(argv[i], "--resume") == 0 && i + 1 < argc)
+            resume = argv[++i];
         else if (strcmp(argv[i], "--threads") == 0 && i + 1 < argc)
             i++;
         else if (argv[i][0] != '-')
@@ -223,6 +273,8 @@ static int cmd_run(int argc, char **argv)
     }
     if (seconds > 0)
         nap(seconds);
+    if (fc.action == A_STEPS)
+        restarted_from = run_steps(&fc, out, resume);
     int code = 0;
     if (fc.read[0] && access(fc.read, R_OK) != 0) {
         fprintf(stderr, "error: %s: cannot read '%s'\n", file, fc.read);
@@ -298,7 +350,7 @@ static int cmd_run(int argc, char **argv)
             code = (int)fc.code;
             break;
         case A_DIVERGE:
-            write_result(out, doc, "diverged", "diverged: non-finite energy at step 7 (fake)", &fc);
+            write_result(out, doc, "diverged", "diverged: non-finite energy at step 7 (fake)", &fc, -1);
             fprintf(stderr, "error: diverged: non-finite energy at step 7 (fake)\n");
             code = 4;
             break;
@@ -313,7 +365,7 @@ static int cmd_run(int argc, char **argv)
             }
             /* fall through */
         default:
-            code = write_result(out, doc, "ok", NULL, &fc) == 0 ? 0 : 1;
+            code = write_result(out, doc, "ok", NULL, &fc, restarted_from) == 0 ? 0 : 1;
         }
     }
     json_decref(doc);

@@ -1,4 +1,4 @@
--- Schema version 6: the history of the nightly regressions, one row per
+-- Schema version 8: the history of the nightly regressions, one row per
 -- compared entry per night (cascade regress), for trends and the nightly
 -- dashboard (cascade report --nightly).
 --
@@ -6,7 +6,7 @@
 -- every entry of every check -- the ones that passed too -- with the value
 -- of that night, the baseline, the tolerance and the verdict, and the run
 -- directories the value came from.  The view regress_history joins them
--- with the study and the commit.  Checks recorded before version 6 have
+-- with the study and the commit.  Checks recorded before version 8 have
 -- no rows here (their failures stay in regress_checks.diff).  See
 -- db/README.md and docs/nightly.md.
 ALTER TABLE regress_checks ADD COLUMN machine TEXT;
