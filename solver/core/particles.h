@@ -20,6 +20,7 @@
 #include "util/err.h"
 
 struct parallel;
+struct halo;
 
 #define PARTICLES_MAX_TYPES 8
 #define PARTICLES_MAX_FIELDS 16
@@ -56,6 +57,9 @@ struct particles {
     /* MPI ranks sharing this (replicated) particle set, or NULL: partial
      * sums passed to ghost_reverse_add are summed over them */
     const struct parallel *par;
+    /* the brick decomposition's exchange (core/halo.h), or NULL: ghosts
+     * come from neighbour ranks and ghost.c dispatches to it (borrowed) */
+    struct halo *halo;
 };
 
 struct particles *particles_create(int capacity);
