@@ -69,6 +69,8 @@ int halo_distribute(struct halo *h, struct particles *p, struct err *e)
         for (int i = 0; i < p->n_owned; i++)
             keep[i] = (unsigned char)decomp_owns(&h->dc, p->x + 3 * i);
         particles_compact(p, keep);
+        /* room for the brick's atoms and about as many ghosts */
+        rc = particles_fit(p, 2 * p->n_owned + 1024, e);
     }
     free(keep);
     rc = collective_rc(h, rc, e);
@@ -226,6 +228,8 @@ int halo_build(struct halo *h, struct particles *p, double range, struct err *e)
                 }
             if (!rc)
                 rc = grow(&h->sbuf, &h->scap, rec * (size_t)sw->nsend, e);
+            if (!rc)   /* the reverse sums receive as much as was sent */
+                rc = grow(&h->rbuf, &h->rcap, rec * (size_t)sw->nsend, e);
             for (int k = 0; !rc && k < sw->nsend; k++)
                 halo_pack(p, sw->send[k], d, sw->shift, (unsigned char *)h->sbuf + rec * (size_t)k);
             size_t got = 0;
@@ -253,8 +257,9 @@ int halo_build(struct halo *h, struct particles *p, double range, struct err *e)
 }
 
 /* One forward pass: values of the sent particles to the received ghosts,
- * coordinate `dim` shifted (dim < 0: plain copy).  The buffers were sized
- * by halo_build for whole records, so this cannot run out of memory. */
+ * coordinate `dim` shifted (with_shift).  Sizes are known from the build
+ * (one message per swap), and the buffers were sized there for whole
+ * records, so this cannot run out of memory. */
 static int forward(struct halo *h, double *arr, int ncomp, int with_shift, struct err *e)
 {
     size_t row = (size_t)ncomp * sizeof(double);
@@ -266,15 +271,11 @@ static int forward(struct halo *h, double *arr, int ncomp, int with_shift, struc
             if (with_shift)
                 sb[(size_t)ncomp * k + sw->dim] += sw->shift;
         }
-        size_t got;
-        int rc = parallel_sendrecv(h->dc.par, sw->dest, sb, row * (size_t)sw->nsend, sw->src,
-                                   &h->rbuf, &h->rcap, &got, e);
+        int rc = parallel_sendrecv_known(h->dc.par, sw->dest, sb, row * (size_t)sw->nsend, sw->src,
+                                         arr + (size_t)ncomp * sw->first,
+                                         row * (size_t)sw->nrecv, e);
         if (rc)
             return rc;
-        if (got != row * (size_t)sw->nrecv)
-            return err_set(e, ERR_RUNTIME, "halo forward: %zu bytes where %zu were expected", got,
-                           row * (size_t)sw->nrecv);
-        memcpy(arr + (size_t)ncomp * sw->first, h->rbuf, got);
     }
     return 0;
 }
@@ -303,14 +304,11 @@ int halo_reverse_add(struct halo *h, const struct particles *p, double *arr, int
     size_t row = (size_t)ncomp * sizeof(double);
     for (int s = h->nswap - 1; s >= 0; s--) {
         struct halo_swap *sw = &h->swap[s];
-        size_t got;
-        int rc = parallel_sendrecv(h->dc.par, sw->src, arr + (size_t)ncomp * sw->first,
-                                   row * (size_t)sw->nrecv, sw->dest, &h->rbuf, &h->rcap, &got,
-                                   &e);
+        int rc = parallel_sendrecv_known(h->dc.par, sw->src, arr + (size_t)ncomp * sw->first,
+                                         row * (size_t)sw->nrecv, sw->dest, h->rbuf,
+                                         row * (size_t)sw->nsend, &e);
         if (rc)
             return rc;
-        if (got != row * (size_t)sw->nsend)
-            return ERR_RUNTIME;
         const double *rb = h->rbuf;
         for (int k = 0; k < sw->nsend; k++)
             for (int c = 0; c < ncomp; c++)
@@ -394,4 +392,9 @@ int halo_gather(struct halo *h, const struct particles *p, struct particles **ou
 void halo_counts(const struct halo *h, const struct particles *p, long *counts)
 {
     parallel_allgather_long(h->dc.par, p->n_owned, counts);
+}
+
+void halo_allgather_long(const struct halo *h, long v, long *out)
+{
+    parallel_allgather_long(h->dc.par, v, out);
 }

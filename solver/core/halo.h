@@ -92,6 +92,8 @@ int halo_gather(struct halo *h, const struct particles *p, struct particles **ou
 
 /* Owned counts of every rank (counts holds one entry per rank). */
 void halo_counts(const struct halo *h, const struct particles *p, long *counts);
+/* v of every rank (out holds one entry per rank). */
+void halo_allgather_long(const struct halo *h, long v, long *out);
 int halo_nranks(const struct halo *h);
 
 /* Owned particles reordered by id (ghosts are dropped). */

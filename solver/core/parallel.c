@@ -141,6 +141,30 @@ int parallel_sendrecv(const struct parallel *par, int dest, const void *sbuf, si
     return 0;
 }
 
+int parallel_sendrecv_known(const struct parallel *par, int dest, const void *sbuf, size_t sbytes,
+                            int src, void *rbuf, size_t rbytes, struct err *e)
+{
+    int me = par ? par->rank : 0;
+    if (dest < 0 && src < 0)
+        return 0;
+    if (dest == me && src == me) {
+        if (sbytes != rbytes)
+            return err_set(e, ERR_RUNTIME, "halo swap with itself: %zu bytes sent, %zu expected",
+                           sbytes, rbytes);
+        if (sbytes)
+            memcpy(rbuf, sbuf, sbytes);
+        return 0;
+    }
+    if (!par || !par->mpi)
+        return err_set(e, ERR_RUNTIME, "halo exchange with rank %d/%d without MPI", dest, src);
+    if (sbytes > INT_MAX || rbytes > INT_MAX)
+        return err_set(e, ERR_RUNTIME, "halo message beyond MPI's int count");
+    MPI_Sendrecv(sbuf, dest >= 0 ? (int)sbytes : 0, MPI_BYTE, dest >= 0 ? dest : MPI_PROC_NULL, 3,
+                 rbuf, src >= 0 ? (int)rbytes : 0, MPI_BYTE, src >= 0 ? src : MPI_PROC_NULL, 3,
+                 MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+    return 0;
+}
+
 static void allreduce_op(const struct parallel *par, double *buf, size_t n, MPI_Op op)
 {
     if (!par || par->size <= 1 || n == 0)

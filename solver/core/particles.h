@@ -68,6 +68,11 @@ void particles_destroy(struct particles **p);
 /* Make room for at least `n` particles (owned + ghost). */
 int particles_reserve(struct particles *p, int n, struct err *e);
 
+/* Shrink the arrays to hold n particles (at least owned + ghosts): the
+ * memory of a set that lost most of its particles (a rank keeping its
+ * brick of a system every rank built) goes back to the system. */
+int particles_fit(struct particles *p, int n, struct err *e);
+
 /* Append one owned particle (before any ghosts exist); returns its index or
  * -1 when out of memory. */
 int particles_add(struct particles *p, const double x[3], const double v[3], int type, int64_t id);

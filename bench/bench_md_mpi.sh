@@ -1,0 +1,78 @@
+#!/bin/sh
+# MD on MPI bricks: 256,000-atom EAM Cu (bench/cases/md_eam_256k.yaml, 100
+# steps) on 1 rank (serial) and 2 ranks (brick decomposition), side by side
+# with Debian's LAMMPS (`lmp`, `mpirun -np 2 lmp`) on the same system
+# (bench/lammps_eam_256k.in), 1 OpenMP thread per rank.
+#   BENCH md_eam_256k_us_per_atom_step_1_rank     loop time / (steps x atoms)
+#   BENCH md_eam_256k_us_per_atom_step_2_ranks
+#   BENCH md_eam_256k_speedup_2_ranks            1-rank loop time / 2-rank loop time
+#   BENCH md_eam_256k_lammps_speedup_2_ranks     the same for LAMMPS
+#   BENCH md_eam_256k_ratio_vs_lammps_2_ranks    our 2-rank loop time / LAMMPS' (< 1: faster)
+#   BENCH md_eam_256k_peak_rss_mib_1_rank        peak resident memory of the serial run
+#   BENCH md_eam_256k_peak_rss_mib_per_rank_2_ranks   largest peak over the 2 ranks
+#   BENCH md_eam_256k_rss_per_rank_2_over_1      the two above, divided
+# Medians of REPEAT rounds; each round runs the four programs one after
+# the other, so a load change on this shared machine hits them alike.  Run
+# by bench/bench.sh with BIN, ROOT, WORK, REPEAT set; standalone:
+# sh bench/bench_md_mpi.sh BINDIR.
+set -eu
+BIN=${BIN:-${1:?usage: bench_md_mpi.sh BINDIR}}
+ROOT=${ROOT:-$(cd "$(dirname "$0")/.." && pwd)}
+REPEAT=${REPEAT:-3}
+if [ -z "${WORK:-}" ]; then
+    WORK=$(mktemp -d /tmp/cascade-bench-mdmpi.XXXXXX)
+    trap 'rm -rf "$WORK"' EXIT
+fi
+CASE="$ROOT/bench/cases/md_eam_256k.yaml"
+LMPIN="$ROOT/bench/lammps_eam_256k.in"
+natoms=256000
+steps=100
+export OMP_NUM_THREADS=1
+MPIRUN="mpirun --oversubscribe -np 2"
+[ "$(id -u)" = 0 ] && export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
+
+median() { sort -g | awk '{a[NR]=$1} END {if (NR%2) print a[(NR+1)/2]; else print (a[NR/2]+a[NR/2+1])/2}'; }
+loop_seconds() { tr -d ' \n' < "$1/result.json" | grep -o '"loop":{"calls":[0-9]*,"seconds":[0-9.eE+-]*' | sed 's/.*"seconds"://'; }
+# the largest per-rank peak of the parallel record in result.json
+rank_rss_max() { tr -d ' \n' < "$1/result.json" | grep -o '"peak_rss_mib_per_rank":\[[^]]*\]' \
+    | sed 's/.*\[//; s/\]//' | tr ',' '\n' | sort -g | tail -n1; }
+us() { echo "$1 * 1000000 / ($natoms * $steps)" | bc -l | xargs printf '%.4f'; }
+
+have_lmp=0; command -v lmp >/dev/null 2>&1 && have_lmp=1
+for f in s1 s2 r1 r2 l1 l2; do : > "$WORK/mdmpi.$f"; done
+i=0
+while [ "$i" -lt "$REPEAT" ]; do
+    i=$((i + 1))
+    out="$WORK/mdmpi1-$i"
+    /usr/bin/time -f '%M' -o "$WORK/mdmpi.rss" "$BIN/cascade-solver" run "$CASE" --out "$out" \
+        --threads 1 --quiet --no-progress
+    loop_seconds "$out" >> "$WORK/mdmpi.s1"
+    echo "$(cat "$WORK/mdmpi.rss") / 1024" | bc -l >> "$WORK/mdmpi.r1"
+    out="$WORK/mdmpi2-$i"
+    $MPIRUN "$BIN/cascade-solver" run "$CASE" --out "$out" --threads 1 --quiet --no-progress
+    loop_seconds "$out" >> "$WORK/mdmpi.s2"
+    rank_rss_max "$out" >> "$WORK/mdmpi.r2"
+    if [ $have_lmp = 1 ]; then
+        (cd "$WORK" && lmp -in "$LMPIN" -log none -screen "$WORK/mdmpi-lmp1.out" >/dev/null 2>&1)
+        grep 'Loop time of' "$WORK/mdmpi-lmp1.out" | awk '{print $4}' >> "$WORK/mdmpi.l1"
+        (cd "$WORK" && $MPIRUN lmp -in "$LMPIN" -log none -screen "$WORK/mdmpi-lmp2.out" \
+            >/dev/null 2>&1)
+        grep 'Loop time of' "$WORK/mdmpi-lmp2.out" | awk '{print $4}' >> "$WORK/mdmpi.l2"
+    fi
+done
+s1=$(median < "$WORK/mdmpi.s1"); s2=$(median < "$WORK/mdmpi.s2")
+r1=$(median < "$WORK/mdmpi.r1"); r2=$(median < "$WORK/mdmpi.r2")
+echo "BENCH md_eam_256k_us_per_atom_step_1_rank $(us "$s1") us"
+echo "BENCH md_eam_256k_us_per_atom_step_2_ranks $(us "$s2") us"
+echo "BENCH md_eam_256k_speedup_2_ranks $(echo "$s1 / $s2" | bc -l | xargs printf '%.3f') x"
+echo "BENCH md_eam_256k_peak_rss_mib_1_rank $(printf '%.1f' "$r1") MiB"
+echo "BENCH md_eam_256k_peak_rss_mib_per_rank_2_ranks $(printf '%.1f' "$r2") MiB"
+echo "BENCH md_eam_256k_rss_per_rank_2_over_1 $(echo "$r2 / $r1" | bc -l | xargs printf '%.3f') x"
+if [ $have_lmp = 1 ]; then
+    l1=$(median < "$WORK/mdmpi.l1"); l2=$(median < "$WORK/mdmpi.l2")
+    echo "BENCH md_eam_256k_lammps_us_per_atom_step_2_ranks $(us "$l2") us"
+    echo "BENCH md_eam_256k_lammps_speedup_2_ranks $(echo "$l1 / $l2" | bc -l | xargs printf '%.3f') x"
+    echo "BENCH md_eam_256k_ratio_vs_lammps_2_ranks $(echo "$s2 / $l2" | bc -l | xargs printf '%.3f') x"
+else
+    echo "bench: lmp not installed (apt-get install lammps) -- no LAMMPS ratio" >&2
+fi
