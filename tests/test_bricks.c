@@ -322,6 +322,22 @@ Test(bricks, meam_spline_si_matches_serial, .timeout = 600)
                       512, 100);
 }
 
+/* A slab with free surfaces along z (the box shrink-wraps over all ranks
+ * at every rebuild, the z bricks follow it) under a Langevin thermostat
+ * (random forces keyed on the atom's id and the step: every rank count
+ * draws the same numbers) */
+Test(bricks, free_surface_langevin_matches_serial, .timeout = 600)
+{
+    check_rank_counts("slab", "seed: 9\nsystem:\n  lattice: {style: fcc, a: 3.615, cells: [8, 8, 8]}\n"
+                              "  element: Cu\n  boundary: [periodic, periodic, free]\n"
+                              "potential: {style: eam/alloy, file: Cu_mishin1.eam.alloy}\n"
+                              "md: {steps: 100, temperature: 900, thermostat: {style: langevin, "
+                              "temperature: 900, tau: 0.05}}\n"
+                              "parallel: {decomposition: bricks}\n"
+                              "output: {thermo_every: 10}\n",
+                      2048, 100);
+}
+
 /* An argon crystal of 6^3 cells (31.56 Å) moving as a whole at +-(v, v, v)
  * with v = 200 Å/ps on top of small random velocities: in 100 steps of
  * 2 fs every atom travels 40 Å along each axis, more than the box, so on a

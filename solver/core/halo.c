@@ -69,8 +69,9 @@ int halo_distribute(struct halo *h, struct particles *p, struct err *e)
         for (int i = 0; i < p->n_owned; i++)
             keep[i] = (unsigned char)decomp_owns(&h->dc, p->x + 3 * i);
         particles_compact(p, keep);
-        /* room for the brick's atoms and about as many ghosts */
-        rc = particles_fit(p, 2 * p->n_owned + 1024, e);
+        /* room for the brick's atoms and half as many ghosts (about
+         * right for bricks four ranges wide; the arrays grow when needed) */
+        rc = particles_fit(p, p->n_owned + p->n_owned / 2 + 1024, e);
     }
     free(keep);
     rc = collective_rc(h, rc, e);
