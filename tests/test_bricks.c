@@ -22,13 +22,14 @@
 
 #define REL 1e-10
 
-static void mpi_env(void)
+static void mpi_env(int np)
 {
     setenv("OMPI_ALLOW_RUN_AS_ROOT", "1", 1);
     setenv("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1", 1);
     setenv("OMP_NUM_THREADS", "1", 1);
-    /* Open MPI's dlopen'ed components leak at exit (test_parallel.c) */
-    setenv("ASAN_OPTIONS", "detect_leaks=0", 1);
+    /* Open MPI's dlopen'ed components leak at exit (test_parallel.c); the
+     * serial runs keep leak checking for our code */
+    setenv("ASAN_OPTIONS", np > 0 ? "detect_leaks=0" : "detect_leaks=1", 1);
 }
 
 /* Run the case serially (np 0) or on np ranks into dir; extra: more
@@ -36,7 +37,7 @@ static void mpi_env(void)
 static int run_np(const char *path, int np, const char *dir, const char *const *extra, char *out,
                   size_t len)
 {
-    mpi_env();
+    mpi_env(np);
     char nps[16];
     snprintf(nps, sizeof nps, "%d", np);
     const char *argv[24];
@@ -512,6 +513,7 @@ Test(bricks, bad_grid_names_file_and_line, .timeout = 300)
     snprintf(yaml, sizeof yaml, "%sparallel:\n  decomposition: replicated\n  grid: [1, 1, 2]\n",
              base);
     path = th_write_temp(3, "repl.yaml", yaml);
+    mpi_env(0);   /* serial from here: leak checks on */
     const char *a1[] = {th_solver(), "check", path, NULL};
     cr_assert_eq(th_run(a1, out, sizeof out), 2, "%s", out);
     cr_assert(strstr(out, "repl.yaml:9:") && strstr(out, "parallel.grid"), "%s", out);

@@ -205,6 +205,15 @@ int halo_build(struct halo *h, struct particles *p, double range, struct err *e)
     int rc = 0;
     p->n_ghost = 0;
     h->nswap = 0;
+    /* a free axis shrink-wraps: its bricks may have become thinner than
+     * the range since the grid was chosen, and one swap would miss ghosts */
+    for (int d = 0; d < 3; d++)
+        if ((dc->grid[d] > 1 || dc->periodic[d]) &&
+            !((dc->bhi[d] - dc->blo[d]) / dc->grid[d] >= range))   /* the same on every rank */
+            return err_set(e, ERR_RUNTIME,
+                           "the bricks along %c are %g Å thick, thinner than the interaction "
+                           "range %g Å (the box shrank): run on fewer ranks along %c",
+                           "xyz"[d], (dc->bhi[d] - dc->blo[d]) / dc->grid[d], range, "xyz"[d]);
     for (int d = 0; d < 3 && !rc; d++) {
         if (dc->grid[d] == 1 && !dc->periodic[d])
             continue;
