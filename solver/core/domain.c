@@ -32,6 +32,12 @@ int domain_rebuild(struct particles *p, struct box *b, double range, int sort_no
     if (timers)
         timer_start(timers, TIMER_COMM);
     rc = p->halo ? halo_build(p->halo, p, range, e) : ghost_build(p, b, range, e);
+    /* bricks: the arrays were sized before the ghosts were known; give
+     * back what a quarter more than owned + ghosts does not need (memory
+     * per rank is what a decomposition is for) */
+    long need = (long)p->n_owned + p->n_ghost;
+    if (!rc && p->halo && p->capacity > need + need / 4 + 4096)
+        rc = particles_fit(p, (int)(need + need / 16 + 1024), e);
     if (timers)
         timer_stop(timers, TIMER_COMM);
     return rc;
