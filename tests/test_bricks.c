@@ -523,3 +523,26 @@ Test(bricks, bad_grid_names_file_and_line, .timeout = 300)
     cr_assert_eq(th_run(a2, out, sizeof out), 2, "%s", out);
     cr_assert(strstr(out, "did you mean 'grid'"), "%s", out);
 }
+
+/* A case type that is not decomposed runs whole on every rank, and says so */
+Test(bricks, other_case_types_say_they_are_not_decomposed, .timeout = 300)
+{
+    const char *path = th_write_temp(0, "crystal.yaml",
+                                     "type: crystal\ncrystal: {lattice: fcc, element: Cu, a_min: "
+                                     "3.4, a_max: 3.8, cells: 3}\npotential: {style: sutton_chen}\n"
+                                     "output: {hdf5: false}\n");
+    char d0[600], d2[600];
+    static char out[16384];
+    snprintf(d0, sizeof d0, "%s/crystal-serial", th_temp_dir());
+    snprintf(d2, sizeof d2, "%s/crystal-2", th_temp_dir());
+    must_run(path, 0, d0, NULL);
+    cr_assert_eq(run_np(path, 2, d2, NULL, out, sizeof out), 0, "%s", out);
+    cr_assert(strstr(out, "note: case type 'crystal' is not decomposed into bricks yet"), "%s",
+              out);
+    json_t *a = result_of(d0), *b = result_of(d2);
+    double x = metric(a, "lattice_constant"), y = metric(b, "lattice_constant");
+    cr_assert_eq(x, y, "lattice constant %.17g vs %.17g", x, y);
+    cr_assert_null(json_object_get(b, "parallel"));
+    json_decref(a);
+    json_decref(b);
+}
