@@ -7,6 +7,7 @@
 #   BENCH md_eam_256k_us_per_atom_step_2_ranks
 #   BENCH md_eam_256k_speedup_2_ranks            1-rank loop time / 2-rank loop time
 #   BENCH md_eam_256k_lammps_speedup_2_ranks     the same for LAMMPS
+#   BENCH md_eam_256k_ratio_vs_lammps_1_rank     our serial loop time / LAMMPS' on 1 rank
 #   BENCH md_eam_256k_ratio_vs_lammps_2_ranks    our 2-rank loop time / LAMMPS' (< 1: faster)
 #   BENCH md_eam_256k_peak_rss_mib_1_rank        peak resident memory of the serial run
 #   BENCH md_eam_256k_peak_rss_mib_per_rank_2_ranks   largest peak over the 2 ranks
@@ -59,6 +60,10 @@ while [ "$i" -lt "$REPEAT" ]; do
             >/dev/null 2>&1)
         grep 'Loop time of' "$WORK/mdmpi-lmp2.out" | awk '{print $4}' >> "$WORK/mdmpi.l2"
     fi
+    # the round's loop times, for a reader who wants more than medians
+    echo "bench_md_mpi: round $i loop s: ours 1 rank $(tail -n1 "$WORK/mdmpi.s1"), 2 ranks" \
+        "$(tail -n1 "$WORK/mdmpi.s2"); lammps 1 rank $(tail -n1 "$WORK/mdmpi.l1"), 2 ranks" \
+        "$(tail -n1 "$WORK/mdmpi.l2"); load $(cut -d' ' -f1-3 /proc/loadavg)" >&2
 done
 s1=$(median < "$WORK/mdmpi.s1"); s2=$(median < "$WORK/mdmpi.s2")
 r1=$(median < "$WORK/mdmpi.r1"); r2=$(median < "$WORK/mdmpi.r2")
@@ -70,7 +75,9 @@ echo "BENCH md_eam_256k_peak_rss_mib_per_rank_2_ranks $(printf '%.1f' "$r2") MiB
 echo "BENCH md_eam_256k_rss_per_rank_2_over_1 $(echo "$r2 / $r1" | bc -l | xargs printf '%.3f') x"
 if [ $have_lmp = 1 ]; then
     l1=$(median < "$WORK/mdmpi.l1"); l2=$(median < "$WORK/mdmpi.l2")
+    echo "BENCH md_eam_256k_lammps_us_per_atom_step_1_rank $(us "$l1") us"
     echo "BENCH md_eam_256k_lammps_us_per_atom_step_2_ranks $(us "$l2") us"
+    echo "BENCH md_eam_256k_ratio_vs_lammps_1_rank $(echo "$s1 / $l1" | bc -l | xargs printf '%.3f') x"
     echo "BENCH md_eam_256k_lammps_speedup_2_ranks $(echo "$l1 / $l2" | bc -l | xargs printf '%.3f') x"
     echo "BENCH md_eam_256k_ratio_vs_lammps_2_ranks $(echo "$s2 / $l2" | bc -l | xargs printf '%.3f') x"
 else
