@@ -14,8 +14,8 @@
 #   BENCH md_eam_256k_rss_per_rank_2_over_1      the two above, divided
 # Medians of REPEAT rounds; each round runs the four programs one after
 # the other, so a load change on this shared machine hits them alike.  Run
-# by bench/bench.sh with BIN, ROOT, WORK, REPEAT set; standalone:
-# sh bench/bench_md_mpi.sh BINDIR.
+# by bench/bench.sh (run_bench) with BIN, ROOT, WORK, REPEAT set;
+# standalone: sh bench/bench_md_mpi.sh BINDIR.
 set -eu
 BIN=${BIN:-${1:?usage: bench_md_mpi.sh BINDIR}}
 ROOT=${ROOT:-$(cd "$(dirname "$0")/.." && pwd)}
@@ -32,8 +32,8 @@ export OMP_NUM_THREADS=1
 MPIRUN="mpirun --oversubscribe -np 2"
 [ "$(id -u)" = 0 ] && export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 
-median() { sort -g | awk '{a[NR]=$1} END {if (NR%2) print a[(NR+1)/2]; else print (a[NR/2]+a[NR/2+1])/2}'; }
-loop_seconds() { tr -d ' \n' < "$1/result.json" | grep -o '"loop":{"calls":[0-9]*,"seconds":[0-9.eE+-]*' | sed 's/.*"seconds"://'; }
+. "$ROOT/bench/lib.sh"
+loop_seconds() { json_timer "$1/result.json" loop; }
 # the largest per-rank peak of the parallel record in result.json
 rank_rss_max() { tr -d ' \n' < "$1/result.json" | grep -o '"peak_rss_mib_per_rank":\[[^]]*\]' \
     | sed 's/.*\[//; s/\]//' | tr ',' '\n' | sort -g | tail -n1; }
@@ -67,19 +67,25 @@ while [ "$i" -lt "$REPEAT" ]; do
 done
 s1=$(median < "$WORK/mdmpi.s1"); s2=$(median < "$WORK/mdmpi.s2")
 r1=$(median < "$WORK/mdmpi.r1"); r2=$(median < "$WORK/mdmpi.r2")
-echo "BENCH md_eam_256k_us_per_atom_step_1_rank $(us "$s1") us"
-echo "BENCH md_eam_256k_us_per_atom_step_2_ranks $(us "$s2") us"
-echo "BENCH md_eam_256k_speedup_2_ranks $(echo "$s1 / $s2" | bc -l | xargs printf '%.3f') x"
-echo "BENCH md_eam_256k_peak_rss_mib_1_rank $(printf '%.1f' "$r1") MiB"
-echo "BENCH md_eam_256k_peak_rss_mib_per_rank_2_ranks $(printf '%.1f' "$r2") MiB"
-echo "BENCH md_eam_256k_rss_per_rank_2_over_1 $(echo "$r2 / $r1" | bc -l | xargs printf '%.3f') x"
+load=$(bench_load)
+bench_line md_eam_256k_us_per_atom_step_1_rank "$(us "$s1")" us "serial, 1 thread; $load"
+bench_line md_eam_256k_us_per_atom_step_2_ranks "$(us "$s2")" us "2 ranks x 1 thread, bricks"
+bench_line md_eam_256k_speedup_2_ranks "$(echo "$s1 / $s2" | bc -l | xargs printf '%.3f')" x \
+    "target 1.8; needs 2 free cores"
+bench_line md_eam_256k_peak_rss_mib_1_rank "$(printf '%.1f' "$r1")" MiB "serial"
+bench_line md_eam_256k_peak_rss_mib_per_rank_2_ranks "$(printf '%.1f' "$r2")" MiB "largest rank"
+bench_line md_eam_256k_rss_per_rank_2_over_1 "$(echo "$r2 / $r1" | bc -l | xargs printf '%.3f')" x \
+    "target 0.6"
 if [ $have_lmp = 1 ]; then
     l1=$(median < "$WORK/mdmpi.l1"); l2=$(median < "$WORK/mdmpi.l2")
-    echo "BENCH md_eam_256k_lammps_us_per_atom_step_1_rank $(us "$l1") us"
-    echo "BENCH md_eam_256k_lammps_us_per_atom_step_2_ranks $(us "$l2") us"
-    echo "BENCH md_eam_256k_ratio_vs_lammps_1_rank $(echo "$s1 / $l1" | bc -l | xargs printf '%.3f') x"
-    echo "BENCH md_eam_256k_lammps_speedup_2_ranks $(echo "$l1 / $l2" | bc -l | xargs printf '%.3f') x"
-    echo "BENCH md_eam_256k_ratio_vs_lammps_2_ranks $(echo "$s2 / $l2" | bc -l | xargs printf '%.3f') x"
+    bench_line md_eam_256k_lammps_us_per_atom_step_1_rank "$(us "$l1")" us "LAMMPS, same system"
+    bench_line md_eam_256k_lammps_us_per_atom_step_2_ranks "$(us "$l2")" us "mpirun -np 2 lmp"
+    bench_line md_eam_256k_ratio_vs_lammps_1_rank "$(echo "$s1 / $l1" | bc -l | xargs printf '%.3f')" x \
+        "LAMMPS $(us "$l1") us"
+    bench_line md_eam_256k_lammps_speedup_2_ranks "$(echo "$l1 / $l2" | bc -l | xargs printf '%.3f')" x \
+        "LAMMPS gives about 1.9 on 2 free cores"
+    bench_line md_eam_256k_ratio_vs_lammps_2_ranks "$(echo "$s2 / $l2" | bc -l | xargs printf '%.3f')" x \
+        "target 1.0; LAMMPS $(us "$l2") us"
 else
     echo "bench: lmp not installed (apt-get install lammps) -- no LAMMPS ratio" >&2
 fi
