@@ -463,6 +463,12 @@ static int cmd_run_inner(int argc, char **argv, const struct parallel *par)
                   "out %s",
             provenance_version(), provenance_git_hash(), cr.type->name, file,
             cr.type->particles(cr.state), par->size, (int)threads, out);
+    if (par->size > 1 && !cr.type->decomposes &&
+        cr.common.parallel.decomposition != DECOMP_REPLICATED && par->rank == 0)
+        fprintf(stderr, "note: case type '%s' is not decomposed into bricks yet: each of the "
+                        "%d ranks runs the whole case and rank 0 writes (no speed-up; "
+                        "docs/parallel.md)\n",
+                cr.type->name, par->size);
     rc = cr.type->run(cr.state, &run, &e);
     long steps = 0;
     if (run.steps_run > 0) {   /* the engine, and cases that do not run md.steps, say

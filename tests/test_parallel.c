@@ -1,7 +1,8 @@
 /*
- * Replicated-data MPI runs: `mpirun -np 2 cascade-solver run` gives the
- * same trajectory as a serial run (bitwise on this machine: sums are
- * reduced to rank 0 and broadcast), and only rank 0 writes files.
+ * Replicated-data MPI runs (`parallel: {decomposition: replicated}`):
+ * `mpirun -np 2 cascade-solver run` gives the same trajectory as a serial
+ * run (bitwise on this machine: sums are reduced to rank 0 and broadcast),
+ * and only rank 0 writes files.  Brick decompositions: test_bricks.c.
  */
 #include <criterion/criterion.h>
 #include <stdio.h>
@@ -54,7 +55,9 @@ Test(parallel, two_ranks_match_serial, .timeout = 300)
 {
     check_two_ranks("eam", "seed: 3\nsystem:\n  lattice: {style: fcc, a: 3.615, cells: [5, 5, 5]}\n"
                            "  element: Cu\npotential: {style: eam/alloy, file: Cu_mishin1.eam.alloy}\n"
-                           "md: {steps: 60, temperature: 400}\noutput: {thermo_every: 20, hdf5: false}\n");
+                           "md: {steps: 60, temperature: 400}\n"
+                           "parallel: {decomposition: replicated}\n"
+                           "output: {thermo_every: 20, hdf5: false}\n");
 }
 
 /* Many-body potentials with full lists: every rank needs the embedding
@@ -64,9 +67,12 @@ Test(parallel, two_ranks_match_serial_silicon, .timeout = 300)
 {
     check_two_ranks("sw", "seed: 4\nsystem:\n  lattice: {style: diamond, a: 5.431, cells: [3, 3, 3]}\n"
                           "  element: Si\npotential: {style: sw, file: Si.sw, elements: [Si]}\n"
-                          "md: {steps: 40, temperature: 600}\noutput: {thermo_every: 10, hdf5: false}\n");
+                          "md: {steps: 40, temperature: 600}\n"
+                          "parallel: {decomposition: replicated}\n"
+                          "output: {thermo_every: 10, hdf5: false}\n");
     check_two_ranks("meam", "seed: 4\nsystem:\n  lattice: {style: diamond, a: 5.431, cells: [3, 3, 3]}\n"
                             "  element: Si\npotential: {style: meam/spline, file: Si_1.meam.spline, "
                             "elements: [Si]}\nmd: {steps: 40, temperature: 600}\n"
+                            "parallel: {decomposition: replicated}\n"
                             "output: {thermo_every: 10, hdf5: false}\n");
 }

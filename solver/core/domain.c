@@ -4,13 +4,18 @@
 #include <stdlib.h>
 
 #include "core/ghost.h"
+#include "core/halo.h"
 #include "core/neighbor.h"
 
 int domain_rebuild(struct particles *p, struct box *b, double range, int sort_now,
                    struct timers *timers, struct err *e)
 {
     particles_clear_ghosts(p);
-    int rc = box_remap(b, p, 0.0, e);
+    /* bricks: wrap and shrink-wrap over all ranks, then particles that
+     * left the brick move to their new owner */
+    int rc = p->halo ? halo_remap(p->halo, b, p, 1, e) : box_remap(b, p, 0.0, e);
+    if (!rc && p->halo)
+        rc = halo_migrate(p->halo, p, e);
     if (rc)
         return rc;
     if (sort_now && p->n_owned > 1) {
@@ -26,7 +31,13 @@ int domain_rebuild(struct particles *p, struct box *b, double range, int sort_no
     }
     if (timers)
         timer_start(timers, TIMER_COMM);
-    rc = ghost_build(p, b, range, e);
+    rc = p->halo ? halo_build(p->halo, p, range, e) : ghost_build(p, b, range, e);
+    /* bricks: the arrays were sized before the ghosts were known; give
+     * back what a quarter more than owned + ghosts does not need (memory
+     * per rank is what a decomposition is for) */
+    long need = (long)p->n_owned + p->n_ghost;
+    if (!rc && p->halo && p->capacity > need + need / 4 + 4096)
+        rc = particles_fit(p, (int)(need + need / 16 + 1024), e);
     if (timers)
         timer_stop(timers, TIMER_COMM);
     return rc;

@@ -1,6 +1,7 @@
 /* ghost: creation and refresh of periodic-image ghost particles. */
 #include "core/ghost.h"
 
+#include "core/halo.h"
 #include "core/parallel.h"
 
 #include <limits.h>
@@ -71,6 +72,10 @@ int ghost_build(struct particles *p, const struct box *b, double range, struct e
 
 void ghost_update_positions(struct particles *p, const struct box *b)
 {
+    if (p->halo) {   /* the buffers were sized at the build: cannot fail */
+        (void)halo_update_positions(p->halo, p);
+        return;
+    }
     double len[3] = {box_length(b, 0), box_length(b, 1), box_length(b, 2)};
     int n0 = p->n_owned, n1 = p->n_owned + p->n_ghost;
     for (int g = n0; g < n1; g++) {
@@ -87,6 +92,10 @@ void ghost_update_velocities(struct particles *p) { ghost_forward(p, p->v, 3); }
 
 void ghost_reverse_add(const struct particles *p, double *arr, int ncomp)
 {
+    if (p->halo) {
+        (void)halo_reverse_add(p->halo, p, arr, ncomp);
+        return;
+    }
     int n0 = p->n_owned, n1 = p->n_owned + p->n_ghost;
     parallel_sum(p->par, arr, (size_t)ncomp * n1);
     for (int g = n0; g < n1; g++) {
@@ -98,6 +107,10 @@ void ghost_reverse_add(const struct particles *p, double *arr, int ncomp)
 
 void ghost_forward(const struct particles *p, double *arr, int ncomp)
 {
+    if (p->halo) {
+        (void)halo_forward(p->halo, p, arr, ncomp);
+        return;
+    }
     int n0 = p->n_owned, n1 = p->n_owned + p->n_ghost;
     for (int g = n0; g < n1; g++) {
         int o = p->origin[g];

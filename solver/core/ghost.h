@@ -1,7 +1,8 @@
 /*
  * ghost: periodic images as ghost particles -- the serial form of the halo
- * exchange (CoMD's pattern).  Under MPI domain decomposition this module is
- * the one to grow an exchange with neighbour ranks; kernels do not change.
+ * exchange (CoMD's pattern).  Under the MPI brick decomposition (particles
+ * with a halo, core/halo.h) ghosts come from neighbour ranks and the
+ * functions below dispatch to the halo exchange; kernels do not change.
  *
  * Ghosts are rebuilt with the neighbour list (ghost_build) and refreshed
  * every step in between (ghost_update_positions).  Data flows owner ->

@@ -1,6 +1,7 @@
 /* parallel: MPI start-up and the reductions of replicated-data runs. */
 #include "core/parallel.h"
 
+#include <limits.h>
 #include <mpi.h>
 #include <stdlib.h>
 #include <string.h>
@@ -65,4 +66,171 @@ int parallel_any(const struct parallel *par, int flag)
     int in = flag != 0, out = 0;
     MPI_Allreduce(&in, &out, 1, MPI_INT, MPI_LOR, MPI_COMM_WORLD);
     return out;
+}
+
+int parallel_cart(const struct parallel *par, const int dims[3], const int periodic[3],
+                  int coords[3], int nbr[3][2], struct err *e)
+{
+    if (!par || !par->mpi) {   /* one rank without MPI: its own neighbour when periodic */
+        for (int d = 0; d < 3; d++) {
+            coords[d] = 0;
+            nbr[d][0] = nbr[d][1] = periodic[d] ? 0 : -1;
+        }
+        return 0;
+    }
+    MPI_Comm cart;
+    int rc = MPI_Cart_create(MPI_COMM_WORLD, 3, (int *)dims, (int *)periodic, 0, &cart);
+    if (rc != MPI_SUCCESS || cart == MPI_COMM_NULL)
+        return err_set(e, ERR_RUNTIME, "MPI_Cart_create %d x %d x %d failed", dims[0], dims[1],
+                       dims[2]);
+    int me;
+    MPI_Comm_rank(cart, &me);
+    MPI_Cart_coords(cart, me, 3, coords);
+    for (int d = 0; d < 3; d++) {
+        MPI_Cart_shift(cart, d, 1, &nbr[d][0], &nbr[d][1]);
+        for (int k = 0; k < 2; k++)
+            if (nbr[d][k] == MPI_PROC_NULL)
+                nbr[d][k] = -1;
+    }
+    MPI_Comm_free(&cart);
+    return 0;
+}
+
+static int grow_bytes(void **buf, size_t *cap, size_t n, struct err *e)
+{
+    if (n <= *cap && *buf)
+        return 0;
+    size_t c = n + n / 4 + 256;
+    void *b = realloc(*buf, c);
+    if (!b)
+        return err_nomem(e, "halo buffer");
+    *buf = b;
+    *cap = c;
+    return 0;
+}
+
+int parallel_sendrecv(const struct parallel *par, int dest, const void *sbuf, size_t sbytes,
+                      int src, void **rbuf, size_t *rcap, size_t *rbytes, struct err *e)
+{
+    int me = par ? par->rank : 0;
+    *rbytes = 0;
+    if (dest < 0 && src < 0)
+        return 0;
+    if (dest == me && src == me) {
+        if (grow_bytes(rbuf, rcap, sbytes, e))
+            return ERR_RUNTIME;
+        if (sbytes)
+            memcpy(*rbuf, sbuf, sbytes);
+        *rbytes = sbytes;
+        return 0;
+    }
+    if (!par || !par->mpi)
+        return err_set(e, ERR_RUNTIME, "halo exchange with rank %d/%d without MPI", dest, src);
+    long scount = dest >= 0 ? (long)sbytes : 0, rcount = 0;
+    MPI_Sendrecv(&scount, 1, MPI_LONG, dest >= 0 ? dest : MPI_PROC_NULL, 1, &rcount, 1, MPI_LONG,
+                 src >= 0 ? src : MPI_PROC_NULL, 1, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+    if (rcount < 0 || rcount > INT_MAX || scount > INT_MAX)
+        return err_set(e, ERR_RUNTIME, "halo message of %ld bytes is beyond MPI's int count",
+                       rcount > scount ? rcount : scount);
+    if (grow_bytes(rbuf, rcap, (size_t)rcount, e))
+        return ERR_RUNTIME;
+    MPI_Sendrecv(sbuf, (int)scount, MPI_BYTE, dest >= 0 ? dest : MPI_PROC_NULL, 2, *rbuf,
+                 (int)rcount, MPI_BYTE, src >= 0 ? src : MPI_PROC_NULL, 2, MPI_COMM_WORLD,
+                 MPI_STATUS_IGNORE);
+    *rbytes = (size_t)rcount;
+    return 0;
+}
+
+int parallel_sendrecv_known(const struct parallel *par, int dest, const void *sbuf, size_t sbytes,
+                            int src, void *rbuf, size_t rbytes, struct err *e)
+{
+    int me = par ? par->rank : 0;
+    if (dest < 0 && src < 0)
+        return 0;
+    if (dest == me && src == me) {
+        if (sbytes != rbytes)
+            return err_set(e, ERR_RUNTIME, "halo swap with itself: %zu bytes sent, %zu expected",
+                           sbytes, rbytes);
+        if (sbytes)
+            memcpy(rbuf, sbuf, sbytes);
+        return 0;
+    }
+    if (!par || !par->mpi)
+        return err_set(e, ERR_RUNTIME, "halo exchange with rank %d/%d without MPI", dest, src);
+    if (sbytes > INT_MAX || rbytes > INT_MAX)
+        return err_set(e, ERR_RUNTIME, "halo message beyond MPI's int count");
+    MPI_Sendrecv(sbuf, dest >= 0 ? (int)sbytes : 0, MPI_BYTE, dest >= 0 ? dest : MPI_PROC_NULL, 3,
+                 rbuf, src >= 0 ? (int)rbytes : 0, MPI_BYTE, src >= 0 ? src : MPI_PROC_NULL, 3,
+                 MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+    return 0;
+}
+
+static void allreduce_op(const struct parallel *par, double *buf, size_t n, MPI_Op op)
+{
+    if (!par || par->size <= 1 || n == 0)
+        return;
+    MPI_Allreduce(MPI_IN_PLACE, buf, (int)n, MPI_DOUBLE, op, MPI_COMM_WORLD);
+}
+
+void parallel_max(const struct parallel *par, double *buf, size_t n)
+{
+    allreduce_op(par, buf, n, MPI_MAX);
+}
+
+void parallel_min(const struct parallel *par, double *buf, size_t n)
+{
+    allreduce_op(par, buf, n, MPI_MIN);
+}
+
+void parallel_allgather_long(const struct parallel *par, long v, long *out)
+{
+    if (!par || par->size <= 1) {
+        out[0] = v;
+        return;
+    }
+    MPI_Allgather(&v, 1, MPI_LONG, out, 1, MPI_LONG, MPI_COMM_WORLD);
+}
+
+int parallel_gather_bytes(const struct parallel *par, const void *sbuf, size_t sbytes,
+                          void **rbuf, size_t *rbytes, struct err *e)
+{
+    *rbuf = NULL;
+    *rbytes = 0;
+    int size = par ? par->size : 1, rank = par ? par->rank : 0;
+    if (size <= 1) {
+        *rbuf = malloc(sbytes ? sbytes : 1);
+        if (!*rbuf)
+            return err_nomem(e, "gather");
+        memcpy(*rbuf, sbuf, sbytes);
+        *rbytes = sbytes;
+        return 0;
+    }
+    if (sbytes > INT_MAX)
+        return err_set(e, ERR_RUNTIME, "gather of %zu bytes is beyond MPI's int count", sbytes);
+    int mine = (int)sbytes;
+    int *counts = rank == 0 ? malloc((size_t)size * sizeof *counts) : NULL;
+    int *displs = rank == 0 ? malloc((size_t)size * sizeof *displs) : NULL;
+    int bad = rank == 0 && (!counts || !displs);
+    MPI_Gather(&mine, 1, MPI_INT, counts, 1, MPI_INT, 0, MPI_COMM_WORLD);
+    long total = 0;
+    if (rank == 0 && !bad) {
+        for (int r = 0; r < size; r++) {
+            displs[r] = (int)total;
+            total += counts[r];
+        }
+        bad = total > INT_MAX || !(*rbuf = malloc(total ? (size_t)total : 1));
+    }
+    MPI_Bcast(&bad, 1, MPI_INT, 0, MPI_COMM_WORLD);
+    if (bad) {
+        free(counts);
+        free(displs);
+        free(*rbuf);
+        *rbuf = NULL;
+        return err_set(e, ERR_RUNTIME, "gather on rank 0: out of memory or beyond int counts");
+    }
+    MPI_Gatherv(sbuf, mine, MPI_BYTE, *rbuf, counts, displs, MPI_BYTE, 0, MPI_COMM_WORLD);
+    *rbytes = (size_t)total;
+    free(counts);
+    free(displs);
+    return 0;
 }

@@ -3,14 +3,15 @@
  *
  * A solver started by mpirun (Open MPI sets OMPI_COMM_WORLD_SIZE, PMIx sets
  * PMIX_RANK) initialises MPI; started any other way it does not, so a plain
- * run never pays for MPI.  With N > 1 ranks the MD engine runs replicated
- * data: every rank holds every particle, computes the forces of its slice of
- * owned particles (neighbour lists are built for the slice only), and the
- * partial forces, densities, energies and virials are summed over ranks.
- * Sums go to rank 0 and are broadcast back, so every rank holds bitwise the
- * same numbers and the replicated trajectories never drift apart.  Rank 0
- * alone writes output files.  (A spatial domain decomposition would replace
- * the sums by halo exchanges in core/ghost.c; the kernels would not change.)
+ * run never pays for MPI.  With N > 1 ranks the MD engine runs either on
+ * bricks (core/halo.h: each rank owns a brick of the box; this file gives
+ * it the Cartesian grid, point-to-point exchanges, gathers and global
+ * sums) or replicated data: every rank holds every particle, computes the
+ * forces of its slice of owned particles (neighbour lists are built for
+ * the slice only), and the partial forces, densities, energies and virials
+ * are summed over ranks.  Sums go to rank 0 and are broadcast back, so
+ * every rank holds bitwise the same numbers.  Rank 0 alone writes output
+ * files.
  */
 #ifndef CASCADE_PARALLEL_H
 #define CASCADE_PARALLEL_H
@@ -37,5 +38,36 @@ void parallel_range(const struct parallel *par, int n, int *lo, int *hi);
 
 /* 1 on every rank when flag is non-zero on any rank. */
 int parallel_any(const struct parallel *par, int flag);
+
+/* --- point-to-point and collectives of the brick decomposition (halo.h) --- */
+
+/* The Cartesian grid of ranks (MPI_Cart_create without reordering, so a
+ * grid rank is the world rank): this rank's coordinates and its neighbours
+ * below and above along each axis (-1 at a non-periodic edge). */
+int parallel_cart(const struct parallel *par, const int dims[3], const int periodic[3],
+                  int coords[3], int nbr[3][2], struct err *e);
+
+/* Send sbytes to rank dest while receiving from rank src (either -1: none)
+ * into *rbuf, grown with realloc (*rcap its capacity); *rbytes the bytes
+ * received.  dest == src == this rank copies locally. */
+int parallel_sendrecv(const struct parallel *par, int dest, const void *sbuf, size_t sbytes,
+                      int src, void **rbuf, size_t *rcap, size_t *rbytes, struct err *e);
+
+/* The same when both sides know the sizes (a recorded halo swap): one
+ * message, rbuf holds rbytes. */
+int parallel_sendrecv_known(const struct parallel *par, int dest, const void *sbuf, size_t sbytes,
+                            int src, void *rbuf, size_t rbytes, struct err *e);
+
+/* buf[k] <- max (min) over ranks of buf[k], on every rank. */
+void parallel_max(const struct parallel *par, double *buf, size_t n);
+void parallel_min(const struct parallel *par, double *buf, size_t n);
+
+/* out[r] = v of rank r (out holds size entries), on every rank. */
+void parallel_allgather_long(const struct parallel *par, long v, long *out);
+
+/* The blocks of every rank concatenated in rank order on rank 0 (*rbuf
+ * malloc'ed there, NULL elsewhere). */
+int parallel_gather_bytes(const struct parallel *par, const void *sbuf, size_t sbytes,
+                          void **rbuf, size_t *rbytes, struct err *e);
 
 #endif

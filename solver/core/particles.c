@@ -66,6 +66,32 @@ int particles_reserve(struct particles *p, int n, struct err *e)
     return 0;
 }
 
+int particles_fit(struct particles *p, int n, struct err *e)
+{
+    if (n < p->n_owned + p->n_ghost)
+        n = p->n_owned + p->n_ghost;
+    if (n < 16)
+        n = 16;
+    if (n >= p->capacity)
+        return 0;
+    int cap = n;
+    GROW(p->x, 3 * cap);
+    GROW(p->v, 3 * cap);
+    GROW(p->f, 3 * cap);
+    GROW(p->type, cap);
+    GROW(p->id, cap);
+    GROW(p->mask, cap);
+    GROW(p->image, 3 * cap);
+    GROW(p->origin, cap);
+    GROW(p->gshift, 3 * cap);
+    GROW(p->pe, cap);
+    GROW(p->virial, 6 * cap);
+    for (int i = 0; i < p->nfields; i++)
+        GROW(p->fields[i].data, (size_t)p->fields[i].ncomp * cap);
+    p->capacity = cap;
+    return 0;
+}
+
 int particles_add(struct particles *p, const double x[3], const double v[3], int type, int64_t id)
 {
     int i = p->n_owned;

@@ -20,6 +20,7 @@
 #include "util/err.h"
 
 struct parallel;
+struct halo;
 
 #define PARTICLES_MAX_TYPES 8
 #define PARTICLES_MAX_FIELDS 16
@@ -56,6 +57,9 @@ struct particles {
     /* MPI ranks sharing this (replicated) particle set, or NULL: partial
      * sums passed to ghost_reverse_add are summed over them */
     const struct parallel *par;
+    /* the brick decomposition's exchange (core/halo.h), or NULL: ghosts
+     * come from neighbour ranks and ghost.c dispatches to it (borrowed) */
+    struct halo *halo;
 };
 
 struct particles *particles_create(int capacity);
@@ -63,6 +67,11 @@ void particles_destroy(struct particles **p);
 
 /* Make room for at least `n` particles (owned + ghost). */
 int particles_reserve(struct particles *p, int n, struct err *e);
+
+/* Shrink the arrays to hold n particles (at least owned + ghosts): the
+ * memory of a set that lost most of its particles (a rank keeping its
+ * brick of a system every rank built) goes back to the system. */
+int particles_fit(struct particles *p, int n, struct err *e);
 
 /* Append one owned particle (before any ghosts exist); returns its index or
  * -1 when out of memory. */

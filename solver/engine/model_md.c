@@ -1,6 +1,8 @@
 /* model_md: molecular dynamics as engine stages (models.h). */
 #include "engine/models.h"
 
+#include "core/halo.h"
+
 static int md_model_init(void *self, struct sim *s, struct err *e)
 {
     struct md_model *m = self;
@@ -38,7 +40,8 @@ static void md_model_observe(void *self, const struct sim *s, struct sim_energy 
     en->total = md->last.energy + md_kinetic_energy(md);
     /* energy is conserved without a thermostat and without held groups */
     en->conserved = md->thermo.style == THERMOSTAT_NONE;
-    en->scale = md->p->n_owned > 0 ? md->p->n_owned : 1;
+    long n = md_natoms(md);
+    en->scale = n > 0 ? (double)n : 1;
     en->limit = m->max_energy_change;
     en->limit_key = "md.max_energy_change";
     en->unit = "eV/atom";
@@ -54,7 +57,9 @@ static int md_model_checkpoint_write(void *self, struct ckpt *ck, struct err *e)
     if (!rc) rc = ckpt_put_double(ck, "energy", md->last.energy);
     if (!rc) rc = ckpt_put_doubles(ck, "virial", md->last.virial, 6);
     if (!rc) rc = ckpt_put_box(ck, "model/md/box", &md->box);
-    if (!rc) rc = ckpt_put_particles(ck, "model/md/atoms", md->p);
+    /* bricks: the atoms of every rank, gathered in id order */
+    if (!rc) rc = ckpt_put_particles(ck, "model/md/atoms", m->gathered ? m->gathered : md->p);
+    particles_destroy(&m->gathered);
     return rc;
 }
 
@@ -69,7 +74,17 @@ static int md_model_checkpoint_read(void *self, struct ckpt *ck, struct err *e)
     if (!rc) rc = ckpt_get_doubles(ck, "virial", md->last.virial, 6);
     if (!rc) rc = ckpt_get_box(ck, "model/md/box", &md->box);
     if (!rc) rc = ckpt_get_particles(ck, "model/md/atoms", md->p);
+    /* bricks: every rank read every atom; the sync keeps its brick's */
+    if (!rc && md->halo)
+        m->read_all = 1;
     return rc;
+}
+
+static int md_model_checkpoint_collect(void *self, struct err *e)
+{
+    struct md_model *m = self;
+    particles_destroy(&m->gathered);
+    return m->md->halo ? halo_gather(m->md->halo, m->md->p, &m->gathered, e) : 0;
 }
 
 /* Ghosts and lists are rebuilt from the stored state at the next force
@@ -78,6 +93,11 @@ static void md_model_checkpoint_sync(void *self)
 {
     struct md_model *m = self;
     m->md->rebuild_next = 1;
+    if (m->md->halo) {   /* an error is reported by the next force call */
+        struct err e = {0};
+        m->md->sync_rc = md_decomposed_sync(m->md, m->read_all, &e);
+        m->read_all = 0;
+    }
 }
 
 const struct sim_model_ops sim_model_md = {
@@ -90,4 +110,5 @@ const struct sim_model_ops sim_model_md = {
     .checkpoint_write = md_model_checkpoint_write,
     .checkpoint_read = md_model_checkpoint_read,
     .checkpoint_sync = md_model_checkpoint_sync,
+    .checkpoint_collect = md_model_checkpoint_collect,
 };

@@ -23,6 +23,8 @@ struct md_model {
                                  * snapshots */
     long peratom_every;         /* ... and every this many steps (0: never),
                                  * for a case's own sampling */
+    struct particles *gathered; /* bricks: all atoms on rank 0 for a checkpoint */
+    int read_all;               /* bricks: a checkpoint read put every atom on every rank */
 };
 extern const struct sim_model_ops sim_model_md;
 

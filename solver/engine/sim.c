@@ -209,6 +209,12 @@ static void prune_checkpoints(struct sim *s, int keep)
 
 static int write_checkpoint(struct sim *s, struct err *e)
 {
+    for (int k = 0; k < s->nmodels; k++)
+        if (s->model[k].ops->checkpoint_collect) {
+            int rc = s->model[k].ops->checkpoint_collect(s->model[k].self, e);
+            if (rc)
+                return rc;
+        }
     if (s->run->opt.rank != 0)
         return 0;
     char path[4096], tmp[4200];

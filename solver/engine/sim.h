@@ -68,6 +68,9 @@ struct sim_model_ops {
      * the case has been built from its case file, and replaces state */
     int (*checkpoint_write)(void *self, struct ckpt *ck, struct err *e);
     int (*checkpoint_read)(void *self, struct ckpt *ck, struct err *e);
+    /* before checkpoint_write, on every MPI rank (checkpoint_write runs on
+     * rank 0 only): a decomposed model gathers its state there */
+    int (*checkpoint_collect)(void *self, struct err *e);
     /* a checkpoint was just written (or read): the model puts itself in
      * the state both runs continue from (e.g. a fresh neighbour list) */
     void (*checkpoint_sync)(void *self);

@@ -55,7 +55,8 @@ int case_resolve(struct case_doc *cd, int shallow, int nthreads, const struct pa
     if ((rc = cfg_enum(&root, "type", "md", names, &type)) ||
         (rc = cfg_string(&root, "title", "", &out->common.title)) ||
         (rc = cfg_int(&root, "seed", 1, CFG_GE(0), &seed)) ||
-        (rc = output_settings_read(&root, &out->output)))
+        (rc = output_settings_read(&root, &out->output)) ||
+        (rc = parallel_settings_read(&root, &out->common.parallel)))
         return rc;
     out->type = case_types[type];
     if (out->output.checkpoint_every > 0 && !out->type->checkpoints)

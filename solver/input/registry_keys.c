@@ -134,7 +134,7 @@ static int read_case(const void *entry, struct describe *d)
         rc = cfg_int(&d->root, "seed", 1, CFG_GE(0), &seed);
     if (!rc)
         rc = output_settings_read(&d->root, &out);
-    struct case_common cc = {1, title, 1, NULL};
+    struct case_common cc = {.seed = 1, .title = title, .nthreads = 1};
     void *state = NULL;
     if (!rc)
         rc = t->read(&d->root, &cc, &state);

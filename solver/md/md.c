@@ -8,6 +8,7 @@
 
 #include "core/domain.h"
 #include "core/ghost.h"
+#include "core/halo.h"
 #include "core/parallel.h"
 #include "core/units.h"
 
@@ -42,7 +43,14 @@ int md_compute_forces(struct md *md, struct err *e)
     struct particles *p = md->p;
     int rc;
     tstart(md, TIMER_NEIGHBOR);
+    if (md->sync_rc) {
+        tstop(md, TIMER_NEIGHBOR);
+        return err_set(e, md->sync_rc, "redistributing the atoms over the bricks after a "
+                                       "checkpoint failed");
+    }
     int need = md->rebuild_next || nlist_needs_rebuild(md->nl, p);
+    if (md->halo)   /* every rank rebuilds when one needs it */
+        need = halo_any(md->halo, need);
     md->rebuild_next = 0;
     if (need) {
         rc = rebuild(md, e);
@@ -67,11 +75,14 @@ int md_compute_forces(struct md *md, struct err *e)
         ghost_reverse_add(p, p->pe, 1);
         ghost_reverse_add(p, p->virial, 6);
     }
-    if (p->par) {   /* energy and virial of this rank's slice -> totals */
+    if (p->par || md->halo) {   /* energy and virial of this rank's slice or brick -> totals */
         double ev[7] = {md->last.energy};
         for (int c = 0; c < 6; c++)
             ev[1 + c] = md->last.virial[c];
-        parallel_sum(p->par, ev, 7);
+        if (md->halo)
+            halo_sum(md->halo, ev, 7);
+        else
+            parallel_sum(p->par, ev, 7);
         md->last.energy = ev[0];
         for (int c = 0; c < 6; c++)
             md->last.virial[c] = ev[1 + c];
@@ -116,6 +127,7 @@ int md_init(struct md *md, struct particles *p, const struct box *box, struct po
             double dt, double skin, int nthreads, struct err *e)
 {
     memset(md, 0, sizeof *md);
+    md->halo = p->halo;   /* md_decompose's (NULL otherwise) */
     md->p = p;
     md->box = *box;
     md->pot = pot;
@@ -147,6 +159,45 @@ void md_free(struct md *md)
     particles_destroy(&md->p);
     potential_destroy(&md->pot);
     nlist_destroy(&md->nl);
+    if (md->halo)
+        halo_free(md->halo);
+    free(md->halo);
+    md->halo = NULL;
+}
+
+long md_natoms(const struct md *md)
+{
+    return md->halo ? md->halo->natoms : md->p->n_owned;
+}
+
+int md_decompose(struct md *md, struct particles *p, struct halo *h, struct err *e)
+{
+    memset(md, 0, sizeof *md);
+    md->halo = h;
+    p->halo = h;
+    p->par = NULL;   /* no replicated sums: each rank owns its brick */
+    return halo_distribute(h, p, e);
+}
+
+int md_decomposed_sync(struct md *md, int after_read, struct err *e)
+{
+    struct particles *p = md->p;
+    particles_clear_ghosts(p);
+    int rc = 0;
+    if (after_read) {   /* every rank read every atom: keep the brick's */
+        decomp_set_box(&md->halo->dc, &md->box);
+        rc = halo_distribute(md->halo, p, e);
+    }
+    /* no shrink-wrap: the box stays the one of the last list build, as in
+     * a run without checkpoints */
+    if (!rc)
+        rc = halo_remap(md->halo, &md->box, p, 0, e);
+    if (!rc)
+        rc = halo_migrate(md->halo, p, e);
+    if (!rc)
+        rc = halo_sort_by_id(p, e);
+    md->rebuild_next = 1;
+    return rc;
 }
 
 void md_step_drift(struct md *md)
@@ -216,12 +267,14 @@ double md_kinetic_energy(const struct md *md)
         const double *v = p->v + 3 * i;
         ke += p->mass[p->type[i]] * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
     }
+    if (md->halo)
+        halo_sum(md->halo, &ke, 1);
     return 0.5 * ke * UNITS_MVV2E;
 }
 
 double md_temperature_of(const struct md *md, double ke)
 {
-    int n = md->p->n_owned;
+    long n = md_natoms(md);
     double dof = n > 1 ? 3.0 * n - 3.0 : 3.0 * n;
     return dof > 0 ? 2.0 * ke / (dof * UNITS_KB) : 0.0;
 }
@@ -235,6 +288,8 @@ void md_pressure_tensor(const struct md *md, double P[6])
 {
     double k[6];
     particles_kinetic_tensor(md->p, k);
+    if (md->halo)
+        halo_sum(md->halo, k, 6);
     double V = box_volume(&md->box);
     for (int c = 0; c < 6; c++)
         P[c] = (k[c] + md->last.virial[c]) / V;
@@ -247,12 +302,15 @@ void md_momentum(const struct md *md, double P[3])
     for (int i = 0; i < p->n_owned; i++)
         for (int d = 0; d < 3; d++)
             P[d] += p->mass[p->type[i]] * p->v[3 * i + d];
+    if (md->halo)
+        halo_sum(md->halo, P, 3);
 }
 
 void md_peratom_stress(const struct md *md, double *out)
 {
     const struct particles *p = md->p;
-    double omega = p->n_owned > 0 ? box_volume(&md->box) / p->n_owned : 1.0;
+    long natoms = md_natoms(md);
+    double omega = natoms > 0 ? box_volume(&md->box) / natoms : 1.0;
     for (int i = 0; i < p->n_owned; i++) {
         double m = p->mass[p->type[i]] * UNITS_MVV2E;
         const double *v = p->v + 3 * i, *w = p->virial + 6 * i;
@@ -267,7 +325,10 @@ int md_einstein_frequency(struct md *md, double *omega, struct err *e)
     struct particles *p = md->p;
     *omega = 0;
     int n = p->n_owned;
-    if (n < 2)
+    /* bricks: the force calls are collective, so every rank takes part;
+     * rank 0 alone displaces atoms (its own), the others none */
+    int sampler = !md->halo || md->halo->dc.par == NULL || md->halo->dc.par->rank == 0;
+    if (md->halo ? md_natoms(md) < 2 : n < 2)
         return 0;
     const double delta = 1e-3;   /* Å: small enough to be harmonic */
     /* Sample atoms far enough apart (2 cutoffs: EAM couples through the
@@ -277,7 +338,7 @@ int md_einstein_frequency(struct md *md, double *omega, struct err *e)
     enum { MAXS = 8 };
     int sample[MAXS], ns = 0;
     double sep = 2.0 * md->pot->cutoff + 0.1;
-    for (int i = 0; i < n && ns < MAXS; i += 1 + n / (4 * MAXS)) {
+    for (int i = 0; sampler && i < n && ns < MAXS; i += 1 + n / (4 * MAXS)) {
         int ok = 1;
         for (int k = 0; k < ns && ok; k++) {
             double r2 = 0;
@@ -294,7 +355,7 @@ int md_einstein_frequency(struct md *md, double *omega, struct err *e)
         if (ok)
             sample[ns++] = i;
     }
-    double *f0 = malloc((size_t)3 * n * sizeof *f0);
+    double *f0 = malloc((size_t)3 * (n ? n : 1) * sizeof *f0);
     int64_t ids[MAXS];
     if (!f0)
         return err_nomem(e, "frequency estimate");
@@ -330,5 +391,7 @@ int md_einstein_frequency(struct md *md, double *omega, struct err *e)
     md->sort_every = sort_saved;
     md->last = keep;
     free(f0);
+    if (md->halo)
+        halo_max(md->halo, omega, 1);
     return rc;
 }

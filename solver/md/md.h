@@ -42,7 +42,27 @@ struct md {
                                  * (after a checkpoint: both the continuing and the
                                  * restarted run build them from the same state) */
     uint64_t seed;
+    /* the brick decomposition (owned by the md), or NULL: serial or
+     * replicated data.  With it p holds this rank's brick and its ghosts;
+     * observables below are sums over all ranks. */
+    struct halo *halo;
+    int sync_rc;                /* an error of the last checkpoint sync, reported by
+                                 * the next force call */
 };
+
+/* Atoms of the whole system (all ranks). */
+long md_natoms(const struct md *md);
+
+/* Split the system over the ranks of a brick decomposition: the md takes
+ * ownership of h, keeps the atoms of this rank's brick (every rank held
+ * them all) and from then on exchanges ghosts and migrates atoms.  Call
+ * before md_init. */
+int md_decompose(struct md *md, struct particles *p, struct halo *h, struct err *e);
+
+/* A checkpoint was written or read: every rank's atoms go to their owner
+ * (after a read every rank holds all of them) in id order, so the
+ * continuing and the restarted run build the same ghosts and lists. */
+int md_decomposed_sync(struct md *md, int after_read, struct err *e);
 
 /* The interaction range (cutoff + skin) against the box, before any ghost
  * is made: at most max_ghosts periodic images (ghost_estimate) and at most
@@ -54,7 +74,8 @@ struct md {
 int md_range_ok(const struct potential *pot, const struct box *b, long n, double skin,
                 double max_ghosts, const char *limit, char *why, size_t len);
 
-/* Take ownership of p and pot, build ghosts and lists, compute forces.
+/* Take ownership of p and pot, build ghosts and lists, compute forces
+ * (the halo md_decompose gave p becomes the md's).
  * Refuses (ERR_INPUT) what md_range_ok refuses with the ghosts particle
  * indices can hold; cases check their own limit first (md_check_range). */
 int md_init(struct md *md, struct particles *p, const struct box *box, struct potential *pot,

@@ -5,6 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/halo.h"
 #include "core/units.h"
 #include "output/xyz_write.h"
 #include "util/mem.h"
@@ -84,10 +85,30 @@ static int grow_atoms(struct md_output *o, long n)
     return 0;
 }
 
+static int snapshot_of(struct md_output *o, struct run *run, struct md *md);
+
+/* Bricks: the atoms of every rank gathered on rank 0 in id order, written
+ * as a serial run writes its own (the same datasets). */
 int md_output_snapshot(struct md_output *o, struct run *run, struct md *md)
 {
-    if (!run->h5_open)
+    if (!md->halo)
+        return run->h5_open ? snapshot_of(o, run, md) : 0;
+    if (!run->out.hdf5)
         return 0;
+    struct particles *all = NULL;
+    int rc = halo_gather(md->halo, md->p, &all, &o->err);
+    if (!rc && all && run->h5_open) {
+        struct md view = *md;
+        view.p = all;
+        view.halo = NULL;
+        rc = snapshot_of(o, run, &view);
+    }
+    particles_destroy(&all);
+    return rc;
+}
+
+static int snapshot_of(struct md_output *o, struct run *run, struct md *md)
+{
     struct particles *p = md->p;
     long n = p->n_owned;
     struct err *ep = &o->err;
@@ -166,10 +187,40 @@ static int xyz_frame(struct md_output *o, struct run *run, struct md *md)
     return run_xyz_frame_done(run, &o->err);
 }
 
+/* The XYZ frame (and final.xyz at the end) of a decomposed run: gathered
+ * on rank 0, written there. */
+static int xyz_gathered(struct md_output *o, struct run *run, struct md *md, long total)
+{
+    struct particles *all = NULL;
+    int rc = halo_gather(md->halo, md->p, &all, &o->err);
+    if (!rc && all && run->xyz) {
+        struct md view = *md;
+        view.p = all;
+        view.halo = NULL;
+        if (md->step % run->out.xyz_every == 0)
+            rc = xyz_frame(o, run, &view);
+        if (!rc && md->step == total)
+            rc = write_final(run, &view, &o->err);
+    }
+    particles_destroy(&all);
+    return rc;
+}
+
 int md_output_step(struct md_output *o, struct run *run, struct md *md, long total)
 {
     long s = md->step;
     int rc = 0;
+    if (md->halo) {   /* every rank takes part in the gathers */
+        timer_start(&run->timers, TIMER_OUTPUT);
+        if (run_due(s, total, run->out.thermo_every))
+            rc = thermo_row(o, run, md);
+        if (!rc && run_due(s, total, run->out.snapshot_every))
+            rc = md_output_snapshot(o, run, md);
+        if (!rc && run->out.xyz_every > 0 && (s % run->out.xyz_every == 0 || s == total))
+            rc = xyz_gathered(o, run, md, total);
+        timer_stop(&run->timers, TIMER_OUTPUT);
+        return rc;
+    }
     timer_start(&run->timers, TIMER_OUTPUT);
     if (run_due(s, total, run->out.thermo_every))
         rc = thermo_row(o, run, md);
@@ -181,6 +232,53 @@ int md_output_step(struct md_output *o, struct run *run, struct md *md, long tot
         rc = write_final(run, md, &o->err);
     timer_stop(&run->timers, TIMER_OUTPUT);
     return rc;
+}
+
+/* Peak resident memory of this process (kB; VmHWM of /proc/self/status,
+ * 0 where there is none). */
+static long peak_rss_kb(void)
+{
+    FILE *f = fopen("/proc/self/status", "r");
+    long kb = 0;
+    char line[256];
+    while (f && fgets(line, sizeof line, f))
+        if (sscanf(line, "VmHWM: %ld kB", &kb) == 1)
+            break;
+    if (f)
+        fclose(f);
+    return kb;
+}
+
+void md_output_decomposition(struct run *run, const struct md *md)
+{
+    const struct halo *h = md->halo;
+    int n = halo_nranks(h);
+    long *counts = malloc((size_t)n * sizeof *counts);
+    if (!counts)
+        return;
+    halo_counts(h, md->p, counts);
+    json_t *per = json_array();
+    long max = 0, sum = 0;
+    for (int r = 0; r < n; r++) {
+        json_array_append_new(per, json_integer((json_int_t)counts[r]));
+        max = counts[r] > max ? counts[r] : max;
+        sum += counts[r];
+    }
+    halo_allgather_long(h, peak_rss_kb(), counts);
+    json_t *rss = json_array();
+    for (int r = 0; r < n; r++)
+        json_array_append_new(rss, json_real((double)counts[r] / 1024.0));
+    free(counts);
+    double mean = (double)sum / n;
+    json_t *par = json_object();
+    json_object_set_new(par, "decomposition", json_string("bricks"));
+    json_object_set_new(par, "ranks", json_integer(n));
+    json_object_set_new(par, "grid", json_pack("[iii]", h->dc.grid[0], h->dc.grid[1],
+                                               h->dc.grid[2]));
+    json_object_set_new(par, "particles_per_rank", per);
+    json_object_set_new(par, "imbalance_max_over_mean", json_real(mean > 0 ? max / mean : 1.0));
+    json_object_set_new(par, "peak_rss_mib_per_rank", rss);
+    json_object_set_new(run->result.root, "parallel", par);
 }
 
 int md_output_end(struct md_output *o, struct run *run, struct err *e)

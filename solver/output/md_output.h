@@ -34,6 +34,10 @@ int md_output_resume(struct md_output *o, struct run *run, const double *rows, l
 int md_output_step(struct md_output *o, struct run *run, struct md *md, long total_steps);
 /* Force a snapshot now (for example at the end of a diverged run). */
 int md_output_snapshot(struct md_output *o, struct run *run, struct md *md);
+/* Bricks (md->halo): the grid, the atoms of every rank, the load
+ * imbalance (max / mean) and every rank's peak resident memory under
+ * "parallel" in result.json; collective. */
+void md_output_decomposition(struct run *run, const struct md *md);
 /* Write the thermo series to the HDF5 file and free. */
 int md_output_end(struct md_output *o, struct run *run, struct err *e);
 

@@ -14,6 +14,7 @@
 
 #include <stdint.h>
 
+#include "input/parallel_settings.h"
 #include "output/run.h"
 #include "util/cfg.h"
 
@@ -24,6 +25,7 @@ struct case_common {
     const char *title;
     int nthreads;                  /* from the command line, for set-up that needs it */
     const struct parallel *par;    /* MPI ranks of this run (NULL: serial) */
+    struct parallel_settings parallel;   /* the case's `parallel` section */
 };
 
 struct case_type {
@@ -43,6 +45,9 @@ struct case_type {
     /* Runs on the engine (engine/sim.h): writes output.checkpoint_every
      * checkpoints and continues from one (run --restart). */
     int checkpoints;
+    /* Splits its particles over the ranks in bricks (`parallel` section);
+     * other types run replicated data under mpirun. */
+    int decomposes;
 };
 
 extern const struct case_type *const case_types[];   /* NULL-terminated */

@@ -20,7 +20,9 @@
 #include "analysis/block_average.h"
 #include "engine/models.h"
 #include "core/units.h"
+#include "core/halo.h"
 #include "md/md.h"
+#include "md/md_bricks.h"
 #include "md/md_settings.h"
 #include "core/velocity.h"
 #include "scenarios/case_type.h"
@@ -62,7 +64,7 @@ static void energy_fit_add(struct energy_fit *f, double t, double e)
 
 static double md_case_energy_per_atom(const struct md *md)
 {
-    long n = md->p->n_owned > 0 ? md->p->n_owned : 1;
+    long n = md_natoms(md) > 0 ? md_natoms(md) : 1;
     return (md->last.energy + md_kinetic_energy(md)) / (double)n;
 }
 
@@ -128,6 +130,19 @@ static int md_case_read(struct cfg_obj *root, const struct case_common *common, 
         free(c);
         return rc;
     }
+    /* under mpirun: bricks (each rank keeps its brick's atoms) or replicated data */
+    struct halo *halo = NULL;
+    rc = md_bricks_plan(common->par, &common->parallel, &box, pot->cutoff + ms.skin, root->cfg,
+                        &halo);
+    if (!rc && halo)
+        rc = md_decompose(&c->md, p, halo, e);
+    if (rc) {
+        particles_destroy(&p);
+        potential_destroy(&pot);
+        md_free(&c->md);
+        free(c);
+        return rc;
+    }
     rc = md_init(&c->md, p, &box, pot, ms.timestep, ms.skin, common->nthreads, e);
     c->md.thermo = ms.thermostat;
     c->md.seed = common->seed;
@@ -163,7 +178,7 @@ static int md_case_after_step(void *state, struct sim *s, struct err *e)
     struct md *md = &c->md;
     /* one pass over the atoms for the kinetic energy of both accumulators */
     double ke = md_kinetic_energy(md);
-    long n = md->p->n_owned > 0 ? md->p->n_owned : 1;
+    long n = md_natoms(md) > 0 ? md_natoms(md) : 1;
     c->tsum += md_temperature_of(md, ke);
     c->tcount++;
     energy_fit_add(&c->fit, md->time, (md->last.energy + ke) / (double)n);
@@ -189,7 +204,7 @@ static int md_case_report(void *state, struct sim *s, int run_rc, struct err *e)
     struct md_case *c = state;
     struct md *md = &c->md;
     struct result *res = &s->run->result;
-    long natoms = md->p->n_owned;
+    long natoms = md_natoms(md);
     double e0 = s->e0[0].total;
     double pe = md->last.energy, ke = md_kinetic_energy(md), P[6], mom[3];
     md_pressure_tensor(md, P);
@@ -201,6 +216,8 @@ static int md_case_report(void *state, struct sim *s, int run_rc, struct err *e)
         if (fm > fmax)
             fmax = fm;
     }
+    if (md->halo)
+        halo_max(md->halo, &fmax, 1);
     result_metric(res, "atoms", (double)natoms, "1");
     result_metric(res, "pe", pe, "eV");
     result_metric(res, "pe_per_atom", pe / natoms, "eV/atom");
@@ -229,6 +246,8 @@ static int md_case_report(void *state, struct sim *s, int run_rc, struct err *e)
     double mass = 0;
     for (int i = 0; i < md->p->n_owned; i++)
         mass += md->p->mass[md->p->type[i]];
+    if (md->halo)
+        halo_sum(md->halo, &mass, 1);
     result_metric(res, "density", mass / box_volume(&md->box) * UNITS_AMU_A3_TO_KG_M3 / 1000.0,
                   "g/cm^3");
     double psem;
@@ -237,9 +256,19 @@ static int md_case_report(void *state, struct sim *s, int run_rc, struct err *e)
     result_metric(res, "pressure_mean", pmean, "GPa");
     result_metric(res, "pressure_sem", c->np ? psem : NAN, "GPa");
     result_metric(res, "neighbor_rebuilds", (double)md->nrebuilds, "1");
+    if (md->halo)
+        md_output_decomposition(s->run, md);
     int rc = md_output_end(&c->out, s->run, e);
-    if (!run_rc && !rc)
-        rc = run_write_final_state(s->run, md->p, &md->box, md->step, md->time, e);
+    if (!run_rc && !rc && s->run->out.final_state) {
+        /* bricks: every rank's atoms, gathered on rank 0 in id order */
+        struct particles *all = NULL;
+        if (md->halo)
+            rc = halo_gather(md->halo, md->p, &all, e);
+        if (!rc && (!md->halo || all))   /* bricks: rank 0 writes */
+            rc = run_write_final_state(s->run, all ? all : md->p, &md->box, md->step, md->time,
+                                       e);
+        particles_destroy(&all);
+    }
     return rc;
 }
 
@@ -304,6 +333,7 @@ static void md_case_destroy(void *state)
     struct md_case *c = state;
     if (!c)
         return;
+    particles_destroy(&c->model.gathered);
     md_free(&c->md);
     free(c->plate);
     free(c->restored_rows);
@@ -313,7 +343,7 @@ static void md_case_destroy(void *state)
 static long md_case_particles(const void *state)
 {
     const struct md_case *c = state;
-    return c->md.p ? c->md.p->n_owned : 0;
+    return c->md.p ? md_natoms(&c->md) : 0;
 }
 
 static long md_case_steps(const void *state)
@@ -326,4 +356,5 @@ const struct case_type md_case_type = {
     "md", "molecular dynamics of one crystal or configuration (NVE or thermostatted)",
     md_case_read, md_case_run, md_case_destroy, md_case_particles, md_case_steps,
     .checkpoints = 1,
+    .decomposes = 1,
 };

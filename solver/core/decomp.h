@@ -1,0 +1,56 @@
+/*
+ * decomp: the brick decomposition of an orthogonal box over MPI ranks.
+ *
+ * The box is cut into grid[0] x grid[1] x grid[2] equal bricks, one per
+ * rank (the Cartesian grid of core/parallel.h).  A particle belongs to the
+ * brick its coordinates fall in: c = floor((x - lo) / L * grid) per axis,
+ * clamped to the grid, so every rank assigns every position to the same
+ * owner.  The halo exchange (halo.h) needs each brick at least as wide as
+ * the interaction range (cutoff + skin) along every decomposed or periodic
+ * axis, so that one exchange per face reaches every ghost.
+ */
+#ifndef CASCADE_DECOMP_H
+#define CASCADE_DECOMP_H
+
+#include <stddef.h>
+
+#include "core/box.h"
+#include "util/err.h"
+
+struct parallel;
+
+struct decomp {
+    const struct parallel *par;   /* borrowed */
+    int grid[3], coords[3];
+    int nbr[3][2];                /* rank below / above along each axis (-1: none) */
+    int periodic[3];
+    double blo[3], bhi[3];        /* the box the bricks cut */
+    double lo[3], hi[3];          /* this rank's brick */
+};
+
+/* The grid for nranks bricks of the box: of the factorisations px py pz =
+ * nranks whose bricks are at least `range` wide (along every axis with more
+ * than one brick, and along every periodic one), the one with the smallest
+ * brick surface (the ghost volume), as LAMMPS' procs2box.  (MPI_Dims_create
+ * balances the factors but ignores the box shape.)  Returns 0, or -1 when
+ * no factorisation gives wide enough bricks. */
+int decomp_choose_grid(int nranks, const struct box *b, double range, int grid[3]);
+
+/* 0 when the grid fits the box and range, else -1 with the reason in why. */
+int decomp_check_grid(const int grid[3], const struct box *b, double range, char *why,
+                      size_t len);
+
+/* Set up the bricks of grid over par's ranks for box b. */
+int decomp_init(struct decomp *dc, const struct parallel *par, const int grid[3],
+                const struct box *b, struct err *e);
+
+/* The box changed (free axes shrink-wrap): recompute the bricks. */
+void decomp_set_box(struct decomp *dc, const struct box *b);
+
+/* Brick coordinate along axis d of a position. */
+int decomp_coord(const struct decomp *dc, int d, double x);
+
+/* 1 when x lies in this rank's brick. */
+int decomp_owns(const struct decomp *dc, const double x[3]);
+
+#endif

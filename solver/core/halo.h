@@ -1,0 +1,102 @@
+/*
+ * halo: the ghost exchange of a brick decomposition (decomp.h) -- the
+ * parallel form of core/ghost.c, in CoMD's and LAMMPS' staged pattern.
+ *
+ * Each rank owns the particles in its brick.  Ghosts are built in six
+ * swaps, two per axis (x, then y, then z): the particles within `range` of
+ * the lower face go to the rank below, those within `range` of the upper
+ * face to the rank above.  The candidates of an axis' swaps are the owned
+ * particles and the ghosts received along earlier axes, so edge and corner
+ * ghosts arrive in two or three hops and no diagonal neighbour is ever
+ * addressed.  A rank at a periodic face shifts what it sends by one box
+ * length: periodic images are ghosts of the same exchange, and a periodic
+ * axis of one brick is an exchange with the rank itself.
+ *
+ * The swaps are recorded (which local particles each sent, where each
+ * received block starts), so between list builds
+ *   halo_forward      copies owner values to ghosts (positions every step,
+ *                     EAM/Sutton-Chen F'(rho), meam/spline U'),
+ *   halo_reverse_add  adds ghost partial sums to their owners (forces,
+ *                     densities, per-atom energy and virial), swaps in
+ *                     reverse order so that a sum reaching a ghost of an
+ *                     earlier swap travels on to its owner.
+ * halo_migrate moves owned particles that left the brick to their new
+ * owner (at each list rebuild), one brick per hop, axis by axis, until
+ * every particle is home.
+ *
+ * ghost.c dispatches to these when a particle set has a halo
+ * (particles.halo), so the force kernels do not change.
+ */
+#ifndef CASCADE_HALO_H
+#define CASCADE_HALO_H
+
+#include <stdint.h>
+
+#include "core/box.h"
+#include "core/decomp.h"
+#include "core/particles.h"
+#include "util/err.h"
+
+struct halo_swap {
+    int dim, dest, src;     /* send to dest, receive from src (-1: none) */
+    double shift;           /* added to coordinate dim of what is sent (periodic face) */
+    int *send;              /* local indices sent */
+    int nsend, cap_send;
+    int first, nrecv;       /* ghosts received: [first, first + nrecv) */
+};
+
+struct halo {
+    struct decomp dc;
+    struct halo_swap swap[6];
+    int nswap;
+    long natoms;            /* owned particles of all ranks (after the last migration) */
+    void *sbuf, *rbuf;      /* message buffers */
+    size_t scap, rcap;
+};
+
+int halo_init(struct halo *h, const struct parallel *par, const int grid[3], const struct box *b,
+              struct err *e);
+void halo_free(struct halo *h);
+
+/* Every rank holds every particle (a set-up or a checkpoint read): keep
+ * those of this rank's brick and count them. */
+int halo_distribute(struct halo *h, struct particles *p, struct err *e);
+
+/* Wrap owned particles into periodic axes, check fixed ones and, when
+ * shrink, shrink-wrap free axes to the global extent; the bricks follow
+ * the box.  Collective: a failure on any rank fails on every rank. */
+int halo_remap(struct halo *h, struct box *b, struct particles *p, int shrink, struct err *e);
+
+/* Owned particles outside the brick go to their owner (ghosts must be
+ * cleared). */
+int halo_migrate(struct halo *h, struct particles *p, struct err *e);
+
+/* Ghosts within `range` of the brick (existing ghosts are dropped). */
+int halo_build(struct halo *h, struct particles *p, double range, struct err *e);
+
+/* Positions of the ghosts from their owners (and fields flagged ghost_copy). */
+int halo_update_positions(struct halo *h, struct particles *p);
+/* arr[ghost] = arr[owner], ncomp values per particle. */
+int halo_forward(struct halo *h, const struct particles *p, double *arr, int ncomp);
+/* arr[owner] += arr[ghost] over every ghost of it. */
+int halo_reverse_add(struct halo *h, const struct particles *p, double *arr, int ncomp);
+
+/* Sums, maxima and "any" over the ranks, identical on every rank. */
+void halo_sum(const struct halo *h, double *buf, int n);
+void halo_max(const struct halo *h, double *buf, int n);
+int halo_any(const struct halo *h, int flag);
+
+/* All owned particles, sorted by id, in a new set on rank 0 (*out NULL on
+ * other ranks); collective. */
+int halo_gather(struct halo *h, const struct particles *p, struct particles **out, struct err *e);
+
+/* Owned counts of every rank (counts holds one entry per rank). */
+void halo_counts(const struct halo *h, const struct particles *p, long *counts);
+/* v of every rank (out holds one entry per rank). */
+void halo_allgather_long(const struct halo *h, long v, long *out);
+int halo_nranks(const struct halo *h);
+
+/* Owned particles reordered by id (ghosts are dropped). */
+int halo_sort_by_id(struct particles *p, struct err *e);
+
+#endif

@@ -1,0 +1,64 @@
+/* halo_pack: particles as byte records (halo_pack.h). */
+#include "core/halo_pack.h"
+
+#include <stdint.h>
+#include <string.h>
+
+size_t halo_record_size(const struct particles *p)
+{
+    size_t n = (3 + 3 + 3 + 1 + 6) * sizeof(double) + sizeof(int) + sizeof(int64_t) +
+               sizeof(uint32_t) + 3 * sizeof(int);
+    for (int k = 0; k < p->nfields; k++)
+        n += (size_t)p->fields[k].ncomp * sizeof(double);
+    return n;
+}
+
+#define PUT(src, bytes)                  \
+    do {                                 \
+        memcpy(buf, (src), (bytes));     \
+        buf += (bytes);                  \
+    } while (0)
+#define GET(dst, bytes)                  \
+    do {                                 \
+        memcpy((dst), buf, (bytes));     \
+        buf += (bytes);                  \
+    } while (0)
+
+void halo_pack(const struct particles *p, int i, int dim, double shift, unsigned char *buf)
+{
+    double x[3] = {p->x[3 * i], p->x[3 * i + 1], p->x[3 * i + 2]};
+    if (dim >= 0)
+        x[dim] += shift;
+    PUT(x, sizeof x);
+    PUT(p->v + 3 * (size_t)i, 3 * sizeof(double));
+    PUT(p->f + 3 * (size_t)i, 3 * sizeof(double));
+    PUT(p->pe + i, sizeof(double));
+    PUT(p->virial + 6 * (size_t)i, 6 * sizeof(double));
+    PUT(p->type + i, sizeof(int));
+    PUT(p->id + i, sizeof(int64_t));
+    PUT(p->mask + i, sizeof(uint32_t));
+    PUT(p->image + 3 * (size_t)i, 3 * sizeof(int));
+    for (int k = 0; k < p->nfields; k++) {
+        size_t nc = (size_t)p->fields[k].ncomp;
+        PUT(p->fields[k].data + nc * i, nc * sizeof(double));
+    }
+}
+
+void halo_unpack(struct particles *p, int i, const unsigned char *buf)
+{
+    GET(p->x + 3 * (size_t)i, 3 * sizeof(double));
+    GET(p->v + 3 * (size_t)i, 3 * sizeof(double));
+    GET(p->f + 3 * (size_t)i, 3 * sizeof(double));
+    GET(p->pe + i, sizeof(double));
+    GET(p->virial + 6 * (size_t)i, 6 * sizeof(double));
+    GET(p->type + i, sizeof(int));
+    GET(p->id + i, sizeof(int64_t));
+    GET(p->mask + i, sizeof(uint32_t));
+    GET(p->image + 3 * (size_t)i, 3 * sizeof(int));
+    for (int k = 0; k < p->nfields; k++) {
+        size_t nc = (size_t)p->fields[k].ncomp;
+        GET(p->fields[k].data + nc * i, nc * sizeof(double));
+    }
+    p->origin[i] = i;
+    p->gshift[3 * (size_t)i] = p->gshift[3 * (size_t)i + 1] = p->gshift[3 * (size_t)i + 2] = 0;
+}

@@ -1,0 +1,34 @@
+/* parallel_settings: the `parallel` section (parallel_settings.h). */
+#include "input/parallel_settings.h"
+
+#include <string.h>
+
+static const char *const decomposition_names[] = {"auto", "replicated", "bricks", NULL};
+
+int parallel_settings_read(struct cfg_obj *root, struct parallel_settings *ps)
+{
+    memset(ps, 0, sizeof *ps);
+    ps->grid[0] = ps->grid[1] = ps->grid[2] = 1;
+    struct cfg_obj o;
+    int rc = cfg_section_opt(root, "parallel", &o, &ps->given);
+    if (rc || !ps->given)
+        return rc;
+    int which;
+    if ((rc = cfg_enum(&o, "decomposition", "auto", decomposition_names, &which)))
+        return rc;
+    ps->decomposition = (enum decomposition)which;
+    cfg_allow(&o, "grid");   /* optional without a default: absent means chosen at run time */
+    if (json_object_get(o.node, "grid")) {
+        long g[3];
+        if ((rc = cfg_ints(&o, "grid", 3, NULL, CFG_RANGE(1, 1 << 20), g)))
+            return rc;
+        for (int d = 0; d < 3; d++)
+            ps->grid[d] = (int)g[d];
+        ps->grid_given = 1;
+        if (ps->decomposition == DECOMP_REPLICATED)
+            return cfg_error_at(o.cfg, "parallel.grid",
+                                "a grid of bricks needs decomposition: bricks (or auto), not "
+                                "replicated");
+    }
+    return cfg_close(&o);
+}

@@ -1,0 +1,35 @@
+/*
+ * parallel_settings: the case's optional `parallel` section -- how one
+ * simulation is spread over the ranks of an mpirun.
+ *
+ *   parallel:
+ *     decomposition: auto     # auto | replicated | bricks
+ *     grid: [2, 1, 1]         # bricks per axis (default: chosen from the box)
+ *
+ * replicated: every rank holds every particle and computes the forces of
+ * a slice (the trajectory is the serial one, bitwise).  bricks: each rank
+ * owns the particles of one brick of the box and exchanges ghosts with its
+ * neighbours (core/halo.h): memory and work per rank fall with the rank
+ * count.  auto: bricks for the case types that are decomposed (`md`) when
+ * run on more than one rank, replicated data otherwise.  The section is
+ * not written into the resolved case when absent, so job keys of existing
+ * cases do not change.  Without mpirun the section is ignored (a serial
+ * run).
+ */
+#ifndef CASCADE_PARALLEL_SETTINGS_H
+#define CASCADE_PARALLEL_SETTINGS_H
+
+#include "util/cfg.h"
+
+enum decomposition { DECOMP_AUTO = 0, DECOMP_REPLICATED = 1, DECOMP_BRICKS = 2 };
+
+struct parallel_settings {
+    enum decomposition decomposition;
+    int grid[3];
+    int grid_given;
+    int given;                /* the section is in the case */
+};
+
+int parallel_settings_read(struct cfg_obj *root, struct parallel_settings *ps);
+
+#endif

@@ -1,0 +1,55 @@
+/* md_bricks: the decomposition an MD case runs on (md_bricks.h). */
+#include "md/md_bricks.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+
+#include "core/parallel.h"
+
+int md_bricks_plan(const struct parallel *par, const struct parallel_settings *ps,
+                   const struct box *b, double range, struct cfg *c, struct halo **out)
+{
+    *out = NULL;
+    if (!par || !par->mpi || ps->decomposition == DECOMP_REPLICATED)
+        return 0;
+    /* one rank: bricks only when asked for (auto keeps the serial path) */
+    if (ps->decomposition == DECOMP_AUTO && par->size == 1)
+        return 0;
+    int grid[3] = {1, 1, 1};
+    char why[512];
+    if (ps->grid_given) {
+        long prod = (long)ps->grid[0] * ps->grid[1] * ps->grid[2];
+        if (prod != par->size)
+            return cfg_error_at(c, "parallel.grid",
+                                "a grid of %d x %d x %d = %ld bricks for %d MPI ranks: the "
+                                "product must equal the rank count",
+                                ps->grid[0], ps->grid[1], ps->grid[2], prod, par->size);
+        if (decomp_check_grid(ps->grid, b, range, why, sizeof why) != 0)
+            return cfg_error_at(c, "parallel.grid", "%s", why);
+        for (int d = 0; d < 3; d++)
+            grid[d] = ps->grid[d];
+    } else if (decomp_choose_grid(par->size, b, range, grid) != 0) {
+        if (ps->decomposition == DECOMP_BRICKS)
+            return cfg_error_at(c, "parallel.decomposition",
+                                "no grid of %d bricks of the %g x %g x %g Å box is at least "
+                                "the interaction range %g Å (cutoff + skin) wide; use fewer "
+                                "ranks or decomposition: replicated",
+                                par->size, box_length(b, 0), box_length(b, 1), box_length(b, 2),
+                                range);
+        if (par->rank == 0)
+            fprintf(stderr, "note: the %g x %g x %g Å box has no grid of %d bricks at least "
+                            "%g Å (cutoff + skin) wide: replicated data\n",
+                    box_length(b, 0), box_length(b, 1), box_length(b, 2), par->size, range);
+        return 0;
+    }
+    struct halo *h = malloc(sizeof *h);
+    if (!h)
+        return err_nomem(c->err, "halo");
+    int rc = halo_init(h, par, grid, b, c->err);
+    if (rc) {
+        free(h);
+        return rc;
+    }
+    *out = h;
+    return 0;
+}

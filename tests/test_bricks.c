@@ -1,0 +1,548 @@
+/*
+ * Brick decomposition (core/halo.h): `mpirun -np N cascade-solver run` of
+ * an MD case splits the box into N bricks.  Over 100 steps the thermo
+ * series (the full doubles of /series in fields.h5) and the final metrics
+ * agree with the serial run to 1e-10 relative (the sums run in another
+ * order, so not bitwise), for LJ, EAM Cu, SW Si and meam/spline Si on 1,
+ * 2, 4 and 8 ranks; the last snapshot holds the same atoms with the same
+ * positions, velocities and forces (sorted by id); atoms crossing every
+ * face of every brick migrate; checkpoints move between rank counts; bad
+ * grids are refused naming the case file and line.
+ */
+#include <criterion/criterion.h>
+#include <hdf5.h>
+#include <jansson.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+
+#include "helpers/th.h"
+
+#define REL 1e-10
+
+static void mpi_env(int np)
+{
+    setenv("OMPI_ALLOW_RUN_AS_ROOT", "1", 1);
+    setenv("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1", 1);
+    setenv("OMP_NUM_THREADS", "1", 1);
+    /* Open MPI's dlopen'ed components leak at exit (test_parallel.c); the
+     * serial runs keep leak checking for our code */
+    setenv("ASAN_OPTIONS", np > 0 ? "detect_leaks=0" : "detect_leaks=1", 1);
+}
+
+/* Run the case serially (np 0) or on np ranks into dir; extra: more
+ * arguments (NULL-ended, may be NULL).  Returns the exit status. */
+static int run_np(const char *path, int np, const char *dir, const char *const *extra, char *out,
+                  size_t len)
+{
+    mpi_env(np);
+    char nps[16];
+    snprintf(nps, sizeof nps, "%d", np);
+    const char *argv[24];
+    int k = 0;
+    if (np > 0) {
+        argv[k++] = "/usr/bin/mpirun";
+        argv[k++] = "-np";
+        argv[k++] = nps;
+        argv[k++] = "--oversubscribe";
+    }
+    argv[k++] = th_solver();
+    argv[k++] = "run";
+    argv[k++] = path;
+    argv[k++] = "--out";
+    argv[k++] = dir;
+    argv[k++] = "--quiet";
+    for (int i = 0; extra && extra[i]; i++)
+        argv[k++] = extra[i];
+    argv[k] = NULL;
+    return th_run(argv, out, len);
+}
+
+static void must_run(const char *path, int np, const char *dir, const char *const *extra)
+{
+    static char out[16384];
+    int rc = run_np(path, np, dir, extra, out, sizeof out);
+    cr_assert_eq(rc, 0, "%d ranks, %s: exit %d\n%s", np, dir, rc, out);
+}
+
+/* A dataset of doubles (or int64 ids) of a run's fields.h5; *n its length. */
+static void *read_h5(const char *dir, const char *name, hid_t type, size_t elem, long *n)
+{
+    char path[600];
+    snprintf(path, sizeof path, "%s/fields.h5", dir);
+    hid_t f = H5Fopen(path, H5F_ACC_RDONLY, H5P_DEFAULT);
+    cr_assert_geq(f, 0, "%s", path);
+    hid_t ds = H5Dopen2(f, name, H5P_DEFAULT);
+    cr_assert_geq(ds, 0, "%s: %s", path, name);
+    hid_t sp = H5Dget_space(ds);
+    hssize_t cnt = H5Sget_simple_extent_npoints(sp);
+    void *buf = malloc((size_t)(cnt > 0 ? cnt : 1) * elem);
+    cr_assert_not_null(buf);
+    cr_assert_geq(H5Dread(ds, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, buf), 0);
+    H5Sclose(sp);
+    H5Dclose(ds);
+    H5Fclose(f);
+    *n = (long)cnt;
+    return buf;
+}
+
+static const char *const series_cols[] = {"pe_eV",     "ke_eV",     "etotal_eV", "temp_K",
+                                          "press_GPa", "pxx_GPa",   "pyy_GPa",   "pzz_GPa",
+                                          "pxy_GPa",   "pxz_GPa",   "pyz_GPa",   NULL};
+
+/* Two series agree to REL of the column's largest magnitude (an
+ * off-diagonal pressure passes through zero: relative to itself it would
+ * compare round-off with round-off). */
+static void compare_series(const char *a, const char *b, const char *tag)
+{
+    for (int c = 0; series_cols[c]; c++) {
+        char name[64];
+        snprintf(name, sizeof name, "/series/%s", series_cols[c]);
+        long na, nb;
+        double *x = read_h5(a, name, H5T_NATIVE_DOUBLE, sizeof(double), &na);
+        double *y = read_h5(b, name, H5T_NATIVE_DOUBLE, sizeof(double), &nb);
+        cr_assert_eq(na, nb, "%s %s: %ld vs %ld rows", tag, name, na, nb);
+        cr_assert_geq(na, 11);
+        double scale = 0;
+        for (long i = 0; i < na; i++)
+            scale = fmax(scale, fabs(x[i]));
+        for (long i = 0; i < na; i++)
+            cr_assert_leq(fabs(x[i] - y[i]), REL * scale, "%s %s row %ld: %.17g vs %.17g", tag,
+                          name, i, x[i], y[i]);
+        free(x);
+        free(y);
+    }
+}
+
+static double metric(json_t *res, const char *name)
+{
+    json_t *m = json_object_get(json_object_get(res, "metrics"), name);
+    cr_assert_not_null(m, "metric %s missing", name);
+    json_t *v = json_is_object(m) ? json_object_get(m, "value") : m;
+    return json_number_value(v);
+}
+
+static json_t *result_of(const char *dir)
+{
+    char path[600];
+    snprintf(path, sizeof path, "%s/result.json", dir);
+    json_error_t je;
+    json_t *r = json_load_file(path, 0, &je);
+    cr_assert_not_null(r, "%s: %s", path, je.text);
+    return r;
+}
+
+/* Final metrics: to REL relative, except the ones that are differences of
+ * nearly equal numbers (drift, its rate and the fluctuation about it) or
+ * round-off themselves (momentum), compared to REL of the energy per atom
+ * and to a round-off bound. */
+static void compare_metrics(const char *a, const char *b, const char *tag)
+{
+    static const char *const rel[] = {"atoms", "pe", "pe_per_atom", "ke", "etotal",
+                                      "temperature", "temperature_mean", "pressure",
+                                      "pressure_mean", "pxx", "pyy", "pzz", "max_force", "volume",
+                                      "density", "neighbor_rebuilds", NULL};
+    json_t *ra = result_of(a), *rb = result_of(b);
+    for (int k = 0; rel[k]; k++) {
+        double x = metric(ra, rel[k]), y = metric(rb, rel[k]);
+        /* result.json prints 12 digits */
+        cr_assert_leq(fabs(x - y), REL * fabs(x) + 1e-12 * fabs(x), "%s %s: %.17g vs %.17g", tag,
+                      rel[k], x, y);
+    }
+    double epa = fabs(metric(ra, "pe_per_atom"));
+    static const char *const per_atom[] = {"energy_drift_rate", "energy_fluctuation", NULL};
+    for (int k = 0; per_atom[k]; k++) {
+        double x = metric(ra, per_atom[k]), y = metric(rb, per_atom[k]);
+        cr_assert_leq(fabs(x - y), REL * epa, "%s %s: %.17g vs %.17g", tag, per_atom[k], x, y);
+    }
+    cr_assert_leq(fabs(metric(ra, "energy_drift") - metric(rb, "energy_drift")), REL, "%s drift",
+                  tag);
+    double pa = metric(ra, "momentum"), pb = metric(rb, "momentum");
+    cr_assert_leq(fabs(pa - pb), REL * pa + 1e-8, "%s: momentum %.17g vs %.17g", tag, pa, pb);
+    json_decref(ra);
+    json_decref(rb);
+}
+
+struct by_id {
+    int64_t id;
+    long i;
+};
+
+static int cmp_by_id(const void *a, const void *b)
+{
+    int64_t x = ((const struct by_id *)a)->id, y = ((const struct by_id *)b)->id;
+    return (x > y) - (x < y);
+}
+
+static struct by_id *order_of(const char *dir, const char *group, long *n)
+{
+    char name[128];
+    snprintf(name, sizeof name, "%s/id", group);
+    int64_t *id = read_h5(dir, name, H5T_NATIVE_INT64, sizeof(int64_t), n);
+    struct by_id *o = malloc((size_t)*n * sizeof *o);
+    cr_assert_not_null(o);
+    for (long i = 0; i < *n; i++)
+        o[i] = (struct by_id){id[i], i};
+    qsort(o, (size_t)*n, sizeof *o, cmp_by_id);
+    free(id);
+    return o;
+}
+
+/* The last snapshot: the same datasets, and the same atoms (by id) with
+ * positions, velocities, forces, energies and stresses to REL of each
+ * dataset's largest value. */
+static void compare_snapshot(const char *a, const char *b, long step, const char *tag)
+{
+    char group[64];
+    snprintf(group, sizeof group, "/particles/%08ld", step);
+    long na, nb;
+    struct by_id *oa = order_of(a, group, &na), *ob = order_of(b, group, &nb);
+    cr_assert_eq(na, nb, "%s: %ld vs %ld atoms", tag, na, nb);
+    for (long i = 0; i < na; i++)
+        cr_assert_eq(oa[i].id, ob[i].id, "%s: id %ld differs", tag, i);
+    static const char *const sets[] = {"position", "velocity", "force", "pe", "stress", NULL};
+    static const int ncomp[] = {3, 3, 3, 1, 6};
+    for (int s = 0; sets[s]; s++) {
+        char name[128];
+        snprintf(name, sizeof name, "%s/%s", group, sets[s]);
+        long la, lb;
+        double *x = read_h5(a, name, H5T_NATIVE_DOUBLE, sizeof(double), &la);
+        double *y = read_h5(b, name, H5T_NATIVE_DOUBLE, sizeof(double), &lb);
+        cr_assert_eq(la, na * ncomp[s]);
+        cr_assert_eq(lb, nb * ncomp[s]);
+        double scale = 0;
+        for (long k = 0; k < la; k++)
+            scale = fmax(scale, fabs(x[k]));
+        for (long i = 0; i < na; i++)
+            for (int c = 0; c < ncomp[s]; c++) {
+                double u = x[oa[i].i * ncomp[s] + c], v = y[ob[i].i * ncomp[s] + c];
+                cr_assert_leq(fabs(u - v), REL * scale, "%s %s id %lld: %.17g vs %.17g", tag,
+                              name, (long long)oa[i].id, u, v);
+            }
+        free(x);
+        free(y);
+    }
+    free(oa);
+    free(ob);
+}
+
+/* The decomposition record of result.json: counts add up to the atoms and
+ * the imbalance is their max over mean. */
+static void check_parallel_record(const char *dir, int np, long natoms)
+{
+    json_t *r = result_of(dir);
+    json_t *par = json_object_get(r, "parallel");
+    cr_assert_not_null(par, "%s: no parallel record", dir);
+    cr_assert_eq(json_integer_value(json_object_get(par, "ranks")), np);
+    json_t *per = json_object_get(par, "particles_per_rank");
+    cr_assert_eq((long)json_array_size(per), np);
+    long sum = 0, max = 0;
+    for (int k = 0; k < np; k++) {
+        long c = (long)json_integer_value(json_array_get(per, (size_t)k));
+        sum += c;
+        max = c > max ? c : max;
+    }
+    cr_assert_eq(sum, natoms);
+    double imb = json_real_value(json_object_get(par, "imbalance_max_over_mean"));
+    cr_assert_float_eq(imb, (double)max / ((double)sum / np), 1e-10);   /* 12 digits */
+    json_t *grid = json_object_get(par, "grid");
+    long prod = 1;
+    for (size_t d = 0; d < 3; d++)
+        prod *= (long)json_integer_value(json_array_get(grid, d));
+    cr_assert_eq(prod, np);
+    json_decref(r);
+}
+
+/* Serial, then 1 (bricks asked for), 2, 4 and 8 ranks. */
+static void check_rank_counts(const char *tag, const char *yaml, long natoms, long steps)
+{
+    char name[64], dir[5][600];
+    snprintf(name, sizeof name, "%s.yaml", tag);
+    const char *path = th_write_temp(0, name, yaml);
+    const int nps[5] = {0, 1, 2, 4, 8};
+    for (int k = 0; k < 5; k++) {
+        snprintf(dir[k], sizeof dir[k], "%s/%s-%d", th_temp_dir(), tag, nps[k]);
+        must_run(path, nps[k], dir[k], NULL);
+    }
+    for (int k = 1; k < 5; k++) {
+        char what[96];
+        snprintf(what, sizeof what, "%s on %d ranks", tag, nps[k]);
+        compare_series(dir[0], dir[k], what);
+        compare_metrics(dir[0], dir[k], what);
+        compare_snapshot(dir[0], dir[k], steps, what);
+        check_parallel_record(dir[k], nps[k], natoms);
+    }
+}
+
+/* decomposition: bricks so that 1 rank runs on one brick too (auto keeps
+ * the serial path there) */
+Test(bricks, lj_matches_serial, .timeout = 600)
+{
+    check_rank_counts("lj", "seed: 5\nsystem:\n  lattice: {style: fcc, a: 5.26, cells: [6, 6, 6]}\n"
+                            "  element: Ar\npotential: {style: lj, elements: [Ar], epsilon: "
+                            "[0.0104], sigma: [3.4], cutoff: 8.5}\n"
+                            "md: {steps: 100, temperature: 60, timestep: 0.002}\n"
+                            "parallel: {decomposition: bricks}\n"
+                            "output: {thermo_every: 10}\n",
+                      864, 100);
+}
+
+Test(bricks, eam_cu_matches_serial, .timeout = 600)
+{
+    check_rank_counts("eam", "seed: 3\nsystem:\n  lattice: {style: fcc, a: 3.615, cells: [8, 8, 8]}\n"
+                             "  element: Cu\npotential: {style: eam/alloy, file: "
+                             "Cu_mishin1.eam.alloy}\nmd: {steps: 100, temperature: 600}\n"
+                             "parallel: {decomposition: bricks}\n"
+                             "output: {thermo_every: 10}\n",
+                      2048, 100);
+}
+
+/* Three-body terms over full lists: each rank sums the triplets centred
+ * on its own atoms, forces on ghosts go back to their owners */
+Test(bricks, sw_si_matches_serial, .timeout = 600)
+{
+    check_rank_counts("sw", "seed: 4\nsystem:\n  lattice: {style: diamond, a: 5.431, cells: [4, 4, 4]}\n"
+                            "  element: Si\npotential: {style: sw, file: Si.sw, elements: [Si]}\n"
+                            "md: {steps: 100, temperature: 600}\n"
+                            "parallel: {decomposition: bricks}\n"
+                            "output: {thermo_every: 10}\n",
+                      512, 100);
+}
+
+/* meam/spline also needs U'(rho) of the ghosts: forwarded from owners */
+Test(bricks, meam_spline_si_matches_serial, .timeout = 600)
+{
+    check_rank_counts("meam", "seed: 4\nsystem:\n  lattice: {style: diamond, a: 5.431, cells: [4, 4, 4]}\n"
+                              "  element: Si\npotential: {style: meam/spline, file: "
+                              "Si_1.meam.spline, elements: [Si]}\n"
+                              "md: {steps: 100, temperature: 600}\n"
+                              "parallel: {decomposition: bricks}\n"
+                              "output: {thermo_every: 10}\n",
+                      512, 100);
+}
+
+/* A slab with free surfaces along z (the box shrink-wraps over all ranks
+ * at every rebuild, the z bricks follow it) under a Langevin thermostat
+ * (random forces keyed on the atom's id and the step: every rank count
+ * draws the same numbers) */
+Test(bricks, free_surface_langevin_matches_serial, .timeout = 600)
+{
+    check_rank_counts("slab", "seed: 9\nsystem:\n  lattice: {style: fcc, a: 3.615, cells: [8, 8, 8]}\n"
+                              "  element: Cu\n  boundary: [periodic, periodic, free]\n"
+                              "potential: {style: eam/alloy, file: Cu_mishin1.eam.alloy}\n"
+                              "md: {steps: 100, temperature: 900, thermostat: {style: langevin, "
+                              "temperature: 900, tau: 0.05}}\n"
+                              "parallel: {decomposition: bricks}\n"
+                              "output: {thermo_every: 10}\n",
+                      2048, 100);
+}
+
+/* An argon crystal of 6^3 cells (31.56 Å) moving as a whole at +-(v, v, v)
+ * with v = 200 Å/ps on top of small random velocities: in 100 steps of
+ * 2 fs every atom travels 40 Å along each axis, more than the box, so on a
+ * 2 x 2 x 2 grid (bricks of 15.78 Å) it leaves its brick through the faces
+ * of every axis several times and wraps around the periodic box. */
+static void drifting_crystal(const char *tag, double sign)
+{
+    const double a = 5.26, v = 200.0;
+    const int n = 6;
+    const double L = n * a;
+    static char text[1 << 17];
+    int at = snprintf(text, sizeof text,
+                      "%d\nLattice=\"%.10g 0 0 0 %.10g 0 0 0 %.10g\" "
+                      "Properties=species:S:1:pos:R:3:vel:R:3\n",
+                      4 * n * n * n, L, L, L);
+    static const double basis[4][3] = {{0, 0, 0}, {0.5, 0.5, 0}, {0.5, 0, 0.5}, {0, 0.5, 0.5}};
+    unsigned s = 12345;
+    for (int i = 0; i < n; i++)
+        for (int j = 0; j < n; j++)
+            for (int k = 0; k < n; k++)
+                for (int b = 0; b < 4; b++) {
+                    double r[3];
+                    for (int d = 0; d < 3; d++) {
+                        s = s * 1103515245u + 12345u;
+                        r[d] = ((double)(s >> 8) / (double)(1u << 24) - 0.5) * 2.0;   /* Å/ps */
+                    }
+                    at += snprintf(text + at, sizeof text - (size_t)at,
+                                   "Ar %.10g %.10g %.10g %.10g %.10g %.10g\n",
+                                   (i + basis[b][0]) * a, (j + basis[b][1]) * a,
+                                   (k + basis[b][2]) * a, sign * v + r[0], sign * v + r[1],
+                                   sign * v + r[2]);
+                }
+    char xyz[64], yaml[1024];
+    snprintf(xyz, sizeof xyz, "%s.xyz", tag);
+    const char *xpath = th_write_temp(1, xyz, text);
+    snprintf(yaml, sizeof yaml,
+             "seed: 7\nsystem:\n  read_xyz: %s\n"
+             "potential: {style: lj, elements: [Ar], epsilon: [0.0104], sigma: [3.4], "
+             "cutoff: 8.5}\nmd: {steps: 100, temperature: 0, timestep: 0.002}\n"
+             "parallel: {grid: [2, 2, 2]}\noutput: {thermo_every: 10}\n",
+             xpath);
+    char name[64], d0[600], d8[600];
+    snprintf(name, sizeof name, "%s.yaml", tag);
+    const char *path = th_write_temp(2, name, yaml);
+    snprintf(d0, sizeof d0, "%s/%s-serial", th_temp_dir(), tag);
+    snprintf(d8, sizeof d8, "%s/%s-8", th_temp_dir(), tag);
+    must_run(path, 0, d0, NULL);
+    must_run(path, 8, d8, NULL);
+    /* the crystal moved 40 Å per axis: more than two bricks */
+    cr_assert_gt(v * 100 * 0.002, 2 * L / 2);
+    compare_series(d0, d8, tag);
+    compare_metrics(d0, d8, tag);
+    compare_snapshot(d0, d8, 100, tag);
+    check_parallel_record(d8, 8, 864);
+}
+
+Test(bricks, atoms_migrate_through_every_face_up, .timeout = 600)
+{
+    drifting_crystal("drift_up", 1.0);
+}
+
+Test(bricks, atoms_migrate_through_every_face_down, .timeout = 600)
+{
+    drifting_crystal("drift_down", -1.0);
+}
+
+/* mkdir dir, copy file from into to. */
+static int mkdir_copy(const char *from, const char *dir, const char *to)
+{
+    if (mkdir(dir, 0755) != 0)
+        return -1;
+    FILE *a = fopen(from, "rb"), *b = fopen(to, "wb");
+    int rc = a && b ? 0 : -1;
+    char buf[65536];
+    size_t n;
+    while (!rc && (n = fread(buf, 1, sizeof buf, a)) > 0)
+        rc = fwrite(buf, 1, n, b) == n ? 0 : -1;
+    if (a)
+        fclose(a);
+    if (b && fclose(b) != 0)
+        rc = -1;
+    return rc;
+}
+
+static void read_text(const char *dir, const char *name, char *buf, size_t len)
+{
+    char path[700];
+    snprintf(path, sizeof path, "%s/%s", dir, name);
+    FILE *f = fopen(path, "r");
+    cr_assert_not_null(f, "%s", path);
+    size_t n = fread(buf, 1, len - 1, f);
+    buf[n] = '\0';
+    fclose(f);
+}
+
+/* A checkpoint written on N ranks restarts on M: the restarted run ends
+ * where the uninterrupted one does (to REL; on the same rank count the
+ * thermo is the same text). */
+Test(bricks, checkpoint_moves_between_rank_counts, .timeout = 600)
+{
+    const char *yaml = "seed: 3\nsystem:\n  lattice: {style: fcc, a: 3.615, cells: [6, 6, 6]}\n"
+                       "  element: Cu\npotential: {style: eam/alloy, file: Cu_mishin1.eam.alloy}\n"
+                       "md: {steps: 100, temperature: 600}\n"
+                       "output: {thermo_every: 10, checkpoint_every: 50}\n";
+    const char *path = th_write_temp(0, "ck.yaml", yaml);
+    char s1[600], m2[600];
+    snprintf(s1, sizeof s1, "%s/ck-serial", th_temp_dir());
+    snprintf(m2, sizeof m2, "%s/ck-2", th_temp_dir());
+    must_run(path, 0, s1, NULL);
+    must_run(path, 2, m2, NULL);
+    compare_series(s1, m2, "uninterrupted 2 ranks");
+    struct {
+        const char *from;
+        int np;
+        const char *tag;
+    } cases[] = {{m2, 0, "2 to 1"}, {s1, 2, "1 to 2"}, {m2, 2, "2 to 2"}, {m2, 4, "2 to 4"}};
+    for (int k = 0; k < 4; k++) {
+        char dir[700], ck[700], cmd_from[700];
+        snprintf(dir, sizeof dir, "%s/ck-restart-%d", th_temp_dir(), k);
+        snprintf(ck, sizeof ck, "%s/checkpoint-0000000050.h5", dir);
+        snprintf(cmd_from, sizeof cmd_from, "%s/checkpoint-0000000050.h5", cases[k].from);
+        cr_assert_eq(mkdir_copy(cmd_from, dir, ck), 0);
+        const char *extra[] = {"--restart", NULL};
+        must_run(path, cases[k].np, dir, extra);
+        compare_series(s1, dir, cases[k].tag);
+        compare_metrics(s1, dir, cases[k].tag);
+        compare_snapshot(s1, dir, 100, cases[k].tag);
+        if (k == 2) {   /* same rank count: bitwise (the thermo text, after its header) */
+            static char t1[65536], t2[65536];
+            read_text(m2, "thermo.csv", t1, sizeof t1);
+            read_text(dir, "thermo.csv", t2, sizeof t2);
+            const char *b1 = strchr(t1, '\n'), *b2 = strchr(t2, '\n');
+            cr_assert(b1 && b2);
+            cr_assert_str_eq(b1, b2, "2 to 2 restart is not bitwise");
+        }
+    }
+}
+
+/* Bad grids: the product is not the rank count, or a brick is thinner
+ * than cutoff + skin; both name the case file, the line and the key. */
+Test(bricks, bad_grid_names_file_and_line, .timeout = 300)
+{
+    const char *base = "seed: 3\nsystem:\n  lattice: {style: fcc, a: 3.615, cells: [6, 6, 6]}\n"
+                       "  element: Cu\npotential: {style: eam/alloy, file: Cu_mishin1.eam.alloy}\n"
+                       "md: {steps: 10, temperature: 100}\n";
+    char yaml[1024];
+    static char out[16384];
+    snprintf(yaml, sizeof yaml, "%sparallel:\n  grid: [2, 2, 1]\n", base);
+    const char *path = th_write_temp(0, "grid4.yaml", yaml);
+    char dir[600];
+    snprintf(dir, sizeof dir, "%s/bad-grid", th_temp_dir());
+    cr_assert_eq(run_np(path, 2, dir, NULL, out, sizeof out), 2, "%s", out);
+    cr_assert(strstr(out, "grid4.yaml:8:") && strstr(out, "parallel.grid") &&
+                  strstr(out, "product must equal the rank count"),
+              "%s", out);
+    /* 21.69 Å / 4 = 5.4 Å bricks, the range is 5.51 + 1 Å */
+    snprintf(yaml, sizeof yaml, "%sparallel:\n  grid: [4, 1, 1]\n", base);
+    path = th_write_temp(1, "thin.yaml", yaml);
+    cr_assert_eq(run_np(path, 4, dir, NULL, out, sizeof out), 2, "%s", out);
+    cr_assert(strstr(out, "thin.yaml:8:") && strstr(out, "parallel.grid") &&
+                  strstr(out, "thinner than the interaction range"),
+              "%s", out);
+    /* decomposition: bricks with no grid that fits: 3^3 cells (10.8 Å) on 2 ranks */
+    snprintf(yaml, sizeof yaml,
+             "seed: 3\nsystem:\n  lattice: {style: fcc, a: 3.615, cells: [3, 3, 3]}\n"
+             "  element: Cu\npotential: {style: eam/alloy, file: Cu_mishin1.eam.alloy}\n"
+             "md: {steps: 10, temperature: 100}\nparallel:\n  decomposition: bricks\n");
+    path = th_write_temp(2, "nogrid.yaml", yaml);
+    cr_assert_eq(run_np(path, 2, dir, NULL, out, sizeof out), 2, "%s", out);
+    cr_assert(strstr(out, "nogrid.yaml:8:") && strstr(out, "parallel.decomposition"), "%s", out);
+    /* a grid with replicated data, and a misspelt key, at check time */
+    snprintf(yaml, sizeof yaml, "%sparallel:\n  decomposition: replicated\n  grid: [1, 1, 2]\n",
+             base);
+    path = th_write_temp(3, "repl.yaml", yaml);
+    mpi_env(0);   /* serial from here: leak checks on */
+    const char *a1[] = {th_solver(), "check", path, NULL};
+    cr_assert_eq(th_run(a1, out, sizeof out), 2, "%s", out);
+    cr_assert(strstr(out, "repl.yaml:9:") && strstr(out, "parallel.grid"), "%s", out);
+    snprintf(yaml, sizeof yaml, "%sparallel:\n  gird: [1, 1, 2]\n", base);
+    path = th_write_temp(4, "typo.yaml", yaml);
+    const char *a2[] = {th_solver(), "check", path, NULL};
+    cr_assert_eq(th_run(a2, out, sizeof out), 2, "%s", out);
+    cr_assert(strstr(out, "did you mean 'grid'"), "%s", out);
+}
+
+/* A case type that is not decomposed runs whole on every rank, and says so */
+Test(bricks, other_case_types_say_they_are_not_decomposed, .timeout = 300)
+{
+    const char *path = th_write_temp(0, "crystal.yaml",
+                                     "type: crystal\ncrystal: {lattice: fcc, element: Cu, a_min: "
+                                     "3.4, a_max: 3.8, cells: 3}\npotential: {style: sutton_chen}\n"
+                                     "output: {hdf5: false}\n");
+    char d0[600], d2[600];
+    static char out[16384];
+    snprintf(d0, sizeof d0, "%s/crystal-serial", th_temp_dir());
+    snprintf(d2, sizeof d2, "%s/crystal-2", th_temp_dir());
+    must_run(path, 0, d0, NULL);
+    cr_assert_eq(run_np(path, 2, d2, NULL, out, sizeof out), 0, "%s", out);
+    cr_assert(strstr(out, "note: case type 'crystal' is not decomposed into bricks yet"), "%s",
+              out);
+    json_t *a = result_of(d0), *b = result_of(d2);
+    double x = metric(a, "lattice_constant"), y = metric(b, "lattice_constant");
+    cr_assert_eq(x, y, "lattice constant %.17g vs %.17g", x, y);
+    cr_assert_null(json_object_get(b, "parallel"));
+    json_decref(a);
+    json_decref(b);
+}
