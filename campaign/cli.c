@@ -81,6 +81,23 @@ int cli_parse_formats(const char *list, int *md, int *html)
     return *md || *html ? 0 : -1;
 }
 
+int cli_study_db_args(int argc, char **argv, const char *usage, const char **study,
+                      const char **db_path)
+{
+    for (int i = 0; i < argc; i++) {
+        int m;
+        if ((m = cli_opt(argc, argv, &i, "--db", db_path))) {
+            if (m < 0)
+                return 2;
+        } else if (argv[i][0] != '-' && !*study) {
+            *study = argv[i];
+        } else {
+            return cli_usage_error(usage, "unexpected argument '%s'", argv[i]);
+        }
+    }
+    return 0;
+}
+
 int cli_usage_error(const char *usage, const char *fmt, ...)
 {
     va_list ap;

@@ -36,6 +36,11 @@ int cli_int(const char *opt, const char *s, long lo, long hi, long *out);
 int cli_real(const char *opt, const char *s, double lo, double *out);
 /* "md", "html" or "md,html" into two flags; -1 when the list is bad. */
 int cli_parse_formats(const char *list, int *md, int *html);
+/* The arguments of a command that takes only [STUDY] [--db FILE]: sets
+ * *study (left as it is when absent) and *db_path; returns 0, or 2 with
+ * the error and usage printed. */
+int cli_study_db_args(int argc, char **argv, const char *usage, const char **study,
+                      const char **db_path);
 /* Print "error: ..." and the usage; returns 2. */
 int cli_usage_error(const char *usage, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
 

@@ -284,17 +284,9 @@ int cmd_status(int argc, char **argv)
         return 0;
     }
     const char *db_path = CASCADE_DB_DEFAULT, *study = NULL;
-    for (int i = 0; i < argc; i++) {
-        int m;
-        if ((m = cli_opt(argc, argv, &i, "--db", &db_path))) {
-            if (m < 0)
-                return 2;
-        } else if (argv[i][0] != '-' && !study) {
-            study = argv[i];
-        } else {
-            return cli_usage_error(usage, "unexpected argument '%s'", argv[i]);
-        }
-    }
+    int bad = cli_study_db_args(argc, argv, usage, &study, &db_path);
+    if (bad)
+        return bad;
     struct err e = {0};
     sqlite3 *db = NULL;
     int rc = db_open_readonly(db_path, &db, &e);
