@@ -94,7 +94,7 @@ STANDIN_BIN  := $(BINDIR)/fake-solver
 
 GEN_PROV     := $(OBJDIR)/gen/build_info.h
 
-.PHONY: all deps test test-browser demo bench nightly soak install clean check-werror fuzz fuzz-deps fuzz-build fuzz-cmin
+.PHONY: all deps test test-browser demo bench nightly reproduce soak install clean check-werror fuzz fuzz-deps fuzz-build fuzz-cmin
 all: $(SOLVER_BIN) $(CAMPAIGN_BIN)
 
 # --- dependencies (Debian) -------------------------------------------------
@@ -217,6 +217,18 @@ nightly: deps
 	$(CAMPAIGN_BIN) report --nightly --db $(NIGHTLY_DIR)/cascade.db --out reports/nightly.html \
 	    || fail=1; \
 	exit $$fail
+
+# The two papers through the campaign (docs/reproduction.md): every study
+# of studies/reproduction.tsv runs with `cascade run` (resuming), gets its
+# `cascade report`, and reports/reproduce-$(REPRODUCE)/summary.md puts the
+# papers' numbers beside ours.  REPRODUCE=quick (the default: small bars,
+# one grid each, about half an hour on one idle core) or full (the papers'
+# sizes and sweeps: many hours).  Not part of make test, which only checks
+# the spec (studies/reproduce.sh check).
+REPRODUCE ?= quick
+reproduce: deps
+	@$(MAKE) --no-print-directory $(SOLVER_BIN) $(CAMPAIGN_BIN)
+	sh studies/reproduce.sh $(REPRODUCE) $(abspath $(BINDIR))
 
 # The runner soak test (docs/campaign.md, "Soak test"): a few hundred
 # stand-in jobs, several runners on one study, kill -9s of runners and
