@@ -152,6 +152,7 @@ for s in $studies; do
 done
 
 # 3. The table.
+is_number() { printf '%s' "$1" | grep -Eq '^[-+]?([0-9]+[.]?[0-9]*|[.][0-9]+)([eE][-+]?[0-9]+)?$'; }
 md=$OUT/summary.md
 csv=$OUT/summary.csv
 {
@@ -161,8 +162,11 @@ csv=$OUT/summary.csv
     echo "$(date -u +%Y-%m-%dT%H:%M:%SZ), $("$CASCADE_SOLVER" --version 2>/dev/null | head -n 1)."
     echo "Rows and criteria: studies/reproduction.tsv; discussion: docs/reproduction.md."
     echo
-    echo "| paper | where | quantity | paper | ours | unit | study, job | note |"
-    echo "|---|---|---|---|---|---|---|---|"
+    echo "Ours to four significant digits (summary.csv has every digit); the"
+    echo "difference is (ours - paper) / paper where the paper gives a number."
+    echo
+    echo "| paper | where | quantity | paper | ours | difference | unit | study, job | note |"
+    echo "|---|---|---|---|---|---|---|---|---|"
 } > "$md"
 echo "paper,where,quantity,paper_value,value,unit,study,job,metric" > "$csv"
 missing=$OUT/.missing
@@ -188,7 +192,14 @@ rows | while IFS="$TAB" read -r paper where quantity quick full job metric pval 
         echo "reproduce.sh: $SPEC: job selector '$job' matches $n jobs of $name" >&2
         echo "$name $metric" >> "$missing"
     fi
-    echo "| $paper | $where | $quantity | $pval | $value | $unit | $name, $job | $note |" >> "$md"
+    shown=$value
+    diff=-
+    if is_number "$value"; then
+        shown=$(awk -v v="$value" 'BEGIN { printf "%.4g", v }')
+        is_number "$pval" && diff=$(awk -v v="$value" -v p="$pval" \
+            'BEGIN { if (p != 0) printf "%+.1f %%", 100 * (v - p) / p; else print "-" }')
+    fi
+    echo "| $paper | $where | $quantity | $pval | $shown | $diff | $unit | $name, $job | $note |" >> "$md"
     printf '"%s","%s","%s","%s","%s","%s","%s","%s","%s"\n' "$paper" "$where" "$quantity" \
         "$pval" "$value" "$unit" "$name" "$job" "$metric" >> "$csv"
 done
