@@ -287,10 +287,10 @@ static void impact_sample(struct impact_case *c, struct run *run, long step)
         c->ns++;
         struct impact_front *f = &c->front;
         impact_front_clear(f);
-        impact_front_add(f, 0, d->p->fields[c->xref].data, d->p->x, d->p->v, d->p->mask, FLYER_BIT,
+        impact_front_add(f, 0, d->p->fields[c->xref].data, d->p->v, d->p->mask, FLYER_BIT,
                          d->p->n_owned);
         if (c->has_ref)
-            impact_front_add(f, 1, c->ref.p->fields[c->xref_ref].data, c->ref.p->x, c->ref.p->v,
+            impact_front_add(f, 1, c->ref.p->fields[c->xref_ref].data, c->ref.p->v,
                              c->ref.p->mask, 0, c->ref.p->n_owned);
         impact_front_end(f, d->time, c->has_ref);
     }

@@ -814,10 +814,10 @@ static void front_sample(struct impact_case *c, double t)
         if (r >= c->nruns || !m->has_c)
             continue;
         const struct particles *p = m->d.p;
-        impact_front_add(f, r, p->fields[m->xref].data, p->x, p->v, p->mask,
+        impact_front_add(f, r, p->fields[m->xref].data, p->v, p->mask,
                          DPD_FLYER_BIT | PARTNER_BIT, p->n_owned);
         const struct mpm_points *pts = &m->c.m.pts;
-        impact_front_add(f, r, pts->x0, pts->x, pts->v, NULL, 0, pts->n);
+        impact_front_add(f, r, pts->x0, pts->v, NULL, 0, pts->n);
     }
     impact_front_end(f, t, c->has_ref);
 }

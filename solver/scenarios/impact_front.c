@@ -14,9 +14,8 @@
  * leading pulse of the flyer impacts rises over about 0.3 ps) */
 #define PEAK_HALFWIDTH 0.1
 
-/* accumulator slots per run: displacement core np, section np, regions 2;
- * velocity core np, section np */
-#define SLOTS(f) (4 * (size_t)(f)->np + 2)
+/* accumulator slots per run: core np, section np, regions 2 */
+#define SLOTS(f) (2 * (size_t)(f)->np + 2)
 
 int impact_front_init(struct impact_front *f, int axis, double face, double length,
                       const double regions[2], double half, double w, const double lo[3],
@@ -42,13 +41,10 @@ int impact_front_init(struct impact_front *f, int axis, double face, double leng
     f->t = calloc((size_t)cap, sizeof *f->t);
     f->core = calloc((size_t)cap * f->np, sizeof *f->core);
     f->sect = calloc((size_t)cap * f->np, sizeof *f->sect);
-    f->core_v = calloc((size_t)cap * f->np, sizeof *f->core_v);
-    f->sect_v = calloc((size_t)cap * f->np, sizeof *f->sect_v);
     f->reg = calloc((size_t)cap * 2, sizeof *f->reg);
     f->sum = calloc(2 * slots, sizeof *f->sum);
     f->cnt = calloc(2 * slots, sizeof *f->cnt);
-    if (!f->t || !f->core || !f->sect || !f->core_v || !f->sect_v || !f->reg || !f->sum ||
-        !f->cnt) {
+    if (!f->t || !f->core || !f->sect || !f->reg || !f->sum || !f->cnt) {
         impact_front_free(f);
         return err_nomem(e, "wave-front probes");
     }
@@ -60,8 +56,6 @@ void impact_front_free(struct impact_front *f)
     free(f->t);
     free(f->core);
     free(f->sect);
-    free(f->core_v);
-    free(f->sect_v);
     free(f->reg);
     free(f->sum);
     free(f->cnt);
@@ -75,8 +69,8 @@ void impact_front_clear(struct impact_front *f)
     memset(f->cnt, 0, 2 * slots * sizeof *f->cnt);
 }
 
-void impact_front_add(struct impact_front *f, int run, const double *x0, const double *x,
-                      const double *v, const uint32_t *mask, uint32_t exclude, long n)
+void impact_front_add(struct impact_front *f, int run, const double *x0, const double *v,
+                      const uint32_t *mask, uint32_t exclude, long n)
 {
     const int ax = f->axis, np = f->np;
     const size_t slots = SLOTS(f);
@@ -86,7 +80,7 @@ void impact_front_add(struct impact_front *f, int run, const double *x0, const d
         if (mask && (mask[i] & exclude))
             continue;
         const double *r = x0 + 3 * i;
-        double s = r[ax] - f->face, va = v[3 * i + ax], ua = x[3 * i + ax] - r[ax];
+        double s = r[ax] - f->face, va = v[3 * i + ax];
         for (int q = 0; q < 2; q++)
             if (s >= f->reg_lo[q] && s < f->reg_hi[q]) {
                 sum[2 * np + q] += va;
@@ -96,19 +90,15 @@ void impact_front_add(struct impact_front *f, int run, const double *x0, const d
         if (kf < 0 || kf >= np)
             continue;
         int k = (int)kf;
-        sum[np + k] += ua;
+        sum[np + k] += va;
         cnt[np + k]++;
-        sum[3 * np + 2 + k] += va;
-        cnt[3 * np + 2 + k]++;
         int core = 1;
         for (int d = 0; d < 3; d++)
             if (d != ax && (r[d] < f->core_lo[d] || r[d] >= f->core_hi[d]))
                 core = 0;
         if (core) {
-            sum[k] += ua;
+            sum[k] += va;
             cnt[k]++;
-            sum[2 * np + 2 + k] += va;
-            cnt[2 * np + 2 + k]++;
         }
     }
 }
@@ -134,8 +124,6 @@ void impact_front_end(struct impact_front *f, double t, int has_ref)
     for (int k = 0; k < np; k++) {
         f->core[j * np + k] = slot_signal(f, (size_t)k, has_ref);
         f->sect[j * np + k] = slot_signal(f, (size_t)(np + k), has_ref);
-        f->core_v[j * np + k] = slot_signal(f, (size_t)(2 * np + 2 + k), has_ref);
-        f->sect_v[j * np + k] = slot_signal(f, (size_t)(3 * np + 2 + k), has_ref);
     }
     for (int q = 0; q < 2; q++)
         f->reg[2 * j + q] = slot_signal(f, (size_t)(2 * np + q), has_ref);
@@ -164,14 +152,12 @@ void impact_front_report(const struct impact_front *f, struct result *res, doubl
         tmax[k] = (2 * f->length - x[k]) / (WINDOW_SPEED_FACTOR * cl);
     }
     /* the longitudinal front: core velocity; beside it the section
-     * velocity and the section displacement (when the bulk of the pulse
-     * train's momentum has passed: f of the largest displacement) */
-    struct wave_front_result r, rs, rd;
-    wave_front_measure(f->t, n, f->core_v, np, x, tmax, PEAK_HALFWIDTH, &r);
-    wave_front_measure(f->t, n, f->sect_v, np, x, tmax, PEAK_HALFWIDTH, &rs);
-    wave_front_measure(f->t, n, f->sect, np, x, tmax, 0.0, &rd);
+     * velocity */
+    struct wave_front_result r, rs;
+    wave_front_measure(f->t, n, f->core, np, x, tmax, PEAK_HALFWIDTH, &r);
+    wave_front_measure(f->t, n, f->sect, np, x, tmax, PEAK_HALFWIDTH, &rs);
     struct wave_front_fit peak;
-    wave_front_fit(f->t, n, f->core_v, np, x, tmax, PEAK_HALFWIDTH, 1.0, &peak);
+    wave_front_fit(f->t, n, f->core, np, x, tmax, PEAK_HALFWIDTH, 1.0, &peak);
     for (long j = 0; j < n; j++) {
         s1[j] = f->reg[2 * j];
         s2[j] = f->reg[2 * j + 1];
@@ -192,25 +178,21 @@ void impact_front_report(const struct impact_front *f, struct result *res, doubl
     result_metric(res, "wave_speed_section", rs.speed_fit * ms, "m/s");
     result_metric(res, "wave_speed_section_spread", rs.spread, "1");
     result_metric(res, "wave_speed_peak", peak.speed * ms, "m/s");
-    result_metric(res, "wave_speed_bulk", rd.speed_fit * ms, "m/s");
-    result_metric(res, "wave_speed_bulk_spread", rd.spread, "1");
     result_metric(res, "wave_speed_arrival", va * ms, "m/s");
     result_metric(res, "arrival_front_1", t1, "ps");
     result_metric(res, "arrival_front_2", t2, "ps");
     result_metric(res, "longitudinal_speed", cl * ms, "m/s");
     result_metric(res, "bar_speed", cb * ms, "m/s");
-    double v[WAVE_FRONT_NFRAC], se[WAVE_FRONT_NFRAC], vs[WAVE_FRONT_NFRAC], vd[WAVE_FRONT_NFRAC];
+    double v[WAVE_FRONT_NFRAC], se[WAVE_FRONT_NFRAC], vs[WAVE_FRONT_NFRAC];
     for (int q = 0; q < WAVE_FRONT_NFRAC; q++) {
         v[q] = r.fit[q].speed * ms;
         se[q] = r.fit[q].stderr_ * ms;
         vs[q] = rs.fit[q].speed * ms;
-        vd[q] = rd.fit[q].speed * ms;
     }
     result_series(res, "front_fractions", wave_front_fractions, WAVE_FRONT_NFRAC, "1");
     result_series(res, "wave_speed_fractions", v, WAVE_FRONT_NFRAC, "m/s");
     result_series(res, "wave_speed_fractions_stderr", se, WAVE_FRONT_NFRAC, "m/s");
     result_series(res, "wave_speed_section_fractions", vs, WAVE_FRONT_NFRAC, "m/s");
-    result_series(res, "wave_speed_bulk_fractions", vd, WAVE_FRONT_NFRAC, "m/s");
     result_series(res, "front_probe_x", x, np, "Å");
     if (speed)
         *speed = r.speed;
@@ -223,8 +205,6 @@ int impact_front_checkpoint_write(const struct impact_front *f, struct ckpt *ck)
     int rc = ckpt_put_doubles(ck, "front_time", f->t, f->n);
     if (!rc) rc = ckpt_put_doubles(ck, "front_core", f->core, f->n * f->np);
     if (!rc) rc = ckpt_put_doubles(ck, "front_section", f->sect, f->n * f->np);
-    if (!rc) rc = ckpt_put_doubles(ck, "front_core_velocity", f->core_v, f->n * f->np);
-    if (!rc) rc = ckpt_put_doubles(ck, "front_section_velocity", f->sect_v, f->n * f->np);
     if (!rc) rc = ckpt_put_doubles(ck, "front_regions", f->reg, f->n * 2);
     return rc;
 }
@@ -240,8 +220,6 @@ int impact_front_checkpoint_read(struct impact_front *f, struct ckpt *ck, struct
     int rc = ckpt_get_doubles(ck, "front_time", f->t, n);
     if (!rc) rc = ckpt_get_doubles(ck, "front_core", f->core, n * f->np);
     if (!rc) rc = ckpt_get_doubles(ck, "front_section", f->sect, n * f->np);
-    if (!rc) rc = ckpt_get_doubles(ck, "front_core_velocity", f->core_v, n * f->np);
-    if (!rc) rc = ckpt_get_doubles(ck, "front_section_velocity", f->sect_v, n * f->np);
     if (!rc) rc = ckpt_get_doubles(ck, "front_regions", f->reg, n * 2);
     if (!rc)
         f->n = n;

@@ -58,8 +58,7 @@ struct impact_front {
     double length;            /* Å: the bar's length along the axis */
     long cap, n;
     double *t;                /* cap */
-    double *core, *sect;      /* cap x np: displacement signals */
-    double *core_v, *sect_v;  /* cap x np: velocity signals */
+    double *core, *sect;      /* cap x np: velocity signals */
     double *reg;              /* cap x 2 */
     /* per-sample accumulators: [run][slot], slots: core np, section np, regions 2 */
     double *sum;
@@ -78,8 +77,8 @@ void impact_front_free(struct impact_front *f);
  * then end.  x0: start positions, v: velocities (3 per item); items with a
  * bit of `exclude` in mask (mask may be NULL) are skipped. */
 void impact_front_clear(struct impact_front *f);
-void impact_front_add(struct impact_front *f, int run, const double *x0, const double *x,
-                      const double *v, const uint32_t *mask, uint32_t exclude, long n);
+void impact_front_add(struct impact_front *f, int run, const double *x0, const double *v,
+                      const uint32_t *mask, uint32_t exclude, long n);
 void impact_front_end(struct impact_front *f, double t, int has_ref);
 
 /* Metrics and series into res; c11, c12 (eV/Å^3) and rho (amu/Å^3) of the
