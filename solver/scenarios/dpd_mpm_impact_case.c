@@ -22,10 +22,13 @@
  *     mpm: [108.45, 240]     Å from the impact face, [lo, hi): material points (required);
  *                            the ranges must not overlap and must hold every particle
  *                            of the target (by its position at the start)
- *     lattice_constant: 0    Å at which the cubic elastic constants of the material
- *                            points are computed from the coarse-grained potential
- *                            (cg_lattice_elastic; 0: the parameter file's, i.e. the fit
- *                            temperature's zero-pressure crystal)
+ *     material_state: lattice  the state whose density, point volume and cubic elastic
+ *                            constants the material points get (cg_material_state.h):
+ *                            lattice (the zero-pressure coarse-grained crystal at the
+ *                            target's temperature), bar (the bar's volume per particle)
+ *                            or parameter (the parameter file's lattice constant)
+ *     lattice_constant: 0    Å: that state at this lattice constant instead (0: by
+ *                            material_state)
  *     partner_embedding: frozen   frozen: each partner's F'(rho) stays at its start
  *                            value, so the interface forces are conservative
  *                            (dpd_conservative.c); live: F'(rho) of the partner's
@@ -42,9 +45,10 @@
  *                            reference run): the reflected wave is the difference
  *
  * The material points sit where the particles they replace were, at rest,
- * unstressed, each with the particle's mass and the volume per particle of
- * the bar (its extents over its particle count); their law is cubic_elastic
- * with C11, C12, C44 of the coarse-grained crystal -- computed, never tuned.
+ * unstressed, each with the particle's mass and the volume a^3/4 of the
+ * state of concurrent.material_state; their law is cubic_elastic with C11,
+ * C12, C44 of the coarse-grained crystal at that same state -- computed,
+ * never tuned.
  *
  * Measurements.  As in dpd_impact, a region's signal is its mean
  * displacement along the axis (DPD particles and material points, selected
@@ -108,6 +112,7 @@
 #include "dpd/cg_lattice.h"
 #include "engine/models.h"
 #include "scenarios/dpd_bar.h"
+#include "scenarios/cg_material_state.h"
 #include "scenarios/dpd_impact_setup.h"
 #include "scenarios/impact_front.h"
 #include "scenarios/dpd_mpm_setup.h"
@@ -134,12 +139,14 @@ struct points {
     double *x;
     int64_t *id;
     double mass, volume, rho, c11, c12, c44, range;
+    struct cg_material_state state;   /* where rho, volume and C come from */
 };
 
 struct conc_keys {
     double dpd[2], mpm[2], a, range, monitor, mhalf, vwin;
     int compare;
     int live_embedding;   /* partner_embedding: live (1) or frozen (0) */
+    int state;            /* material_state: enum cg_state_source */
 };
 
 struct samples {
@@ -202,6 +209,7 @@ struct impact_case {
 static int read_concurrent(struct cfg_obj *root, struct conc_keys *k)
 {
     static const char *const embeddings[] = {"frozen", "live", NULL};
+    static const char *const states[] = {"lattice", "bar", "parameter", NULL};
     struct cfg_obj o;
     int rc;
     if ((rc = cfg_section_required(root, "concurrent", &o)) ||
@@ -214,6 +222,7 @@ static int read_concurrent(struct cfg_obj *root, struct conc_keys *k)
         (rc = cfg_real(&o, "velocity_window", 0.1, CFG_GT(0), &k->vwin)) ||
         (rc = cfg_bool(&o, "compare", 1, &k->compare)) ||
         (rc = cfg_enum(&o, "partner_embedding", "frozen", embeddings, &k->live_embedding)) ||
+        (rc = cfg_enum(&o, "material_state", "lattice", states, &k->state)) ||
         (rc = cfg_close(&o)))
         return rc;
     k->mhalf *= 0.5;
@@ -455,11 +464,24 @@ static int impact_read(struct cfg_obj *root, const struct case_common *common, v
         if (c->has_hom && !(hom = dpd_particles_clone(p, e)))
             rc = ERR_RUNTIME;
         struct points *pts = &c->pts;
-        double aL = c->ck.a > 0 ? c->ck.a : in.prm.lattice_constant;
-        cg_lattice_elastic(&in.prm.sc, aL, &pts->c11, &pts->c12, &pts->c44);
+        /* density, point volume and elastic constants of one state
+         * (cg_material_state.h); the run's temperature is the target's */
+        double ke2 = 0;
+        for (int i = 0; i < p->n_owned; i++)
+            ke2 += p->v[3 * i] * p->v[3 * i] + p->v[3 * i + 1] * p->v[3 * i + 1] +
+                   p->v[3 * i + 2] * p->v[3 * i + 2];
+        double T = p->n_owned ? in.prm.mass * ke2 * UNITS_MVV2E / (3.0 * p->n_owned * UNITS_KB)
+                              : 0.0;
+        double vbar = bar.extent[0] * bar.extent[1] * bar.extent[2] / (double)c->n_target;
+        int src = c->ck.a > 0 ? CG_STATE_GIVEN : c->ck.state;
+        if (!rc && (rc = cg_material_state_get(&in.prm, src, c->ck.a, T, vbar, &pts->state, e)))
+            rc = cfg_error_at(root->cfg, "concurrent.material_state", "%s", e->msg);
+        pts->c11 = pts->state.c11;
+        pts->c12 = pts->state.c12;
+        pts->c44 = pts->state.c44;
         pts->mass = in.prm.mass;
-        pts->volume = bar.extent[0] * bar.extent[1] * bar.extent[2] / (double)c->n_target;
-        pts->rho = pts->mass / pts->volume;
+        pts->volume = pts->state.volume;
+        pts->rho = pts->state.rho;
         pts->range = c->ck.range > 0 ? c->ck.range : 2 * fmax(in.prm.sc.rc, in.set.cutoff) + in.skin;
         if (!rc)
             rc = check_points_per_cell(root, gk.cell, pts);
@@ -756,6 +778,11 @@ static void impact_metrics(struct impact_case *c, struct run *run, const struct 
     result_metric(res, "c12", pts->c12 * UNITS_EVA3_TO_GPA, "GPa");
     result_metric(res, "c44", pts->c44 * UNITS_EVA3_TO_GPA, "GPa");
     result_metric(res, "density", pts->rho * UNITS_AMU_A3_TO_KG_M3 * 1e-3, "g/cm^3");
+    result_metric(res, "material_lattice_constant", pts->state.a, "Å");
+    result_metric(res, "material_temperature", pts->state.T, "K");
+    result_metric_source(res, "density", pts->state.note);
+    result_metric_source(res, "c11", pts->state.note);
+    result_metric_source(res, "material_lattice_constant", pts->state.note);
     if (!c->has_hom)
         return;
     /* the first wave from the interface reaches the monitor at tr, the
