@@ -291,9 +291,21 @@ static void front_fit_report(const struct wave_case *w, struct result *res)
         x[k] = fr->L - w->fx[k];   /* distance from the loaded end: the front moves to -x */
         tmax[k] = t_lo + w->fx[k] / cmax;
     }
+    /* the step's sign is the traction's: measure +sigma_xx for tension,
+     * -sigma_xx for compression */
+    double sgn = w->traction < 0 ? -1.0 : 1.0;
+    size_t nv = (size_t)(w->ns ? w->ns : 1) * (size_t)(np ? np : 1);
+    double *sig = malloc(nv * sizeof *sig);
+    if (!sig) {
+        free(x);
+        return;
+    }
+    for (long j = 0; j < w->ns * np; j++)
+        sig[j] = sgn * w->fs[j];
     struct wave_front_result r;
     /* a step: its peak is the largest value of the window */
-    wave_front_measure(w->ts, w->ns, w->fs, np, x, tmax, 0.0, &r);
+    wave_front_measure(w->ts, w->ns, sig, np, x, tmax, 0.0, &r);
+    free(sig);
     const double ms = UNITS_APS_TO_MS;
     result_metric(res, "wave_speed", r.speed * ms, "m/s");
     result_metric(res, "wave_speed_fit", r.speed_fit * ms, "m/s");
@@ -308,10 +320,18 @@ static void front_fit_report(const struct wave_case *w, struct result *res)
     result_series(res, "front_fractions", wave_front_fractions, WAVE_FRONT_NFRAC, "1");
     result_series(res, "wave_speed_fractions", v, WAVE_FRONT_NFRAC, "m/s");
     /* the two MD probes, each at half its own peak */
-    const double *p1 = w->ts + w->nsamp, *p2 = w->ts + 2 * w->nsamp;
-    double va = wave_front_arrival_speed(w->ts, w->ns, p1, t_lo + w->px[0] / cmax, p2,
-                                         t_lo + w->px[1] / cmax, 0.0, w->px[0] - w->px[1], 0.5, NULL,
-                                         NULL);
+    double *p12 = malloc((size_t)(w->ns ? w->ns : 1) * 2 * sizeof *p12), va = NAN;
+    if (p12) {
+        double *p1 = p12, *p2 = p12 + (w->ns ? w->ns : 1);
+        for (long j = 0; j < w->ns; j++) {
+            p1[j] = sgn * w->ts[w->nsamp + j];
+            p2[j] = sgn * w->ts[2 * w->nsamp + j];
+        }
+        va = wave_front_arrival_speed(w->ts, w->ns, p1, t_lo + w->px[0] / cmax, p2,
+                                      t_lo + w->px[1] / cmax, 0.0, w->px[0] - w->px[1], 0.5, NULL,
+                                      NULL);
+        free(p12);
+    }
     result_metric(res, "wave_speed_arrival", va * ms, "m/s");
     result_metric(res, "longitudinal_speed", fr->c_md * ms, "m/s");
     free(x);
