@@ -20,7 +20,8 @@
  * two-region arrival at a fraction of each region's peak).
  *
  * Report (metrics, all m/s unless said):
- *   wave_speed            core front fit at f = 0.5 of the local peak; null
+ *   wave_speed            core front fit at f = 0.5 of the leading pulse's peak
+ *                         (analysis/wave_front.h, peak half-width 0.1 ps); null
  *                         when the spread over f = 0.1/0.2/0.5 exceeds 3 %
  *   wave_speed_fit        the same value whether flagged or not
  *   wave_speed_stderr     its standard error
@@ -28,15 +29,16 @@
  *   wave_speed_flag       0 ok, 1 spread > 3 % (not a result), 2 no fit (1)
  *   wave_speed_probes     probes fitted at f = 0.5 (1)
  *   wave_speed_section    the section-mean front fit at f = 0.5
- *   wave_speed_peak       fit of the times of each probe's peak (section):
- *                         the body of the pulse, which the free lateral
- *                         surfaces slow towards the bar speed
+ *   wave_speed_section_spread  its spread (1)
+ *   wave_speed_peak       fit of the times of the leading peaks (core)
  *   wave_speed_arrival    two regions, each at f = 0.5 of its own peak
  *   arrival_front_1/2     those arrival times (ps)
  *   longitudinal_speed    sqrt(C11 / rho) of the material
  *   bar_speed             sqrt(E100 / rho), E100 = (C11 - C12)(C11 + 2 C12) / (C11 + C12)
  * and series front_fractions, wave_speed_fractions (core fits per f),
- * wave_speed_fractions_stderr.  Each probe's peak is taken before the first
+ * wave_speed_fractions_stderr, wave_speed_section_fractions, front_probe_x
+ * (Å from the face).  The bar speed of the long wavelengths is not
+ * measured here (docs/dpd_mpm.md, "The wave speed").  Each probe's peak is taken before the first
  * reflection from the far end can reach it: t <= (2 L - x) / (1.15 c_L)
  * (15 % above sqrt(C11/rho) for the nonlinear speed-up of a strong front).
  */
