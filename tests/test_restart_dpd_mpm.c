@@ -129,7 +129,8 @@ Test(restart_dpd_mpm, concurrent_impact_continues_bitwise, .timeout = 600)
     impact_case(yaml, sizeof yaml, "dpd_mpm_impact", "free",
                 "concurrent:\n  dpd: [-10, 45.2]\n  mpm: [45.2, 100]\n  monitor: 15\n");
     check_restarts(yaml, 1);
-    assert_measured("full", "wave_speed");
+    assert_measured("full", "wave_speed_fit");
+    assert_measured("full", "wave_speed_threshold");
     assert_measured("full", "reflection_ratio");
 }
 
@@ -139,7 +140,8 @@ Test(restart_dpd_mpm, grid_impact_continues_bitwise, .timeout = 600)
     char yaml[2048];
     impact_case(yaml, sizeof yaml, "dpd_grid_impact", "periodic", "");
     check_restarts(yaml, 0);
-    assert_measured("full", "wave_speed");
+    assert_measured("full", "wave_speed_fit");
+    assert_measured("full", "wave_speed_threshold");
 }
 
 /* The grid tensile rod: prescribed grips, stress samples averaged over

@@ -34,6 +34,13 @@ void result_metric(struct result *r, const char *name, double value, const char 
     json_object_set_new(r->metrics, name, json_pack("{s:o, s:s}", "value", v, "unit", unit));
 }
 
+void result_metric_source(struct result *r, const char *name, const char *source)
+{
+    json_t *m = json_object_get(r->metrics, name);
+    if (m)
+        json_object_set_new(m, "source", json_string(source));
+}
+
 void result_series(struct result *r, const char *name, const double *values, int n,
                    const char *unit)
 {

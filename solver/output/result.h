@@ -28,6 +28,9 @@ struct result {
 int result_init(struct result *r);
 void result_free(struct result *r);
 void result_metric(struct result *r, const char *name, double value, const char *unit);
+/* Attach a "source" text to an existing metric (where its value came
+ * from); nothing when there is no such metric. */
+void result_metric_source(struct result *r, const char *name, const char *source);
 /* A series of values (for example counts over time), copied. */
 void result_series(struct result *r, const char *name, const double *values, int n,
                    const char *unit);

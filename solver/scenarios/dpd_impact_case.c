@@ -50,7 +50,11 @@
  * how the speed depends on it: small thresholds follow the leading edge,
  * large ones the main pulse.
  *
- * Metrics: wave_speed (m/s), arrival_time_1/2 (ps), region_particles_1/2,
+ * Metrics: wave_speed and its companions (m/s; the threshold-free front
+ * fit over probe slabs between the regions, scenarios/impact_front.h:
+ * null when its spread over the criteria exceeds 3 %), wave_speed_threshold
+ * (m/s, the fixed arrival_threshold above), arrival_time_1/2 (ps, at that
+ * threshold), region_particles_1/2,
  * displacement_max_1/2 (Å), flyer_velocity_final (Å/ps), target_particles,
  * flyer_particles, energy_drift and energy_deviation_max (relative change
  * of pe + ke + internal energy: conserved by DPDE with a free flyer),
@@ -72,11 +76,13 @@
 
 #include "analysis/displacement.h"
 #include "analysis/wave_arrival.h"
+#include "dpd/cg_lattice.h"
 #include "core/lattice.h"
 #include "core/units.h"
 #include "engine/models.h"
 #include "scenarios/dpd_bar.h"
 #include "scenarios/dpd_impact_setup.h"
+#include "scenarios/impact_front.h"
 #include "output/dpd_output.h"
 #include "scenarios/dpd_setup.h"
 #include "scenarios/dpd_structure.h"
@@ -101,6 +107,9 @@ struct impact_case {
     long n_target, n_flyer;
     struct dpd_structure st;   /* CNA of the flyer run (Fig. 4) */
     struct dpd_model model[2]; /* the flyer run and the reference run on the engine */
+    struct dpd_bar bar;        /* the target at the start (lateral extent of the probes) */
+    double c11, c12, rho;      /* eV/Å^3, amu/Å^3: the material (reference speeds) */
+    struct impact_front front; /* probes of the threshold-free wave speed */
     /* the run's accumulators (checkpointed) */
     struct dpd_output out;
     long nsamp, ns;            /* samples: room for, taken */
@@ -226,6 +235,12 @@ static int impact_read(struct cfg_obj *root, const struct case_common *common, v
     c->profile_bin = k.bin > 0 ? k.bin : 0.5 * a;
     c->face = bar.face_lo[k.axis];
     c->length = bar.extent[k.axis];
+    c->bar = bar;
+    {
+        double c44;
+        cg_lattice_elastic(&in.prm.sc, in.prm.lattice_constant, &c->c11, &c->c12, &c44);
+        c->rho = 4 * in.prm.mass / pow(in.prm.lattice_constant, 3);
+    }
     for (int r = 0; r < 2; r++)
         if (c->regions[r] + c->half > c->length)
             rc = cfg_error_at(root->cfg, "impact.regions",
@@ -270,6 +285,14 @@ static void impact_sample(struct impact_case *c, struct run *run, long step)
         c->s2[ns] = region_disp(c, 1, &c->count[1], &c->r2[ns]);
         c->es[ns] = dpd_total_energy(d);
         c->ns++;
+        struct impact_front *f = &c->front;
+        impact_front_clear(f);
+        impact_front_add(f, 0, d->p->fields[c->xref].data, d->p->v, d->p->mask, FLYER_BIT,
+                         d->p->n_owned);
+        if (c->has_ref)
+            impact_front_add(f, 1, c->ref.p->fields[c->xref_ref].data, c->ref.p->v,
+                             c->ref.p->mask, 0, c->ref.p->n_owned);
+        impact_front_end(f, d->time, c->has_ref);
     }
     for (size_t q = 0; q < c->nprofiles; q++) {
         if (c->pstep[q] != step)
@@ -341,9 +364,12 @@ static int impact_report(void *state, struct sim *s, int run_rc, struct err *e)
     const double *ts = c->ts, *s1 = c->s1, *s2 = c->s2;
     double e0 = s->e0[0].total;
     struct result *res = &run->result;
+    /* the legacy criterion: a fixed displacement threshold (wave_speed_threshold) */
     double t1 = wave_arrival_time(ts, s1, ns, c->threshold);
     double t2 = wave_arrival_time(ts, s2, ns, c->threshold);
     double speed = wave_speed(c->regions[1] - c->regions[0], t1, t2);   /* Å/ps */
+    double front_speed;
+    impact_front_report(&c->front, res, c->c11, c->c12, c->rho, &front_speed);
     double m1 = -INFINITY, m2 = -INFINITY;
     for (long q = 0; q < ns; q++) {
         m1 = fmax(m1, s1[q]);
@@ -354,7 +380,7 @@ static int impact_report(void *state, struct sim *s, int run_rc, struct err *e)
     dpd_momentum(d, P1);
     double dP = sqrt((P1[0] - P0[0]) * (P1[0] - P0[0]) + (P1[1] - P0[1]) * (P1[1] - P0[1]) +
                      (P1[2] - P0[2]) * (P1[2] - P0[2]));
-    result_metric(res, "wave_speed", speed * UNITS_APS_TO_MS, "m/s");
+    result_metric(res, "wave_speed_threshold", speed * UNITS_APS_TO_MS, "m/s");
     result_metric(res, "arrival_time_1", t1, "ps");
     result_metric(res, "arrival_time_2", t2, "ps");
     result_metric(res, "region_particles_1", (double)c->count[0], "1");
@@ -409,8 +435,9 @@ static int impact_report(void *state, struct sim *s, int run_rc, struct err *e)
             result_series(res, name, c->prof + q * nbins, nbins, "Å");
         }
     }
-    run_log(run, "wave arrival: region 1 at %.4f ps, region 2 at %.4f ps -> %.0f m/s", t1, t2,
-            speed * UNITS_APS_TO_MS);
+    run_log(run, "wave front fit: %.0f m/s (flagged when null); fixed threshold %g Å: region 1 "
+            "at %.4f ps, region 2 at %.4f ps -> %.0f m/s",
+            front_speed * UNITS_APS_TO_MS, c->threshold, t1, t2, speed * UNITS_APS_TO_MS);
     int rc2 = dpd_output_end(&c->out, run, e);
     if (!run_rc && !rc && !rc2)
         rc2 = run_write_final_state(run, d->p, &d->box, d->step, d->time, e);
@@ -432,6 +459,7 @@ static int impact_checkpoint_write(void *state, struct ckpt *ck, struct err *e)
     if (!rc) rc = ckpt_put_doubles(ck, "momentum_start", c->P0, 3);
     if (!rc) rc = ckpt_put_double(ck, "energy_deviation_max", c->demax);
     if (!rc) rc = ckpt_put_i64(ck, "region_particles", (const int64_t[2]){c->count[0], c->count[1]}, 2);
+    if (!rc) rc = impact_front_checkpoint_write(&c->front, ck);
     if (!rc) rc = dpd_structure_checkpoint_write(&c->st, ck);
     if (!rc) rc = dpd_output_checkpoint_write(&c->out, ck);
     return rc;
@@ -462,6 +490,7 @@ static int impact_checkpoint_read(void *state, struct ckpt *ck, struct err *e)
         c->count[1] = (long)count[1];
         rc = dpd_structure_checkpoint_read(&c->st, ck);
     }
+    if (!rc) rc = impact_front_checkpoint_read(&c->front, ck, e);
     if (!rc) rc = dpd_output_checkpoint_read(ck, &c->restored_rows, &c->nrestored, e);
     return rc;
 }
@@ -495,6 +524,13 @@ static int impact_run(void *state, struct run *run, struct err *e)
     if (!c->ts || !c->s1 || !c->s2 || !c->es || !c->r1 || !c->r2 || !c->prof || !c->pref ||
         !c->pstep)
         return err_nomem(e, "impact samples");
+    double lat_lo[3];
+    for (int k = 0; k < 3; k++)
+        lat_lo[k] = c->bar.face_lo[k] - 0.5 * c->bar.plane;
+    int rcf = impact_front_init(&c->front, c->axis, c->face, c->length, c->regions, c->half,
+                                c->bar.plane, lat_lo, c->bar.extent, nsamp, e);
+    if (rcf)
+        return rcf;
     for (size_t q = 0; q < c->nprofiles; q++) {
         c->pstep[q] = lround(c->profile_times[q] / d->dt);
         for (int b = 0; b < nbins; b++)
@@ -532,6 +568,7 @@ static void impact_destroy(void *state)
     free(c->prof);
     free(c->pref);
     free(c->pstep);
+    impact_front_free(&c->front);
     free(c->restored_rows);
     free(c);
 }

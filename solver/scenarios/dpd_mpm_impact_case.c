@@ -22,10 +22,13 @@
  *     mpm: [108.45, 240]     Å from the impact face, [lo, hi): material points (required);
  *                            the ranges must not overlap and must hold every particle
  *                            of the target (by its position at the start)
- *     lattice_constant: 0    Å at which the cubic elastic constants of the material
- *                            points are computed from the coarse-grained potential
- *                            (cg_lattice_elastic; 0: the parameter file's, i.e. the fit
- *                            temperature's zero-pressure crystal)
+ *     material_state: lattice  the state whose density, point volume and cubic elastic
+ *                            constants the material points get (cg_material_state.h):
+ *                            lattice (the zero-pressure coarse-grained crystal at the
+ *                            target's temperature), bar (the bar's volume per particle)
+ *                            or parameter (the parameter file's lattice constant)
+ *     lattice_constant: 0    Å: that state at this lattice constant instead (0: by
+ *                            material_state)
  *     partner_embedding: frozen   frozen: each partner's F'(rho) stays at its start
  *                            value, so the interface forces are conservative
  *                            (dpd_conservative.c); live: F'(rho) of the partner's
@@ -42,17 +45,20 @@
  *                            reference run): the reflected wave is the difference
  *
  * The material points sit where the particles they replace were, at rest,
- * unstressed, each with the particle's mass and the volume per particle of
- * the bar (its extents over its particle count); their law is cubic_elastic
- * with C11, C12, C44 of the coarse-grained crystal -- computed, never tuned.
+ * unstressed, each with the particle's mass and the volume a^3/4 of the
+ * state of concurrent.material_state; their law is cubic_elastic with C11,
+ * C12, C44 of the coarse-grained crystal at that same state -- computed,
+ * never tuned.
  *
  * Measurements.  As in dpd_impact, a region's signal is its mean
  * displacement along the axis (DPD particles and material points, selected
  * by where they were at the start) in the flyer run minus that in the
  * reference run without the flyer: the displacement the impact caused.  The
  * wave has arrived when the signal first reaches impact.arrival_threshold
- * (analysis/wave_arrival.h); wave_speed = region separation / difference of
- * the arrival times.  Concurrent model with `compare`: the monitor slab's
+ * (analysis/wave_arrival.h); wave_speed_threshold = region separation /
+ * difference of the arrival times.  wave_speed is the threshold-free front
+ * fit over probe slabs between the regions (scenarios/impact_front.h; DPD
+ * particles and material points alike).  Concurrent model with `compare`: the monitor slab's
  * impact-caused displacement in the concurrent run and in the all-DPD run
  * agree until a wave from the interface reaches the monitor; the
  * difference of their velocities (central differences over
@@ -78,7 +84,8 @@
  * structure analysis are the case's after_step hook, and they go into the
  * checkpoints (output.checkpoint_every, run --restart).
  *
- * Metrics (besides dpd_impact's wave_speed, arrival_time_1/2,
+ * Metrics (besides dpd_impact's wave_speed and its companions,
+ * wave_speed_threshold, arrival_time_1/2,
  * region_particles_1/2, displacement_max_1/2, flyer_velocity_final,
  * target_particles, flyer_particles, target_length, momentum_change,
  * temperature): cell (Å), energy_drift and energy_deviation_max (relative,
@@ -105,7 +112,9 @@
 #include "dpd/cg_lattice.h"
 #include "engine/models.h"
 #include "scenarios/dpd_bar.h"
+#include "scenarios/cg_material_state.h"
 #include "scenarios/dpd_impact_setup.h"
+#include "scenarios/impact_front.h"
 #include "scenarios/dpd_mpm_setup.h"
 #include "output/dpd_output.h"
 #include "scenarios/dpd_setup.h"
@@ -130,12 +139,14 @@ struct points {
     double *x;
     int64_t *id;
     double mass, volume, rho, c11, c12, c44, range;
+    struct cg_material_state state;   /* where rho, volume and C come from */
 };
 
 struct conc_keys {
     double dpd[2], mpm[2], a, range, monitor, mhalf, vwin;
     int compare;
     int live_embedding;   /* partner_embedding: live (1) or frozen (0) */
+    int state;            /* material_state: enum cg_state_source */
 };
 
 struct samples {
@@ -174,6 +185,9 @@ struct impact_case {
     struct conc_keys ck;
     struct points pts;
     double face, length, cell;
+    struct dpd_bar bar;           /* the target at the start (lateral extent of the probes) */
+    double c11, c12, rho;         /* eV/Å^3, amu/Å^3: the DPD material (reference speeds) */
+    struct impact_front front;    /* probes of the threshold-free wave speed */
     long n_target, n_flyer, nodes;
     struct dpd_structure st;      /* CNA of the flyer run's DPD particles (Fig. 4) */
     /* on the engine: one model instance per run */
@@ -195,6 +209,7 @@ struct impact_case {
 static int read_concurrent(struct cfg_obj *root, struct conc_keys *k)
 {
     static const char *const embeddings[] = {"frozen", "live", NULL};
+    static const char *const states[] = {"lattice", "bar", "parameter", NULL};
     struct cfg_obj o;
     int rc;
     if ((rc = cfg_section_required(root, "concurrent", &o)) ||
@@ -207,6 +222,7 @@ static int read_concurrent(struct cfg_obj *root, struct conc_keys *k)
         (rc = cfg_real(&o, "velocity_window", 0.1, CFG_GT(0), &k->vwin)) ||
         (rc = cfg_bool(&o, "compare", 1, &k->compare)) ||
         (rc = cfg_enum(&o, "partner_embedding", "frozen", embeddings, &k->live_embedding)) ||
+        (rc = cfg_enum(&o, "material_state", "lattice", states, &k->state)) ||
         (rc = cfg_close(&o)))
         return rc;
     k->mhalf *= 0.5;
@@ -418,6 +434,12 @@ static int impact_read(struct cfg_obj *root, const struct case_common *common, v
     dpd_bar_measure(p, 0, 0.5 * a, &bar);
     c->face = bar.face_lo[ax];
     c->length = bar.extent[ax];
+    c->bar = bar;
+    {
+        double c44;
+        cg_lattice_elastic(&in.prm.sc, in.prm.lattice_constant, &c->c11, &c->c12, &c44);
+        c->rho = 4 * in.prm.mass / pow(in.prm.lattice_constant, 3);
+    }
     c->n_target = p->n_owned;
     c->steps = in.steps;
     c->cell = gk.cell;
@@ -442,11 +464,24 @@ static int impact_read(struct cfg_obj *root, const struct case_common *common, v
         if (c->has_hom && !(hom = dpd_particles_clone(p, e)))
             rc = ERR_RUNTIME;
         struct points *pts = &c->pts;
-        double aL = c->ck.a > 0 ? c->ck.a : in.prm.lattice_constant;
-        cg_lattice_elastic(&in.prm.sc, aL, &pts->c11, &pts->c12, &pts->c44);
+        /* density, point volume and elastic constants of one state
+         * (cg_material_state.h); the run's temperature is the target's */
+        double ke2 = 0;
+        for (int i = 0; i < p->n_owned; i++)
+            ke2 += p->v[3 * i] * p->v[3 * i] + p->v[3 * i + 1] * p->v[3 * i + 1] +
+                   p->v[3 * i + 2] * p->v[3 * i + 2];
+        double T = p->n_owned ? in.prm.mass * ke2 * UNITS_MVV2E / (3.0 * p->n_owned * UNITS_KB)
+                              : 0.0;
+        double vbar = bar.extent[0] * bar.extent[1] * bar.extent[2] / (double)c->n_target;
+        int src = c->ck.a > 0 ? CG_STATE_GIVEN : c->ck.state;
+        if (!rc && (rc = cg_material_state_get(&in.prm, src, c->ck.a, T, vbar, &pts->state, e)))
+            rc = cfg_error_at(root->cfg, "concurrent.material_state", "%s", e->msg);
+        pts->c11 = pts->state.c11;
+        pts->c12 = pts->state.c12;
+        pts->c44 = pts->state.c44;
         pts->mass = in.prm.mass;
-        pts->volume = bar.extent[0] * bar.extent[1] * bar.extent[2] / (double)c->n_target;
-        pts->rho = pts->mass / pts->volume;
+        pts->volume = pts->state.volume;
+        pts->rho = pts->state.rho;
         pts->range = c->ck.range > 0 ? c->ck.range : 2 * fmax(in.prm.sc.rc, in.set.cutoff) + in.skin;
         if (!rc)
             rc = check_points_per_cell(root, gk.cell, pts);
@@ -662,9 +697,18 @@ static void impact_metrics(struct impact_case *c, struct run *run, const struct 
     struct result *res = &run->result;
     struct coupled *m = &c->r[0];
     double dist = c->k.regions[1] - c->k.regions[0];
+    /* the legacy criterion: a fixed displacement threshold (wave_speed_threshold) */
     double t1 = wave_arrival_time(S->t, S->s1, S->n, c->k.threshold);
     double t2 = wave_arrival_time(S->t, S->s2, S->n, c->k.threshold);
     double speed = wave_speed(dist, t1, t2);
+    double front_speed;
+    /* reference speeds: the material points' constants in the concurrent
+     * model (the probes beyond the interface are points), else the DPD
+     * crystal's */
+    if (c->concurrent)
+        impact_front_report(&c->front, res, c->pts.c11, c->pts.c12, c->pts.rho, &front_speed);
+    else
+        impact_front_report(&c->front, res, c->c11, c->c12, c->rho, &front_speed);
     double m1 = -INFINITY, m2 = -INFINITY;
     for (long q = 0; q < S->n; q++) {
         m1 = fmax(m1, S->s1[q]);
@@ -677,7 +721,7 @@ static void impact_metrics(struct impact_case *c, struct run *run, const struct 
     long n1 = 0, n2 = 0;
     signal(c, 0, -1, c->k.regions[0] - c->k.half, c->k.regions[0] + c->k.half, &n1);
     signal(c, 0, -1, c->k.regions[1] - c->k.half, c->k.regions[1] + c->k.half, &n2);
-    result_metric(res, "wave_speed", speed * UNITS_APS_TO_MS, "m/s");
+    result_metric(res, "wave_speed_threshold", speed * UNITS_APS_TO_MS, "m/s");
     result_metric(res, "arrival_time_1", t1, "ps");
     result_metric(res, "arrival_time_2", t2, "ps");
     result_metric(res, "region_particles_1", (double)n1, "1");
@@ -721,8 +765,9 @@ static void impact_metrics(struct impact_case *c, struct run *run, const struct 
         result_series(res, "arrival_thresholds", th, nth, "Å");
         result_series(res, "wave_speed_scan", vs, nth, "m/s");
     }
-    run_log(run, "wave arrival: region 1 at %.4f ps, region 2 at %.4f ps -> %.0f m/s", t1, t2,
-            speed * UNITS_APS_TO_MS);
+    run_log(run, "wave front fit: %.0f m/s (flagged when null); fixed threshold %g Å: region 1 "
+            "at %.4f ps, region 2 at %.4f ps -> %.0f m/s",
+            front_speed * UNITS_APS_TO_MS, c->k.threshold, t1, t2, speed * UNITS_APS_TO_MS);
     if (!c->concurrent)
         return;
     const struct points *pts = &c->pts;
@@ -733,7 +778,11 @@ static void impact_metrics(struct impact_case *c, struct run *run, const struct 
     result_metric(res, "c12", pts->c12 * UNITS_EVA3_TO_GPA, "GPa");
     result_metric(res, "c44", pts->c44 * UNITS_EVA3_TO_GPA, "GPa");
     result_metric(res, "density", pts->rho * UNITS_AMU_A3_TO_KG_M3 * 1e-3, "g/cm^3");
-    result_metric(res, "longitudinal_speed", cl * UNITS_APS_TO_MS, "m/s");
+    result_metric(res, "material_lattice_constant", pts->state.a, "Å");
+    result_metric(res, "material_temperature", pts->state.T, "K");
+    result_metric_source(res, "density", pts->state.note);
+    result_metric_source(res, "c11", pts->state.note);
+    result_metric_source(res, "material_lattice_constant", pts->state.note);
     if (!c->has_hom)
         return;
     /* the first wave from the interface reaches the monitor at tr, the
@@ -782,6 +831,24 @@ static void impact_metrics(struct impact_case *c, struct run *run, const struct 
     free(v2h);
 }
 
+/* The velocities of the front probes (flyer run less reference run). */
+static void front_sample(struct impact_case *c, double t)
+{
+    struct impact_front *f = &c->front;
+    impact_front_clear(f);
+    for (int r = 0; r < 2; r++) {
+        const struct coupled *m = &c->r[r];
+        if (r >= c->nruns || !m->has_c)
+            continue;
+        const struct particles *p = m->d.p;
+        impact_front_add(f, r, p->fields[m->xref].data, p->v, p->mask,
+                         DPD_FLYER_BIT | PARTNER_BIT, p->n_owned);
+        const struct mpm_points *pts = &m->c.m.pts;
+        impact_front_add(f, r, pts->x0, pts->v, NULL, 0, pts->n);
+    }
+    impact_front_end(f, t, c->has_ref);
+}
+
 /* The regions' signals at this step (every sample_every steps and the
  * last), and the displacement profiles at the profile times. */
 static void impact_sample(struct impact_case *c, struct run *run, long step)
@@ -804,6 +871,7 @@ static void impact_sample(struct impact_case *c, struct run *run, long step)
             S->mh[q] = signal(c, 2, 3, mlo, mhi, NULL);
             S->h2[q] = signal(c, 2, 3, lo2, hi2, NULL);
         }
+        front_sample(c, d->time);
     }
     for (size_t q = 0; q < c->k.nptimes; q++) {
         if (lround(c->k.ptimes[q] / d->dt) != step)
@@ -925,6 +993,7 @@ static int impact_checkpoint_write(void *state, struct ckpt *ck, struct err *e)
     if (!rc) rc = ckpt_put_doubles(ck, "sample_monitor_homogeneous", S->mh, S->n);
     if (!rc) rc = ckpt_put_doubles(ck, "sample_region_2_homogeneous", S->h2, S->n);
     if (!rc) rc = ckpt_put_doubles(ck, "profiles", c->prof, (long)c->k.nptimes * c->nbins);
+    if (!rc) rc = impact_front_checkpoint_write(&c->front, ck);
     if (!rc) rc = dpd_structure_checkpoint_write(&c->st, ck);
     if (!rc) rc = dpd_output_checkpoint_write(&c->out, ck);
     return rc;
@@ -953,6 +1022,7 @@ static int impact_checkpoint_read(void *state, struct ckpt *ck, struct err *e)
     if (!rc) rc = ckpt_get_doubles(ck, "sample_monitor_homogeneous", S->mh, n);
     if (!rc) rc = ckpt_get_doubles(ck, "sample_region_2_homogeneous", S->h2, n);
     if (!rc) rc = ckpt_get_doubles(ck, "profiles", c->prof, (long)c->k.nptimes * c->nbins);
+    if (!rc) rc = impact_front_checkpoint_read(&c->front, ck, e);
     if (!rc) rc = dpd_structure_checkpoint_read(&c->st, ck);
     if (!rc) rc = dpd_output_checkpoint_read(ck, &c->restored_rows, &c->nrestored, e);
     return rc;
@@ -988,6 +1058,12 @@ static int impact_run(void *state, struct run *run, struct err *e)
     int rc = samples_alloc(&c->S, nsamp, e);
     if (rc || !c->prof || !c->pref || !c->cnt)
         return rc ? rc : err_nomem(e, "profiles");
+    double lat_lo[3];
+    for (int k = 0; k < 3; k++)
+        lat_lo[k] = c->bar.face_lo[k] - 0.5 * c->bar.plane;
+    if ((rc = impact_front_init(&c->front, c->k.axis, c->face, c->length, c->k.regions,
+                                c->k.half, c->bar.plane, lat_lo, c->bar.extent, nsamp, e)))
+        return rc;
     for (size_t q = 0; q < np * (size_t)c->nbins; q++)
         c->prof[q] = NAN;
     c->e0 = c->et = NAN;
@@ -1018,6 +1094,7 @@ static void impact_destroy(void *state)
     free(c->k.ptimes);
     dpd_structure_free(&c->st);
     samples_free(&c->S);
+    impact_front_free(&c->front);
     free(c->prof);
     free(c->pref);
     free(c->cnt);

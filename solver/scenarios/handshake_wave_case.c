@@ -42,6 +42,7 @@
 #include <string.h>
 
 #include "analysis/wave_arrival.h"
+#include "analysis/wave_front.h"
 #include "core/units.h"
 #include "scenarios/handshake_case.h"
 
@@ -70,6 +71,9 @@ struct wave_case {
     struct front fr;
     struct analytic_ctx an;
     double px[4];         /* probe positions (Å) */
+    int nfp;              /* MD front probes (analysis/wave_front.h) */
+    double *fx;           /* their positions (Å) */
+    double *fs;           /* nsamp x nfp: their sigma_xx samples */
     long nsamp;           /* room for probe samples */
     double *ts;           /* sample times, then the 4 probes' series (nsamp each) */
     /* accumulated over the run (checkpointed) */
@@ -180,6 +184,9 @@ static int wave_sample(struct wave_case *w, struct run *run, long step, struct e
             w->ts[w->ns] = hs->time;
             for (int k = 0; k < 4; k++)
                 w->ts[(k + 1) * w->nsamp + w->ns] = w->probe_now[k];
+            for (int k = 0; k < w->nfp; k++)
+                hs_profile_mean(&c->prof, HS_SRC_MD, 0, w->fx[k] - a, w->fx[k] + a,
+                                &w->fs[w->ns * w->nfp + k]);
             w->ns++;
         }
         double xf = front_x(fr, hs->time);
@@ -262,6 +269,74 @@ static int wave_output(void *state, struct sim *s, unsigned due, struct err *e)
     return rc;
 }
 
+/* The threshold-free front speed in the MD (analysis/wave_front.h):
+ * sigma_xx of MD slabs 2a thick every a/2 between the two MD probes, the
+ * time each first reaches f = 0.1/0.2/0.5 of its own peak, fitted over the
+ * slabs.  Each slab's peak is taken before the wave reflected at the x_lo
+ * face can return (at 1.15 times the faster of the two speeds).  The
+ * lateral faces are periodic (MD) and sliding (MPM): uniaxial strain, no
+ * free lateral surface, so the front is longitudinal and no bar speed
+ * applies. */
+static void front_fit_report(const struct wave_case *w, struct result *res)
+{
+    const struct front *fr = &w->fr;
+    const int np = w->nfp;
+    double *x = malloc((size_t)(np ? np : 1) * 2 * sizeof *x);
+    if (!x)
+        return;
+    double *tmax = x + (np ? np : 1);
+    double cmax = 1.15 * fmax(fr->c_mpm, fr->c_md);
+    double t_lo = (fr->L - fr->xr) / fr->c_mpm + (fr->xr - fr->xl) / fr->c_md + fr->xl / fr->c_mpm;
+    for (int k = 0; k < np; k++) {
+        x[k] = fr->L - w->fx[k];   /* distance from the loaded end: the front moves to -x */
+        tmax[k] = t_lo + w->fx[k] / cmax;
+    }
+    /* the step's sign is the traction's: measure +sigma_xx for tension,
+     * -sigma_xx for compression */
+    double sgn = w->traction < 0 ? -1.0 : 1.0;
+    size_t nv = (size_t)(w->ns ? w->ns : 1) * (size_t)(np ? np : 1);
+    double *sig = malloc(nv * sizeof *sig);
+    if (!sig) {
+        free(x);
+        return;
+    }
+    for (long j = 0; j < w->ns * np; j++)
+        sig[j] = sgn * w->fs[j];
+    struct wave_front_result r;
+    /* a step: its peak is the largest value of the window */
+    wave_front_measure(w->ts, w->ns, sig, np, x, tmax, 0.0, &r);
+    free(sig);
+    const double ms = UNITS_APS_TO_MS;
+    result_metric(res, "wave_speed", r.speed * ms, "m/s");
+    result_metric(res, "wave_speed_fit", r.speed_fit * ms, "m/s");
+    result_metric(res, "wave_speed_stderr", r.stderr_ * ms, "m/s");
+    result_metric(res, "wave_speed_spread", r.spread, "1");
+    result_metric(res, "wave_speed_flag", (double)r.flag, "1");
+    result_metric(res, "wave_speed_probes", (double)r.fit[WAVE_FRONT_PRIMARY].nprobes, "1");
+    result_metric(res, "wave_speed_error", (r.speed_fit - fr->c_mpm) / fr->c_mpm, "1");
+    double v[WAVE_FRONT_NFRAC];
+    for (int q = 0; q < WAVE_FRONT_NFRAC; q++)
+        v[q] = r.fit[q].speed * ms;
+    result_series(res, "front_fractions", wave_front_fractions, WAVE_FRONT_NFRAC, "1");
+    result_series(res, "wave_speed_fractions", v, WAVE_FRONT_NFRAC, "m/s");
+    /* the two MD probes, each at half its own peak */
+    double *p12 = malloc((size_t)(w->ns ? w->ns : 1) * 2 * sizeof *p12), va = NAN;
+    if (p12) {
+        double *p1 = p12, *p2 = p12 + (w->ns ? w->ns : 1);
+        for (long j = 0; j < w->ns; j++) {
+            p1[j] = sgn * w->ts[w->nsamp + j];
+            p2[j] = sgn * w->ts[2 * w->nsamp + j];
+        }
+        va = wave_front_arrival_speed(w->ts, w->ns, p1, t_lo + w->px[0] / cmax, p2,
+                                      t_lo + w->px[1] / cmax, 0.0, w->px[0] - w->px[1], 0.5, NULL,
+                                      NULL);
+        free(p12);
+    }
+    result_metric(res, "wave_speed_arrival", va * ms, "m/s");
+    result_metric(res, "longitudinal_speed", fr->c_md * ms, "m/s");
+    free(x);
+}
+
 static int wave_report(void *state, struct sim *s, int run_rc, struct err *e)
 {
     struct wave_case *w = state;
@@ -289,6 +364,7 @@ static int wave_report(void *state, struct sim *s, int run_rc, struct err *e)
     result_metric(res, "front_speed_mpm", cmpm * UNITS_APS_TO_MS, "m/s");
     result_metric(res, "arrival_md1", t1, "ps");
     result_metric(res, "arrival_md2", t2, "ps");
+    front_fit_report(w, res);
     double jr = fabs(avg_mean(&av[W_SXX_MD_R]) - avg_mean(&av[W_SXX_MPM_R]));
     double jl = fabs(avg_mean(&av[W_SXX_MD_L]) - avg_mean(&av[W_SXX_MPM_L]));
     double jump = isfinite(jl) ? fmax(jr, jl) : jr;
@@ -333,6 +409,7 @@ static int wave_checkpoint_write(void *state, struct ckpt *ck, struct err *e)
     if (!rc) rc = ckpt_put_doubles(ck, "probe_now", w->probe_now, 4);
     if (!rc) rc = ckpt_put_long(ck, "samples", w->ns);
     if (!rc) rc = ckpt_put_doubles(ck, "sample_time", w->ts, w->ns);
+    if (!rc) rc = ckpt_put_doubles(ck, "sample_front", w->fs, w->ns * w->nfp);
     for (int k = 0; !rc && k < 4; k++) {
         char name[32];
         snprintf(name, sizeof name, "sample_probe%d", k + 1);
@@ -359,6 +436,7 @@ static int wave_checkpoint_read(void *state, struct ckpt *ck, struct err *e)
         w->ns = ns;
         rc = ckpt_get_doubles(ck, "sample_time", w->ts, ns);
     }
+    if (!rc) rc = ckpt_get_doubles(ck, "sample_front", w->fs, ns * w->nfp);
     for (int k = 0; !rc && k < 4; k++) {
         char name[32];
         snprintf(name, sizeof name, "sample_probe%d", k + 1);
@@ -396,16 +474,24 @@ static int wave_run(void *state, struct run *run, struct err *e)
     memcpy(w->px, px, sizeof px);
     w->nsamp = c->steps / w->probe_every + 2;
     w->ts = malloc((size_t)w->nsamp * 5 * sizeof *w->ts);
-    if (!w->ts)
+    w->nfp = (int)floor((px[0] - px[1]) / (0.5 * a)) + 1;
+    w->fx = malloc((size_t)w->nfp * sizeof *w->fx);
+    w->fs = malloc((size_t)w->nsamp * w->nfp * sizeof *w->fs);
+    if (!w->ts || !w->fx || !w->fs)
         return err_nomem(e, "probe series");
+    for (int k = 0; k < w->nfp; k++)
+        w->fx[k] = px[0] - 0.5 * a * k;
     return hs_case_run(c, run, &wave_ops, w, e);
 }
 
 static void wave_destroy(void *state)
 {
     struct wave_case *w = state;
-    if (w)
+    if (w) {
         free(w->ts);
+        free(w->fx);
+        free(w->fs);
+    }
     hs_case_destroy(state);
 }
 

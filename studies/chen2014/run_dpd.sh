@@ -24,6 +24,6 @@ metric() { # metric RESULT NAME
     tr -d ' \n' < "$1" | grep -o "\"$2\":{[^}]*}" | grep -o '"value":[-0-9.eE+null]*' | cut -d: -f2
 }
 echo
-echo "wave speed:  $(metric "$OUT/impact/result.json" wave_speed) m/s (Chen et al. 2014: about 3846 m/s)"
+echo "wave speed:  front fit $(metric "$OUT/impact/result.json" wave_speed_fit) m/s (spread $(metric "$OUT/impact/result.json" wave_speed_spread)), fixed 0.01 Å threshold $(metric "$OUT/impact/result.json" wave_speed_threshold) m/s (Chen et al. 2014: about 3846 m/s)"
 echo "DPDE energy: max |E - E0| / |E0| = $(metric "$OUT/impact/result.json" energy_deviation_max)"
 echo "peak stress: $(metric "$OUT/tensile/result.json" peak_stress) GPa at strain $(metric "$OUT/tensile/result.json" strain_at_peak)"

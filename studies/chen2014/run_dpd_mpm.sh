@@ -40,10 +40,10 @@ echo "== concurrent DPD/MPM impact, cell 4 Å"
 echo
 for h in $CELLS; do
     r=$OUT/grid_impact_$h/result.json
-    echo "grid $h Å: wave speed $(metric "$r" wave_speed) m/s, energy deviation $(metric "$r" energy_deviation_max), grid heat $(metric "$r" heat_grid) eV"
+    echo "grid $h Å: wave speed (front fit) $(metric "$r" wave_speed_fit) m/s, spread $(metric "$r" wave_speed_spread), 0.01 Å threshold $(metric "$r" wave_speed_threshold) m/s, energy deviation $(metric "$r" energy_deviation_max), grid heat $(metric "$r" heat_grid) eV"
     [ "$TENSILE" = 1 ] && echo "          peak stress $(metric "$OUT/grid_tensile_$h/result.json" peak_stress) GPa"
 done
-[ -f "$OUT/impact/result.json" ] && echo "DPD-only:  wave speed $(metric "$OUT/impact/result.json" wave_speed) m/s"
+[ -f "$OUT/impact/result.json" ] && echo "DPD-only:  wave speed (front fit) $(metric "$OUT/impact/result.json" wave_speed_fit) m/s"
 [ -f "$OUT/tensile/result.json" ] && [ "$TENSILE" = 1 ] && echo "DPD-only:  peak stress $(metric "$OUT/tensile/result.json" peak_stress) GPa"
 r=$OUT/concurrent/result.json
-echo "concurrent: wave speed $(metric "$r" wave_speed) m/s, reflection ratio $(metric "$r" reflection_ratio) (reflected / incident particle velocity), transmission $(metric "$r" transmission_ratio)"
+echo "concurrent: wave speed (front fit) $(metric "$r" wave_speed_fit) m/s, spread $(metric "$r" wave_speed_spread), 0.01 Å threshold $(metric "$r" wave_speed_threshold) m/s, reflection ratio $(metric "$r" reflection_ratio) (reflected / incident particle velocity), transmission $(metric "$r" transmission_ratio)"
