@@ -7,7 +7,7 @@
 size_t halo_record_size(const struct particles *p)
 {
     size_t n = (3 + 3 + 3 + 1 + 6) * sizeof(double) + sizeof(int) + sizeof(int64_t) +
-               sizeof(uint32_t) + 3 * sizeof(int);
+               sizeof(uint32_t) + 3 * sizeof(int) + 3 * sizeof(int);
     for (int k = 0; k < p->nfields; k++)
         n += (size_t)p->fields[k].ncomp * sizeof(double);
     return n;
@@ -38,6 +38,15 @@ void halo_pack(const struct particles *p, int i, int dim, double shift, unsigned
     PUT(p->id + i, sizeof(int64_t));
     PUT(p->mask + i, sizeof(uint32_t));
     PUT(p->image + 3 * (size_t)i, 3 * sizeof(int));
+    /* box lengths the copy is shifted by from its owner: the DPD pair keys
+     * (dpd/dpd_pair.h) tell periodic images of one pair apart with it */
+    int gs[3] = {0, 0, 0};   /* an owned particle is its own copy (its slot may hold a
+                              * stale ghost's count: a checkpoint read refills slots) */
+    if (i >= p->n_owned)
+        memcpy(gs, p->gshift + 3 * (size_t)i, sizeof gs);
+    if (dim >= 0 && shift != 0)
+        gs[dim] += shift > 0 ? 1 : -1;
+    PUT(gs, sizeof gs);
     for (int k = 0; k < p->nfields; k++) {
         size_t nc = (size_t)p->fields[k].ncomp;
         PUT(p->fields[k].data + nc * i, nc * sizeof(double));
@@ -55,10 +64,10 @@ void halo_unpack(struct particles *p, int i, const unsigned char *buf)
     GET(p->id + i, sizeof(int64_t));
     GET(p->mask + i, sizeof(uint32_t));
     GET(p->image + 3 * (size_t)i, 3 * sizeof(int));
+    GET(p->gshift + 3 * (size_t)i, 3 * sizeof(int));
     for (int k = 0; k < p->nfields; k++) {
         size_t nc = (size_t)p->fields[k].ncomp;
         GET(p->fields[k].data + nc * i, nc * sizeof(double));
     }
     p->origin[i] = i;
-    p->gshift[3 * (size_t)i] = p->gshift[3 * (size_t)i + 1] = p->gshift[3 * (size_t)i + 2] = 0;
 }

@@ -7,6 +7,7 @@
 
 #include "core/domain.h"
 #include "core/ghost.h"
+#include "core/halo.h"
 #include "core/units.h"
 #include "dpd/cg_lattice.h"
 #include "dpd/dpd_pair.h"
@@ -74,6 +75,8 @@ static int rebuild(struct dpd *d, struct err *e)
 {
     struct particles *p = d->p;
     double range = list_cutoff(d) + d->skin;
+    if (d->set.sweep_cells || p->halo)   /* the cell sweep's anchors reach half a cell past the brick */
+        range = fmax(range, dpd_sweep_cells_range(&d->box, d->set.cutoff, d->skin));
     int rc = domain_rebuild(p, &d->box, range, d->sort_every > 0 && d->nrebuilds % d->sort_every == 0,
                             d->timers, e);
     if (!rc)
@@ -89,7 +92,10 @@ static int refresh_neighbours(struct dpd *d, struct err *e)
 {
     tstart(d, TIMER_NEIGHBOR);
     int rc = 0;
-    if (d->rebuild_next || nlist_needs_rebuild(d->nl, d->p)) {
+    int need = d->rebuild_next || nlist_needs_rebuild(d->nl, d->p);
+    if (d->p->halo)   /* every rank rebuilds when one needs it */
+        need = halo_any(d->p->halo, need);
+    if (need) {
         d->rebuild_next = 0;
         rc = rebuild(d, e);
         tstop(d, TIMER_NEIGHBOR);
@@ -251,7 +257,7 @@ int dpd_step_sweep_drift(struct dpd *d, struct err *e)
     memset(d->body_impulse, 0, sizeof d->body_impulse);
     if (d->set.gamma > 0) {
         tstart(d, TIMER_DPD_SWEEP);
-        rc = dpd_sweep(d, e);
+        rc = d->set.sweep_cells || d->p->halo ? dpd_sweep_cells(d, e) : dpd_sweep(d, e);
         sync_bodies(d);
         tstop(d, TIMER_DPD_SWEEP);
         if (rc)
@@ -311,6 +317,8 @@ double dpd_kinetic_energy(const struct dpd *d)
         const double *v = p->v + 3 * i;
         ke += p->mass[p->type[i]] * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
     }
+    if (p->halo)
+        halo_sum(p->halo, &ke, 1);
     return 0.5 * ke * UNITS_MVV2E;
 }
 
@@ -326,6 +334,12 @@ double dpd_temperature(const struct dpd *d)
         ke += p->mass[p->type[i]] * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
         n++;
     }
+    if (p->halo) {
+        double s[2] = {ke, (double)n};
+        halo_sum(p->halo, s, 2);
+        ke = s[0];
+        n = (long)s[1];
+    }
     double dof = n > 1 ? 3.0 * n - 3.0 : 3.0 * n;
     return dof > 0 ? ke * UNITS_MVV2E / (dof * UNITS_KB) : 0.0;
 }
@@ -338,6 +352,8 @@ double dpd_internal_energy(const struct dpd *d)
     double s = 0;
     for (int i = 0; i < d->p->n_owned; i++)
         s += u[i];
+    if (d->p->halo)
+        halo_sum(d->p->halo, &s, 1);
     return s;
 }
 
@@ -348,12 +364,16 @@ void dpd_momentum(const struct dpd *d, double P[3])
     for (int i = 0; i < p->n_owned; i++)
         for (int c = 0; c < 3; c++)
             P[c] += p->mass[p->type[i]] * p->v[3 * i + c];
+    if (p->halo)
+        halo_sum(p->halo, P, 3);
 }
 
 void dpd_pressure_tensor(const struct dpd *d, double P[6])
 {
     double k[6];
     particles_kinetic_tensor(d->p, k);
+    if (d->p->halo)
+        halo_sum(d->p->halo, k, 6);
     double V = box_volume(&d->box);
     for (int c = 0; c < 6; c++)
         P[c] = (k[c] + d->virial[c]) / V;
@@ -366,6 +386,11 @@ double dpd_timestep_limit(const struct cg_params *prm)
         return INFINITY;
     double wE = sqrt(k * UNITS_FTM2V / prm->mass);
     return sqrt(2.0) / wE;
+}
+
+long dpd_nparticles(const struct dpd *d)
+{
+    return d->p->halo ? d->p->halo->natoms : d->p->n_owned;
 }
 
 static int cmp_order_key(const void *a, const void *b)

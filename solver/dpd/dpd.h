@@ -66,6 +66,8 @@ struct dpd_settings {
     double temperature;    /* K: T0, the bath (DPD) or reference (DPDE) temperature */
     double cutoff;         /* Å: r_d of the weight functions */
     double heat_capacity;  /* kB per particle: internal heat capacity C_v (DPDE) */
+    int sweep_cells;       /* sweep the pairs in cell-colour order (dpd_sweep_cells.c), the
+                            * same on any rank count; always on bricks (else list order) */
 };
 
 #define DPD_MAX_BODIES 4
@@ -194,7 +196,8 @@ int dpd_step_forces(struct dpd *d, struct err *e);
  * forces of the step; d->step and d->time advance. */
 void dpd_step_kick(struct dpd *d);
 
-/* Observables of the owned particles (rigid-body particles included). */
+/* Observables of the owned particles (rigid-body particles included);
+ * on bricks (p->halo) summed over the ranks, the same on every rank. */
 double dpd_kinetic_energy(const struct dpd *d);        /* eV */
 double dpd_temperature(const struct dpd *d);           /* K: free particles, 3N - 3 dof */
 double dpd_internal_energy(const struct dpd *d);       /* eV: sum of u_i (0 for DPD) */
@@ -204,5 +207,13 @@ void dpd_pressure_tensor(const struct dpd *d, double P[6]);   /* eV/Å^3, box vo
 /* Largest stable time step estimate: sqrt(2) / omega_E of the perfect
  * crystal at the parameters' lattice constant (ps). */
 double dpd_timestep_limit(const struct cg_params *prm);
+
+/* The ghost range (Å) the cell-ordered sweep needs in this box for pairs
+ * within r_d: half a cell (cells at least r_d wide, dpd_sweep_cells.c)
+ * plus r_d plus the skin; 0 when a periodic axis is shorter than 3 r_d. */
+double dpd_sweep_cells_range(const struct box *box, double rd, double skin);
+
+/* Particles of all ranks (p->n_owned without bricks). */
+long dpd_nparticles(const struct dpd *d);
 
 #endif

@@ -13,6 +13,7 @@
 #include <string.h>
 
 #include "core/ghost.h"
+#include "core/halo.h"
 #include "core/sc_density.h"
 #include "dpd/dpd_pair.h"
 
@@ -171,6 +172,13 @@ int dpd_conservative(struct dpd *d, struct err *e)
         d->epot += esum[t];
         for (int c = 0; c < 6; c++)
             d->virial[c] += wsum[t][c];
+    }
+    if (p->halo) {   /* this brick's share -> totals */
+        double ev[7] = {d->epot, d->virial[0], d->virial[1], d->virial[2],
+                        d->virial[3], d->virial[4], d->virial[5]};
+        halo_sum(p->halo, ev, 7);
+        d->epot = ev[0];
+        memcpy(d->virial, ev + 1, sizeof d->virial);
     }
     return 0;
 }

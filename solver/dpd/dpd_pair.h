@@ -60,6 +60,40 @@ static inline uint64_t dpd_pair_key(const struct dpd *d, int site, int i, int j)
                    ((uint64_t)b << 30) ^ code);
 }
 
+/* The same key for a pair of any two local copies a and b (owned or
+ * ghost, as the cell-coloured sweep meets them: dpd_sweep_cells.c): the
+ * periodic copy is counted from both ends, (gshift_b - image_b) -
+ * (gshift_a - image_a), which is dpd_pair_key's count when a is owned
+ * (gshift 0; a ghost carries its owner's image counts). */
+static inline int dpd_copy_shift(const struct particles *p, int i, int k)
+{
+    /* an owned particle is its own copy; its slot's gshift may be a stale
+     * ghost's (a checkpoint read refills the slots) */
+    return i < p->n_owned ? 0 : p->gshift[3 * i + k];
+}
+
+static inline uint64_t dpd_pair_key_ab(const struct dpd *d, int site, int a, int b)
+{
+    const struct particles *p = d->p;
+    int64_t ia = p->id[a], ib = p->id[b];
+    int s[3];
+    for (int k = 0; k < 3; k++)
+        s[k] = (dpd_copy_shift(p, b, k) - p->image[3 * b + k]) -
+               (dpd_copy_shift(p, a, k) - p->image[3 * a + k]);
+    if (ia > ib) {
+        int64_t t = ia;
+        ia = ib;
+        ib = t;
+        for (int k = 0; k < 3; k++)
+            s[k] = -s[k];
+    }
+    uint64_t code = 0;
+    for (int k = 0; k < 3; k++)
+        code = (code << 10) | (uint64_t)((s[k] + 512) & 1023);
+    return rng_key(d->seed, (uint64_t)site, (uint64_t)d->step, (uint64_t)ia,
+                   ((uint64_t)ib << 30) ^ code);
+}
+
 /* DPDE: 1 / Theta_ij = (1/theta_i + 1/theta_j) / 2, theta = u / (C_v kB). */
 static inline double dpd_pair_temperature(const struct dpd *d, const double *u, int oi, int oj)
 {
@@ -72,8 +106,12 @@ static inline double dpd_pair_temperature(const struct dpd *d, const double *u, 
     return 2.0 / (1.0 / ti + 1.0 / tj);
 }
 
-/* The pair sweep of one step (dpd_sweep.c). */
+/* The pair sweep of one step (dpd_sweep.c): pairs in neighbour-list order. */
 int dpd_sweep(struct dpd *d, struct err *e);
+/* The pair sweep in cell-colour order (dpd_sweep_cells.c): the same result
+ * on any number of bricks. */
+int dpd_sweep_cells(struct dpd *d, struct err *e);
+
 
 /* The conservative kernel at the current positions, ghosts and list
  * (dpd_conservative.c): p->f, d->epot, d->virial, per-particle pe/virial

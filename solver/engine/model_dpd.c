@@ -27,6 +27,7 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "core/halo.h"
 #include "engine/models.h"
 
 static int dpd_model_init(void *self, struct sim *s, struct err *e)
@@ -42,6 +43,9 @@ static int dpd_model_pre_force(void *self, struct sim *s, struct err *e)
     struct dpd_model *m = self;
     if (m->snapshots)
         m->d->peratom = s->peratom;
+    if (m->sync_rc)
+        return err_set(e, m->sync_rc, "the particles could not be redistributed over the "
+                                      "bricks after a checkpoint");
     return dpd_step_sweep_drift(m->d, e);
 }
 
@@ -75,7 +79,8 @@ static void dpd_model_observe(void *self, const struct sim *s, struct sim_energy
         prescribed |= d->body[b].kind == DPD_BODY_PRESCRIBED;
     en->conserved = d->set.variant == DPD_ENERGY && d->thermo.style == THERMOSTAT_NONE &&
                     !prescribed;
-    en->scale = d->p->n_owned > 0 ? d->p->n_owned : 1;
+    long n = dpd_nparticles(d);
+    en->scale = n > 0 ? (double)n : 1;
     en->limit = 0;
     en->limit_key = NULL;
     en->unit = "eV/particle";
@@ -105,8 +110,17 @@ static int dpd_model_checkpoint_write(void *self, struct ckpt *ck, struct err *e
     if (!rc) rc = ckpt_put_doubles(ck, "body_velocity", bv, 3 * d->nbodies);
     if (!rc) rc = ckpt_put_doubles(ck, "body_force", bf, 3 * d->nbodies);
     if (!rc) rc = ckpt_put_box(ck, box, &d->box);
-    if (!rc) rc = ckpt_put_particles(ck, parts, d->p);
+    /* bricks: the particles of every rank, gathered in id order */
+    if (!rc) rc = ckpt_put_particles(ck, parts, m->gathered ? m->gathered : d->p);
+    particles_destroy(&m->gathered);
     return rc;
+}
+
+static int dpd_model_checkpoint_collect(void *self, struct err *e)
+{
+    struct dpd_model *m = self;
+    particles_destroy(&m->gathered);
+    return m->d->p->halo ? halo_gather(m->d->p->halo, m->d->p, &m->gathered, e) : 0;
 }
 
 static int dpd_model_checkpoint_read(void *self, struct ckpt *ck, struct err *e)
@@ -137,6 +151,9 @@ static int dpd_model_checkpoint_read(void *self, struct ckpt *ck, struct err *e)
         }
     if (!rc) rc = ckpt_get_box(ck, box, &d->box);
     if (!rc) rc = ckpt_get_particles(ck, parts, d->p);
+    /* bricks: every rank read every particle; the sync keeps its brick's */
+    if (!rc && d->p->halo)
+        m->read_all = 1;
     return rc;
 }
 
@@ -145,7 +162,29 @@ static int dpd_model_checkpoint_read(void *self, struct ckpt *ck, struct err *e)
 static void dpd_model_checkpoint_sync(void *self)
 {
     struct dpd_model *m = self;
-    m->d->rebuild_next = 1;
+    struct dpd *d = m->d;
+    d->rebuild_next = 1;
+    struct halo *h = d->p->halo;
+    if (!h)
+        return;
+    /* bricks: the same particles in the same order in the continuing and
+     * the restarted run (an error is reported by the next step) */
+    struct err e = {0};
+    struct particles *p = d->p;
+    particles_clear_ghosts(p);
+    int rc = 0;
+    if (m->read_all) {
+        decomp_set_box(&h->dc, &d->box);
+        rc = halo_distribute(h, p, &e);
+    }
+    if (!rc)
+        rc = halo_remap(h, &d->box, p, 0, &e);
+    if (!rc)
+        rc = halo_migrate(h, p, &e);
+    if (!rc)
+        rc = halo_sort_by_id(p, &e);
+    m->read_all = 0;
+    m->sync_rc = rc;
 }
 
 const struct sim_model_ops sim_model_dpd = {
@@ -158,6 +197,7 @@ const struct sim_model_ops sim_model_dpd = {
     .checkpoint_write = dpd_model_checkpoint_write,
     .checkpoint_read = dpd_model_checkpoint_read,
     .checkpoint_sync = dpd_model_checkpoint_sync,
+    .checkpoint_collect = dpd_model_checkpoint_collect,
 };
 
 const struct sim_model_ops sim_model_dpd_ref = {
@@ -170,4 +210,5 @@ const struct sim_model_ops sim_model_dpd_ref = {
     .checkpoint_write = dpd_model_checkpoint_write,
     .checkpoint_read = dpd_model_checkpoint_read,
     .checkpoint_sync = dpd_model_checkpoint_sync,
+    .checkpoint_collect = dpd_model_checkpoint_collect,
 };

@@ -69,6 +69,9 @@ double mpm_model_timestep(const struct mpm_model *mm);
 struct dpd_model {
     struct dpd *d;              /* borrowed from the case */
     int snapshots;              /* 1: per-particle energies when a snapshot is due */
+    struct particles *gathered; /* bricks: all particles on rank 0 for a checkpoint */
+    int read_all;               /* bricks: a checkpoint read put every particle on every rank */
+    int sync_rc;                /* bricks: the redistribution after a checkpoint failed */
 };
 extern const struct sim_model_ops sim_model_dpd;
 extern const struct sim_model_ops sim_model_dpd_ref;

@@ -4,6 +4,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/halo.h"
 #include "core/units.h"
 #include "output/xyz_write.h"
 #include "util/mem.h"
@@ -119,12 +120,25 @@ int dpd_output_step(struct dpd_output *o, struct run *run, struct dpd *d, long t
     timer_start(&run->timers, TIMER_OUTPUT);
     if (run_due(s, total, run->out.thermo_every))
         rc = thermo_row(o, run, d);
-    if (!rc && run_due(s, total, run->out.snapshot_every))
-        rc = dpd_output_snapshot(o, run, d);
-    if (!rc && run->xyz && run->out.xyz_every > 0 && s % run->out.xyz_every == 0)
-        rc = xyz_write_frame(run->xyz, d->p, &d->box, s, d->time, NULL)
+    int snap = run_due(s, total, run->out.snapshot_every);
+    int frame = run->out.xyz_every > 0 && s % run->out.xyz_every == 0;
+    /* bricks: every rank's particles gathered on rank 0 in id order and
+     * written there as a serial run writes its own (every rank gathers) */
+    struct particles *all = NULL;
+    struct dpd view = *d;
+    if (!rc && d->p->halo && ((snap && run->out.hdf5) || frame)) {
+        struct err e = {0};
+        rc = halo_gather(d->p->halo, d->p, &all, &e);
+        view.p = all;
+    }
+    int here = !d->p->halo || all;   /* the rank that holds what is written */
+    if (!rc && here && snap)
+        rc = dpd_output_snapshot(o, run, &view);
+    if (!rc && here && run->xyz && frame)
+        rc = xyz_write_frame(run->xyz, view.p, &d->box, s, d->time, NULL)
                  ? ERR_RUNTIME
                  : run_xyz_frame_done(run, NULL);
+    particles_destroy(&all);
     timer_stop(&run->timers, TIMER_OUTPUT);
     return rc;
 }

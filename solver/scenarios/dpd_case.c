@@ -20,14 +20,19 @@
 #include <stdlib.h>
 
 #include "analysis/block_average.h"
+#include "core/halo.h"
+#include "core/parallel.h"
 #include "core/units.h"
 #include "engine/models.h"
+#include "md/md_bricks.h"
+#include "output/decomp_record.h"
 #include "output/dpd_output.h"
 #include "scenarios/dpd_setup.h"
 #include "input/md_system.h"
 
 struct dpd_case {
     struct dpd d;
+    struct halo *halo;           /* bricks (owned), or NULL */
     struct dpd_model model;
     long steps;
     /* the run's accumulators (checkpointed) */
@@ -38,6 +43,34 @@ struct dpd_case {
     double *restored_rows;       /* thermo rows read from a checkpoint */
     long nrestored;
 };
+
+static void dpd_case_free_halo(struct dpd_case *c)
+{
+    if (c->halo)
+        halo_free(c->halo);
+    free(c->halo);
+    c->halo = NULL;
+}
+
+/* The decomposition of the run: the ghost shell covers the list (cutoff +
+ * skin) and the cell sweep's reach (dpd_sweep_cells_range). */
+static int dpd_bricks(const struct dpd_input *in, const struct box *box, struct particles *p,
+                      const struct case_common *common, struct cfg *cfg, struct halo **out)
+{
+    double rd = in->set.cutoff, sweep = dpd_sweep_cells_range(box, rd, in->skin);
+    double range = fmax(fmax(in->prm.sc.rc, rd) + in->skin, sweep);
+    int rc = md_bricks_plan(common->par, &common->parallel, box, range, cfg, out);
+    if (rc || !*out)
+        return rc;
+    if (!(sweep > 0))
+        return cfg_error_at(cfg, "parallel", "the DPD sweep on bricks needs every periodic axis "
+                                             "at least 3 r_d = %g Å long: run without mpirun, or "
+                                             "with decomposition: replicated",
+                            3 * rd);
+    p->halo = *out;
+    p->par = NULL;   /* no replicated sums: each rank owns its brick */
+    return halo_distribute(*out, p, cfg->err);
+}
 
 static int dpd_case_read(struct cfg_obj *root, const struct case_common *common, void **state)
 {
@@ -59,14 +92,20 @@ static int dpd_case_read(struct cfg_obj *root, const struct case_common *common,
     }
     c->steps = in.steps;
     rc = dpd_init_velocities(&in, p, common, root->cfg->err);
+    /* under mpirun: bricks, each rank keeping its brick's particles (the
+     * velocities were drawn over all of them first) */
+    if (!rc)
+        rc = dpd_bricks(&in, &box, p, common, root->cfg, &c->halo);
     if (rc) {
         particles_destroy(&p);
+        dpd_case_free_halo(c);
         free(c);
         return rc;
     }
     rc = dpd_build(&in, p, &box, common, root->cfg->err, &c->d);
     if (rc) {
         dpd_free(&c->d);
+        dpd_case_free_halo(c);
         free(c);
         return rc;
     }
@@ -122,7 +161,7 @@ static int dpd_case_report(void *state, struct sim *s, int run_rc, struct err *e
     struct dpd_case *c = state;
     struct dpd *d = &c->d;
     struct result *res = &s->run->result;
-    long n = d->p->n_owned, ns = c->ns;
+    long n = dpd_nparticles(d), ns = c->ns;
     double e0 = s->e0[0].total;
     double ke = dpd_kinetic_energy(d), u = dpd_internal_energy(d), P[6], mom[3];
     double et = d->epot + ke + u;
@@ -147,9 +186,18 @@ static int dpd_case_report(void *state, struct sim *s, int run_rc, struct err *e
     result_metric(res, "momentum", sqrt(mom[0] * mom[0] + mom[1] * mom[1] + mom[2] * mom[2]),
                   "amu Å/ps");
     result_metric(res, "neighbor_rebuilds", (double)d->nrebuilds, "1");
+    if (c->halo)
+        decomp_record_write(s->run, c->halo, d->p);
     int rc = dpd_output_end(&c->out, s->run, e);
-    if (!run_rc && !rc)
-        rc = run_write_final_state(s->run, d->p, &d->box, d->step, d->time, e);
+    if (!run_rc && !rc) {
+        /* bricks: every rank's particles, gathered on rank 0 in id order */
+        struct particles *all = NULL;
+        if (c->halo)
+            rc = halo_gather(c->halo, d->p, &all, e);
+        if (!rc && (!c->halo || all))   /* bricks: rank 0 writes */
+            rc = run_write_final_state(s->run, all ? all : d->p, &d->box, d->step, d->time, e);
+        particles_destroy(&all);
+    }
     return rc;
 }
 
@@ -199,7 +247,7 @@ static int dpd_case_run(void *state, struct run *run, struct err *e)
     c->tlate = malloc((size_t)(c->nlate > 0 ? c->nlate : 1) * sizeof *c->tlate);
     if (!c->plate || !c->tlate)
         return err_nomem(e, "samples");
-    c->model = (struct dpd_model){d, 1};
+    c->model = (struct dpd_model){.d = d, .snapshots = 1};
     struct sim s;
     sim_init(&s, run, c->steps, d->dt);
     s.case_ops = &dpd_case_ops;
@@ -213,7 +261,9 @@ static void dpd_case_destroy(void *state)
     struct dpd_case *c = state;
     if (!c)
         return;
+    particles_destroy(&c->model.gathered);
     dpd_free(&c->d);
+    dpd_case_free_halo(c);
     free(c->plate);
     free(c->tlate);
     free(c->restored_rows);
@@ -223,7 +273,7 @@ static void dpd_case_destroy(void *state)
 static long dpd_case_particles(const void *state)
 {
     const struct dpd_case *c = state;
-    return c->d.p ? c->d.p->n_owned : 0;
+    return c->d.p ? dpd_nparticles(&c->d) : 0;
 }
 
 static long dpd_case_steps(const void *state)
@@ -236,4 +286,5 @@ const struct case_type dpd_case_type = {
     "dpd", "DPD or DPDE dynamics of one configuration (equilibration, isotherm points)",
     dpd_case_read, dpd_case_run, dpd_case_destroy, dpd_case_particles, dpd_case_steps,
     .checkpoints = 1,
+    .decomposes = 1,
 };

@@ -537,8 +537,8 @@ static int impact_run(void *state, struct run *run, struct err *e)
             c->prof[q * nbins + b] = NAN;
     }
     /* the reference run keeps no per-particle energies (it is not written) */
-    c->model[0] = (struct dpd_model){d, 1};
-    c->model[1] = (struct dpd_model){&c->ref, 0};
+    c->model[0] = (struct dpd_model){.d = d, .snapshots = 1};
+    c->model[1] = (struct dpd_model){.d = &c->ref, .snapshots = 0};
     struct sim s;
     sim_init(&s, run, c->steps, d->dt);
     s.case_ops = &impact_ops;

@@ -25,8 +25,19 @@ int dpd_section_read(struct cfg_obj *root, enum dpd_variant default_variant,
         (rc = cfg_int(&o, "steps", 1000, CFG_GE(0), &in->steps)) ||
         (rc = cfg_real(&o, "skin", 1.0, CFG_GT(0), &in->skin)) ||
         (rc = cfg_real(&o, "initial_temperature", 0.0, CFG_GE(0), &in->t_init)) ||
-        (rc = cfg_section(&o, "thermostat", &to)) || (rc = thermostat_read(&to, &in->thermo)) ||
-        (rc = cfg_close(&o)))
+        (rc = cfg_section(&o, "thermostat", &to)) || (rc = thermostat_read(&to, &in->thermo)))
+        return rc;
+    /* optional without a default, so that job keys of cases without it do
+     * not change: absent means list order (cells on bricks) */
+    cfg_allow(&o, "sweep");
+    if (json_object_get(o.node, "sweep")) {
+        static const char *const sweep_names[] = {"list", "cells", NULL};
+        int sweep;
+        if ((rc = cfg_enum(&o, "sweep", "list", sweep_names, &sweep)))
+            return rc;
+        in->set.sweep_cells = sweep == 1;
+    }
+    if ((rc = cfg_close(&o)))
         return rc;
     in->set.variant = (enum dpd_variant)variant;
     char kp[CFG_PATH_MAX];

@@ -18,6 +18,10 @@
  *     steps: 1000
  *     skin: 1.0                    Å, neighbour-list skin
  *     initial_temperature: 0       K: Maxwell-Boltzmann velocities (0: keep the input's)
+ *     sweep: list                  order of the Shardlow pair sweep: list (neighbour-list
+ *                                  order) | cells (cell-colour order, the same on any
+ *                                  rank count: docs/dpd.md); absent: list, and cells
+ *                                  when the run is decomposed into bricks
  *     thermostat: {style: none | berendsen, temperature, tau}
  *                                  Berendsen rescaling on top of the DPD forces
  *                                  (the equilibration of Chen 2014, Sec. 4.1.1)

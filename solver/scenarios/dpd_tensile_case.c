@@ -140,7 +140,7 @@ static int tensile_run(void *state, struct run *run, struct err *e)
     int rc = dpd_tensile_curve_init(&c->cv, &c->t, e);
     if (rc)
         return rc;
-    c->model = (struct dpd_model){&c->d, 1};
+    c->model = (struct dpd_model){.d = &c->d, .snapshots = 1};
     struct sim s;
     sim_init(&s, run, c->t.steps, c->d.dt);
     s.case_ops = &tensile_ops;

@@ -19,7 +19,8 @@ void th_cg_params(struct cg_params *prm)
 
 struct dpd_settings th_dpd_settings(enum dpd_variant v, double gamma, double T)
 {
-    struct dpd_settings s = {v, gamma, T, 10.845, 21.0};
+    struct dpd_settings s = {.variant = v, .gamma = gamma, .temperature = T, .cutoff = 10.845,
+                             .heat_capacity = 21.0};
     return s;
 }
 

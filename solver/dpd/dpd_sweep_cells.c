@@ -1,0 +1,427 @@
+/*
+ * dpd_sweep_cells: the Shardlow pair sweep (dpd_sweep.c) in an order that
+ * does not depend on how the box is cut into bricks, so that a run on any
+ * number of MPI ranks makes the same pair updates as a serial one.
+ *
+ * The sweep is sequential: each pair's update sees the velocities the
+ * pairs before it left, so its result depends on the order.  The list-
+ * order sweep follows storage and list order, which a decomposition
+ * changes.  Here the order is fixed by the particles' positions and ids
+ * alone:
+ *
+ *   cells   the box is cut into n_x x n_y x n_z cells at least r_d wide
+ *           (n = floor(L / r_d), along a periodic axis rounded down to a
+ *           multiple of 3, at least 3); a particle's cell is computed by
+ *           its owner and copied to its ghosts, so every copy agrees;
+ *   pairs   a pair (r < r_d) belongs to the cell of its lower-id particle
+ *           (the anchor); its partner then lies in the anchor cell or one
+ *           of the 26 around it;
+ *   colours cell (cx, cy, cz) has colour (cx mod 3) + 3 (cy mod 3) +
+ *           9 (cz mod 3): two cells of one colour are three cells apart
+ *           along some axis, so the particles their pairs touch are
+ *           disjoint and their pairs commute;
+ *   order   colour 0, ..., 26 in turn; inside a cell the pairs in the
+ *           order of (anchor id, partner id, periodic image) -- the same
+ *           on any rank count.
+ *
+ * Under bricks a cell belongs to the rank whose brick holds its centre;
+ * that rank sweeps all of its pairs, on its own copies of the particles
+ * (owned or ghost: the ghost shell is widened by half a cell,
+ * dpd_sweep_cells_range).  After each colour the new velocities (and DPDE
+ * internal energies) go back to the owners -- exactly one copy of a
+ * particle was touched, so a reverse sum of (value, 1) from touched copies
+ * and zeros from the others hands the owner the new value bit for bit --
+ * and forward to every ghost.  This is the idea of the stencil colouring
+ * of LAMMPS' DPD-REACT (Larentzos et al., Comput. Phys. Commun. 185, 1987
+ * (2014)), whose eight sub-domain regions per rank make its order depend
+ * on the decomposition; a global 27-colour grid makes it not.
+ * Rigid bodies (whose shared velocity couples distant pairs) are refused.
+ */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "core/ghost.h"
+#include "core/halo.h"
+#include "dpd/dpd_pair.h"
+
+#define NCOLOURS 27
+
+struct cell_grid {
+    int n[3];
+    double lo[3], side[3], len[3];
+    int periodic[3];
+};
+
+/* 0, or -1 when a periodic axis is shorter than three cells of r_d. */
+static int grid_of(const struct box *box, double rd, struct cell_grid *g, int *bad_axis)
+{
+    for (int k = 0; k < 3; k++) {
+        double L = box_length(box, k);
+        g->lo[k] = box->lo[k];
+        g->len[k] = L;
+        g->periodic[k] = box->bc[k] == BOUNDARY_PERIODIC;
+        double q = rd > 0 ? floor(L / rd) : 1;
+        int n = q >= 1 ? (q > 4096 ? 4096 : (int)q) : 1;
+        if (g->periodic[k]) {
+            n -= n % 3;
+            if (n < 3) {
+                *bad_axis = k;
+                return -1;
+            }
+        }
+        g->n[k] = n;
+        g->side[k] = L > 0 ? L / n : 1.0;
+    }
+    return 0;
+}
+
+double dpd_sweep_cells_range(const struct box *box, double rd, double skin)
+{
+    struct cell_grid g;
+    int bad;
+    if (grid_of(box, rd, &g, &bad) != 0)
+        return 0;
+    double s = fmax(g.side[0], fmax(g.side[1], g.side[2]));
+    /* an anchor lies within half a cell (plus skin / 2 of drift) of a
+     * centre in the brick, its partner within r_d of it, and both moved
+     * up to skin / 2 since the ghosts were built */
+    return 0.5 * s + rd + skin;
+}
+
+static int cell_coord(const struct cell_grid *g, int k, double x)
+{
+    double q = floor((x - g->lo[k]) / g->side[k]);
+    if (!(q == q))
+        return 0;
+    if (g->periodic[k]) {
+        double m = fmod(q, (double)g->n[k]);
+        if (m < 0)
+            m += g->n[k];
+        return (int)m;
+    }
+    return q < 0 ? 0 : q >= g->n[k] ? g->n[k] - 1 : (int)q;
+}
+
+struct sweep_pair {
+    int64_t ida, idb;
+    long cell;
+    int colour;
+    uint32_t image;   /* the partner's periodic copy, as in the pair key */
+    int a, b;         /* local indices */
+};
+
+static int cmp_pair(const void *x, const void *y)
+{
+    const struct sweep_pair *p = x, *q = y;
+    if (p->colour != q->colour)
+        return p->colour < q->colour ? -1 : 1;
+    if (p->cell != q->cell)
+        return p->cell < q->cell ? -1 : 1;
+    if (p->ida != q->ida)
+        return p->ida < q->ida ? -1 : 1;
+    if (p->idb != q->idb)
+        return p->idb < q->idb ? -1 : 1;
+    return (p->image > q->image) - (p->image < q->image);
+}
+
+/* 1 when this rank sweeps cell c (its centre lies in the brick). */
+static int cell_is_mine(const struct particles *p, const struct cell_grid *g, const int c[3])
+{
+    if (!p->halo)
+        return 1;
+    for (int k = 0; k < 3; k++) {
+        double centre = g->lo[k] + (c[k] + 0.5) * g->side[k];
+        if (decomp_coord(&p->halo->dc, k, centre) != p->halo->dc.coords[k])
+            return 0;
+    }
+    return 1;
+}
+
+/* Local bins of width >= r_d over every copy (owned and ghost). */
+struct bins {
+    int n[3];
+    double lo[3], w[3];
+    int *head, *next;
+};
+
+static int bins_build(struct bins *b, const struct particles *p, int ntot, double rd,
+                      struct err *e)
+{
+    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    for (int i = 0; i < ntot; i++)
+        for (int k = 0; k < 3; k++) {
+            lo[k] = fmin(lo[k], p->x[3 * i + k]);
+            hi[k] = fmax(hi[k], p->x[3 * i + k]);
+        }
+    for (int k = 0; k < 3; k++) {
+        double ext = ntot ? hi[k] - lo[k] : 0;
+        double q = floor(ext / rd);
+        b->n[k] = q >= 1 ? (q > 1024 ? 1024 : (int)q) : 1;
+    }
+    /* a sparse set (a slab in a tall box) needs no more bins than copies:
+     * halve the longest axis' count (bins only get wider than r_d) */
+    while ((long)b->n[0] * b->n[1] * b->n[2] > 4L * ntot + 64) {
+        int k = b->n[0] >= b->n[1] && b->n[0] >= b->n[2] ? 0 : b->n[1] >= b->n[2] ? 1 : 2;
+        b->n[k] = (b->n[k] + 1) / 2;
+    }
+    long total = 1;
+    for (int k = 0; k < 3; k++) {
+        double ext = ntot ? hi[k] - lo[k] : 0;
+        b->lo[k] = ntot ? lo[k] : 0;
+        b->w[k] = ext > 0 ? ext / b->n[k] * (1 + 1e-12) : 1.0;
+        total *= b->n[k];
+    }
+    b->head = malloc((size_t)total * sizeof *b->head);
+    b->next = malloc((size_t)(ntot ? ntot : 1) * sizeof *b->next);
+    if (!b->head || !b->next)
+        return err_nomem(e, "DPD sweep bins");
+    for (long c = 0; c < total; c++)
+        b->head[c] = -1;
+    for (int i = ntot - 1; i >= 0; i--) {
+        long c = 0;
+        for (int k = 2; k >= 0; k--) {
+            int q = (int)((p->x[3 * i + k] - b->lo[k]) / b->w[k]);
+            q = q < 0 ? 0 : q >= b->n[k] ? b->n[k] - 1 : q;
+            c = c * b->n[k] + q;
+        }
+        b->next[i] = b->head[c];
+        b->head[c] = i;
+    }
+    return 0;
+}
+
+static void bins_free(struct bins *b)
+{
+    free(b->head);
+    free(b->next);
+}
+
+/* The pairs this rank sweeps, sorted. */
+static int collect_pairs(const struct dpd *d, const struct cell_grid *g, const double *cellf,
+                         struct sweep_pair **out, long *nout, struct err *e)
+{
+    const struct particles *p = d->p;
+    const int ntot = p->n_owned + p->n_ghost;
+    const double rd = d->set.cutoff, rd2 = rd * rd;
+    struct bins b = {0};
+    int rc = bins_build(&b, p, ntot, rd, e);
+    long n = 0, cap = 0;
+    struct sweep_pair *pairs = NULL;
+    for (int a = 0; !rc && a < ntot; a++) {
+        long cell = (long)cellf[a];
+        int c[3] = {(int)(cell % g->n[0]), (int)(cell / g->n[0] % g->n[1]),
+                    (int)(cell / g->n[0] / g->n[1])};
+        if (!cell_is_mine(p, g, c))
+            continue;
+        /* the copy near the cell (periodic copies are three cells apart) */
+        int near = 1;
+        for (int k = 0; k < 3; k++)
+            if (g->periodic[k] &&
+                !(fabs(p->x[3 * a + k] - (g->lo[k] + (c[k] + 0.5) * g->side[k])) < g->side[k]))
+                near = 0;
+        if (!near)
+            continue;
+        int colour = c[0] % 3 + 3 * (c[1] % 3) + 9 * (c[2] % 3);
+        int q[3];
+        for (int k = 0; k < 3; k++) {
+            q[k] = (int)((p->x[3 * a + k] - b.lo[k]) / b.w[k]);
+            q[k] = q[k] < 0 ? 0 : q[k] >= b.n[k] ? b.n[k] - 1 : q[k];
+        }
+        for (int dz = -1; dz <= 1 && !rc; dz++)
+            for (int dy = -1; dy <= 1 && !rc; dy++)
+                for (int dx = -1; dx <= 1 && !rc; dx++) {
+                    int r[3] = {q[0] + dx, q[1] + dy, q[2] + dz};
+                    if (r[0] < 0 || r[1] < 0 || r[2] < 0 || r[0] >= b.n[0] || r[1] >= b.n[1] ||
+                        r[2] >= b.n[2])
+                        continue;
+                    for (int j = b.head[(r[2] * b.n[1] + r[1]) * b.n[0] + r[0]]; j >= 0;
+                         j = b.next[j]) {
+                        if (p->id[j] <= p->id[a])
+                            continue;   /* itself, or a pair anchored at j */
+                        double ddx = p->x[3 * a] - p->x[3 * j], ddy = p->x[3 * a + 1] - p->x[3 * j + 1],
+                               ddz = p->x[3 * a + 2] - p->x[3 * j + 2];
+                        if (ddx * ddx + ddy * ddy + ddz * ddz >= rd2)
+                            continue;
+                        if (n == cap) {
+                            long nc = cap ? 2 * cap : 4096;
+                            struct sweep_pair *t = realloc(pairs, (size_t)nc * sizeof *t);
+                            if (!t) {
+                                rc = err_nomem(e, "DPD sweep pairs");
+                                break;
+                            }
+                            pairs = t;
+                            cap = nc;
+                        }
+                        uint32_t code = 0;
+                        for (int k = 0; k < 3; k++)
+                            code = (code << 10) |
+                                   (uint32_t)(((dpd_copy_shift(p, j, k) - p->image[3 * j + k]) -
+                                               (dpd_copy_shift(p, a, k) - p->image[3 * a + k]) +
+                                               512) &
+                                              1023);
+                        pairs[n++] = (struct sweep_pair){p->id[a], p->id[j], cell, colour, code,
+                                                         a, j};
+                    }
+                }
+    }
+    bins_free(&b);
+    if (rc) {
+        free(pairs);
+        return rc;
+    }
+    if (n > 1)
+        qsort(pairs, (size_t)n, sizeof *pairs, cmp_pair);
+    *out = pairs;
+    *nout = n;
+    return 0;
+}
+
+/* The touched copies' velocities (and internal energies) to their owners,
+ * then from the owners to every ghost. */
+static void sync_colour(struct dpd *d, double *buf, const unsigned char *touched, double *u)
+{
+    struct particles *p = d->p;
+    const int ntot = p->n_owned + p->n_ghost;
+    for (int i = 0; i < ntot; i++) {
+        double *r = buf + 5 * i;
+        if (touched[i]) {
+            r[0] = p->v[3 * i];
+            r[1] = p->v[3 * i + 1];
+            r[2] = p->v[3 * i + 2];
+            r[3] = u ? u[i] : 0;
+            r[4] = 1;
+        } else {
+            r[0] = r[1] = r[2] = r[3] = r[4] = 0;
+        }
+    }
+    ghost_reverse_add(p, buf, 5);
+    for (int i = 0; i < p->n_owned; i++) {
+        const double *r = buf + 5 * i;
+        if (r[4] > 0) {
+            memcpy(p->v + 3 * i, r, 3 * sizeof(double));
+            if (u)
+                u[i] = r[3];
+        }
+    }
+    /* owners to ghosts, velocity and energy in one message */
+    for (int i = 0; i < p->n_owned; i++) {
+        memcpy(buf + 4 * i, p->v + 3 * i, 3 * sizeof(double));
+        buf[4 * i + 3] = u ? u[i] : 0;
+    }
+    ghost_forward(p, buf, 4);
+    for (int g = p->n_owned; g < ntot; g++) {
+        memcpy(p->v + 3 * g, buf + 4 * g, 3 * sizeof(double));
+        if (u)
+            u[g] = buf[4 * g + 3];
+    }
+}
+
+int dpd_sweep_cells(struct dpd *d, struct err *e)
+{
+    struct particles *p = d->p;
+    if (d->nbodies > 0)
+        return err_set(e, ERR_INPUT, "the cell-ordered DPD sweep (bricks, dpd.sweep: cells) "
+                                     "takes no rigid bodies");
+    struct cell_grid g;
+    int bad = 0;
+    if (grid_of(&d->box, d->set.cutoff, &g, &bad) != 0)
+        return err_set(e, ERR_INPUT, "the cell-ordered DPD sweep needs the periodic box at least "
+                                     "3 r_d = %g Å long along %c (it is %g Å)",
+                       3 * d->set.cutoff, "xyz"[bad], box_length(&d->box, bad));
+    const int ntot = p->n_owned + p->n_ghost;
+    const double rd = d->set.cutoff, inv_rd = 1.0 / rd, dt = d->dt;
+    const int dpde = d->set.variant == DPD_ENERGY;
+    const int site = dpde ? RNG_SITE_DPDE_PAIR : RNG_SITE_DPD_PAIR;
+    const double kT0 = UNITS_KB * d->set.temperature * UNITS_FTM2V;
+    double *u = d->ufield >= 0 ? particles_field(p, d->ufield) : NULL;
+    memset(d->body_impulse, 0, sizeof d->body_impulse);
+
+    /* every copy's cell, from its owner; current velocities and energies */
+    double *buf = malloc((size_t)5 * (ntot ? ntot : 1) * sizeof *buf);
+    unsigned char *touched = calloc((size_t)(ntot ? ntot : 1), 1);
+    if (!buf || !touched) {
+        free(buf);
+        free(touched);
+        return err_nomem(e, "DPD sweep");
+    }
+    for (int i = 0; i < p->n_owned; i++) {
+        long c = 0;
+        for (int k = 2; k >= 0; k--)
+            c = c * g.n[k] + cell_coord(&g, k, p->x[3 * i + k]);
+        buf[i] = (double)c;
+    }
+    ghost_forward(p, buf, 1);
+    ghost_update_velocities(p);
+    if (u)
+        ghost_forward(p, u, 1);
+    struct sweep_pair *pairs = NULL;
+    long npairs = 0;
+    int rc = collect_pairs(d, &g, buf, &pairs, &npairs, e);
+    /* a failure on one rank must not leave the others waiting in a sync */
+    int failed = p->halo ? halo_any(p->halo, rc != 0) : rc != 0;
+    if (failed) {
+        free(buf);
+        free(touched);
+        free(pairs);
+        return rc ? rc : err_set(e, ERR_RUNTIME, "stopped: another MPI rank failed");
+    }
+    long k = 0;
+    for (int colour = 0; colour < NCOLOURS; colour++) {
+        for (; k < npairs && pairs[k].colour == colour; k++) {
+            if (rc)
+                continue;
+            int a = pairs[k].a, b = pairs[k].b;
+            double dx = p->x[3 * a] - p->x[3 * b], dy = p->x[3 * a + 1] - p->x[3 * b + 1],
+                   dz = p->x[3 * a + 2] - p->x[3 * b + 2];
+            double r2 = dx * dx + dy * dy + dz * dz;
+            double wa = 1.0 / p->mass[p->type[a]], wb = 1.0 / p->mass[p->type[b]];
+            double invmu = wa + wb;
+            double inv_r = 1.0 / sqrt(r2), r = r2 * inv_r;
+            double ex = dx * inv_r, ey = dy * inv_r, ez = dz * inv_r;
+            double *va = p->v + 3 * a, *vb = p->v + 3 * b;
+            double urel = ex * (va[0] - vb[0]) + ey * (va[1] - vb[1]) + ez * (va[2] - vb[2]);
+            double wr = 1.0 - r * inv_rd;
+            double kT, gij;
+            if (dpde) {
+                double theta = dpd_pair_temperature(d, u, a, b);
+                kT = UNITS_KB * theta * UNITS_FTM2V;
+                gij = theta > 0 ? d->set.gamma * kT0 / kT : kT0 > 0 ? INFINITY : 0.0;
+            } else {
+                kT = kT0;
+                gij = d->set.gamma;
+            }
+            double lam = gij * wr * wr * invmu;
+            double decay = isinf(lam) ? 0.0 : exp(-lam * dt);
+            double unew = urel * decay + sqrt(kT * invmu * (1.0 - decay * decay)) *
+                                             dpd_normal(dpd_pair_key_ab(d, site, a, b));
+            double J = (unew - urel) / invmu;
+            for (int c = 0; c < 3; c++) {
+                double Jc = J * (c == 0 ? ex : c == 1 ? ey : ez);
+                va[c] += Jc * wa;
+                vb[c] -= Jc * wb;
+            }
+            touched[a] = touched[b] = 1;
+            if (dpde) {
+                double dE = 0.5 * (unew * unew - urel * urel) / invmu * UNITS_MVV2E;
+                u[a] -= 0.5 * dE;
+                u[b] -= 0.5 * dE;
+                if (!(u[a] > 0) || !(u[b] > 0))
+                    rc = err_set(e, ERR_DIVERGED,
+                                 "internal energy of particle %lld became %.3g eV at step %ld "
+                                 "(time step too large for the heat exchanged?)",
+                                 (long long)p->id[u[a] > 0 ? b : a], u[a] > 0 ? u[b] : u[a],
+                                 d->step);
+            }
+        }
+        sync_colour(d, buf, touched, u);
+        memset(touched, 0, (size_t)ntot);
+    }
+    free(buf);
+    free(touched);
+    free(pairs);
+    if (p->halo && halo_any(p->halo, rc != 0) && !rc)
+        rc = err_set(e, ERR_DIVERGED, "stopped: an internal energy became non-positive on "
+                                      "another MPI rank");
+    return rc;
+}

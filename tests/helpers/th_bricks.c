@@ -1,0 +1,198 @@
+/* th_bricks: serial / mpirun runs and their comparison (th_bricks.h). */
+#include "helpers/th_bricks.h"
+
+#include <criterion/criterion.h>
+#include <math.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+
+#include "helpers/th.h"
+
+int thb_run(const char *path, int np, const char *dir, const char *const *extra, char *out,
+            size_t len)
+{
+    setenv("OMPI_ALLOW_RUN_AS_ROOT", "1", 1);
+    setenv("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1", 1);
+    setenv("OMP_NUM_THREADS", "1", 1);
+    /* Open MPI's dlopen'ed components leak at exit (test_parallel.c); the
+     * serial runs keep leak checking for our code */
+    setenv("ASAN_OPTIONS", np > 0 ? "detect_leaks=0" : "detect_leaks=1", 1);
+    char nps[16];
+    snprintf(nps, sizeof nps, "%d", np);
+    const char *argv[24];
+    int k = 0;
+    if (np > 0) {
+        argv[k++] = "/usr/bin/mpirun";
+        argv[k++] = "-np";
+        argv[k++] = nps;
+        argv[k++] = "--oversubscribe";
+    }
+    argv[k++] = th_solver();
+    argv[k++] = "run";
+    argv[k++] = path;
+    argv[k++] = "--out";
+    argv[k++] = dir;
+    argv[k++] = "--quiet";
+    for (int i = 0; extra && extra[i] && k < 23; i++)
+        argv[k++] = extra[i];
+    argv[k] = NULL;
+    return th_run(argv, out, len);
+}
+
+void thb_must_run(const char *path, int np, const char *dir, const char *const *extra)
+{
+    static char out[16384];
+    int rc = thb_run(path, np, dir, extra, out, sizeof out);
+    cr_assert_eq(rc, 0, "%d ranks, %s: exit %d\n%s", np, dir, rc, out);
+}
+
+void *thb_read_h5(const char *dir, const char *name, hid_t type, size_t elem, long *n)
+{
+    char path[700];
+    snprintf(path, sizeof path, "%s/fields.h5", dir);
+    hid_t f = H5Fopen(path, H5F_ACC_RDONLY, H5P_DEFAULT);
+    cr_assert_geq(f, 0, "%s", path);
+    hid_t ds = H5Dopen2(f, name, H5P_DEFAULT);
+    cr_assert_geq(ds, 0, "%s: %s", path, name);
+    hid_t sp = H5Dget_space(ds);
+    hssize_t cnt = H5Sget_simple_extent_npoints(sp);
+    void *buf = malloc((size_t)(cnt > 0 ? cnt : 1) * elem);
+    cr_assert_not_null(buf);
+    cr_assert_geq(H5Dread(ds, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, buf), 0);
+    H5Sclose(sp);
+    H5Dclose(ds);
+    H5Fclose(f);
+    *n = (long)cnt;
+    return buf;
+}
+
+void thb_compare_series(const char *a, const char *b, const char *const *cols, double rel,
+                        const char *tag)
+{
+    for (int c = 0; cols[c]; c++) {
+        char name[96];
+        snprintf(name, sizeof name, "/series/%s", cols[c]);
+        long na, nb;
+        double *x = thb_read_h5(a, name, H5T_NATIVE_DOUBLE, sizeof(double), &na);
+        double *y = thb_read_h5(b, name, H5T_NATIVE_DOUBLE, sizeof(double), &nb);
+        cr_assert_eq(na, nb, "%s %s: %ld vs %ld rows", tag, name, na, nb);
+        cr_assert_geq(na, 2, "%s %s: %ld rows", tag, name, na);
+        double scale = 0;
+        for (long i = 0; i < na; i++)
+            scale = fmax(scale, fabs(x[i]));
+        for (long i = 0; i < na; i++)
+            cr_assert_leq(fabs(x[i] - y[i]), rel * scale, "%s %s row %ld: %.17g vs %.17g", tag,
+                          name, i, x[i], y[i]);
+        free(x);
+        free(y);
+    }
+}
+
+json_t *thb_result(const char *dir)
+{
+    char path[700];
+    snprintf(path, sizeof path, "%s/result.json", dir);
+    json_error_t je;
+    json_t *r = json_load_file(path, 0, &je);
+    cr_assert_not_null(r, "%s: %s", path, je.text);
+    return r;
+}
+
+double thb_metric(json_t *res, const char *name)
+{
+    json_t *m = json_object_get(json_object_get(res, "metrics"), name);
+    cr_assert_not_null(m, "metric %s missing", name);
+    json_t *v = json_is_object(m) ? json_object_get(m, "value") : m;
+    return json_number_value(v);
+}
+
+void thb_compare_metrics(const char *a, const char *b, const char *const *names, double rel,
+                         const char *tag)
+{
+    json_t *ra = thb_result(a), *rb = thb_result(b);
+    for (int k = 0; names[k]; k++) {
+        double x = thb_metric(ra, names[k]), y = thb_metric(rb, names[k]);
+        cr_assert_leq(fabs(x - y), rel * fabs(x) + 1e-12 * fabs(x), "%s %s: %.17g vs %.17g", tag,
+                      names[k], x, y);
+    }
+    json_decref(ra);
+    json_decref(rb);
+}
+
+struct by_id {
+    int64_t id;
+    long i;
+};
+
+static int cmp_by_id(const void *a, const void *b)
+{
+    int64_t x = ((const struct by_id *)a)->id, y = ((const struct by_id *)b)->id;
+    return (x > y) - (x < y);
+}
+
+static struct by_id *order_of(const char *dir, const char *group, long *n)
+{
+    char name[160];
+    snprintf(name, sizeof name, "%s/id", group);
+    int64_t *id = thb_read_h5(dir, name, H5T_NATIVE_INT64, sizeof(int64_t), n);
+    struct by_id *o = malloc((size_t)(*n > 0 ? *n : 1) * sizeof *o);
+    cr_assert_not_null(o);
+    for (long i = 0; i < *n; i++)
+        o[i] = (struct by_id){id[i], i};
+    qsort(o, (size_t)*n, sizeof *o, cmp_by_id);
+    free(id);
+    return o;
+}
+
+void thb_compare_snapshot(const char *a, const char *b, const char *group,
+                          const char *const *sets, const int *ncomp, double rel, const char *tag)
+{
+    long na, nb;
+    struct by_id *oa = order_of(a, group, &na), *ob = order_of(b, group, &nb);
+    cr_assert_eq(na, nb, "%s: %ld vs %ld particles", tag, na, nb);
+    for (long i = 0; i < na; i++)
+        cr_assert_eq(oa[i].id, ob[i].id, "%s: id %ld differs", tag, i);
+    for (int s = 0; sets[s]; s++) {
+        char name[160];
+        snprintf(name, sizeof name, "%s/%s", group, sets[s]);
+        long la, lb;
+        double *x = thb_read_h5(a, name, H5T_NATIVE_DOUBLE, sizeof(double), &la);
+        double *y = thb_read_h5(b, name, H5T_NATIVE_DOUBLE, sizeof(double), &lb);
+        cr_assert_eq(la, na * ncomp[s], "%s %s", tag, name);
+        cr_assert_eq(lb, nb * ncomp[s], "%s %s", tag, name);
+        double scale = 0;
+        for (long k = 0; k < la; k++)
+            scale = fmax(scale, fabs(x[k]));
+        for (long i = 0; i < na; i++)
+            for (int c = 0; c < ncomp[s]; c++) {
+                double u = x[oa[i].i * ncomp[s] + c], v = y[ob[i].i * ncomp[s] + c];
+                cr_assert_leq(fabs(u - v), rel * scale, "%s %s id %lld: %.17g vs %.17g", tag,
+                              name, (long long)oa[i].id, u, v);
+            }
+        free(x);
+        free(y);
+    }
+    free(oa);
+    free(ob);
+}
+
+void thb_check_parallel_record(const char *dir, int np, long n)
+{
+    json_t *r = thb_result(dir);
+    json_t *par = json_object_get(r, "parallel");
+    cr_assert_not_null(par, "%s: no parallel record", dir);
+    cr_assert_eq(json_integer_value(json_object_get(par, "ranks")), np);
+    json_t *per = json_object_get(par, "particles_per_rank");
+    cr_assert_eq((long)json_array_size(per), np);
+    long sum = 0;
+    for (int k = 0; k < np; k++)
+        sum += (long)json_integer_value(json_array_get(per, (size_t)k));
+    cr_assert_eq(sum, n, "%s: %ld particles over the ranks, %ld expected", dir, sum, n);
+    json_t *grid = json_object_get(par, "grid");
+    long prod = 1;
+    for (size_t d = 0; d < 3; d++)
+        prod *= (long)json_integer_value(json_array_get(grid, d));
+    cr_assert_eq(prod, np);
+    json_decref(r);
+}

@@ -1,0 +1,47 @@
+/*
+ * th_bricks: running a case serially or under `mpirun --oversubscribe -np
+ * N` and comparing what the runs wrote (the thermo series in fields.h5,
+ * result.json metrics, a snapshot's datasets matched by particle id), for
+ * the brick-decomposition tests of the particle engines other than MD
+ * (tests/test_bricks_dpd.c, tests/test_bricks_mpm.c).
+ */
+#ifndef CASCADE_TH_BRICKS_H
+#define CASCADE_TH_BRICKS_H
+
+#include <hdf5.h>
+#include <jansson.h>
+#include <stddef.h>
+
+/* Run path serially (np 0) or on np ranks into dir, extra arguments
+ * NULL-ended (may be NULL); returns the exit status, output in out. */
+int thb_run(const char *path, int np, const char *dir, const char *const *extra, char *out,
+            size_t len);
+/* The same, failing the test on a non-zero exit. */
+void thb_must_run(const char *path, int np, const char *dir, const char *const *extra);
+
+/* A dataset of a run's fields.h5 (new buffer; *n elements). */
+void *thb_read_h5(const char *dir, const char *name, hid_t type, size_t elem, long *n);
+
+/* /series/<col> of two runs agree to rel of the column's largest
+ * magnitude, for each NULL-ended column. */
+void thb_compare_series(const char *a, const char *b, const char *const *cols, double rel,
+                        const char *tag);
+
+json_t *thb_result(const char *dir);
+double thb_metric(json_t *res, const char *name);
+
+/* Metrics of two runs agree to rel relative (plus 1e-12 for the printed
+ * digits), for each NULL-ended name. */
+void thb_compare_metrics(const char *a, const char *b, const char *const *names, double rel,
+                         const char *tag);
+
+/* group/<set> of two runs (each NULL-ended set with ncomp components)
+ * agree particle by particle, matched by group/id, to rel of the set's
+ * largest magnitude. */
+void thb_compare_snapshot(const char *a, const char *b, const char *group,
+                          const char *const *sets, const int *ncomp, double rel, const char *tag);
+
+/* result.json's parallel record: np ranks whose counts add up to n. */
+void thb_check_parallel_record(const char *dir, int np, long n);
+
+#endif
