@@ -60,6 +60,11 @@ static int collective_rc(const struct halo *h, int rc, struct err *e)
     return rc;
 }
 
+int halo_agree(const struct halo *h, int rc, struct err *e)
+{
+    return collective_rc(h, rc, e);
+}
+
 int halo_distribute(struct halo *h, struct particles *p, struct err *e)
 {
     unsigned char *keep = malloc((size_t)(p->n_owned ? p->n_owned : 1));
@@ -77,6 +82,16 @@ int halo_distribute(struct halo *h, struct particles *p, struct err *e)
     rc = collective_rc(h, rc, e);
     if (!rc)
         count_atoms(h, p);
+    return rc;
+}
+
+int halo_adopt(struct halo *h, struct particles *p, int rc, struct err *e)
+{
+    rc = collective_rc(h, rc, e);
+    if (!rc) {
+        particles_clear_ghosts(p);
+        count_atoms(h, p);
+    }
     return rc;
 }
 
@@ -201,7 +216,7 @@ static int push_send(struct halo_swap *sw, int i, struct err *e)
 int halo_build(struct halo *h, struct particles *p, double range, struct err *e)
 {
     const struct decomp *dc = &h->dc;
-    size_t rec = halo_record_size(p);
+    size_t rec = halo_ghost_record_size(p);
     int rc = 0;
     p->n_ghost = 0;
     h->nswap = 0;
@@ -241,7 +256,7 @@ int halo_build(struct halo *h, struct particles *p, double range, struct err *e)
             if (!rc)   /* the reverse sums receive as much as was sent */
                 rc = grow(&h->rbuf, &h->rcap, rec * (size_t)sw->nsend, e);
             for (int k = 0; !rc && k < sw->nsend; k++)
-                halo_pack(p, sw->send[k], d, sw->shift, (unsigned char *)h->sbuf + rec * (size_t)k);
+                halo_pack_ghost(p, sw->send[k], d, sw->shift, (unsigned char *)h->sbuf + rec * (size_t)k);
             size_t got = 0;
             rc = collective_rc(h, rc, e);
             if (!rc)
@@ -257,7 +272,7 @@ int halo_build(struct halo *h, struct particles *p, double range, struct err *e)
             if (rc)
                 break;
             for (int k = 0; k < nin; k++)
-                halo_unpack(p, at + k, (const unsigned char *)h->rbuf + rec * (size_t)k);
+                halo_unpack_ghost(p, at + k, (const unsigned char *)h->rbuf + rec * (size_t)k);
             sw->first = at;
             sw->nrecv = nin;
             p->n_ghost += nin;
@@ -269,7 +284,8 @@ int halo_build(struct halo *h, struct particles *p, double range, struct err *e)
 /* One forward pass: values of the sent particles to the received ghosts,
  * coordinate `dim` shifted (with_shift).  Sizes are known from the build
  * (one message per swap), and the buffers were sized there for whole
- * records, so this cannot run out of memory. */
+ * ghost records (at least a row of the virial or of any field: the widest
+ * arrays passed here), so this cannot run out of memory. */
 static int forward(struct halo *h, double *arr, int ncomp, int with_shift, struct err *e)
 {
     size_t row = (size_t)ncomp * sizeof(double);
