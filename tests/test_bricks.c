@@ -10,6 +10,7 @@
  * grids are refused naming the case file and line.
  */
 #include <criterion/criterion.h>
+#include <criterion/logging.h>
 #include <hdf5.h>
 #include <jansson.h>
 #include <math.h>
@@ -522,6 +523,20 @@ Test(bricks, bad_grid_names_file_and_line, .timeout = 300)
     const char *a2[] = {th_solver(), "check", path, NULL};
     cr_assert_eq(th_run(a2, out, sizeof out), 2, "%s", out);
     cr_assert(strstr(out, "did you mean 'grid'"), "%s", out);
+    /* a balance with replicated data, and an unknown balance */
+    snprintf(yaml, sizeof yaml,
+             "%sparallel:\n  decomposition: replicated\n  balance: shift\n", base);
+    path = th_write_temp(5, "replbal.yaml", yaml);
+    const char *a3[] = {th_solver(), "check", path, NULL};
+    cr_assert_eq(th_run(a3, out, sizeof out), 2, "%s", out);
+    cr_assert(strstr(out, "replbal.yaml:9:") && strstr(out, "parallel.balance"), "%s", out);
+    snprintf(yaml, sizeof yaml, "%sparallel:\n  balance: rcb\n", base);
+    path = th_write_temp(6, "badbal.yaml", yaml);
+    const char *a4[] = {th_solver(), "check", path, NULL};
+    cr_assert_eq(th_run(a4, out, sizeof out), 2, "%s", out);
+    cr_assert(strstr(out, "badbal.yaml:8:") && strstr(out, "parallel.balance") &&
+                  strstr(out, "shift"),
+              "%s", out);
 }
 
 /* A case type that is not decomposed runs whole on every rank, and says so */
@@ -653,4 +668,77 @@ Test(bricks, restart_refuses_an_id_on_two_ranks, .timeout = 600)
     cr_assert_neq(rc, 0, "restart with a repeated id ran:\n%s", out);
     cr_assert(strstr(out, "1 id(s) given twice") && strstr(out, "checkpoint-0000000010.h5"), "%s",
               out);
+}
+
+/* The impact geometry: a Cu slab (8 x 8 x 5 cells, periodic across, free
+ * along z) with a cluster of 43 atoms 12 Å above it, on 4 bricks along z.
+ * Equal bricks leave one brick empty and the cluster's nearly so (max /
+ * mean about 2); `balance: shift` moves the cuts to the atoms' quantiles
+ * along z (each brick still cutoff + skin wide): the imbalance falls
+ * below 0.75 of it, and the trajectory is the serial one to 1e-10. */
+Test(bricks, shift_balance_evens_a_cluster_above_a_slab, .timeout = 600)
+{
+    const double a = 3.615;
+    static char text[1 << 17];
+    static const double basis[4][3] = {{0, 0, 0}, {0.5, 0.5, 0}, {0.5, 0, 0.5}, {0, 0.5, 0.5}};
+    int n = 0, at = 0;
+    char body[1 << 17];
+    for (int i = 0; i < 8; i++)
+        for (int j = 0; j < 8; j++)
+            for (int k = 0; k < 5; k++)
+                for (int b = 0; b < 4; b++, n++)
+                    at += snprintf(body + at, sizeof body - (size_t)at, "Cu %.10g %.10g %.10g\n",
+                                   (i + basis[b][0]) * a, (j + basis[b][1]) * a,
+                                   (k + basis[b][2]) * a + 0.1);
+    const double c[3] = {4 * a, 4 * a, 5 * a + 12.0 + 2 * a};
+    for (int i = -3; i <= 3; i++)
+        for (int j = -3; j <= 3; j++)
+            for (int k = -3; k <= 3; k++)
+                for (int b = 0; b < 4; b++) {
+                    double x[3] = {(i + basis[b][0]) * a, (j + basis[b][1]) * a,
+                                   (k + basis[b][2]) * a};
+                    if (x[0] * x[0] + x[1] * x[1] + x[2] * x[2] > 5.5 * 5.5)
+                        continue;
+                    at += snprintf(body + at, sizeof body - (size_t)at, "Cu %.10g %.10g %.10g\n",
+                                   c[0] + x[0], c[1] + x[1], c[2] + x[2]);
+                    n++;
+                }
+    snprintf(text, sizeof text,
+             "%d\nLattice=\"%.10g 0 0 0 %.10g 0 0 0 %.10g\" Properties=species:S:1:pos:R:3 "
+             "pbc=\"T T F\"\n%s",
+             n, 8 * a, 8 * a, 60.0, body);
+    const char *xpath = th_write_temp(1, "impact.xyz", text);
+    char yaml[1024], yaml_eq[1024];
+    const char *common = "seed: 6\nsystem:\n  read_xyz: %s\n  boundary: [periodic, periodic, free]\n"
+                         "potential: {style: eam/alloy, file: Cu_mishin1.eam.alloy}\n"
+                         "md: {steps: 100, temperature: 300}\n"
+                         "output: {thermo_every: 10}\n"
+                         "parallel: {grid: [1, 1, 4]%s}\n";
+    snprintf(yaml, sizeof yaml, common, xpath, ", balance: shift");
+    snprintf(yaml_eq, sizeof yaml_eq, common, xpath, "");
+    const char *path = th_write_temp(2, "impact.yaml", yaml);
+    const char *path_eq = th_write_temp(3, "impact_eq.yaml", yaml_eq);
+    char d0[600], dbal[600], deq[600];
+    snprintf(d0, sizeof d0, "%s/impact-serial", th_temp_dir());
+    snprintf(dbal, sizeof dbal, "%s/impact-shift", th_temp_dir());
+    snprintf(deq, sizeof deq, "%s/impact-equal", th_temp_dir());
+    must_run(path, 0, d0, NULL);
+    must_run(path, 4, dbal, NULL);
+    must_run(path_eq, 4, deq, NULL);
+    compare_series(d0, dbal, "shift balance");
+    compare_metrics(d0, dbal, "shift balance");
+    compare_snapshot(d0, dbal, 100, "shift balance");
+    check_parallel_record(dbal, 4, n);
+    check_parallel_record(deq, 4, n);
+    json_t *rb = result_of(dbal), *re = result_of(deq);
+    double ib = json_real_value(json_object_get(json_object_get(rb, "parallel"),
+                                                "imbalance_max_over_mean"));
+    double ie = json_real_value(json_object_get(json_object_get(re, "parallel"),
+                                                "imbalance_max_over_mean"));
+    cr_log_info("impact geometry, 4 bricks along z: imbalance max/mean %.3f equal, %.3f shift",
+                ie, ib);
+    cr_assert_gt(ie, 1.6, "equal bricks: imbalance %g", ie);
+    cr_assert_lt(ib, 0.75 * ie, "shift: imbalance %g against %g of equal bricks", ib, ie);
+    json_decref(rb);
+    json_decref(re);
 }

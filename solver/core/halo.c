@@ -30,6 +30,7 @@ int halo_init(struct halo *h, const struct parallel *par, const int grid[3], con
 
 void halo_free(struct halo *h)
 {
+    decomp_free(&h->dc);
     for (int s = 0; s < 6; s++)
         free(h->swap[s].send);
     free(h->sbuf);
@@ -91,6 +92,22 @@ int halo_adopt(struct halo *h, struct particles *p, int rc, struct err *e)
     if (!rc) {
         particles_clear_ghosts(p);
         count_atoms(h, p);
+    }
+    return rc;
+}
+
+int halo_balance(struct halo *h, const struct box *b, struct particles *p, double range,
+                 struct err *e)
+{
+    /* on the box the first list build will shrink-wrap to (the same
+     * wrap and extent it computes there) */
+    struct box wrapped = *b;
+    int rc = halo_remap(h, &wrapped, p, 1, e);
+    if (!rc)
+        rc = collective_rc(h, decomp_shift(&h->dc, p->x, p->n_owned, range, e), e);
+    if (!rc) {
+        particles_clear_ghosts(p);
+        rc = halo_migrate(h, p, e);
     }
     return rc;
 }
@@ -224,11 +241,11 @@ int halo_build(struct halo *h, struct particles *p, double range, struct err *e)
      * the range since the grid was chosen, and one swap would miss ghosts */
     for (int d = 0; d < 3; d++)
         if ((dc->grid[d] > 1 || dc->periodic[d]) &&
-            !((dc->bhi[d] - dc->blo[d]) / dc->grid[d] >= range))   /* the same on every rank */
+            !(decomp_min_width(dc, d) >= range))   /* the same on every rank */
             return err_set(e, ERR_RUNTIME,
                            "the bricks along %c are %g Å thick, thinner than the interaction "
                            "range %g Å (the box shrank): run on fewer ranks along %c",
-                           "xyz"[d], (dc->bhi[d] - dc->blo[d]) / dc->grid[d], range, "xyz"[d]);
+                           "xyz"[d], decomp_min_width(dc, d), range, "xyz"[d]);
     for (int d = 0; d < 3 && !rc; d++) {
         if (dc->grid[d] == 1 && !dc->periodic[d])
             continue;

@@ -68,6 +68,11 @@ int halo_distribute(struct halo *h, struct particles *p, struct err *e);
  * failure on one rank fails every rank). */
 int halo_adopt(struct halo *h, struct particles *p, int rc, struct err *e);
 
+/* Shifted boundaries (decomp_shift) for this rank's owned particles p in
+ * box b, then every particle to its new owner.  Collective. */
+int halo_balance(struct halo *h, const struct box *b, struct particles *p, double range,
+                 struct err *e);
+
 /* Wrap owned particles into periodic axes, check fixed ones and, when
  * shrink, shrink-wrap free axes to the global extent; the bricks follow
  * the box.  Collective: a failure on any rank fails on every rank. */

@@ -118,6 +118,9 @@ static int md_case_read(struct cfg_obj *root, const struct case_common *common, 
      * step below is collective */
     if (c && halo)
         md_adopt(&c->md, p, halo);
+    /* the impact geometry puts the atoms unevenly: move the cuts */
+    if (c && halo && common->parallel.balance == BALANCE_SHIFT)
+        rc = halo_balance(halo, &box, p, plan.range, e);
     if (c) {
         c->steps = ms.steps;
         c->temperature = ms.temperature;
