@@ -12,6 +12,9 @@
 #   BENCH md_eam_256k_peak_rss_mib_1_rank        peak resident memory of the serial run
 #   BENCH md_eam_256k_peak_rss_mib_per_rank_2_ranks   largest peak over the 2 ranks
 #   BENCH md_eam_256k_rss_per_rank_2_over_1      the two above, divided
+#   BENCH md_eam_256k_comm_ms_per_step_2_ranks   rank 0's `comm` timer per step on 2
+#                                                ranks (ghost builds, position, force and
+#                                                virial passes; docs/parallel.md)
 # Medians of REPEAT rounds; each round runs the four programs one after
 # the other, so a load change on this shared machine hits them alike.  Run
 # by bench/bench.sh (run_bench) with BIN, ROOT, WORK, REPEAT set;
@@ -40,7 +43,7 @@ rank_rss_max() { tr -d ' \n' < "$1/result.json" | grep -o '"peak_rss_mib_per_ran
 us() { echo "$1 * 1000000 / ($natoms * $steps)" | bc -l | xargs printf '%.4f'; }
 
 have_lmp=0; command -v lmp >/dev/null 2>&1 && have_lmp=1
-for f in s1 s2 r1 r2 l1 l2; do : > "$WORK/mdmpi.$f"; done
+for f in s1 s2 r1 r2 l1 l2 c2; do : > "$WORK/mdmpi.$f"; done
 i=0
 while [ "$i" -lt "$REPEAT" ]; do
     i=$((i + 1))
@@ -52,6 +55,7 @@ while [ "$i" -lt "$REPEAT" ]; do
     out="$WORK/mdmpi2-$i"
     $MPIRUN "$BIN/cascade-solver" run "$CASE" --out "$out" --threads 1 --quiet --no-progress
     loop_seconds "$out" >> "$WORK/mdmpi.s2"
+    json_timer "$out/result.json" comm >> "$WORK/mdmpi.c2"
     rank_rss_max "$out" >> "$WORK/mdmpi.r2"
     if [ $have_lmp = 1 ]; then
         (cd "$WORK" && lmp -in "$LMPIN" -log none -screen "$WORK/mdmpi-lmp1.out" >/dev/null 2>&1)
@@ -76,6 +80,9 @@ bench_line md_eam_256k_peak_rss_mib_1_rank "$(printf '%.1f' "$r1")" MiB "serial"
 bench_line md_eam_256k_peak_rss_mib_per_rank_2_ranks "$(printf '%.1f' "$r2")" MiB "largest rank"
 bench_line md_eam_256k_rss_per_rank_2_over_1 "$(echo "$r2 / $r1" | bc -l | xargs printf '%.3f')" x \
     "target 0.6"
+c2=$(median < "$WORK/mdmpi.c2")
+bench_line md_eam_256k_comm_ms_per_step_2_ranks "$(echo "$c2 * 1000 / $steps" | bc -l | xargs printf '%.3f')" ms \
+    "rank 0, exchange of the 1 x 1 x 2 grid"
 if [ $have_lmp = 1 ]; then
     l1=$(median < "$WORK/mdmpi.l1"); l2=$(median < "$WORK/mdmpi.l2")
     bench_line md_eam_256k_lammps_us_per_atom_step_1_rank "$(us "$l1")" us "LAMMPS, same system"

@@ -415,8 +415,13 @@ static int cmd_run_inner(int argc, char **argv, const struct parallel *par)
             want_restart = 0;
         }
     }
-    if (want_restart == 2 && par->rank == 0 && (rc = keep_previous_outputs(out, ckpt_path, &e))) {
-        fprintf(stderr, "error: %s\n", e.msg);
+    if (want_restart == 2 && par->rank == 0)
+        rc = keep_previous_outputs(out, ckpt_path, &e);
+    if (want_restart == 2 && par->size > 1 && parallel_any(par, rc != 0) && !rc)
+        rc = err_set(&e, ERR_RUNTIME, "stopped: rank 0 could not keep the previous outputs");
+    if (rc) {
+        if (par->rank == 0)
+            fprintf(stderr, "error: %s\n", e.msg);
         case_resolved_free(&cr);
         case_doc_free(&cd);
         return exit_code(rc);
@@ -434,6 +439,8 @@ static int cmd_run_inner(int argc, char **argv, const struct parallel *par)
                                      sizeof ckpt_path, &e);
         if (!rc && par->rank == 0)
             rc = keep_previous_outputs(out, ckpt_path, &e);
+        if (par->size > 1 && parallel_any(par, rc != 0) && !rc)
+            rc = err_set(&e, ERR_RUNTIME, "stopped: another MPI rank could not restart");
         if (rc) {
             fprintf(stderr, "error: %s\n", e.msg);
             case_resolved_free(&cr);
@@ -448,9 +455,15 @@ static int cmd_run_inner(int argc, char **argv, const struct parallel *par)
     if (kill_env && parse_int(kill_env, 1, 1000000000L, &kill_at) != 0)
         kill_at = 0;
     struct run_options opt = {out, (int)threads, progress, quiet, par->rank,
-                              ckpt_path[0] ? ckpt_path : NULL, kill_at};
+                              ckpt_path[0] ? ckpt_path : NULL, kill_at, par};
     struct run run;
     rc = run_open(&run, &opt, &cr.output, cd.doc, cr.common.seed, cr.common.title, &e);
+    /* rank 0 alone creates the output: when it cannot, the other ranks
+     * stop too instead of waiting for it in the run's first exchange */
+    if (par->size > 1 && parallel_any(par, rc != 0) && !rc) {
+        run_discard(&run);
+        rc = err_set(&e, ERR_RUNTIME, "stopped: rank 0 could not open the output");
+    }
     if (rc) {
         fprintf(stderr, "error: %s\n", e.msg);
         case_resolved_free(&cr);

@@ -10,6 +10,7 @@
  * grids are refused naming the case file and line.
  */
 #include <criterion/criterion.h>
+#include <criterion/logging.h>
 #include <hdf5.h>
 #include <jansson.h>
 #include <math.h>
@@ -522,6 +523,20 @@ Test(bricks, bad_grid_names_file_and_line, .timeout = 300)
     const char *a2[] = {th_solver(), "check", path, NULL};
     cr_assert_eq(th_run(a2, out, sizeof out), 2, "%s", out);
     cr_assert(strstr(out, "did you mean 'grid'"), "%s", out);
+    /* a balance with replicated data, and an unknown balance */
+    snprintf(yaml, sizeof yaml,
+             "%sparallel:\n  decomposition: replicated\n  balance: shift\n", base);
+    path = th_write_temp(5, "replbal.yaml", yaml);
+    const char *a3[] = {th_solver(), "check", path, NULL};
+    cr_assert_eq(th_run(a3, out, sizeof out), 2, "%s", out);
+    cr_assert(strstr(out, "replbal.yaml:9:") && strstr(out, "parallel.balance"), "%s", out);
+    snprintf(yaml, sizeof yaml, "%sparallel:\n  balance: rcb\n", base);
+    path = th_write_temp(6, "badbal.yaml", yaml);
+    const char *a4[] = {th_solver(), "check", path, NULL};
+    cr_assert_eq(th_run(a4, out, sizeof out), 2, "%s", out);
+    cr_assert(strstr(out, "badbal.yaml:8:") && strstr(out, "parallel.balance") &&
+                  strstr(out, "shift"),
+              "%s", out);
 }
 
 /* A case type that is not decomposed runs whole on every rank, and says so */
@@ -545,4 +560,185 @@ Test(bricks, other_case_types_say_they_are_not_decomposed, .timeout = 300)
     cr_assert_null(json_object_get(b, "parallel"));
     json_decref(a);
     json_decref(b);
+}
+
+/* Distributed set-up: each rank builds only its brick's lattice sites, yet
+ * the atoms are those of the serial build: a sphere region keeps some sites
+ * (ids count the kept sites of the whole lattice), `displace` moves each
+ * by the serial amounts (one sequence run through by every rank, each
+ * keeping its ids' draws: positions equal bitwise) and the Maxwell
+ * velocities are the serial draws (the momentum and temperature sums run
+ * over the ranks: equal to round-off, 1e-13 of the largest). */
+Test(bricks, setup_builds_the_serial_atoms_brick_by_brick, .timeout = 600)
+{
+    const char *yaml = "seed: 11\nsystem:\n  lattice: {style: fcc, a: 3.615, cells: [8, 8, 8]}\n"
+                       "  element: Cu\n  displace: 0.05\n"
+                       "  region: {shape: sphere, center: [14.46, 14.46, 14.46], radius: 13}\n"
+                       "potential: {style: eam/alloy, file: Cu_mishin1.eam.alloy}\n"
+                       "md: {steps: 0, temperature: 500}\n"
+                       "parallel: {decomposition: bricks}\n";
+    const char *path = th_write_temp(0, "setup.yaml", yaml);
+    char d0[600], d4[600];
+    snprintf(d0, sizeof d0, "%s/setup-serial", th_temp_dir());
+    snprintf(d4, sizeof d4, "%s/setup-4", th_temp_dir());
+    must_run(path, 0, d0, NULL);
+    must_run(path, 4, d4, NULL);
+    long na, nb;
+    struct by_id *oa = order_of(d0, "/particles/00000000", &na);
+    struct by_id *ob = order_of(d4, "/particles/00000000", &nb);
+    cr_assert_eq(na, nb, "%ld vs %ld atoms", na, nb);
+    cr_assert(na > 100 && na < 2048, "the region keeps %ld of 2048 sites", na);
+    for (long i = 0; i < na; i++)
+        cr_assert_eq(oa[i].id, ob[i].id, "id %ld differs", i);
+    cr_assert_eq(oa[na - 1].id, na, "ids run 1..%ld", na);
+    long lx, lv;
+    const char *pos = "/particles/00000000/position", *vel = "/particles/00000000/velocity";
+    double *xa = read_h5(d0, pos, H5T_NATIVE_DOUBLE, sizeof(double), &lx);
+    double *xb = read_h5(d4, pos, H5T_NATIVE_DOUBLE, sizeof(double), &lx);
+    double *va = read_h5(d0, vel, H5T_NATIVE_DOUBLE, sizeof(double), &lv);
+    double *vb = read_h5(d4, vel, H5T_NATIVE_DOUBLE, sizeof(double), &lv);
+    double vmax = 0;
+    for (long k = 0; k < lv; k++)
+        vmax = fmax(vmax, fabs(va[k]));
+    cr_assert_gt(vmax, 1.0);
+    for (long i = 0; i < na; i++)
+        for (int d = 0; d < 3; d++) {
+            long a = 3 * oa[i].i + d, b = 3 * ob[i].i + d;
+            cr_assert_eq(xa[a], xb[b], "id %lld x%d: %.17g vs %.17g", (long long)oa[i].id, d,
+                         xa[a], xb[b]);
+            cr_assert_leq(fabs(va[a] - vb[b]), 1e-13 * vmax, "id %lld v%d: %.17g vs %.17g",
+                          (long long)oa[i].id, d, va[a], vb[b]);
+        }
+    check_parallel_record(d4, 4, na);
+    free(xa);
+    free(xb);
+    free(va);
+    free(vb);
+    free(oa);
+    free(ob);
+}
+
+/* A checkpoint holding one id twice, the two copies in different bricks:
+ * each rank reads only its brick's atoms and sees no repeat, so the ranks
+ * compare their ids; the restart is refused naming the file. */
+Test(bricks, restart_refuses_an_id_on_two_ranks, .timeout = 600)
+{
+    const char *yaml = "seed: 3\nsystem:\n  lattice: {style: fcc, a: 3.615, cells: [6, 6, 6]}\n"
+                       "  element: Cu\npotential: {style: eam/alloy, file: Cu_mishin1.eam.alloy}\n"
+                       "md: {steps: 20, temperature: 600}\n"
+                       "parallel: {grid: [1, 1, 2]}\n"
+                       "output: {thermo_every: 10, checkpoint_every: 10}\n";
+    const char *path = th_write_temp(0, "dup.yaml", yaml);
+    char run[600], dir[700], from[700], ck[800];
+    snprintf(run, sizeof run, "%s/dup-run", th_temp_dir());
+    must_run(path, 2, run, NULL);
+    snprintf(dir, sizeof dir, "%s/dup-restart", th_temp_dir());
+    snprintf(from, sizeof from, "%s/checkpoint-0000000010.h5", run);
+    snprintf(ck, sizeof ck, "%s/checkpoint-0000000010.h5", dir);
+    cr_assert_eq(mkdir_copy(from, dir, ck), 0);
+    /* the atom lowest in z takes the id of the one highest in z */
+    hid_t f = H5Fopen(ck, H5F_ACC_RDWR, H5P_DEFAULT);
+    cr_assert_geq(f, 0);
+    hid_t dx = H5Dopen2(f, "/model/md/atoms/x", H5P_DEFAULT);
+    hid_t di = H5Dopen2(f, "/model/md/atoms/id", H5P_DEFAULT);
+    cr_assert(dx >= 0 && di >= 0, "checkpoint layout");
+    hid_t sp = H5Dget_space(di);
+    long n = (long)H5Sget_simple_extent_npoints(sp);
+    H5Sclose(sp);
+    double *x = malloc((size_t)n * 3 * sizeof *x);
+    int64_t *id = malloc((size_t)n * sizeof *id);
+    cr_assert(x && id);
+    cr_assert_geq(H5Dread(dx, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, x), 0);
+    cr_assert_geq(H5Dread(di, H5T_NATIVE_INT64, H5S_ALL, H5S_ALL, H5P_DEFAULT, id), 0);
+    long lo = 0, hi = 0;
+    for (long i = 1; i < n; i++) {
+        if (x[3 * i + 2] < x[3 * lo + 2]) lo = i;
+        if (x[3 * i + 2] > x[3 * hi + 2]) hi = i;
+    }
+    id[lo] = id[hi];
+    cr_assert_geq(H5Dwrite(di, H5T_NATIVE_INT64, H5S_ALL, H5S_ALL, H5P_DEFAULT, id), 0);
+    H5Dclose(dx);
+    H5Dclose(di);
+    H5Fclose(f);
+    free(x);
+    free(id);
+    static char out[16384];
+    const char *extra[] = {"--restart", NULL};
+    int rc = run_np(path, 2, dir, extra, out, sizeof out);
+    cr_assert_neq(rc, 0, "restart with a repeated id ran:\n%s", out);
+    cr_assert(strstr(out, "1 id(s) given twice") && strstr(out, "checkpoint-0000000010.h5"), "%s",
+              out);
+}
+
+/* The impact geometry: a Cu slab (8 x 8 x 5 cells, periodic across, free
+ * along z) with a cluster of 43 atoms 12 Å above it, on 4 bricks along z.
+ * Equal bricks leave one brick empty and the cluster's nearly so (max /
+ * mean about 2); `balance: shift` moves the cuts to the atoms' quantiles
+ * along z (each brick still cutoff + skin wide): the imbalance falls
+ * below 0.75 of it, and the trajectory is the serial one to 1e-10. */
+Test(bricks, shift_balance_evens_a_cluster_above_a_slab, .timeout = 600)
+{
+    const double a = 3.615;
+    static char text[1 << 17];
+    static const double basis[4][3] = {{0, 0, 0}, {0.5, 0.5, 0}, {0.5, 0, 0.5}, {0, 0.5, 0.5}};
+    int n = 0, at = 0;
+    char body[1 << 17];
+    for (int i = 0; i < 8; i++)
+        for (int j = 0; j < 8; j++)
+            for (int k = 0; k < 5; k++)
+                for (int b = 0; b < 4; b++, n++)
+                    at += snprintf(body + at, sizeof body - (size_t)at, "Cu %.10g %.10g %.10g\n",
+                                   (i + basis[b][0]) * a, (j + basis[b][1]) * a,
+                                   (k + basis[b][2]) * a + 0.1);
+    const double c[3] = {4 * a, 4 * a, 5 * a + 12.0 + 2 * a};
+    for (int i = -3; i <= 3; i++)
+        for (int j = -3; j <= 3; j++)
+            for (int k = -3; k <= 3; k++)
+                for (int b = 0; b < 4; b++) {
+                    double x[3] = {(i + basis[b][0]) * a, (j + basis[b][1]) * a,
+                                   (k + basis[b][2]) * a};
+                    if (x[0] * x[0] + x[1] * x[1] + x[2] * x[2] > 5.5 * 5.5)
+                        continue;
+                    at += snprintf(body + at, sizeof body - (size_t)at, "Cu %.10g %.10g %.10g\n",
+                                   c[0] + x[0], c[1] + x[1], c[2] + x[2]);
+                    n++;
+                }
+    snprintf(text, sizeof text,
+             "%d\nLattice=\"%.10g 0 0 0 %.10g 0 0 0 %.10g\" Properties=species:S:1:pos:R:3 "
+             "pbc=\"T T F\"\n%s",
+             n, 8 * a, 8 * a, 60.0, body);
+    const char *xpath = th_write_temp(1, "impact.xyz", text);
+    char yaml[1024], yaml_eq[1024];
+    const char *common = "seed: 6\nsystem:\n  read_xyz: %s\n  boundary: [periodic, periodic, free]\n"
+                         "potential: {style: eam/alloy, file: Cu_mishin1.eam.alloy}\n"
+                         "md: {steps: 100, temperature: 300}\n"
+                         "output: {thermo_every: 10}\n"
+                         "parallel: {grid: [1, 1, 4]%s}\n";
+    snprintf(yaml, sizeof yaml, common, xpath, ", balance: shift");
+    snprintf(yaml_eq, sizeof yaml_eq, common, xpath, "");
+    const char *path = th_write_temp(2, "impact.yaml", yaml);
+    const char *path_eq = th_write_temp(3, "impact_eq.yaml", yaml_eq);
+    char d0[600], dbal[600], deq[600];
+    snprintf(d0, sizeof d0, "%s/impact-serial", th_temp_dir());
+    snprintf(dbal, sizeof dbal, "%s/impact-shift", th_temp_dir());
+    snprintf(deq, sizeof deq, "%s/impact-equal", th_temp_dir());
+    must_run(path, 0, d0, NULL);
+    must_run(path, 4, dbal, NULL);
+    must_run(path_eq, 4, deq, NULL);
+    compare_series(d0, dbal, "shift balance");
+    compare_metrics(d0, dbal, "shift balance");
+    compare_snapshot(d0, dbal, 100, "shift balance");
+    check_parallel_record(dbal, 4, n);
+    check_parallel_record(deq, 4, n);
+    json_t *rb = result_of(dbal), *re = result_of(deq);
+    double ib = json_real_value(json_object_get(json_object_get(rb, "parallel"),
+                                                "imbalance_max_over_mean"));
+    double ie = json_real_value(json_object_get(json_object_get(re, "parallel"),
+                                                "imbalance_max_over_mean"));
+    cr_log_info("impact geometry, 4 bricks along z: imbalance max/mean %.3f equal, %.3f shift",
+                ie, ib);
+    cr_assert_gt(ie, 1.6, "equal bricks: imbalance %g", ie);
+    cr_assert_lt(ib, 0.75 * ie, "shift: imbalance %g against %g of equal bricks", ib, ie);
+    json_decref(rb);
+    json_decref(re);
 }

@@ -3,6 +3,7 @@
 
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "core/parallel.h"
@@ -60,6 +61,12 @@ void decomp_set_box(struct decomp *dc, const struct box *b)
         dc->blo[d] = b->lo[d];
         dc->bhi[d] = b->hi[d];
         double L = b->hi[d] - b->lo[d];
+        if (dc->frac[d]) {
+            int c = dc->coords[d];
+            dc->lo[d] = c == 0 ? b->lo[d] : b->lo[d] + L * dc->frac[d][c];
+            dc->hi[d] = c + 1 == dc->grid[d] ? b->hi[d] : b->lo[d] + L * dc->frac[d][c + 1];
+            continue;
+        }
         dc->lo[d] = b->lo[d] + L * dc->coords[d] / dc->grid[d];
         dc->hi[d] = dc->coords[d] + 1 == dc->grid[d] ? b->hi[d]
                                                      : b->lo[d] + L * (dc->coords[d] + 1) / dc->grid[d];
@@ -81,9 +88,109 @@ int decomp_init(struct decomp *dc, const struct parallel *par, const int grid[3]
     return 0;
 }
 
+void decomp_free(struct decomp *dc)
+{
+    for (int d = 0; d < 3; d++) {
+        free(dc->frac[d]);
+        dc->frac[d] = NULL;
+    }
+}
+
+double decomp_min_width(const struct decomp *dc, int d)
+{
+    double L = dc->bhi[d] - dc->blo[d], w = INFINITY;
+    for (int c = 0; c < dc->grid[d]; c++)
+        w = fmin(w, dc->frac[d] ? L * (dc->frac[d][c + 1] - dc->frac[d][c]) : L / dc->grid[d]);
+    return w;
+}
+
+enum { SHIFT_BINS = 4096 };
+
+int decomp_shift(struct decomp *dc, const double *x, int n, double range, struct err *e)
+{
+    double *hist = malloc(SHIFT_BINS * sizeof *hist);
+    int bad = hist == NULL;
+    if (parallel_any(dc->par, bad)) {
+        free(hist);
+        return err_nomem(e, "balance histogram");
+    }
+    int rc = 0;
+    for (int d = 0; d < 3 && !rc; d++) {
+        int g = dc->grid[d];
+        double L = dc->bhi[d] - dc->blo[d];
+        if (g == 1 || !(L > 0))
+            continue;
+        double *frac = calloc((size_t)g + 1, sizeof *frac);
+        if (parallel_any(dc->par, frac == NULL)) {
+            free(frac);
+            rc = err_nomem(e, "balance cuts");
+            break;
+        }
+        memset(hist, 0, SHIFT_BINS * sizeof *hist);
+        for (int i = 0; i < n; i++) {
+            double q = (x[3 * i + d] - dc->blo[d]) / L * SHIFT_BINS;
+            int b = !(q >= 0) ? 0 : q >= SHIFT_BINS - 1 ? SHIFT_BINS - 1 : (int)q;
+            hist[b] += 1.0;
+        }
+        parallel_sum(dc->par, hist, SHIFT_BINS);
+        double total = 0;
+        for (int b = 0; b < SHIFT_BINS; b++)
+            total += hist[b];
+        /* cut c where the cumulative count reaches c / g of the total,
+         * linear within the bin */
+        double cum = 0;
+        int b = 0;
+        for (int c = 1; c < g; c++) {
+            double want = total * c / g;
+            while (b < SHIFT_BINS - 1 && cum + hist[b] < want)
+                cum += hist[b++];
+            double in = hist[b] > 0 ? (want - cum) / hist[b] : 0.0;
+            frac[c] = (b + fmin(fmax(in, 0.0), 1.0)) / SHIFT_BINS;
+        }
+        frac[0] = 0.0;
+        frac[g] = 1.0;
+        /* every brick at least the range wide (the halo reaches one brick):
+         * push cuts up from below, then down from above; equal bricks are
+         * wide enough (decomp_check_grid), so this always fits */
+        double wmin = range / L * (1 + 1e-12);
+        for (int c = 1; c < g; c++)
+            frac[c] = fmax(frac[c], frac[c - 1] + wmin);
+        for (int c = g - 1; c >= 1; c--)
+            frac[c] = fmin(frac[c], frac[c + 1] - wmin);
+        free(dc->frac[d]);
+        dc->frac[d] = frac;
+    }
+    free(hist);
+    if (!rc) {
+        struct box b;
+        memset(&b, 0, sizeof b);
+        for (int d = 0; d < 3; d++) {
+            b.lo[d] = dc->blo[d];
+            b.hi[d] = dc->bhi[d];
+        }
+        decomp_set_box(dc, &b);
+    }
+    return rc;
+}
+
 int decomp_coord(const struct decomp *dc, int d, double x)
 {
     double L = dc->bhi[d] - dc->blo[d];
+    if (dc->frac[d]) {   /* the last cut at or below x */
+        const double *f = dc->frac[d];
+        double q = L > 0 ? (x - dc->blo[d]) / L : 0;
+        if (!(q >= f[1]))
+            return 0;
+        int lo = 1, hi = dc->grid[d] - 1;
+        while (lo < hi) {
+            int mid = (lo + hi + 1) / 2;
+            if (q >= f[mid])
+                lo = mid;
+            else
+                hi = mid - 1;
+        }
+        return lo;
+    }
     double q = L > 0 ? (x - dc->blo[d]) / L * dc->grid[d] : 0;
     /* compared in double before the cast: NaN and far-away positions clamp */
     if (!(q >= 0))

@@ -26,6 +26,10 @@ struct decomp {
     int periodic[3];
     double blo[3], bhi[3];        /* the box the bricks cut */
     double lo[3], hi[3];          /* this rank's brick */
+    /* shifted boundaries (decomp_shift): the cuts along each axis as
+     * fractions of the box, grid[d] + 1 of them from 0 to 1; NULL: equal
+     * bricks */
+    double *frac[3];
 };
 
 /* The grid for nranks bricks of the box: of the factorisations px py pz =
@@ -43,6 +47,21 @@ int decomp_check_grid(const int grid[3], const struct box *b, double range, char
 /* Set up the bricks of grid over par's ranks for box b. */
 int decomp_init(struct decomp *dc, const struct parallel *par, const int grid[3],
                 const struct box *b, struct err *e);
+
+void decomp_free(struct decomp *dc);
+
+/* Shifted boundaries, as LAMMPS' `balance shift`: along every axis cut
+ * more than once, the cuts move to the quantiles of the particles' global
+ * distribution along that axis (a histogram of 4096 bins summed over the
+ * ranks), so each slab of bricks holds about the same number of
+ * particles, and then apart where needed so that every brick stays at
+ * least `range` wide.  x: this rank's n positions.  Collective; every
+ * rank computes the same cuts.  The bricks keep their fractions of the
+ * box when it shrink-wraps. */
+int decomp_shift(struct decomp *dc, const double *x, int n, double range, struct err *e);
+
+/* The thinnest brick along axis d (Å). */
+double decomp_min_width(const struct decomp *dc, int d);
 
 /* The box changed (free axes shrink-wrap): recompute the bricks. */
 void decomp_set_box(struct decomp *dc, const struct box *b);

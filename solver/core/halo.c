@@ -30,6 +30,7 @@ int halo_init(struct halo *h, const struct parallel *par, const int grid[3], con
 
 void halo_free(struct halo *h)
 {
+    decomp_free(&h->dc);
     for (int s = 0; s < 6; s++)
         free(h->swap[s].send);
     free(h->sbuf);
@@ -60,6 +61,11 @@ static int collective_rc(const struct halo *h, int rc, struct err *e)
     return rc;
 }
 
+int halo_agree(const struct halo *h, int rc, struct err *e)
+{
+    return collective_rc(h, rc, e);
+}
+
 int halo_distribute(struct halo *h, struct particles *p, struct err *e)
 {
     unsigned char *keep = malloc((size_t)(p->n_owned ? p->n_owned : 1));
@@ -77,6 +83,32 @@ int halo_distribute(struct halo *h, struct particles *p, struct err *e)
     rc = collective_rc(h, rc, e);
     if (!rc)
         count_atoms(h, p);
+    return rc;
+}
+
+int halo_adopt(struct halo *h, struct particles *p, int rc, struct err *e)
+{
+    rc = collective_rc(h, rc, e);
+    if (!rc) {
+        particles_clear_ghosts(p);
+        count_atoms(h, p);
+    }
+    return rc;
+}
+
+int halo_balance(struct halo *h, const struct box *b, struct particles *p, double range,
+                 struct err *e)
+{
+    /* on the box the first list build will shrink-wrap to (the same
+     * wrap and extent it computes there) */
+    struct box wrapped = *b;
+    int rc = halo_remap(h, &wrapped, p, 1, e);
+    if (!rc)
+        rc = collective_rc(h, decomp_shift(&h->dc, p->x, p->n_owned, range, e), e);
+    if (!rc) {
+        particles_clear_ghosts(p);
+        rc = halo_migrate(h, p, e);
+    }
     return rc;
 }
 
@@ -201,7 +233,7 @@ static int push_send(struct halo_swap *sw, int i, struct err *e)
 int halo_build(struct halo *h, struct particles *p, double range, struct err *e)
 {
     const struct decomp *dc = &h->dc;
-    size_t rec = halo_record_size(p);
+    size_t rec = halo_ghost_record_size(p);
     int rc = 0;
     p->n_ghost = 0;
     h->nswap = 0;
@@ -209,11 +241,11 @@ int halo_build(struct halo *h, struct particles *p, double range, struct err *e)
      * the range since the grid was chosen, and one swap would miss ghosts */
     for (int d = 0; d < 3; d++)
         if ((dc->grid[d] > 1 || dc->periodic[d]) &&
-            !((dc->bhi[d] - dc->blo[d]) / dc->grid[d] >= range))   /* the same on every rank */
+            !(decomp_min_width(dc, d) >= range))   /* the same on every rank */
             return err_set(e, ERR_RUNTIME,
                            "the bricks along %c are %g Å thick, thinner than the interaction "
                            "range %g Å (the box shrank): run on fewer ranks along %c",
-                           "xyz"[d], (dc->bhi[d] - dc->blo[d]) / dc->grid[d], range, "xyz"[d]);
+                           "xyz"[d], decomp_min_width(dc, d), range, "xyz"[d]);
     for (int d = 0; d < 3 && !rc; d++) {
         if (dc->grid[d] == 1 && !dc->periodic[d])
             continue;
@@ -241,7 +273,7 @@ int halo_build(struct halo *h, struct particles *p, double range, struct err *e)
             if (!rc)   /* the reverse sums receive as much as was sent */
                 rc = grow(&h->rbuf, &h->rcap, rec * (size_t)sw->nsend, e);
             for (int k = 0; !rc && k < sw->nsend; k++)
-                halo_pack(p, sw->send[k], d, sw->shift, (unsigned char *)h->sbuf + rec * (size_t)k);
+                halo_pack_ghost(p, sw->send[k], d, sw->shift, (unsigned char *)h->sbuf + rec * (size_t)k);
             size_t got = 0;
             rc = collective_rc(h, rc, e);
             if (!rc)
@@ -257,7 +289,7 @@ int halo_build(struct halo *h, struct particles *p, double range, struct err *e)
             if (rc)
                 break;
             for (int k = 0; k < nin; k++)
-                halo_unpack(p, at + k, (const unsigned char *)h->rbuf + rec * (size_t)k);
+                halo_unpack_ghost(p, at + k, (const unsigned char *)h->rbuf + rec * (size_t)k);
             sw->first = at;
             sw->nrecv = nin;
             p->n_ghost += nin;
@@ -269,7 +301,8 @@ int halo_build(struct halo *h, struct particles *p, double range, struct err *e)
 /* One forward pass: values of the sent particles to the received ghosts,
  * coordinate `dim` shifted (with_shift).  Sizes are known from the build
  * (one message per swap), and the buffers were sized there for whole
- * records, so this cannot run out of memory. */
+ * ghost records (at least a row of the virial or of any field: the widest
+ * arrays passed here), so this cannot run out of memory. */
 static int forward(struct halo *h, double *arr, int ncomp, int with_shift, struct err *e)
 {
     size_t row = (size_t)ncomp * sizeof(double);

@@ -62,6 +62,17 @@ void halo_free(struct halo *h);
  * those of this rank's brick and count them. */
 int halo_distribute(struct halo *h, struct particles *p, struct err *e);
 
+/* Each rank built only its own brick's particles (a distributed set-up;
+ * some may lie just outside it: the first list build migrates them): count
+ * them over the ranks.  rc: this rank's set-up result, made collective (a
+ * failure on one rank fails every rank). */
+int halo_adopt(struct halo *h, struct particles *p, int rc, struct err *e);
+
+/* Shifted boundaries (decomp_shift) for this rank's owned particles p in
+ * box b, then every particle to its new owner.  Collective. */
+int halo_balance(struct halo *h, const struct box *b, struct particles *p, double range,
+                 struct err *e);
+
 /* Wrap owned particles into periodic axes, check fixed ones and, when
  * shrink, shrink-wrap free axes to the global extent; the bricks follow
  * the box.  Collective: a failure on any rank fails on every rank. */
@@ -81,6 +92,11 @@ int halo_forward(struct halo *h, const struct particles *p, double *arr, int nco
 /* arr[owner] += arr[ghost] over every ghost of it. */
 int halo_reverse_add(struct halo *h, const struct particles *p, double *arr, int ncomp);
 
+/* rc of this rank made collective: when any rank failed, every rank
+ * returns an error (its own message, or "another MPI rank failed"), so no
+ * rank goes on to an exchange the failed one will never join. */
+int halo_agree(const struct halo *h, int rc, struct err *e);
+
 /* Sums, maxima and "any" over the ranks, identical on every rank. */
 void halo_sum(const struct halo *h, double *buf, int n);
 void halo_max(const struct halo *h, double *buf, int n);
@@ -95,6 +111,15 @@ void halo_counts(const struct halo *h, const struct particles *p, long *counts);
 /* v of every rank (out holds one entry per rank). */
 void halo_allgather_long(const struct halo *h, long v, long *out);
 int halo_nranks(const struct halo *h);
+
+/* The position of each of this rank's n ids (sorted ascending, unique
+ * over all ranks) in the ascending order of the ids of all ranks: pos[k]
+ * counts the ids of all ranks smaller than ids[k].  Collective; each rank
+ * holds only its own ids and one other rank's at a time (they pass round
+ * the ranks in a ring), so memory stays per brick.  *shared (may be NULL)
+ * counts this rank's ids another rank holds too (0 when they are unique). */
+int halo_id_positions(const struct halo *h, const int64_t *ids, int n, long *pos, long *shared,
+                      struct err *e);
 
 /* Owned particles reordered by id (ghosts are dropped). */
 int halo_sort_by_id(struct particles *p, struct err *e);

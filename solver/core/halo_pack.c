@@ -71,3 +71,48 @@ void halo_unpack(struct particles *p, int i, const unsigned char *buf)
     }
     p->origin[i] = i;
 }
+
+size_t halo_ghost_record_size(const struct particles *p)
+{
+    size_t n = (3 + 3) * sizeof(double) + sizeof(int) + sizeof(int64_t) + sizeof(uint32_t);
+    for (int k = 0; k < p->nfields; k++)
+        n += (size_t)p->fields[k].ncomp * sizeof(double);
+    return n;
+}
+
+void halo_pack_ghost(const struct particles *p, int i, int dim, double shift, unsigned char *buf)
+{
+    double x[3] = {p->x[3 * i], p->x[3 * i + 1], p->x[3 * i + 2]};
+    if (dim >= 0)
+        x[dim] += shift;
+    PUT(x, sizeof x);
+    PUT(p->v + 3 * (size_t)i, 3 * sizeof(double));
+    PUT(p->type + i, sizeof(int));
+    PUT(p->id + i, sizeof(int64_t));
+    PUT(p->mask + i, sizeof(uint32_t));
+    for (int k = 0; k < p->nfields; k++) {
+        size_t nc = (size_t)p->fields[k].ncomp;
+        PUT(p->fields[k].data + nc * i, nc * sizeof(double));
+    }
+}
+
+void halo_unpack_ghost(struct particles *p, int i, const unsigned char *buf)
+{
+    GET(p->x + 3 * (size_t)i, 3 * sizeof(double));
+    GET(p->v + 3 * (size_t)i, 3 * sizeof(double));
+    GET(p->type + i, sizeof(int));
+    GET(p->id + i, sizeof(int64_t));
+    GET(p->mask + i, sizeof(uint32_t));
+    for (int k = 0; k < p->nfields; k++) {
+        size_t nc = (size_t)p->fields[k].ncomp;
+        GET(p->fields[k].data + nc * i, nc * sizeof(double));
+    }
+    /* a ghost's force, energy and virial are partial sums the kernels zero
+     * and the reverse communication takes back to the owner */
+    memset(p->f + 3 * (size_t)i, 0, 3 * sizeof(double));
+    p->pe[i] = 0.0;
+    memset(p->virial + 6 * (size_t)i, 0, 6 * sizeof(double));
+    memset(p->image + 3 * (size_t)i, 0, 3 * sizeof(int));
+    p->origin[i] = i;
+    p->gshift[3 * (size_t)i] = p->gshift[3 * (size_t)i + 1] = p->gshift[3 * (size_t)i + 2] = 0;
+}

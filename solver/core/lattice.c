@@ -186,6 +186,13 @@ int lattice_cell_sites(const struct lattice *l)
 long lattice_fill(const struct lattice *l, const long n[3], const struct region *region,
                   struct particles *p, int type, int64_t *next_id, struct err *e)
 {
+    return lattice_fill_where(l, n, region, NULL, NULL, p, type, next_id, e);
+}
+
+long lattice_fill_where(const struct lattice *l, const long n[3], const struct region *region,
+                        int (*keep)(const void *ctx, const double x[3]), const void *keep_ctx,
+                        struct particles *p, int type, int64_t *next_id, struct err *e)
+{
     double cell[3];
     lattice_cell(l, cell);
     double(*sites)[3] = NULL;
@@ -204,12 +211,18 @@ long lattice_fill(const struct lattice *l, const long n[3], const struct region 
                                    l->origin[2] + (k + sites[s][2]) * cell[2]};
                     if (region && !region_contains(region, x))
                         continue;
-                    if (particles_add(p, x, NULL, type, (*next_id)++) < 0) {
+                    /* the id counts every site of the region, kept or not,
+                     * so a rank building its brick numbers the atoms as
+                     * the whole system does */
+                    int64_t id = (*next_id)++;
+                    added++;
+                    if (keep && !keep(keep_ctx, x))
+                        continue;
+                    if (particles_add(p, x, NULL, type, id) < 0) {
                         free(sites);
                         err_nomem(e, "lattice sites");
                         return -1;
                     }
-                    added++;
                 }
     free(sites);
     return added;

@@ -47,6 +47,13 @@ int lattice_cell_sites(const struct lattice *l);
  * added or -1 (memory, recorded in e). */
 long lattice_fill(const struct lattice *l, const long n[3], const struct region *region,
                   struct particles *p, int type, int64_t *next_id, struct err *e);
+/* The same, storing only the sites for which keep(keep_ctx, x) is non-zero
+ * (keep NULL: all); ids and the count returned run over all the sites of
+ * the region, so the stored atoms have the ids a full build gives them (a
+ * rank of a brick decomposition builds its own brick this way). */
+long lattice_fill_where(const struct lattice *l, const long n[3], const struct region *region,
+                        int (*keep)(const void *ctx, const double x[3]), const void *keep_ctx,
+                        struct particles *p, int type, int64_t *next_id, struct err *e);
 
 /* Nearest-neighbour distance of the lattice (Å). */
 double lattice_nn_distance(const struct lattice *l);

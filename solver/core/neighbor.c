@@ -63,7 +63,8 @@ static int reserve_common(struct nlist *nl, const struct particles *p, struct er
         nl->x_build = xb;
         nl->cap_build = n;
     }
-    memcpy(nl->x_build, p->x, (size_t)3 * n * sizeof(double));
+    if (n > 0)   /* a brick may hold no atom: x_build is still NULL then */
+        memcpy(nl->x_build, p->x, (size_t)3 * n * sizeof(double));
     nl->n = n;
     return 0;
 }

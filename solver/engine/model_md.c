@@ -3,6 +3,9 @@
 
 #include "core/halo.h"
 
+#include <stdlib.h>
+#include <string.h>
+
 static int md_model_init(void *self, struct sim *s, struct err *e)
 {
     struct md_model *m = self;
@@ -63,6 +66,42 @@ static int md_model_checkpoint_write(void *self, struct ckpt *ck, struct err *e)
     return rc;
 }
 
+static int in_brick(const void *ctx, const double x[3])
+{
+    return decomp_owns(ctx, x);
+}
+
+static int cmp_id(const void *a, const void *b)
+{
+    int64_t x = *(const int64_t *)a, y = *(const int64_t *)b;
+    return (x > y) - (x < y);
+}
+
+/* Each rank checked the ids it kept; one id on two ranks is refused too. */
+static int ids_unique_over_ranks(struct md *md, struct ckpt *ck, struct err *e)
+{
+    int n = md->p->n_owned;
+    int64_t *ids = malloc((size_t)(n ? n : 1) * sizeof *ids);
+    long *pos = malloc((size_t)(n ? n : 1) * sizeof *pos), shared = 0;
+    int rc = halo_agree(md->halo, ids && pos ? 0 : err_nomem(e, "checkpoint ids"), e);
+    if (!rc) {
+        memcpy(ids, md->p->id, (size_t)n * sizeof *ids);
+        qsort(ids, (size_t)n, sizeof *ids, cmp_id);
+        rc = halo_id_positions(md->halo, ids, n, pos, &shared, e);
+    }
+    double dup = (double)shared;
+    if (!rc)
+        halo_sum(md->halo, &dup, 1);
+    if (!rc && dup > 0)
+        rc = err_set(e, ERR_INPUT,
+                     "%s: checkpoint model/md/atoms/id: %.0f id(s) given twice (in two ranks' "
+                     "bricks)",
+                     ck->path, dup / 2);
+    free(ids);
+    free(pos);
+    return rc;
+}
+
 static int md_model_checkpoint_read(void *self, struct ckpt *ck, struct err *e)
 {
     struct md_model *m = self;
@@ -73,10 +112,18 @@ static int md_model_checkpoint_read(void *self, struct ckpt *ck, struct err *e)
     if (!rc) rc = ckpt_get_double(ck, "energy", &md->last.energy);
     if (!rc) rc = ckpt_get_doubles(ck, "virial", md->last.virial, 6);
     if (!rc) rc = ckpt_get_box(ck, "model/md/box", &md->box);
+    if (md->halo) {   /* bricks: each rank reads its brick's atoms */
+        if (!rc)
+            decomp_set_box(&md->halo->dc, &md->box);
+        if (!rc)
+            rc = ckpt_get_particles_where(ck, "model/md/atoms", md->p, in_brick, &md->halo->dc);
+        rc = halo_agree(md->halo, rc, e);
+        if (!rc)
+            rc = ids_unique_over_ranks(md, ck, e);
+        m->read_all = !rc;   /* the sync counts them and migrates strays */
+        return rc;
+    }
     if (!rc) rc = ckpt_get_particles(ck, "model/md/atoms", md->p);
-    /* bricks: every rank read every atom; the sync keeps its brick's */
-    if (!rc && md->halo)
-        m->read_all = 1;
     return rc;
 }
 

@@ -2,6 +2,8 @@
 #include "engine/sim.h"
 #include "util/wfile.h"
 
+#include "core/parallel.h"
+
 #include <dirent.h>
 #include <errno.h>
 #include <math.h>
@@ -91,6 +93,21 @@ static unsigned due_bits(const struct sim *s)
     return due;
 }
 
+/* Under MPI a write that failed on one rank (rank 0 writes the files)
+ * fails the step on every rank: the others would otherwise go on to the
+ * next step's exchanges and wait for a rank that has stopped. */
+static int agree(const struct sim *s, int rc, const char *what, struct err *e)
+{
+    const struct parallel *par = s->run ? s->run->opt.par : NULL;
+    if (!par || par->size < 2)
+        return rc;
+    if (parallel_any(par, rc != 0) && !rc)
+        rc = err_set(e, ERR_RUNTIME, "step %ld: stopped: another MPI rank failed to write %s "
+                                     "(its message is on rank 0's output)",
+                     s->step, what);
+    return rc;
+}
+
 static int output(struct sim *s, unsigned due, struct err *e)
 {
     if (!s->case_ops || !s->case_ops->output || !due)
@@ -98,7 +115,7 @@ static int output(struct sim *s, unsigned due, struct err *e)
     timer_start(sim_timers(s), TIMER_OUTPUT);
     int rc = s->case_ops->output(s->case_state, s, due, e);
     timer_stop(sim_timers(s), TIMER_OUTPUT);
-    return rc;
+    return agree(s, rc, "the output", e);
 }
 
 /* Non-finite energy, or a conserving model whose energy ran away. */
@@ -395,6 +412,7 @@ int sim_run(struct sim *s, const char *restart, struct err *e)
     }
     if (!rc && co->begin)
         rc = co->begin(s->case_state, s, e);
+    rc = agree(s, rc, "its output files", e);   /* rank 0 opened them */
     if (!rc && s->restarted_from < 0)
         rc = output(s, due_bits(s), e);
     int show = r && !s->subrun && r->opt.progress && !r->opt.quiet;
@@ -431,7 +449,7 @@ int sim_run(struct sim *s, const char *restart, struct err *e)
         if (s->checkpoint_every > 0 && s->step % s->checkpoint_every == 0 && s->step < s->steps &&
             !s->stop) {
             timer_start(tm, TIMER_CHECKPOINT);
-            rc = write_checkpoint(s, e);
+            rc = agree(s, write_checkpoint(s, e), "a checkpoint", e);
             timer_stop(tm, TIMER_CHECKPOINT);
             if (rc)
                 break;

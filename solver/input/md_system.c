@@ -2,9 +2,11 @@
 #include "input/md_system.h"
 
 #include <math.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "core/elements.h"
+#include "core/halo.h"
 #include "core/rng.h"
 #include "input/config_read.h"
 
@@ -63,9 +65,48 @@ int md_check_count(struct cfg_obj *o, const char *key, double count, long max, c
                         count, o->path, max, given ? "" : " (the default; set it to allow more)");
 }
 
+/* decomp_owns as a lattice_fill_where predicate */
+static int in_brick(const void *ctx, const double x[3])
+{
+    return decomp_owns(ctx, x);
+}
+
+/* The serial displacement of the atom built i-th is the i-th triple of
+ * uniforms of one sequence; a rank holding the atoms of its brick (built
+ * in id order, id = i + 1) runs through the sequence and keeps its own. */
+static int displace_atoms(struct particles *p, uint64_t seed, double displace, int by_id,
+                          struct err *e)
+{
+    struct rng_seq *r = rng_seq_create(seed ^ 0x5eedd15ace1ull);
+    if (!r)
+        return err_nomem(e, "rng");
+    long next = 0;
+    for (int i = 0; i < p->n_owned; i++) {
+        long at = by_id ? (long)(p->id[i] - 1) : i;
+        for (; next < at; next++)
+            for (int d = 0; d < 3; d++)
+                (void)rng_seq_uniform(r);
+        next++;
+        for (int d = 0; d < 3; d++)
+            p->x[3 * i + d] += displace * (2.0 * rng_seq_uniform(r) - 1.0);
+    }
+    rng_seq_destroy(&r);
+    return 0;
+}
+
 int md_system_read(struct cfg_obj *root, uint64_t seed, struct particles **pout, struct box *b,
                    struct md_system_info *info)
 {
+    return md_system_read_split(root, seed, NULL, pout, b, info, NULL);
+}
+
+int md_system_read_split(struct cfg_obj *root, uint64_t seed, const struct md_system_split *split,
+                         struct particles **pout, struct box *b, struct md_system_info *info,
+                         struct halo **halo_out)
+{
+    struct halo *halo = NULL;
+    if (halo_out)
+        *halo_out = NULL;
     struct cfg_obj s;
     int rc = cfg_section_required(root, "system", &s);
     if (rc)
@@ -153,21 +194,29 @@ int md_system_read(struct cfg_obj *root, uint64_t seed, struct particles **pout,
     if (!p)
         return err_nomem(s.cfg->err, "particles");
     char path[4096], keypath[CFG_PATH_MAX];
+    struct err *e = s.cfg->err;
     if (has_lat) {
         double m = mass > 0 ? mass : element_mass(element);
         int t = particles_type_index(p, element, m);
         int64_t next_id = 1;
-        if (lattice_fill(&info->lattice, info->cells, has_region ? &region : NULL, p, t, &next_id,
-                         s.cfg->err) < 0) {
-            particles_destroy(&p);
-            return ERR_RUNTIME;
-        }
         double cell[3];
         lattice_cell(&info->lattice, cell);
         for (int d = 0; d < 3; d++) {
             b->lo[d] = info->lattice.origin[d];
             b->hi[d] = info->lattice.origin[d] + info->cells[d] * cell[d];
         }
+        /* bricks: each rank builds the sites of its own brick only */
+        if (split && (rc = split->plan(split->ctx, b, &halo))) {
+            particles_destroy(&p);
+            return rc;
+        }
+        rc = lattice_fill_where(&info->lattice, info->cells, has_region ? &region : NULL,
+                                halo ? in_brick : NULL, halo ? &halo->dc : NULL, p, t, &next_id,
+                                e) < 0
+                 ? ERR_RUNTIME
+                 : 0;
+        if (halo)
+            rc = halo_adopt(halo, p, rc, e);
     } else {
         const char *file = has_data ? data_file : xyz_file;
         snprintf(keypath, sizeof keypath, "%s.%s", s.path, has_data ? "read_data" : "read_xyz");
@@ -181,44 +230,45 @@ int md_system_read(struct cfg_obj *root, uint64_t seed, struct particles **pout,
             rules.bc[d] = b->bc[d];
         rules.max_atoms = info->max_particles;
         if (has_data) {
-            rc = config_read_lammps_data(path, elements, nelements, &rules, p, b, s.cfg->err);
+            rc = config_read_lammps_data(path, elements, nelements, &rules, p, b, e);
         } else {
             int pbc[3];
-            rc = config_read_extxyz(path, &rules, p, b, pbc, s.cfg->err);
+            rc = config_read_extxyz(path, &rules, p, b, pbc, e);
         }
         for (int d = 0; d < 3; d++)
             b->bc[d] = keep[d];
-        if (rc) {
-            particles_destroy(&p);
-            return rc;
-        }
-        if (has_region) {
+        if (!rc && has_region) {
             unsigned char *keepmask = malloc((size_t)(p->n_owned ? p->n_owned : 1));
-            if (!keepmask) {
-                particles_destroy(&p);
-                return err_nomem(s.cfg->err, "region");
-            }
-            for (int i = 0; i < p->n_owned; i++)
+            rc = keepmask ? 0 : err_nomem(e, "region");
+            for (int i = 0; !rc && i < p->n_owned; i++)
                 keepmask[i] = (unsigned char)region_contains(&region, p->x + 3 * i);
-            particles_compact(p, keepmask);
+            if (!rc)
+                particles_compact(p, keepmask);
             free(keepmask);
         }
+        /* a file is read (and checked) whole by every rank, displaced as
+         * in a serial run, and then each rank keeps its brick's atoms */
+        if (!rc && displace > 0)
+            rc = displace_atoms(p, seed, displace, 0, e);
+        if (!rc && split && (rc = split->plan(split->ctx, b, &halo)) == 0 && halo)
+            rc = halo_distribute(halo, p, e);
     }
-    if (p->n_owned == 0) {
+    if (!rc && halo && displace > 0 && has_lat)
+        rc = displace_atoms(p, seed, displace, 1, e);
+    else if (!rc && displace > 0 && has_lat)
+        rc = displace_atoms(p, seed, displace, 0, e);
+    info->natoms = halo ? halo->natoms : p->n_owned;
+    if (!rc && info->natoms == 0)
+        rc = cfg_error_at(s.cfg, s.path, "the system has no atoms (check the region)");
+    if (rc) {
         particles_destroy(&p);
-        return cfg_error_at(s.cfg, s.path, "the system has no atoms (check the region)");
+        if (halo)
+            halo_free(halo);
+        free(halo);
+        return rc;
     }
-    if (displace > 0) {
-        struct rng_seq *r = rng_seq_create(seed ^ 0x5eedd15ace1ull);
-        if (!r) {
-            particles_destroy(&p);
-            return err_nomem(s.cfg->err, "rng");
-        }
-        for (int i = 0; i < p->n_owned; i++)
-            for (int d = 0; d < 3; d++)
-                p->x[3 * i + d] += displace * (2.0 * rng_seq_uniform(r) - 1.0);
-        rng_seq_destroy(&r);
-    }
+    if (halo_out)
+        *halo_out = halo;
     *pout = p;
     return 0;
 }

@@ -45,6 +45,17 @@ struct md_system_info {
     struct lattice lattice;
     long cells[3];
     long max_particles;     /* system.max_particles (or its default) */
+    long natoms;            /* atoms of the system (of all ranks) */
+};
+
+struct halo;
+
+/* A distributed set-up: once the box is known, plan(ctx, box, &halo) says
+ * whether the run is split into bricks (*halo a new decomposition, or NULL
+ * for a serial or replicated run; md/md_bricks.h). */
+struct md_system_split {
+    int (*plan)(void *ctx, const struct box *b, struct halo **out);
+    void *ctx;
 };
 
 /* The key max_particles of a section that builds atoms (system, and the
@@ -58,5 +69,17 @@ int md_check_count(struct cfg_obj *o, const char *key, double count, long max, c
 /* Reads `system`; unless shallow, builds *p (new) and *b. */
 int md_system_read(struct cfg_obj *root, uint64_t seed, struct particles **p, struct box *b,
                    struct md_system_info *info);
+
+/* The same, split over bricks when split->plan returns a halo (*halo, the
+ * caller's; NULL otherwise; split NULL: never): a lattice rank builds the
+ * sites of its own brick only, with the ids and displacements of the
+ * whole build (memory per rank is its brick's); a data or XYZ file is
+ * read and checked whole by every rank, which then keeps its brick's
+ * atoms (the peak memory of the read is the whole system's).  Atoms a
+ * displacement moved just out of the brick migrate at the first list
+ * build.  Collective under split. */
+int md_system_read_split(struct cfg_obj *root, uint64_t seed, const struct md_system_split *split,
+                         struct particles **p, struct box *b, struct md_system_info *info,
+                         struct halo **halo);
 
 #endif

@@ -4,6 +4,7 @@
 #include <string.h>
 
 static const char *const decomposition_names[] = {"auto", "replicated", "bricks", NULL};
+static const char *const balance_names[] = {"none", "shift", NULL};
 
 int parallel_settings_read(struct cfg_obj *root, struct parallel_settings *ps)
 {
@@ -29,6 +30,17 @@ int parallel_settings_read(struct cfg_obj *root, struct parallel_settings *ps)
             return cfg_error_at(o.cfg, "parallel.grid",
                                 "a grid of bricks needs decomposition: bricks (or auto), not "
                                 "replicated");
+    }
+    cfg_allow(&o, "balance");   /* absent: none, not written (job keys stay) */
+    if (json_object_get(o.node, "balance")) {
+        int b;
+        if ((rc = cfg_enum(&o, "balance", NULL, balance_names, &b)))
+            return rc;
+        ps->balance = (enum balance)b;
+        if (ps->balance != BALANCE_NONE && ps->decomposition == DECOMP_REPLICATED)
+            return cfg_error_at(o.cfg, "parallel.balance",
+                                "balance moves the boundaries of bricks: it needs "
+                                "decomposition: bricks (or auto), not replicated");
     }
     return cfg_close(&o);
 }

@@ -5,6 +5,8 @@
  *   parallel:
  *     decomposition: auto     # auto | replicated | bricks
  *     grid: [2, 1, 1]         # bricks per axis (default: chosen from the box)
+ *     balance: none           # none | shift (bricks: cuts at the particles'
+ *                             # quantiles along each axis, decomp_shift)
  *
  * replicated: every rank holds every particle and computes the forces of
  * a slice (the trajectory is the serial one, bitwise).  bricks: each rank
@@ -22,11 +24,13 @@
 #include "util/cfg.h"
 
 enum decomposition { DECOMP_AUTO = 0, DECOMP_REPLICATED = 1, DECOMP_BRICKS = 2 };
+enum balance { BALANCE_NONE = 0, BALANCE_SHIFT = 1 };
 
 struct parallel_settings {
     enum decomposition decomposition;
     int grid[3];
     int grid_given;
+    enum balance balance;     /* absent: none, and not written into the case */
     int given;                /* the section is in the case */
 };
 

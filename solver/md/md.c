@@ -127,7 +127,7 @@ int md_init(struct md *md, struct particles *p, const struct box *box, struct po
             double dt, double skin, int nthreads, struct err *e)
 {
     memset(md, 0, sizeof *md);
-    md->halo = p->halo;   /* md_decompose's (NULL otherwise) */
+    md->halo = p->halo;   /* md_adopt's (NULL otherwise) */
     md->p = p;
     md->box = *box;
     md->pot = pot;
@@ -170,13 +170,12 @@ long md_natoms(const struct md *md)
     return md->halo ? md->halo->natoms : md->p->n_owned;
 }
 
-int md_decompose(struct md *md, struct particles *p, struct halo *h, struct err *e)
+void md_adopt(struct md *md, struct particles *p, struct halo *h)
 {
     memset(md, 0, sizeof *md);
     md->halo = h;
     p->halo = h;
     p->par = NULL;   /* no replicated sums: each rank owns its brick */
-    return halo_distribute(h, p, e);
 }
 
 int md_decomposed_sync(struct md *md, int after_read, struct err *e)

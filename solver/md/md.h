@@ -53,11 +53,10 @@ struct md {
 /* Atoms of the whole system (all ranks). */
 long md_natoms(const struct md *md);
 
-/* Split the system over the ranks of a brick decomposition: the md takes
- * ownership of h, keeps the atoms of this rank's brick (every rank held
- * them all) and from then on exchanges ghosts and migrates atoms.  Call
- * before md_init. */
-int md_decompose(struct md *md, struct particles *p, struct halo *h, struct err *e);
+/* Run on the bricks of h: the md takes ownership of h; p holds this
+ * rank's atoms (md_system_read_split built them; h counted them) and from
+ * then on exchanges ghosts and migrates atoms.  Call before md_init. */
+void md_adopt(struct md *md, struct particles *p, struct halo *h);
 
 /* A checkpoint was written or read: every rank's atoms go to their owner
  * (after a read every rank holds all of them) in id order, so the
@@ -75,7 +74,7 @@ int md_range_ok(const struct potential *pot, const struct box *b, long n, double
                 double max_ghosts, const char *limit, char *why, size_t len);
 
 /* Take ownership of p and pot, build ghosts and lists, compute forces
- * (the halo md_decompose gave p becomes the md's).
+ * (the halo md_adopt gave p becomes the md's).
  * Refuses (ERR_INPUT) what md_range_ok refuses with the ghosts particle
  * indices can hold; cases check their own limit first (md_check_range). */
 int md_init(struct md *md, struct particles *p, const struct box *box, struct potential *pot,

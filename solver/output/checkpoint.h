@@ -85,6 +85,15 @@ int ckpt_put_particles(struct ckpt *c, const char *name, const struct particles 
  * the stored order; the type table and the field names must match. */
 int ckpt_get_particles(struct ckpt *c, const char *name, struct particles *p);
 
+/* The same, keeping only the stored particles for which keep(ctx, x) is
+ * non-zero (keep NULL: all), read in blocks: the memory is the kept
+ * particles and one block, not the whole set (a rank of a brick
+ * decomposition reads its brick's atoms).  Every stored particle is
+ * checked as above; ids are checked unique among the kept ones (across
+ * ranks the caller checks). */
+int ckpt_get_particles_where(struct ckpt *c, const char *name, struct particles *p,
+                             int (*keep)(const void *ctx, const double x[3]), const void *ctx);
+
 /* The box bounds and boundaries (free boundaries move with the particles). */
 int ckpt_put_box(struct ckpt *c, const char *name, const struct box *b);
 int ckpt_get_box(struct ckpt *c, const char *name, struct box *b);

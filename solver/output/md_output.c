@@ -212,12 +212,14 @@ int md_output_step(struct md_output *o, struct run *run, struct md *md, long tot
     int rc = 0;
     if (md->halo) {   /* every rank takes part in the gathers */
         timer_start(&run->timers, TIMER_OUTPUT);
+        /* rank 0 writes: a failure there stops every rank before the next
+         * gather, which rank 0 would never join */
         if (run_due(s, total, run->out.thermo_every))
-            rc = thermo_row(o, run, md);
+            rc = halo_agree(md->halo, thermo_row(o, run, md), &o->err);
         if (!rc && run_due(s, total, run->out.snapshot_every))
-            rc = md_output_snapshot(o, run, md);
+            rc = halo_agree(md->halo, md_output_snapshot(o, run, md), &o->err);
         if (!rc && run->out.xyz_every > 0 && (s % run->out.xyz_every == 0 || s == total))
-            rc = xyz_gathered(o, run, md, total);
+            rc = halo_agree(md->halo, xyz_gathered(o, run, md, total), &o->err);
         timer_stop(&run->timers, TIMER_OUTPUT);
         return rc;
     }

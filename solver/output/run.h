@@ -21,6 +21,8 @@
 #include "util/err.h"
 #include "util/wfile.h"
 
+struct parallel;
+
 /* What the command line asks of a run. */
 struct run_options {
     const char *out_dir;
@@ -32,6 +34,8 @@ struct run_options {
     long kill_at_step;  /* testing: SIGKILL itself after this step (0: never)
                          * unless it continues from a checkpoint; from
                          * CASCADE_SOLVER_KILL_AT_STEP */
+    const struct parallel *par; /* the MPI ranks of the run (NULL: serial): a
+                                 * failed write on one rank fails them all */
 };
 
 /* The `output` section of a case. */

@@ -68,78 +68,89 @@ static double md_case_energy_per_atom(const struct md *md)
     return (md->last.energy + md_kinetic_energy(md)) / (double)n;
 }
 
+/* The decomposition of the box the system builder has just sized
+ * (md_system_split): bricks under mpirun (md/md_bricks.h). */
+struct md_case_plan {
+    const struct case_common *common;
+    double range;
+    struct cfg *cfg;
+};
+
+static int md_case_plan_bricks(void *ctx, const struct box *b, struct halo **out)
+{
+    const struct md_case_plan *pl = ctx;
+    return md_bricks_plan(pl->common->par, &pl->common->parallel, b, pl->range, pl->cfg, out);
+}
+
 static int md_case_read(struct cfg_obj *root, const struct case_common *common, void **state)
 {
-    struct particles *p = NULL;
-    struct box box;
-    struct md_system_info info;
-    int rc = md_system_read(root, common->seed, &p, &box, &info);
-    if (rc)
-        return rc;
+    /* the potential and the skin first: the interaction range sizes the
+     * bricks, and under mpirun each rank builds only its brick's atoms */
     struct cfg_obj po;
     struct potential *pot = NULL;
-    if ((rc = cfg_section_required(root, "potential", &po)) || (rc = potential_create(&po, &pot))) {
-        particles_destroy(&p);
+    int rc;
+    if ((rc = cfg_section_required(root, "potential", &po)) || (rc = potential_create(&po, &pot)))
         return rc;
-    }
     struct md_settings ms;
     if ((rc = md_settings_read(root,
                                MD_KEY_TIMESTEP | MD_KEY_STEPS | MD_KEY_TEMPERATURE | MD_KEY_SKIN |
                                    MD_KEY_MAX_ENERGY_CHANGE | MD_KEY_THERMOSTAT,
                                &md_settings_defaults, &ms))) {
-        particles_destroy(&p);
         potential_destroy(&pot);
         return rc;
     }
-    if (root->cfg->shallow) {
+    struct particles *p = NULL;
+    struct box box;
+    struct md_system_info info;
+    struct halo *halo = NULL;
+    struct md_case_plan plan = {common, pot ? pot->cutoff + ms.skin : 0.0, root->cfg};
+    struct md_system_split split = {md_case_plan_bricks, &plan};
+    rc = md_system_read_split(root, common->seed, &split, &p, &box, &info, &halo);
+    if (rc || root->cfg->shallow) {
         potential_destroy(&pot);
-        return 0;
+        return rc;
     }
     struct md_case *c = calloc(1, sizeof *c);
-    if (!c) {
-        particles_destroy(&p);
-        potential_destroy(&pot);
-        return err_nomem(root->cfg->err, "md case");
-    }
-    c->steps = ms.steps;
-    c->temperature = ms.temperature;
-    c->max_de = ms.max_energy_change;
-    double temperature = ms.temperature;
     struct err *e = root->cfg->err;
-    if (temperature > 0) {
-        /* masses are needed first: bind the potential's masses */
-        if ((rc = potential_bind(pot, p, e)) ||
-            (rc = velocity_maxwell(p, temperature, common->seed, 1u, e))) {
-            particles_destroy(&p);
-            potential_destroy(&pot);
-            free(c);
-            return rc;
-        }
+    if (!c)
+        rc = err_nomem(e, "md case");
+    /* bricks: from here on p holds this rank's atoms (md_adopt), and every
+     * step below is collective */
+    if (c && halo)
+        md_adopt(&c->md, p, halo);
+    /* the impact geometry puts the atoms unevenly: move the cuts */
+    if (c && halo && common->parallel.balance == BALANCE_SHIFT)
+        rc = halo_balance(halo, &box, p, plan.range, e);
+    if (c) {
+        c->steps = ms.steps;
+        c->temperature = ms.temperature;
+        c->max_de = ms.max_energy_change;
     }
-    p->par = common->par;
+    if (!rc && ms.temperature > 0) {
+        /* masses are needed first: bind the potential's masses */
+        if (!(rc = potential_bind(pot, p, e)))
+            rc = velocity_maxwell_split(p, ms.temperature, common->seed, 1u, halo, e);
+    }
+    if (!rc && !halo)
+        p->par = common->par;
     /* the key to blame: the skin when it is most of the range, else the
      * potential's file or cutoff */
     const char *rkey = ms.skin > pot->cutoff                  ? "md.skin"
                        : pot->source_path[0]               ? "potential.file"
                        : json_object_get(po.node, "cutoff") ? "potential.cutoff"
                                                             : "potential";
-    if ((rc = md_check_range(pot, &box, p->n_owned, ms.skin, info.max_particles, root->cfg,
-                             rkey))) {
-        particles_destroy(&p);
-        potential_destroy(&pot);
-        free(c);
-        return rc;
-    }
-    /* under mpirun: bricks (each rank keeps its brick's atoms) or replicated data */
-    struct halo *halo = NULL;
-    rc = md_bricks_plan(common->par, &common->parallel, &box, pot->cutoff + ms.skin, root->cfg,
-                        &halo);
-    if (!rc && halo)
-        rc = md_decompose(&c->md, p, halo, e);
+    if (!rc)
+        rc = md_check_range(pot, &box, info.natoms, ms.skin, info.max_particles, root->cfg,
+                            rkey);
     if (rc) {
         particles_destroy(&p);
+        if (c && halo) {
+            md_free(&c->md);   /* adopted the halo */
+        } else if (halo) {
+            halo_free(halo);
+            free(halo);
+        }
         potential_destroy(&pot);
-        md_free(&c->md);
         free(c);
         return rc;
     }
@@ -259,6 +270,8 @@ static int md_case_report(void *state, struct sim *s, int run_rc, struct err *e)
     if (md->halo)
         md_output_decomposition(s->run, md);
     int rc = md_output_end(&c->out, s->run, e);
+    if (md->halo)   /* rank 0 wrote: all ranks or none go on to the gather */
+        rc = halo_agree(md->halo, rc, e);
     if (!run_rc && !rc && s->run->out.final_state) {
         /* bricks: every rank's atoms, gathered on rank 0 in id order */
         struct particles *all = NULL;

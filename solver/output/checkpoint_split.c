@@ -1,0 +1,179 @@
+/* checkpoint_split: a checkpoint's particles read in blocks, keeping those
+ * a predicate selects (checkpoint.h, ckpt_get_particles_where). */
+#include "output/checkpoint.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "util/mem.h"
+
+/* particles per block: the read's memory beyond the kept particles is one
+ * block of every dataset (about 160 bytes a particle for MD) */
+#define CKPT_READ_BLOCK 16384
+
+struct column {
+    char name[64];
+    hid_t memtype;
+    size_t elem;
+    int ncomp;
+    hid_t ds;
+    unsigned char *buf;
+};
+
+static int where_fail(struct ckpt *c, const char *what, const char *name, int code)
+{
+    err_set(c->e, code, "%s: checkpoint %s%s%s: %s", c->path, c->where, c->where[0] ? "/" : "",
+            name, what);
+    return code;
+}
+
+static int cmp_i64(const void *a, const void *b)
+{
+    int64_t x = *(const int64_t *)a, y = *(const int64_t *)b;
+    return (x > y) - (x < y);
+}
+
+/* rows [first, first + count) of a column into its buffer */
+static int read_block(struct ckpt *c, struct column *col, long first, long count)
+{
+    hsize_t start[1] = {(hsize_t)(first * col->ncomp)}, len[1] = {(hsize_t)(count * col->ncomp)};
+    hid_t fs = H5Dget_space(col->ds), ms = H5Screate_simple(1, len, NULL);
+    int rc = fs < 0 || ms < 0 ||
+             H5Sselect_hyperslab(fs, H5S_SELECT_SET, start, NULL, len, NULL) < 0 ||
+             H5Dread(col->ds, col->memtype, ms, fs, H5P_DEFAULT, col->buf) < 0;
+    if (ms >= 0)
+        H5Sclose(ms);
+    if (fs >= 0)
+        H5Sclose(fs);
+    return rc ? where_fail(c, "unreadable (checksum mismatch: corrupt checkpoint?)", col->name,
+                           ERR_INPUT)
+              : 0;
+}
+
+/* stored particle k of the block into slot i of p */
+static void put_particle(struct particles *p, int i, struct column *col, int ncol, long k)
+{
+    void *dst[9] = {p->x, p->v, p->f, p->type, p->id, p->mask, p->image, p->pe, p->virial};
+    for (int q = 0; q < ncol; q++) {
+        size_t row = col[q].elem * (size_t)col[q].ncomp;
+        unsigned char *to = q < 9 ? (unsigned char *)dst[q]
+                                  : (unsigned char *)p->fields[q - 9].data;
+        memcpy(to + row * (size_t)i, col[q].buf + row * (size_t)k, row);
+    }
+    p->origin[i] = i;
+}
+
+static int check_particle(struct ckpt *c, const struct particles *p, const struct column *col,
+                          long k)
+{
+    int type = ((const int *)col[3].buf)[k];
+    int64_t id = ((const int64_t *)col[4].buf)[k];
+    if (type < 0 || type >= p->ntypes)
+        return where_fail(c, "type index out of range", "type", ERR_INPUT);
+    if (id < 1)
+        return where_fail(c, "an id below 1", "id", ERR_INPUT);
+    for (int q = 0; q < 3; q++)
+        for (int d = 0; d < 3; d++)
+            if (!isfinite(((const double *)col[q].buf)[3 * k + d])) {
+                char what[96];
+                snprintf(what, sizeof what,
+                         "a non-finite position, velocity or force (id %lld)", (long long)id);
+                return where_fail(c, what, "x/v/f", ERR_INPUT);
+            }
+    return 0;
+}
+
+int ckpt_get_particles_where(struct ckpt *c, const char *name, struct particles *p,
+                             int (*keep)(const void *ctx, const double x[3]), const void *ctx)
+{
+    int rc = ckpt_enter(c, name);
+    long n = 0;
+    if (!rc)
+        rc = ckpt_get_long(c, "n", &n);
+    if (!rc && (n < 0 || n > 2000000000L))
+        rc = where_fail(c, "impossible particle count", "n", ERR_INPUT);
+    long nt = rc ? 0 : ckpt_len(c, "type_mass");
+    if (!rc && nt != p->ntypes) {
+        char what[96];
+        snprintf(what, sizeof what, "has %ld particle types, the case has %d", nt, p->ntypes);
+        rc = where_fail(c, what, "type_mass", ERR_INPUT);
+    }
+    if (rc)
+        return rc;
+    struct column col[9 + PARTICLES_MAX_FIELDS] = {
+        {"x", H5T_NATIVE_DOUBLE, sizeof(double), 3, -1, NULL},
+        {"v", H5T_NATIVE_DOUBLE, sizeof(double), 3, -1, NULL},
+        {"f", H5T_NATIVE_DOUBLE, sizeof(double), 3, -1, NULL},
+        {"type", H5T_NATIVE_INT, sizeof(int), 1, -1, NULL},
+        {"id", H5T_NATIVE_INT64, sizeof(int64_t), 1, -1, NULL},
+        {"mask", H5T_NATIVE_UINT32, sizeof(uint32_t), 1, -1, NULL},
+        {"image", H5T_NATIVE_INT, sizeof(int), 3, -1, NULL},
+        {"pe", H5T_NATIVE_DOUBLE, sizeof(double), 1, -1, NULL},
+        {"virial", H5T_NATIVE_DOUBLE, sizeof(double), 6, -1, NULL},
+    };
+    int ncol = 9 + p->nfields;
+    for (int k = 0; k < p->nfields; k++)
+        col[9 + k] = (struct column){"", H5T_NATIVE_DOUBLE, sizeof(double),
+                                     p->fields[k].ncomp, -1, NULL};
+    for (int k = 0; k < p->nfields; k++)
+        snprintf(col[9 + k].name, sizeof col[9 + k].name, "field_%s", p->fields[k].name);
+    long block = n < CKPT_READ_BLOCK ? (n > 0 ? n : 1) : CKPT_READ_BLOCK;
+    for (int q = 0; !rc && q < ncol; q++) {
+        long have = ckpt_len(c, col[q].name);
+        if (have < 0) {
+            rc = ERR_INPUT;
+        } else if (have != n * col[q].ncomp) {
+            char what[96];
+            snprintf(what, sizeof what, "has %ld values, expected %ld", have,
+                     n * col[q].ncomp);
+            rc = where_fail(c, what, col[q].name, ERR_INPUT);
+        } else if ((col[q].ds = H5Dopen2(c->group, col[q].name, H5P_DEFAULT)) < 0) {
+            rc = where_fail(c, "unreadable", col[q].name, ERR_INPUT);
+        } else if (!(col[q].buf = mem_alloc((size_t)block * col[q].elem * col[q].ncomp))) {
+            rc = err_nomem(c->e, "checkpoint read");
+        }
+    }
+    particles_clear_ghosts(p);
+    p->n_owned = 0;
+    for (long first = 0; !rc && first < n; first += block) {
+        long count = n - first < block ? n - first : block;
+        for (int q = 0; !rc && q < ncol; q++)
+            rc = read_block(c, &col[q], first, count);
+        for (long k = 0; !rc && k < count; k++) {
+            if ((rc = check_particle(c, p, col, k)))
+                break;
+            if (keep && !keep(ctx, (const double *)col[0].buf + 3 * k))
+                continue;
+            if ((rc = particles_reserve(p, p->n_owned + 1, c->e)))
+                break;
+            put_particle(p, p->n_owned, col, ncol, k);
+            p->n_owned++;
+        }
+    }
+    for (int q = 0; q < ncol; q++) {
+        if (col[q].ds >= 0)
+            H5Dclose(col[q].ds);
+        free(col[q].buf);
+    }
+    /* ids unique among the kept ones */
+    int m = p->n_owned;
+    int64_t *ids = rc || m == 0 ? NULL : mem_alloc((size_t)m * sizeof *ids);
+    if (!rc && m > 0 && !ids)
+        rc = err_nomem(c->e, "checkpoint ids");
+    if (ids) {
+        memcpy(ids, p->id, (size_t)m * sizeof *ids);
+        qsort(ids, (size_t)m, sizeof *ids, cmp_i64);
+        for (int i = 1; !rc && i < m; i++)
+            if (ids[i] == ids[i - 1]) {
+                char what[64];
+                snprintf(what, sizeof what, "id %lld given twice", (long long)ids[i]);
+                rc = where_fail(c, what, "id", ERR_INPUT);
+            }
+        free(ids);
+    }
+    if (rc)
+        p->n_owned = 0;
+    return rc;
+}
