@@ -74,7 +74,8 @@ void halo_unpack(struct particles *p, int i, const unsigned char *buf)
 
 size_t halo_ghost_record_size(const struct particles *p)
 {
-    size_t n = (3 + 3) * sizeof(double) + sizeof(int) + sizeof(int64_t) + sizeof(uint32_t);
+    size_t n = (3 + 3) * sizeof(double) + sizeof(int) + sizeof(int64_t) + sizeof(uint32_t) +
+               3 * sizeof(int) + 3 * sizeof(int);
     for (int k = 0; k < p->nfields; k++)
         n += (size_t)p->fields[k].ncomp * sizeof(double);
     return n;
@@ -90,6 +91,15 @@ void halo_pack_ghost(const struct particles *p, int i, int dim, double shift, un
     PUT(p->type + i, sizeof(int));
     PUT(p->id + i, sizeof(int64_t));
     PUT(p->mask + i, sizeof(uint32_t));
+    /* the owner's image counts and the box shift, as in halo_pack: DPD's
+     * pair keys (dpd/dpd_pair.h) need both on ghosts */
+    PUT(p->image + 3 * (size_t)i, 3 * sizeof(int));
+    int gs[3] = {0, 0, 0};
+    if (i >= p->n_owned)
+        memcpy(gs, p->gshift + 3 * (size_t)i, sizeof gs);
+    if (dim >= 0 && shift != 0)
+        gs[dim] += shift > 0 ? 1 : -1;
+    PUT(gs, sizeof gs);
     for (int k = 0; k < p->nfields; k++) {
         size_t nc = (size_t)p->fields[k].ncomp;
         PUT(p->fields[k].data + nc * i, nc * sizeof(double));
@@ -103,6 +113,8 @@ void halo_unpack_ghost(struct particles *p, int i, const unsigned char *buf)
     GET(p->type + i, sizeof(int));
     GET(p->id + i, sizeof(int64_t));
     GET(p->mask + i, sizeof(uint32_t));
+    GET(p->image + 3 * (size_t)i, 3 * sizeof(int));
+    GET(p->gshift + 3 * (size_t)i, 3 * sizeof(int));
     for (int k = 0; k < p->nfields; k++) {
         size_t nc = (size_t)p->fields[k].ncomp;
         GET(p->fields[k].data + nc * i, nc * sizeof(double));
@@ -112,7 +124,5 @@ void halo_unpack_ghost(struct particles *p, int i, const unsigned char *buf)
     memset(p->f + 3 * (size_t)i, 0, 3 * sizeof(double));
     p->pe[i] = 0.0;
     memset(p->virial + 6 * (size_t)i, 0, 6 * sizeof(double));
-    memset(p->image + 3 * (size_t)i, 0, 3 * sizeof(int));
     p->origin[i] = i;
-    p->gshift[3 * (size_t)i] = p->gshift[3 * (size_t)i + 1] = p->gshift[3 * (size_t)i + 2] = 0;
 }

@@ -17,15 +17,16 @@ void halo_pack(const struct particles *p, int i, int dim, double shift, unsigned
 void halo_unpack(struct particles *p, int i, const unsigned char *buf);
 
 /* A ghost's record: what a neighbour's copy needs (position, velocity,
- * type, id, mask, every extra field; not the force, energy, virial and
- * image counts, which a ghost does not carry), 64 bytes instead of 156
- * for an MD atom: the ghost messages of a list build and the buffers
+ * type, id, mask, the owner's image counts and the box shift of the copy
+ * that DPD's pair keys use, every extra field; not the force, energy and
+ * virial, which a ghost does not carry), 88 bytes instead of 156 for an
+ * MD atom: the ghost messages of a list build and the buffers
  * kept for forward and reverse communication shrink with it.  Always at
  * least 6 doubles (the widest forward/reverse row, the virial) and at
  * least every field's row. */
 size_t halo_ghost_record_size(const struct particles *p);
 void halo_pack_ghost(const struct particles *p, int i, int dim, double shift, unsigned char *buf);
-/* The unpacked ghost's force, energy, virial and image counts are zero. */
+/* The unpacked ghost's force, energy and virial are zero. */
 void halo_unpack_ghost(struct particles *p, int i, const unsigned char *buf);
 
 #endif
