@@ -2,7 +2,9 @@
 # bench/ab.sh: two builds of cascade-solver side by side on one case, runs
 # alternated (A, B, A, B, ...) so that both see the same load; prints the
 # median of each timer of result.json for A and B, the ratio B/A, and
-# whether the metrics of the last runs are identical.
+# whether the metrics of the last runs are identical.  loop_cpu and
+# total_cpu are CPU seconds (builds that record them): on a loaded machine
+# they move far less than the wall-clock timers.
 #   usage: sh bench/ab.sh BINDIR_A BINDIR_B CASE.yaml [REPEAT [THREADS]]
 # e.g. main's code built in /tmp/before against this tree:
 #   sh bench/ab.sh /tmp/before/build/release/bin build/release/bin \
@@ -18,9 +20,14 @@ ROOT=$(cd "$(dirname "$0")/.." && pwd)
 WORK=$(mktemp -d /tmp/cascade-ab.XXXXXX)
 trap 'rm -rf "$WORK"' EXIT
 export OMP_WAIT_POLICY=${OMP_WAIT_POLICY:-passive}
-timers() { # timers RESULT.json -> "key seconds" lines
+timers() { # timers RESULT.json -> "key seconds" lines (CPU seconds as loop_cpu, total_cpu)
     tr -d ' \n' < "$1" | grep -o '"timing":{.*' | grep -o '"[a-z0-9_]*":{"calls":[0-9]*,"seconds":[0-9.eE+-]*' \
         | sed 's/^"\([a-z0-9_]*\)":{"calls":[0-9]*,"seconds":/\1 /'
+    for k in loop total; do
+        c=$(json_cpu "$1" $k)
+        [ -n "$c" ] && echo "${k}_cpu $c"
+    done
+    return 0
 }
 echo "ab: $(bench_load) at start" >&2
 i=0
@@ -31,7 +38,8 @@ while [ $i -lt "$REPEAT" ]; do
         OMP_NUM_THREADS=$THREADS "$bin/cascade-solver" run "$CASE" --out "$WORK/$side" \
             --threads "$THREADS" --quiet --no-progress
         timers "$WORK/$side/result.json" | sed "s/^/$side /" >> "$WORK/t"
-        echo "ab: run $i $side loop $(json_timer "$WORK/$side/result.json" loop) s, $(bench_load)" >&2
+        echo "ab: run $i $side loop $(json_timer "$WORK/$side/result.json" loop) s" \
+            "(cpu $(json_cpu "$WORK/$side/result.json" loop)), $(bench_load)" >&2
     done
 done
 echo "ab: $(bench_load) at end" >&2

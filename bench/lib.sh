@@ -10,6 +10,11 @@
 #   bench_load          "load L1 L5 L15 on N cores": say it beside every timing
 #   json_number FILE KEY      a metric's value from a result.json
 #   json_timer FILE TIMER     a timer's seconds from a result.json
+#   json_cpu FILE TIMER       CPU seconds of the loop or the whole run (loop,
+#                             total) from a result.json: less moved by the
+#                             machine's load than the wall time
+#   lmp_loop_cpu OUT          LAMMPS' loop CPU seconds from its screen output
+#                             ("Loop time of T" x "P% CPU use")
 #
 # A new benchmark is a bench/bench_NAME.sh that sources this file (with
 # . "$ROOT/bench/lib.sh"), reports through bench_line, and is added to the
@@ -42,6 +47,14 @@ bench_line() { # bench_line NAME VALUE UNIT [ANCHOR]
 
 json_number() { # json_number RESULT.json METRIC -> its value
     tr -d ' \n' < "$1" | grep -o "\"$2\":{\"unit\":\"[^\"]*\",\"value\":[-0-9.eE+]*" | sed 's/.*"value"://'
+}
+
+json_cpu() { # json_cpu RESULT.json loop|total -> CPU seconds
+    tr -d ' \n' < "$1" | grep -o '"cpu_seconds":{[^}]*}' | grep -o "\"$2\":[0-9.eE+-]*" | sed 's/.*://'
+}
+
+lmp_loop_cpu() { # lmp_loop_cpu SCREEN.out -> CPU seconds of the loop
+    awk '/^Loop time of/ {t = $4} /% CPU use/ {c = $1} END {sub("%", "", c); printf "%.6f\n", t * c / 100}' "$1"
 }
 
 json_timer() { # json_timer RESULT.json TIMER -> seconds

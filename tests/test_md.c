@@ -61,25 +61,11 @@ static int cmp_int(const void *a, const void *b)
 }
 
 /* Every listed pair (as a sorted set of (owned, neighbour id+image) keys)
- * equals the brute-force set. */
-static void check_lists(double L, double cutoff, double skin, enum nlist_kind kind)
+ * equals the brute-force set (p with its ghosts built). */
+static void compare_with_brute(struct particles *p, double cutoff, double skin,
+                               enum nlist_kind kind)
 {
-    struct particles *p = particles_create(64);
-    particles_type_index(p, "Ar", 39.948);
-    struct box box = {{0, 0, 0}, {L, 0.8 * L, 1.1 * L}, {BOUNDARY_PERIODIC, BOUNDARY_PERIODIC, BOUNDARY_PERIODIC}};
-    unsigned s = 99;
-    for (int i = 0; i < 300; i++) {
-        double x[3];
-        for (int d = 0; d < 3; d++) {
-            s ^= s << 13;
-            s ^= s >> 17;
-            s ^= s << 5;
-            x[d] = box.lo[d] + (s / 4294967296.0) * (box.hi[d] - box.lo[d]);
-        }
-        particles_add(p, x, NULL, 0, i + 1);
-    }
     struct err e = {0};
-    cr_assert_eq(ghost_build(p, &box, cutoff + skin, &e), 0);
     struct nlist *a = nlist_create(kind, cutoff, skin), *b = nlist_create(kind, cutoff, skin);
     cr_assert_eq(nlist_build(a, p, &e), 0);
     cr_assert_eq(nlist_build_brute(b, p, &e), 0);
@@ -111,6 +97,35 @@ static void check_lists(double L, double cutoff, double skin, enum nlist_kind ki
     }
     nlist_destroy(&a);
     nlist_destroy(&b);
+}
+
+/* uniform positions in box b (xorshift from seed *s) */
+static void add_uniform(struct particles *p, const double lo[3], const double hi[3], int n,
+                        unsigned *s, int64_t *id)
+{
+    for (int i = 0; i < n; i++) {
+        double x[3];
+        for (int d = 0; d < 3; d++) {
+            *s ^= *s << 13;
+            *s ^= *s >> 17;
+            *s ^= *s << 5;
+            x[d] = lo[d] + (*s / 4294967296.0) * (hi[d] - lo[d]);
+        }
+        particles_add(p, x, NULL, 0, (*id)++);
+    }
+}
+
+static void check_lists(double L, double cutoff, double skin, enum nlist_kind kind)
+{
+    struct particles *p = particles_create(64);
+    particles_type_index(p, "Ar", 39.948);
+    struct box box = {{0, 0, 0}, {L, 0.8 * L, 1.1 * L}, {BOUNDARY_PERIODIC, BOUNDARY_PERIODIC, BOUNDARY_PERIODIC}};
+    unsigned s = 99;
+    int64_t id = 1;
+    add_uniform(p, box.lo, box.hi, 300, &s, &id);
+    struct err e = {0};
+    cr_assert_eq(ghost_build(p, &box, cutoff + skin, &e), 0);
+    compare_with_brute(p, cutoff, skin, kind);
     particles_destroy(&p);
 }
 
@@ -119,6 +134,30 @@ Test(neighbor, full_list_equals_brute_force) { check_lists(30.0, 5.0, 1.0, NLIST
 /* boxes just over two list ranges long, and shorter than one */
 Test(neighbor, box_just_over_two_cutoffs) { check_lists(2 * 6.0 + 0.01, 5.0, 1.0, NLIST_HALF); }
 Test(neighbor, box_shorter_than_the_cutoff) { check_lists(5.5, 5.0, 1.0, NLIST_HALF); }
+
+/* Two dense clumps in opposite corners of a 400 Å periodic box (neighbours
+ * of each other across the faces): cells of half the list range would
+ * number about 2e6, far more than the particles and their ghosts, so the
+ * build falls back to cells of the whole range (3x3x3 stencil); the lists
+ * must still equal brute force, half and full. */
+Test(neighbor, sparse_system_wide_cells_equal_brute_force)
+{
+    for (int kind = 0; kind < 2; kind++) {
+        struct particles *p = particles_create(64);
+        particles_type_index(p, "Ar", 39.948);
+        struct box box = {{0, 0, 0}, {420, 410, 400}, {BOUNDARY_PERIODIC, BOUNDARY_PERIODIC, BOUNDARY_PERIODIC}};
+        unsigned s = 7;
+        int64_t id = 1;
+        double lo1[3] = {0, 0, 0}, hi1[3] = {12, 12, 12};
+        double lo2[3] = {400, 395, 390}, hi2[3] = {420, 410, 400};
+        add_uniform(p, lo1, hi1, 150, &s, &id);
+        add_uniform(p, lo2, hi2, 150, &s, &id);
+        struct err e = {0};
+        cr_assert_eq(ghost_build(p, &box, 6.0, &e), 0);
+        compare_with_brute(p, 5.0, 1.0, kind == 0 ? NLIST_HALF : NLIST_FULL);
+        particles_destroy(&p);
+    }
+}
 
 /* Forces with 1 and 2 threads agree to round-off. */
 Test(md, forces_independent_of_threads)

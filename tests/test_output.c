@@ -115,3 +115,29 @@ Test(output, read_data_and_run)
     cr_assert_eq((int)metric(r, "atoms", "1"), 256);
     json_decref(r);
 }
+
+/* timing.cpu_seconds: the CPU seconds of the loop and of the whole run
+ * (what the benchmarks compare on a loaded machine), beside the wall-clock
+ * timer rows: present, positive, the loop's within the run's, and no more
+ * than the two threads the run may use could spend in its wall time. */
+Test(output, timing_has_loop_and_total_cpu_seconds)
+{
+    char dir[1024];
+    json_t *r = run_case("cpu.yaml",
+                         "system:\n  lattice: {style: fcc, a: 3.615, cells: [4, 4, 4]}\n"
+                         "  element: Cu\npotential: {style: eam/alloy, file: Cu_mishin1.eam.alloy}\n"
+                         "md: {steps: 200, temperature: 300}\noutput: {hdf5: false}\n",
+                         0, dir, sizeof dir);
+    json_t *timing = json_object_get(r, "timing");
+    json_t *cpu = json_object_get(timing, "cpu_seconds");
+    cr_assert_not_null(cpu, "timing.cpu_seconds missing");
+    double loop = json_real_value(json_object_get(cpu, "loop"));
+    double total = json_real_value(json_object_get(cpu, "total"));
+    double wall = json_real_value(json_object_get(json_object_get(timing, "total"), "seconds"));
+    cr_assert_gt(loop, 0, "loop CPU %g s", loop);
+    cr_assert_leq(loop, total, "loop CPU %g s > run CPU %g s", loop, total);
+    cr_assert_leq(total, 2.0 * wall + 0.05, "run CPU %g s against %g s wall", total, wall);
+    /* the wall-clock rows keep their layout ("calls", "seconds") */
+    cr_assert_not_null(json_object_get(json_object_get(timing, "loop"), "seconds"));
+    json_decref(r);
+}

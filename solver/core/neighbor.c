@@ -29,6 +29,7 @@ void nlist_destroy(struct nlist **pnl)
     free(nl->cell_start);
     free(nl->cell_of);
     free(nl->cell_sorted);
+    free(nl->xs);
     free(nl);
     *pnl = NULL;
 }
@@ -69,6 +70,22 @@ static int reserve_common(struct nlist *nl, const struct particles *p, struct er
     return 0;
 }
 
+/* Room for `need` entries in the neighbour array. */
+static int reserve_neigh(struct nlist *nl, long need, struct err *e)
+{
+    if (need <= nl->cap_neigh)
+        return 0;
+    long cap = nl->cap_neigh ? 2 * nl->cap_neigh : 1 << 16;
+    while (cap < need)
+        cap *= 2;
+    int *nn = realloc(nl->neigh, (size_t)cap * sizeof *nn);
+    if (!nn)
+        return err_nomem(e, "neighbor list");
+    nl->neigh = nn;
+    nl->cap_neigh = cap;
+    return 0;
+}
+
 static int push_neigh(struct nlist *nl, long at, int j, struct err *e)
 {
     if (at >= nl->cap_neigh) {
@@ -83,10 +100,13 @@ static int push_neigh(struct nlist *nl, long at, int j, struct err *e)
     return 0;
 }
 
-/* Bin all particles into cells of edge >= `width`; fills nc[3], lo[3],
- * inv[3] and the CSR arrays cell_start / cell_sorted. */
-static int bin_particles(struct nlist *nl, const struct particles *p, double width, int nc[3],
-                         double lo[3], double inv[3], struct err *e)
+/* Bin all particles into cells of edge >= `width` (when that would give
+ * more than `maxcell` cells, of edge >= `wide` instead); fills nc[3],
+ * lo[3], inv[3] and the CSR arrays cell_start / cell_sorted, and returns
+ * in *used the edge chosen. */
+static int bin_particles(struct nlist *nl, const struct particles *p, double width, double wide,
+                         long maxcell, double *used, int nc[3], double lo[3], double inv[3],
+                         struct err *e)
 {
     int ntot = p->n_owned + p->n_ghost;
     double hi[3];
@@ -104,19 +124,26 @@ static int bin_particles(struct nlist *nl, const struct particles *p, double wid
             if (x > hi[d]) hi[d] = x;
         }
     long ncell = 1;
-    for (int d = 0; d < 3; d++) {
-        if (ntot == 0) {
-            lo[d] = 0;
-            hi[d] = 1;
+    for (int pass = 0; pass < 2; pass++) {
+        double w = pass == 0 ? width : wide;
+        ncell = 1;
+        for (int d = 0; d < 3; d++) {
+            if (ntot == 0) {
+                lo[d] = 0;
+                hi[d] = 1;
+            }
+            double len = hi[d] - lo[d];
+            nc[d] = (int)floor(len / w);
+            if (nc[d] < 1)
+                nc[d] = 1;
+            if (nc[d] > 1024)   /* sparse systems: bound memory, cells only get wider */
+                nc[d] = 1024;
+            inv[d] = nc[d] / (len > 0 ? len * (1.0 + 1e-12) + 1e-300 : 1.0);
+            ncell *= nc[d];
         }
-        double len = hi[d] - lo[d];
-        nc[d] = (int)floor(len / width);
-        if (nc[d] < 1)
-            nc[d] = 1;
-        if (nc[d] > 1024)   /* sparse systems: bound memory, cells only get wider */
-            nc[d] = 1024;
-        inv[d] = nc[d] / (len > 0 ? len * (1.0 + 1e-12) + 1e-300 : 1.0);
-        ncell *= nc[d];
+        *used = w;
+        if (ncell <= maxcell || wide <= width)
+            break;
     }
     if (nl->cap_cells < ncell + 1) {
         int *cs = realloc(nl->cell_start, (size_t)(ncell + 1) * sizeof *cs);
@@ -157,19 +184,47 @@ static int bin_particles(struct nlist *nl, const struct particles *p, double wid
     for (long c = ncell; c > 0; c--)
         nl->cell_start[c] = nl->cell_start[c - 1];
     nl->cell_start[0] = 0;
+    /* positions in cell order, one array per axis: the candidate loop of
+     * the list build reads them contiguously */
+    if (nl->cap_xs < ntot) {
+        double *xs = realloc(nl->xs, (size_t)3 * (ntot ? ntot : 1) * sizeof *xs);
+        if (!xs)
+            return err_nomem(e, "link cells");
+        nl->xs = xs;
+        nl->cap_xs = ntot;
+    }
+    double *xs = nl->xs, *ys = xs + ntot, *zs = ys + ntot;
+    for (int k = 0; k < ntot; k++) {
+        const double *x = p->x + 3 * nl->cell_sorted[k];
+        xs[k] = x[0];
+        ys[k] = x[1];
+        zs[k] = x[2];
+    }
     return 0;
 }
 
+/* Cells of half the list range and a 5 x 5 x 5 stencil hold 42 % fewer
+ * candidates than cells of the whole range and 27 of them; the distance,
+ * read from the cell-ordered copies, is tested first (most candidates are
+ * too far), the half-list rule only on the near ones. */
 int nlist_build(struct nlist *nl, const struct particles *p, struct err *e)
 {
     int rc = reserve_common(nl, p, e);
     if (rc)
         return rc;
     double rlist = nl->cutoff + nl->skin, rlist2 = rlist * rlist;
-    int nc[3];
-    double lo[3], inv[3];
-    if ((rc = bin_particles(nl, p, rlist, nc, lo, inv, e)))
+    int ntot = p->n_owned + p->n_ghost;
+    int nc[3] = {1, 1, 1};
+    double lo[3], inv[3], used = rlist;
+    /* half-width cells unless they would be many more than the atoms
+     * (sparse systems: vacuum around a cluster) */
+    if ((rc = bin_particles(nl, p, 0.5 * rlist, rlist, 4L * ntot + 4096, &used, nc, lo, inv, e)))
         return rc;
+    const int reach = used < rlist ? 2 : 1;
+    const double *xs = nl->xs, *ys = xs + ntot, *zs = ys + ntot;
+    const int *sorted = nl->cell_sorted, *start = nl->cell_start;
+    const int half = nl->kind == NLIST_HALF;
+    const int n_owned = p->n_owned;
     long at = 0;
     for (int i = 0; i < p->n_owned; i++) {
         nl->offset[i] = (int)at;
@@ -178,30 +233,35 @@ int nlist_build(struct nlist *nl, const struct particles *p, struct err *e)
         int cell = nl->cell_of[i];
         int cx = cell % nc[0], cy = (cell / nc[0]) % nc[1], cz = cell / (nc[0] * nc[1]);
         const double xi = p->x[3 * i], yi = p->x[3 * i + 1], zi = p->x[3 * i + 2];
-        for (int dz = -1; dz <= 1; dz++) {
+        for (int dz = -reach; dz <= reach; dz++) {
             int z = cz + dz;
             if (z < 0 || z >= nc[2]) continue;
-            for (int dy = -1; dy <= 1; dy++) {
+            for (int dy = -reach; dy <= reach; dy++) {
                 int y = cy + dy;
                 if (y < 0 || y >= nc[1]) continue;
-                for (int dx = -1; dx <= 1; dx++) {
-                    int x = cx + dx;
-                    if (x < 0 || x >= nc[0]) continue;
-                    int c = (z * nc[1] + y) * nc[0] + x;
-                    for (int k = nl->cell_start[c]; k < nl->cell_start[c + 1]; k++) {
-                        int j = nl->cell_sorted[k];
-                        if (j == i)
-                            continue;
-                        if (nl->kind == NLIST_HALF && !half_keeps(p, i, j))
-                            continue;
-                        double ddx = p->x[3 * j] - xi, ddy = p->x[3 * j + 1] - yi,
-                               ddz = p->x[3 * j + 2] - zi;
-                        if (ddx * ddx + ddy * ddy + ddz * ddz < rlist2) {
-                            if ((rc = push_neigh(nl, at, j, e)))
-                                return rc;
-                            at++;
-                        }
+                /* the cells of one row are contiguous in cell order */
+                int x0 = cx - reach < 0 ? 0 : cx - reach;
+                int x1 = cx + reach >= nc[0] ? nc[0] - 1 : cx + reach;
+                int row = (z * nc[1] + y) * nc[0];
+                int k0 = start[row + x0], k1 = start[row + x1 + 1];
+                if ((rc = reserve_neigh(nl, at + (k1 - k0), e)))
+                    return rc;
+                int *restrict out = nl->neigh;
+                /* without branches: every candidate is written at the
+                 * cursor, which advances only past the kept ones (the
+                 * outcome of the tests is data, not predictable control) */
+                for (int k = k0; k < k1; k++) {
+                    double ddx = xs[k] - xi, ddy = ys[k] - yi, ddz = zs[k] - zi;
+                    int j = sorted[k];
+                    int keep = (ddx * ddx + ddy * ddy + ddz * ddz < rlist2) & (j != i);
+                    if (half) {
+                        /* half_keeps(): owned pairs under the smaller
+                         * index, ghosts when above i (z, then y, then x) */
+                        int above = (ddz > 0) | ((ddz == 0) & ((ddy > 0) | ((ddy == 0) & (ddx > 0))));
+                        keep &= j < n_owned ? j > i : above;
                     }
+                    out[at] = j;
+                    at += keep;
                 }
             }
         }

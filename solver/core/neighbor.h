@@ -1,9 +1,11 @@
 /*
  * neighbor: link cells + Verlet lists with a skin.
  *
- * Particles (owned and ghost) are binned into cells at least `cutoff + skin`
- * wide with a counting sort (CSR layout, no fixed slots per cell); each owned
- * particle's list holds the particles within cutoff + skin.  The list is
+ * Particles (owned and ghost) are binned into cells at least (cutoff + skin)/2
+ * wide (cutoff + skin in sparse systems, where those would far outnumber
+ * the particles) with a counting sort (CSR layout, no fixed slots per
+ * cell); each owned particle's list holds the particles within cutoff +
+ * skin, found in the 5 x 5 x 5 (3 x 3 x 3) cells around its own.  The list is
  * reused until some owned particle has moved more than skin/2 since the
  * build, which guarantees that no pair within the cutoff is missed.
  *
@@ -43,6 +45,8 @@ struct nlist {
     int *cell_start, *cell_of, *cell_sorted;
     long cap_cells;
     int cap_cell_of;
+    double *xs;              /* positions in cell order: x[0..ntot), then y, then z */
+    int cap_xs;
 };
 
 struct nlist *nlist_create(enum nlist_kind kind, double cutoff, double skin);

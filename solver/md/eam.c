@@ -46,6 +46,10 @@ struct eam {
     int *ninner;     /* per owned atom: neighbours within the cutoff, moved to
                       * the front of its list by the density pass */
     int cap;
+    double *pairbuf;     /* one-element density pass: per-thread scratch */
+    int *jbuf;
+    size_t cap_pairbuf;
+    int maxnb;
     struct thread_accum rho_acc;
     struct pair_scratch scratch;
     double esum_embed[THREAD_ACCUM_MAX];
@@ -95,8 +99,46 @@ static double eam_embed(struct eam *m, struct particles *p, const struct nlist *
     return embed;
 }
 
+/* One pair of the one-element kernel: the cubic row of r (rho(r) in
+ * c[0..3], r phi(r) in c[4..7]); returns the pair force over r and
+ * phi(r).  Inlined into the vectorised and the per-atom-tally loops alike, so
+ * both do the same arithmetic. */
+struct eam_pair {
+    double fpair, phi;
+};
+static inline struct eam_pair eam_one_pair(const double *restrict tab, double rdr, int kmax,
+                                           double r, double fpsum)
+{
+    double q = r * rdr;
+    /* r is below the cutoff (the density pass kept only such pairs, and a
+     * NaN distance fails that test), so q is finite and small and the cast
+     * is defined; the clamp is on the int, without a branch, so the loop
+     * vectorises */
+    int im = (int)q;
+    im = im < kmax ? im : kmax;
+    q -= im;
+    q = q > 1.0 ? 1.0 : q;
+    /* one int index for all eight loads: a vector gather each */
+    const int b = 8 * im;
+    /* d/dr of ((a q + b) q + c) q + d, q = r / dr */
+    double rhop = ((3.0 * tab[b] * q + 2.0 * tab[b + 1]) * q + tab[b + 2]) * rdr;
+    double z2p = ((3.0 * tab[b + 4] * q + 2.0 * tab[b + 5]) * q + tab[b + 6]) * rdr;
+    double z2 = ((tab[b + 4] * q + tab[b + 5]) * q + tab[b + 6]) * q + tab[b + 7];
+    double recip = 1.0 / r;
+    double phi = z2 * recip;
+    double phip = z2p * recip - phi * recip;
+    return (struct eam_pair){-(fpsum * rhop + phip) * recip, phi};
+}
+
 /* The one-element kernel (the common case): the same density function both
- * ways, so rho'_i = rho'_j, and one interleaved table row per pair. */
+ * ways, so rho'_i = rho'_j, and one interleaved table row per pair.
+ *
+ * Both passes are written for the vector unit: within one atom's half list
+ * every neighbour j appears once, so the scattered updates rho[j] and f[j]
+ * of one atom's loop never collide and `omp simd` is safe.  The density
+ * pass first computes all squared distances of an atom's list (a gather
+ * loop), then moves the neighbours within the cutoff to the front without
+ * branches (two cursors), then evaluates the density cubic on those only. */
 static int eam_compute_one(struct eam *m, struct particles *p, const struct nlist *nl, int flags,
                            struct force_result *out, struct err *e)
 {
@@ -112,40 +154,57 @@ static int eam_compute_one(struct eam *m, struct particles *p, const struct nlis
      * visits only interacting pairs. */
     int *restrict nb = nl->neigh;
     int *restrict ninner = m->ninner;
+    const int maxnb = m->maxnb;
     memset(m->rho, 0, (size_t)ntot * sizeof(double));
 
     /* firstprivate: loop constants become thread-locals the compiler keeps
      * in registers (shared ones would be reloaded after every store) */
-#pragma omp parallel num_threads(nt) firstprivate(cutsq, rdr, kmax, tab, x, off, nb, ninner, ntot)
+#pragma omp parallel num_threads(nt) firstprivate(cutsq, rdr, kmax, tab, x, off, nb, ninner, ntot, maxnb)
     {
         int tid = omp_get_thread_num();
         double *restrict rho = thread_accum_target(&m->rho_acc, tid, m->rho, (size_t)ntot);
+        /* per-thread scratch: squared distances, then the inner ones' r;
+         * the outer neighbours' indices wait in jout */
+        double *restrict r2s = m->pairbuf + (size_t)tid * 2 * maxnb;
+        double *restrict rin = r2s + maxnb;
+        int *restrict jout = m->jbuf + (size_t)tid * maxnb;
 #pragma omp for schedule(static)
         for (int i = 0; i < p->n_owned; i++) {
             const double xi = x[3 * i], yi = x[3 * i + 1], zi = x[3 * i + 2];
-            double rhoi = 0;
-            int inner = off[i];
-            for (int k = off[i]; k < off[i + 1]; k++) {
-                int j = nb[k];
+            int *restrict nbi = nb + off[i];
+            const int len = off[i + 1] - off[i];
+#pragma omp simd
+            for (int k = 0; k < len; k++) {
+                int j = nbi[k];
                 double dx = xi - x[3 * j], dy = yi - x[3 * j + 1], dz = zi - x[3 * j + 2];
-                double r2 = dx * dx + dy * dy + dz * dz;
-                if (r2 >= cutsq)
-                    continue;
-                nb[k] = nb[inner];
-                nb[inner++] = j;
-                double q = sqrt(r2) * rdr;
-                /* compared in double first: a NaN distance (coincident or
-                 * runaway atoms) must not reach the int cast */
-                int im = q < (double)kmax ? (int)q : kmax;
+                r2s[k] = dx * dx + dy * dy + dz * dz;
+            }
+            int nin = 0, nout = 0;
+            for (int k = 0; k < len; k++) {
+                int j = nbi[k];
+                int in = r2s[k] < cutsq;   /* a NaN distance counts as outside */
+                nbi[nin] = j;              /* nin <= k: never overwrites an unread entry */
+                rin[nin] = r2s[k];
+                jout[nout] = j;
+                nin += in;
+                nout += 1 - in;
+            }
+            memcpy(nbi + nin, jout, (size_t)nout * sizeof(int));
+            double rhoi = 0;
+#pragma omp simd reduction(+ : rhoi)
+            for (int k = 0; k < nin; k++) {
+                double q = sqrt(rin[k]) * rdr;
+                int im = (int)q;   /* r < cutoff: as in eam_one_pair */
+                im = im < kmax ? im : kmax;
                 q -= im;
                 q = q > 1.0 ? 1.0 : q;
-                const double *c = tab + 8 * im;
-                double v = ((c[0] * q + c[1]) * q + c[2]) * q + c[3];
+                const int b = 8 * im;
+                double v = ((tab[b] * q + tab[b + 1]) * q + tab[b + 2]) * q + tab[b + 3];
                 rhoi += v;
-                rho[j] += v;
+                rho[nbi[k]] += v;
             }
             rho[i] += rhoi;
-            ninner[i] = inner - off[i];
+            ninner[i] = nin;
         }
     }
     thread_accum_reduce(&m->rho_acc, m->rho, (size_t)ntot);
@@ -164,36 +223,41 @@ static int eam_compute_one(struct eam *m, struct particles *p, const struct nlis
         for (int i = 0; i < p->n_owned; i++) {
             const double xi = x[3 * i], yi = x[3 * i + 1], zi = x[3 * i + 2];
             const double fpi = fp[i];
+            const int *restrict nbi = nb + off[i];
+            const int nin = ninner[i];
             double fxi = 0, fyi = 0, fzi = 0;
-            const int kend = off[i] + ninner[i];
-            for (int k = off[i]; k < kend; k++) {
-                int j = nb[k];
-                double dx = xi - x[3 * j], dy = yi - x[3 * j + 1], dz = zi - x[3 * j + 2];
-                double r = sqrt(dx * dx + dy * dy + dz * dz);
-                double q = r * rdr;
-                /* compared in double first: a NaN distance (coincident or
-                 * runaway atoms) must not reach the int cast */
-                int im = q < (double)kmax ? (int)q : kmax;
-                q -= im;
-                q = q > 1.0 ? 1.0 : q;
-                const double *c = tab + 8 * im;
-                /* d/dr of ((a q + b) q + c) q + d, q = r / dr */
-                double rhop = ((3.0 * c[0] * q + 2.0 * c[1]) * q + c[2]) * rdr;
-                double z2p = ((3.0 * c[4] * q + 2.0 * c[5]) * q + c[6]) * rdr;
-                double z2 = ((c[4] * q + c[5]) * q + c[6]) * q + c[7];
-                double recip = 1.0 / r;
-                double phi = z2 * recip;
-                double phip = z2p * recip - phi * recip;
-                double fpair = -((fpi + fp[j]) * rhop + phip) * recip;
-                fxi += dx * fpair;
-                fyi += dy * fpair;
-                fzi += dz * fpair;
-                f[3 * j] -= dx * fpair;
-                f[3 * j + 1] -= dy * fpair;
-                f[3 * j + 2] -= dz * fpair;
-                esum += phi;
-                if (t.pe)
+            if (!t.pe) {
+#pragma omp simd reduction(+ : fxi, fyi, fzi, esum)
+                for (int k = 0; k < nin; k++) {
+                    int j = nbi[k];
+                    double dx = xi - x[3 * j], dy = yi - x[3 * j + 1], dz = zi - x[3 * j + 2];
+                    struct eam_pair pr = eam_one_pair(tab, rdr, kmax,
+                                                      sqrt(dx * dx + dy * dy + dz * dz), fpi + fp[j]);
+                    double fpair = pr.fpair, phi = pr.phi;
+                    fxi += dx * fpair;
+                    fyi += dy * fpair;
+                    fzi += dz * fpair;
+                    f[3 * j] -= dx * fpair;
+                    f[3 * j + 1] -= dy * fpair;
+                    f[3 * j + 2] -= dz * fpair;
+                    esum += phi;
+                }
+            } else {
+                for (int k = 0; k < nin; k++) {
+                    int j = nbi[k];
+                    double dx = xi - x[3 * j], dy = yi - x[3 * j + 1], dz = zi - x[3 * j + 2];
+                    struct eam_pair pr = eam_one_pair(tab, rdr, kmax,
+                                                      sqrt(dx * dx + dy * dy + dz * dz), fpi + fp[j]);
+                    double fpair = pr.fpair, phi = pr.phi;
+                    fxi += dx * fpair;
+                    fyi += dy * fpair;
+                    fzi += dz * fpair;
+                    f[3 * j] -= dx * fpair;
+                    f[3 * j + 1] -= dy * fpair;
+                    f[3 * j + 2] -= dz * fpair;
+                    esum += phi;
                     pair_tally_peratom(&t, i, j, phi, dx, dy, dz, fpair);
+                }
             }
             f[3 * i] += fxi;
             f[3 * i + 1] += fyi;
@@ -211,6 +275,31 @@ static int eam_compute_one(struct eam *m, struct particles *p, const struct nlis
     return 0;
 }
 
+/* Scratch of the one-element density pass: per thread, room for the
+ * longest list (squared distances, inner distances, outer indices). */
+static int eam_reserve_lists(struct eam *m, const struct nlist *nl, int nt, struct err *e)
+{
+    int maxnb = 1;
+    for (int i = 0; i < nl->n; i++)
+        if (nl->offset[i + 1] - nl->offset[i] > maxnb)
+            maxnb = nl->offset[i + 1] - nl->offset[i];
+    m->maxnb = maxnb;
+    size_t need = (size_t)nt * maxnb;
+    if (need <= m->cap_pairbuf)
+        return 0;
+    size_t cap = need + need / 4;
+    double *pb = realloc(m->pairbuf, 2 * cap * sizeof *pb);
+    if (pb)
+        m->pairbuf = pb;
+    int *jb = realloc(m->jbuf, cap * sizeof *jb);
+    if (jb)
+        m->jbuf = jb;
+    if (!pb || !jb)
+        return err_nomem(e, "EAM pair scratch");
+    m->cap_pairbuf = cap;
+    return 0;
+}
+
 static int eam_compute(struct potential *pot, struct particles *p, const struct nlist *nl,
                        int flags, struct force_result *out, struct err *e)
 {
@@ -224,8 +313,11 @@ static int eam_compute(struct potential *pot, struct particles *p, const struct 
         rc = pair_scratch_begin(&m->scratch, p, flags, nt, e);
     if (rc)
         return rc;
-    if (m->tab1)
+    if (m->tab1) {
+        if ((rc = eam_reserve_lists(m, nl, nt, e)))
+            return rc;
         return eam_compute_one(m, p, nl, flags, out, e);
+    }
     const int *tmap = pot->type_map;
     const double cutsq = m->cutsq;
     memset(m->rho, 0, (size_t)ntot * sizeof(double));
@@ -329,6 +421,8 @@ static void eam_destroy(struct potential *pot)
     thread_accum_free(&m->rho_acc);
     pair_scratch_free(&m->scratch);
     free(m->tab1);
+    free(m->pairbuf);
+    free(m->jbuf);
     free(m->ninner);
     free(m->rho);
     free(m->fp);

@@ -28,22 +28,40 @@
 
 struct sw_entry {
     double eps, sigma, a, lambda, gamma, cos0, A, B, p, q;
+    int p_int, q_int;     /* p, q when small non-negative integers, else -1 */
     double cut, cutsq;
     int set;
     int line;             /* of the file: where sigma is */
 };
 
+struct sw_near;
+
 struct sw {
     struct potential base;
     struct sw_entry e[NE][NE][NE];
     struct pair_scratch scratch;
+    struct sw_near *near;   /* per thread: maxnb near neighbours of one atom */
+    size_t cap_near;
+    int maxnb;
 };
 
-static void sw_two_body(const struct sw_entry *P, double r, double *phi, double *dphi)
+/* x^n for a small non-negative integer n by multiplication (p and q of
+ * the common files are 4 and 0: pow() would cost more than the rest of
+ * the pair). */
+static inline double sw_ipow(double x, int n)
 {
-    double rinv = 1.0 / r;
+    double r = 1.0;
+    for (; n > 0; n--)
+        r *= x;
+    return r;
+}
+
+static void sw_two_body(const struct sw_entry *P, double r, double rinv, double *phi,
+                        double *dphi)
+{
     double sr = P->sigma * rinv;
-    double srp = pow(sr, P->p), srq = P->q == 0 ? 1.0 : pow(sr, P->q);
+    double srp = P->p_int >= 0 ? sw_ipow(sr, P->p_int) : pow(sr, P->p);
+    double srq = P->q_int >= 0 ? sw_ipow(sr, P->q_int) : pow(sr, P->q);
     double den = r - P->a * P->sigma;
     double ex = exp(P->sigma / den);
     double poly = P->B * srp - srq;
@@ -53,12 +71,50 @@ static void sw_two_body(const struct sw_entry *P, double r, double *phi, double 
     *dphi = P->A * P->eps * (dpoly - poly * P->sigma / (den * den)) * ex;
 }
 
+/* A neighbour of the centre atom closer than their pair cutoff, with what
+ * both the two-body and every three-body term of the centre need. */
+struct sw_near {
+    int j, tj;
+    const struct sw_entry *P;   /* e[ti][tj][tj]: the ij leg */
+    double d[3];                /* x_j - x_i */
+    double rinv, rinvsq;
+    double e, de;               /* exp(gamma sigma / (r - a sigma)) and d/dr of it */
+};
+
+/* Per-thread room for the near neighbours of one atom (the longest list). */
+static int sw_reserve_near(struct sw *s, const struct nlist *nl, int nt, struct err *e)
+{
+    int maxnb = 1;
+    for (int i = 0; i < nl->n; i++)
+        if (nl->offset[i + 1] - nl->offset[i] > maxnb)
+            maxnb = nl->offset[i + 1] - nl->offset[i];
+    s->maxnb = maxnb;
+    size_t need = (size_t)nt * maxnb;
+    if (need <= s->cap_near)
+        return 0;
+    size_t cap = need + need / 4;
+    struct sw_near *nn = realloc(s->near, cap * sizeof *nn);
+    if (!nn)
+        return err_nomem(e, "Stillinger-Weber neighbours");
+    s->near = nn;
+    s->cap_near = cap;
+    return 0;
+}
+
+/* Each atom's list (cutoff + skin) holds several times more atoms than its
+ * pair cutoff (diamond Si: 4 within 3.77 Å of about 30 listed), and the
+ * three-body sum runs over pairs of them: the near ones are gathered first,
+ * with their distances and exponential factors, and both sums run over
+ * those only, in list order (the same terms in the same order as over the
+ * whole list). */
 static int sw_compute(struct potential *pot, struct particles *p, const struct nlist *nl, int flags,
                       struct force_result *out, struct err *e)
 {
     struct sw *s = (struct sw *)pot;
     int nt = pot->nthreads < 1 ? 1 : pot->nthreads;
     int rc = pair_scratch_begin(&s->scratch, p, flags, nt, e);
+    if (!rc)
+        rc = sw_reserve_near(s, nl, nt, e);
     if (rc)
         return rc;
     const int *tmap = pot->type_map;
@@ -66,81 +122,83 @@ static int sw_compute(struct potential *pot, struct particles *p, const struct n
     {
         int tid = omp_get_thread_num();
         struct pair_target t = pair_scratch_target(&s->scratch, p, tid);
+        struct sw_near *near = s->near + (size_t)tid * s->maxnb;
         double esum = 0, w[6] = {0};
 #pragma omp for schedule(static)
         for (int i = 0; i < p->n_owned; i++) {
             const double *xi = p->x + 3 * i;
             int ti = tmap[p->type[i]];
-            int kbeg = nl->offset[i], kend = nl->offset[i + 1];
-            /* two-body: half of each pair, force on i only */
-            for (int k = kbeg; k < kend; k++) {
+            int nn = 0;
+            for (int k = nl->offset[i]; k < nl->offset[i + 1]; k++) {
                 int j = nl->neigh[k];
                 int tj = tmap[p->type[j]];
                 const struct sw_entry *P = &s->e[ti][tj][tj];
-                double d[3] = {xi[0] - p->x[3 * j], xi[1] - p->x[3 * j + 1], xi[2] - p->x[3 * j + 2]};
-                double r2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
-                if (r2 >= P->cutsq)
+                double d[3] = {p->x[3 * j] - xi[0], p->x[3 * j + 1] - xi[1], p->x[3 * j + 2] - xi[2]};
+                double rsq = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+                if (rsq >= P->cutsq)
                     continue;
-                double r = sqrt(r2), phi, dphi;
-                sw_two_body(P, r, &phi, &dphi);
-                /* the whole pair force acts on i here (j's own loop gives
-                 * j its share); energy and virial are split between the
-                 * two loops */
-                double fpair = -dphi / r;
+                struct sw_near *a = &near[nn++];
+                a->j = j;
+                a->tj = tj;
+                a->P = P;
+                for (int c = 0; c < 3; c++)
+                    a->d[c] = d[c];
+                double r = sqrt(rsq);
+                a->rinv = 1.0 / r;
+                a->rinvsq = 1.0 / rsq;
+                double den = r - P->a * P->sigma;
+                double g = P->gamma * P->sigma / den;
+                a->e = exp(g);
+                a->de = -g / den * a->e;   /* d e / d r */
+                /* two-body: half of the pair, the whole pair force on i
+                 * (j's own loop gives j its share); energy and virial are
+                 * split between the two loops */
+                double phi, dphi;
+                sw_two_body(P, r, a->rinv, &phi, &dphi);
+                double fpair = dphi * a->rinv;   /* along d = x_j - x_i */
                 for (int c = 0; c < 3; c++)
                     t.f[3 * i + c] += d[c] * fpair;
                 esum += 0.5 * phi;
-                pair_tally_virial(w, d[0], d[1], d[2], 0.5 * fpair);
+                pair_tally_virial(w, d[0], d[1], d[2], -0.5 * fpair);
                 if (t.pe) {
                     t.pe[i] += 0.5 * phi;
                     double v[6] = {d[0] * d[0], d[1] * d[1], d[2] * d[2],
                                    d[0] * d[1], d[0] * d[2], d[1] * d[2]};
                     for (int c = 0; c < 6; c++)
-                        t.vir[6 * i + c] += 0.5 * v[c] * fpair;
+                        t.vir[6 * i + c] -= 0.5 * v[c] * fpair;
                 }
             }
-            /* three-body terms centred on i */
-            for (int k1 = kbeg; k1 < kend; k1++) {
-                int j = nl->neigh[k1];
-                int tj = tmap[p->type[j]];
-                const struct sw_entry *Pij = &s->e[ti][tj][tj];
-                double d1[3] = {p->x[3 * j] - xi[0], p->x[3 * j + 1] - xi[1], p->x[3 * j + 2] - xi[2]};
-                double r1sq = d1[0] * d1[0] + d1[1] * d1[1] + d1[2] * d1[2];
-                if (r1sq >= Pij->cutsq)
-                    continue;
-                double r1 = sqrt(r1sq);
-                double den1 = r1 - Pij->a * Pij->sigma;
-                double g1 = Pij->gamma * Pij->sigma / den1;
-                double e1 = exp(g1);
-                double de1 = -g1 / den1 * e1;   /* d e1 / d r1 */
-                for (int k2 = k1 + 1; k2 < kend; k2++) {
-                    int k = nl->neigh[k2];
-                    int tk = tmap[p->type[k]];
-                    const struct sw_entry *Pik = &s->e[ti][tk][tk];
-                    double d2[3] = {p->x[3 * k] - xi[0], p->x[3 * k + 1] - xi[1],
-                                    p->x[3 * k + 2] - xi[2]};
-                    double r2sq = d2[0] * d2[0] + d2[1] * d2[1] + d2[2] * d2[2];
-                    if (r2sq >= Pik->cutsq)
-                        continue;
-                    const struct sw_entry *Pijk = &s->e[ti][tj][tk];
-                    double r2 = sqrt(r2sq);
-                    double den2 = r2 - Pik->a * Pik->sigma;
-                    double g2 = Pik->gamma * Pik->sigma / den2;
-                    double e2 = exp(g2);
-                    double de2 = -g2 / den2 * e2;
-                    double cs = (d1[0] * d2[0] + d1[1] * d2[1] + d1[2] * d2[2]) / (r1 * r2);
+            /* three-body terms centred on i: with c = cos theta_jik,
+             *   dc/dd1 = d2 / (r1 r2) - c d1 / r1^2  (and 1 <-> 2),
+             * so F_j = -dE/dd1 = d1 (-E_r1 / r1 + E_c c / r1^2) - d2 E_c / (r1 r2) */
+            for (int n1 = 0; n1 < nn; n1++) {
+                const struct sw_near *a = &near[n1];
+                const int j = a->j;
+                const double *d1 = a->d;
+                const double rinv1 = a->rinv, rinvsq1 = a->rinvsq, e1 = a->e, de1 = a->de;
+                for (int n2 = n1 + 1; n2 < nn; n2++) {
+                    const struct sw_near *b = &near[n2];
+                    const int k = b->j;
+                    const double *d2 = b->d;
+                    const double rinv2 = b->rinv, rinvsq2 = b->rinvsq, e2 = b->e, de2 = b->de;
+                    const struct sw_entry *Pijk = &s->e[ti][a->tj][b->tj];
+                    double rinv12 = rinv1 * rinv2;
+                    double cs = (d1[0] * d2[0] + d1[1] * d2[1] + d1[2] * d2[2]) * rinv12;
                     double dc = cs - Pijk->cos0;
                     double le = Pijk->lambda * Pijk->eps;
-                    double E3 = le * dc * dc * e1 * e2;
-                    double dEdc = 2.0 * le * dc * e1 * e2;
+                    double ee = e1 * e2;
+                    double E3 = le * dc * dc * ee;
+                    double dEdc = 2.0 * le * dc * ee;
                     double dEdr1 = le * dc * dc * de1 * e2;
                     double dEdr2 = le * dc * dc * e1 * de2;
+                    double csc = dEdc * cs;
+                    double a1 = -dEdr1 * rinv1 + csc * rinvsq1;
+                    double a2 = -dEdr2 * rinv2 + csc * rinvsq2;
+                    double b12 = dEdc * rinv12;
                     double fj[3], fk[3];
                     for (int c = 0; c < 3; c++) {
-                        double dcd1 = d2[c] / (r1 * r2) - cs * d1[c] / r1sq;
-                        double dcd2 = d1[c] / (r1 * r2) - cs * d2[c] / r2sq;
-                        fj[c] = -(dEdr1 * d1[c] / r1 + dEdc * dcd1);
-                        fk[c] = -(dEdr2 * d2[c] / r2 + dEdc * dcd2);
+                        fj[c] = d1[c] * a1 - d2[c] * b12;
+                        fk[c] = d2[c] * a2 - d1[c] * b12;
                     }
                     for (int c = 0; c < 3; c++) {
                         t.f[3 * j + c] += fj[c];
@@ -155,10 +213,10 @@ static int sw_compute(struct potential *pot, struct particles *p, const struct n
                         w[c] += v[c];
                     if (t.pe) {
                         int who[3] = {i, j, k};
-                        for (int a = 0; a < 3; a++) {
-                            t.pe[who[a]] += E3 / 3.0;
+                        for (int q = 0; q < 3; q++) {
+                            t.pe[who[q]] += E3 / 3.0;
                             for (int c = 0; c < 6; c++)
-                                t.vir[6 * who[a] + c] += v[c] / 3.0;
+                                t.vir[6 * who[q] + c] += v[c] / 3.0;
                         }
                     }
                 }
@@ -174,6 +232,7 @@ static void sw_destroy(struct potential *pot)
 {
     struct sw *s = (struct sw *)pot;
     pair_scratch_free(&s->scratch);
+    free(s->near);
     free(s);
 }
 
@@ -264,6 +323,8 @@ static int sw_read_file(struct sw *s, const char *path, struct err *e)
         P->cos0 = v[5]; P->A = v[6]; P->B = v[7]; P->p = v[8]; P->q = v[9];
         P->cut = P->a * P->sigma;
         P->cutsq = P->cut * P->cut;
+        P->p_int = P->p == floor(P->p) && P->p <= 16 ? (int)P->p : -1;   /* p, q >= 0 checked above */
+        P->q_int = P->q == floor(P->q) && P->q <= 16 ? (int)P->q : -1;
         P->line = line[4];
         P->set = 1;
     }

@@ -345,6 +345,14 @@ int run_close(struct run *r, const char *status, const char *message, long steps
                                 json_real(1e6 * r->timers.total[t] / denom));
         json_object_set_new(timing, timer_keys[t], row);
     }
+    /* CPU seconds of the run and the loop, apart from the timer rows (whose
+     * "calls","seconds" layout the bench scripts read as text) */
+    json_t *cpu = json_object();
+    for (int t = 0; cpu && t < TIMER_COUNT; t++)
+        if (timer_counts_cpu(t) && (r->timers.calls[t] > 0 || t == TIMER_TOTAL))
+            json_object_set_new(cpu, timer_keys[t], json_real(r->timers.cpu[t]));
+    if (cpu)
+        json_object_set_new(timing, "cpu_seconds", cpu);
     json_object_set_new(timing, "peak_rss_mib", json_real(peak_rss_mib()));
     json_object_set_new(timing, "threads", json_integer(r->opt.nthreads));
     json_object_set_new(r->result.root, "timing", timing);
