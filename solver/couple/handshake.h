@@ -64,9 +64,24 @@ enum {
 /* Region codes of the "region" output field. */
 enum hs_region { HS_CORE = 0, HS_I = 1, HS_II = 2, HS_III = 3, HS_MPM = 4, HS_FIXED = 5 };
 
+/* The cubic crystals the handshake handles.  Zero is fcc, so a layout
+ * cleared with memset is the fcc one it always was. */
+enum hs_lattice { HS_LATTICE_FCC = 0, HS_LATTICE_BCC, HS_LATTICE_DIAMOND, HS_LATTICE_COUNT };
+extern const char *const hs_lattice_names[];   /* "fcc", "bcc", "diamond", NULL */
+
+/* Sites of the cubic cell (fractions of a), at most 8; returns how many. */
+int hs_lattice_basis(enum hs_lattice l, double basis[8][3]);
+
+/* Where the sites sit relative to the grid planes: the lattice origin lies
+ * this many lattice constants off a grid plane (a/4 for fcc and bcc, a/8
+ * for diamond, whose sites are a/4 apart along an axis).  No site then lies
+ * on a cell face of a or a/2. */
+double hs_lattice_offset(enum hs_lattice l);
+
 /* Where things are (all lengths in Å). */
 struct handshake_layout {
-    double a;                  /* fcc lattice constant                          */
+    enum hs_lattice lattice;   /* fcc (0), bcc or diamond                       */
+    double a;                  /* cubic lattice constant                        */
     double lat_origin[3];      /* one lattice site                              */
     double dom_lo[3], dom_hi[3];   /* MPM domain D (the grid)                   */
     double mat_lo[3], mat_hi[3];   /* the material inside D (points only there;
@@ -120,7 +135,7 @@ struct handshake {
     struct handshake_crystal cr;
     struct md *md;             /* borrowed (see handshake_create) */
     struct mpm mpm;
-    double omega0;             /* atomic volume a^3/4 */
+    double omega0;             /* atomic volume a^3 / (sites per cubic cell) */
     double rho;                /* amu/Å^3 */
     int body;                  /* MPM body of all points */
     int f_region, f_x0;        /* MD particle fields "region", "reference_position" */
@@ -166,7 +181,11 @@ int handshake_setup(struct handshake *hs, struct md *md, const struct handshake_
 /* The crystal of a potential for the handshake: 0 K lattice constant in
  * [a_min, a_max] (*a0), cohesive energy, cubic elastic constants and the
  * atomic mass of `element` (from the potential file, else the standard
- * mass).  The type is left 0. */
+ * mass).  The type is left 0.  handshake_crystal_from_potential is the fcc
+ * crystal. */
+int handshake_crystal_of_lattice(struct potential *pot, enum hs_lattice lattice,
+                                 const char *element, double a_min, double a_max,
+                                 struct handshake_crystal *cr, double *a0, struct err *e);
 int handshake_crystal_from_potential(struct potential *pot, const char *element, double a_min,
                                      double a_max, struct handshake_crystal *cr, double *a0,
                                      struct err *e);
