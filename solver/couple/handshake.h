@@ -1,7 +1,8 @@
 /*
  * handshake: the MPM/MD handshake of Guo & Yang 2005, section 2.2 (Fig. 3).
  *
- * An axis-aligned box B of fcc crystal is molecular dynamics; the material
+ * An axis-aligned box B of cubic crystal (fcc, bcc or diamond, cube axes
+ * along x, y, z) is molecular dynamics; the material
  * point method covers a larger box D around it on a background grid that
  * coarsens hierarchically away from B (Fig. 1(c), section 2.1).  Every face
  * of B strictly inside D is an interface, and along it lie
@@ -17,13 +18,22 @@
  *   region III  the next w_III of lattice-site material points: the
  *               atmosphere of region II.
  *
+ * The copies of regions II and III are ordinary particles of the MD force
+ * loop, frozen in the integrator: every pair, three-body (sw, meam/spline)
+ * and embedding term in which a region I atom takes part is computed in
+ * full, also the triplets centred on a region II copy whose other leg is a
+ * copy (which region I does not see directly); the forces on the copies
+ * are computed and discarded, their energies belong to no one.  Regions II
+ * and III together span two cutoffs, the reach of such terms.
+ *
  * Each width is at least one potential cutoff.  Faces of B on the boundary
  * of D are MD boundaries (periodic, as the lateral faces of the bar, or
  * free, as the top of an impact target).  In cells of the finest level the
- * MPM points sit on the lattice sites (cells of one lattice constant: four
- * sites each, atomic mass and volume) or at the cell centres (cells of half
- * a lattice constant: every other centre is a site; each point has half an
- * atomic mass and volume); in coarse cells eight points sit at the reduced
+ * MPM points sit on the lattice sites (cells of one lattice constant: the
+ * four fcc, two bcc or eight diamond sites, atomic mass and volume each) or,
+ * for fcc only, at the cell centres (cells of half a lattice constant:
+ * every other centre is a site; each point has half an atomic mass and
+ * volume); in coarse cells eight points sit at the reduced
  * coordinates (+-1/2, +-1/2, +-1/2) with mass in proportion to the cell
  * volume (section 2.2, last paragraph).  The MPM material is cubic elastic
  * with C11, C12, C44 of the same potential.

@@ -8,12 +8,18 @@
  * points are initially located at the ideal lattice sites"); in coarse
  * cells eight points at the reduced coordinates (+-1/2, +-1/2, +-1/2) with
  * mass density x cell volume / 8 ("material points are enlarged in
- * proportion to the background mesh", Fig. 1(c)).  The lattice lies a
+ * proportion to the background mesh", Fig. 1(c)).  The fcc lattice lies a
  * quarter lattice constant off the grid planes, so a cell of one lattice
  * constant holds four sites at four of those eight positions (atomic mass
  * and volume each), which integrate the gradients of the trilinear shape
  * functions over the cell exactly: a uniform stress puts no force on any
- * node, also on the bar's sliding faces.  A cell of half a lattice
+ * node, also on the bar's sliding faces.  bcc (a/4 off) and diamond (a/8
+ * off, its sites being a/4 apart) put two and eight sites in every cell;
+ * they integrate the gradients exactly up to the product term yz of the
+ * face directions, which cancels around every node whose cells all hold
+ * the same pattern, so only where the pattern changes (the first coarse
+ * cells) on an edge of two sliding faces is a uniform stress not exactly
+ * in balance (docs/handshake.md, Limits).  A cell of half a lattice
  * constant has one site at its centre in every other cell; sites alone
  * would be exact only in pairs of cells and leave forces on the nodes of a
  * sliding face, so such cells get a point at every centre (half an atomic
