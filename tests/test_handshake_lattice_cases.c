@@ -10,7 +10,9 @@
  *   out) within 1 % of the traction;
  * - packets in cells of one lattice constant: at sigma = 2 a more than
  *   half of the left packet's energy reaches the MPM, clearly more than at
- *   sigma = 1 a (reported); the reference half holds half the energy.
+ *   sigma = 1 a (reported); the reference half holds half the energy;
+ * - a Si cluster impact on Si(001) whose MPM boundary is the handshake
+ *   passes energy into the MPM.
  *
  * The traction strains each crystal by 0.2-0.35 %, as 500 MPa does Cu (LJ
  * Ar: 10 MPa; at 50 MPa, 1.2 %, its anharmonic front runs 2.9 % slow).
@@ -221,4 +223,52 @@ Test(handshake_lattice_cases, packets_ar_lj_half_cells, .timeout = 600)
     cr_expect(tf > 0.5 && tf < 1.05, "transmitted fraction %g", tf);
     cr_expect_lt(fabs(ref - 0.5), 0.02, "reference packet holds %g", ref);
     json_decref(r);
+}
+
+static const char *si_impact_text(double speed)
+{
+    static char buf[1024];
+    snprintf(buf, sizeof buf,
+             "type: cluster_impact\nseed: 1\n"
+             "target:\n  lattice: diamond\n  element: Si\n  a: 5.431\n  cells: [6, 6, 5]\n"
+             "  boundary: handshake\n"
+             "  handshake: {mpm: 4, regions: [2, 1, 1], fine: 2, levels: 1, layer: 2}\n"
+             "cluster: {atoms: 10, speed: %g}\n"
+             "potential: {style: sw, file: Si.sw, elements: [Si]}\n"
+             "md: {timestep: 0.002, steps: 300}\n"
+             "analysis: {every: 100, structure: {method: fixed}}\n"
+             "output: {thermo_every: 100, snapshot_every: 0, hdf5: false}\n",
+             speed);
+    return buf;
+}
+
+/* A Si10 cluster at 4 km/s on a 6 x 6 x 5-cell Si(001) target (sw) whose
+ * MPM boundary is the handshake, and the same with the cluster at rest:
+ * within 0.6 ps the MPM takes 5 % of the impact energy (the control
+ * nothing: the unreconstructed SW surface puts no measurable stress on the
+ * MPM), and the coupled energy (MD atoms above the perfect crystal + MPM)
+ * changes by 2 % of the impact energy. */
+Test(handshake_lattice_cases, si_impact_energy_passes_into_the_mpm, .timeout = 300)
+{
+    json_t *r1 = run_case(3, "si_impact.yaml", si_impact_text(4.0));
+    json_t *r0 = run_case(4, "si_impact_rest.yaml", si_impact_text(0.0));
+    json_t *m1 = json_object_get(r1, "metrics"), *m0 = json_object_get(r0, "metrics");
+    /* 8 sites per cell: 1440 atoms, all but the 96 of the core in region I */
+    cr_expect_eq(metric(m1, "target_atoms"), 1440);
+    cr_expect_eq(metric(m1, "atoms_region_I"), 1344);
+    cr_expect_eq(metric(m1, "copies_region_II_III"), 4160);
+    double eimp = metric(m1, "impact_energy") * 1e3;   /* keV -> eV */
+    double mpm = metric(m1, "mpm_energy"), mpm0 = metric(m0, "mpm_energy");
+    double d1 = metric(m1, "coupled_energy_final") - metric(m1, "coupled_energy_initial");
+    double d0 = metric(m0, "coupled_energy_final") - metric(m0, "coupled_energy_initial");
+    cr_log_info("Si impact %.3f eV: MPM %.4f eV (%.2f %%), control %.2g eV; coupled energy change "
+                "%.4f eV (%.2f %%), control %.2g eV",
+                eimp, mpm, 100 * mpm / eimp, mpm0, d1, 100 * d1 / eimp, d0);
+    cr_assert_gt(eimp, 10);
+    cr_expect_gt(mpm / eimp, 0.03, "MPM got %g of the impact energy", mpm / eimp);
+    cr_expect_lt(mpm0, 1e-3, "control MPM energy %g eV", mpm0);
+    cr_expect_lt(fabs(d1 - d0) / eimp, 0.10, "coupled energy changed by %g", (d1 - d0) / eimp);
+    cr_expect_gt(metric(m1, "displaced_peak"), 0);
+    json_decref(r1);
+    json_decref(r0);
 }
