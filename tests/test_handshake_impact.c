@@ -13,9 +13,9 @@
  *   (measured 6.4 %), and the coupled energy (MD atoms + MPM) changes by
  *   less than 10 % of the impact energy beyond the control's change
  *   (measured 5.8 %).
- * - Refused with file, line and key: an fcc target not at the potential's
- *   lattice constant, a bcc target, a region narrower than the cutoff.  (A
- *   target above 0 K is refused in test_impact.c.)
+ * - Refused with file, line and key: a target not at the potential's
+ *   lattice constant, a bcc target with cells of a/2, a region narrower than
+ *   the cutoff.  (A target above 0 K is refused in test_impact.c.)
  */
 #include <criterion/criterion.h>
 #include <jansson.h>
@@ -112,11 +112,11 @@ Test(handshake_impact, bad_targets_are_refused, .timeout = 60)
                    "potential's 0 K lattice constant");
     expect_refused("hs_bcc.yaml",
                    "type: cluster_impact\n"
-                   "target: {lattice: bcc, element: Cu, a: 2.87, cells: [6, 6, 5], boundary: "
-                   "handshake}\n"
+                   "target: {lattice: bcc, element: Fe, a: 2.8553, cells: [6, 6, 5], boundary: "
+                   "handshake, handshake: {cell: 0.5}}\n"
                    "cluster: {atoms: 15}\n"
-                   "potential: {style: eam/alloy, file: Cu_mishin1.eam.alloy}\n",
-                   "target.lattice", "needs an fcc target");
+                   "potential: {style: eam/fs, file: Fe_mm.eam.fs, elements: [Fe]}\n",
+                   "target.handshake.cell", "bcc crystal needs a finest cell of one lattice");
     expect_refused("hs_narrow.yaml",
                    impact_text("a: 3.615\n  handshake: {regions: [2, 1.5, 2]}", 2.0),
                    "target.handshake.regions", "narrower than the potential cutoff");

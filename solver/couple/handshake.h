@@ -1,7 +1,8 @@
 /*
  * handshake: the MPM/MD handshake of Guo & Yang 2005, section 2.2 (Fig. 3).
  *
- * An axis-aligned box B of fcc crystal is molecular dynamics; the material
+ * An axis-aligned box B of cubic crystal (fcc, bcc or diamond, cube axes
+ * along x, y, z) is molecular dynamics; the material
  * point method covers a larger box D around it on a background grid that
  * coarsens hierarchically away from B (Fig. 1(c), section 2.1).  Every face
  * of B strictly inside D is an interface, and along it lie
@@ -17,13 +18,22 @@
  *   region III  the next w_III of lattice-site material points: the
  *               atmosphere of region II.
  *
+ * The copies of regions II and III are ordinary particles of the MD force
+ * loop, frozen in the integrator: every pair, three-body (sw, meam/spline)
+ * and embedding term in which a region I atom takes part is computed in
+ * full, also the triplets centred on a region II copy whose other leg is a
+ * copy (which region I does not see directly); the forces on the copies
+ * are computed and discarded, their energies belong to no one.  Regions II
+ * and III together span two cutoffs, the reach of such terms.
+ *
  * Each width is at least one potential cutoff.  Faces of B on the boundary
  * of D are MD boundaries (periodic, as the lateral faces of the bar, or
  * free, as the top of an impact target).  In cells of the finest level the
- * MPM points sit on the lattice sites (cells of one lattice constant: four
- * sites each, atomic mass and volume) or at the cell centres (cells of half
- * a lattice constant: every other centre is a site; each point has half an
- * atomic mass and volume); in coarse cells eight points sit at the reduced
+ * MPM points sit on the lattice sites (cells of one lattice constant: the
+ * four fcc, two bcc or eight diamond sites, atomic mass and volume each) or,
+ * for fcc only, at the cell centres (cells of half a lattice constant:
+ * every other centre is a site; each point has half an atomic mass and
+ * volume); in coarse cells eight points sit at the reduced
  * coordinates (+-1/2, +-1/2, +-1/2) with mass in proportion to the cell
  * volume (section 2.2, last paragraph).  The MPM material is cubic elastic
  * with C11, C12, C44 of the same potential.
@@ -64,9 +74,24 @@ enum {
 /* Region codes of the "region" output field. */
 enum hs_region { HS_CORE = 0, HS_I = 1, HS_II = 2, HS_III = 3, HS_MPM = 4, HS_FIXED = 5 };
 
+/* The cubic crystals the handshake handles.  Zero is fcc, so a layout
+ * cleared with memset is the fcc one it always was. */
+enum hs_lattice { HS_LATTICE_FCC = 0, HS_LATTICE_BCC, HS_LATTICE_DIAMOND, HS_LATTICE_COUNT };
+extern const char *const hs_lattice_names[];   /* "fcc", "bcc", "diamond", NULL */
+
+/* Sites of the cubic cell (fractions of a), at most 8; returns how many. */
+int hs_lattice_basis(enum hs_lattice l, double basis[8][3]);
+
+/* Where the sites sit relative to the grid planes: the lattice origin lies
+ * this many lattice constants off a grid plane (a/4 for fcc and bcc, a/8
+ * for diamond, whose sites are a/4 apart along an axis).  No site then lies
+ * on a cell face of a or a/2. */
+double hs_lattice_offset(enum hs_lattice l);
+
 /* Where things are (all lengths in Å). */
 struct handshake_layout {
-    double a;                  /* fcc lattice constant                          */
+    enum hs_lattice lattice;   /* fcc (0), bcc or diamond                       */
+    double a;                  /* cubic lattice constant                        */
     double lat_origin[3];      /* one lattice site                              */
     double dom_lo[3], dom_hi[3];   /* MPM domain D (the grid)                   */
     double mat_lo[3], mat_hi[3];   /* the material inside D (points only there;
@@ -120,7 +145,7 @@ struct handshake {
     struct handshake_crystal cr;
     struct md *md;             /* borrowed (see handshake_create) */
     struct mpm mpm;
-    double omega0;             /* atomic volume a^3/4 */
+    double omega0;             /* atomic volume a^3 / (sites per cubic cell) */
     double rho;                /* amu/Å^3 */
     int body;                  /* MPM body of all points */
     int f_region, f_x0;        /* MD particle fields "region", "reference_position" */
@@ -166,7 +191,11 @@ int handshake_setup(struct handshake *hs, struct md *md, const struct handshake_
 /* The crystal of a potential for the handshake: 0 K lattice constant in
  * [a_min, a_max] (*a0), cohesive energy, cubic elastic constants and the
  * atomic mass of `element` (from the potential file, else the standard
- * mass).  The type is left 0. */
+ * mass).  The type is left 0.  handshake_crystal_from_potential is the fcc
+ * crystal. */
+int handshake_crystal_of_lattice(struct potential *pot, enum hs_lattice lattice,
+                                 const char *element, double a_min, double a_max,
+                                 struct handshake_crystal *cr, double *a0, struct err *e);
 int handshake_crystal_from_potential(struct potential *pot, const char *element, double a_min,
                                      double a_max, struct handshake_crystal *cr, double *a0,
                                      struct err *e);

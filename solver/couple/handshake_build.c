@@ -8,12 +8,18 @@
  * points are initially located at the ideal lattice sites"); in coarse
  * cells eight points at the reduced coordinates (+-1/2, +-1/2, +-1/2) with
  * mass density x cell volume / 8 ("material points are enlarged in
- * proportion to the background mesh", Fig. 1(c)).  The lattice lies a
+ * proportion to the background mesh", Fig. 1(c)).  The fcc lattice lies a
  * quarter lattice constant off the grid planes, so a cell of one lattice
  * constant holds four sites at four of those eight positions (atomic mass
  * and volume each), which integrate the gradients of the trilinear shape
  * functions over the cell exactly: a uniform stress puts no force on any
- * node, also on the bar's sliding faces.  A cell of half a lattice
+ * node, also on the bar's sliding faces.  bcc (a/4 off) and diamond (a/8
+ * off, its sites being a/4 apart) put two and eight sites in every cell;
+ * they integrate the gradients exactly up to the product term yz of the
+ * face directions, which cancels around every node whose cells all hold
+ * the same pattern, so only where the pattern changes (the first coarse
+ * cells) on an edge of two sliding faces is a uniform stress not exactly
+ * in balance (docs/handshake.md, Limits).  A cell of half a lattice
  * constant has one site at its centre in every other cell; sites alone
  * would be exact only in pairs of cells and leave forces on the nodes of a
  * sliding face, so such cells get a point at every centre (half an atomic
@@ -26,14 +32,13 @@
 #include "couple/handshake.h"
 #include "mpm/mpm_hgrid.h"
 
-/* fcc basis (fractions of a) */
-static const double fcc_basis[4][3] = {{0, 0, 0}, {0.5, 0.5, 0}, {0.5, 0, 0.5}, {0, 0.5, 0.5}};
-
 /* Call fn for every lattice site in [lo, hi). */
 typedef int (*site_fn)(void *ctx, const double x[3]);
 static int for_sites(const struct handshake_layout *L, const double lo[3], const double hi[3],
                      site_fn fn, void *ctx)
 {
+    double basis[8][3];
+    const int nb = hs_lattice_basis(L->lattice, basis);
     long n0[3], n1[3];
     for (int d = 0; d < 3; d++) {
         n0[d] = (long)floor((lo[d] - L->lat_origin[d]) / L->a) - 1;
@@ -43,10 +48,10 @@ static int for_sites(const struct handshake_layout *L, const double lo[3], const
     for (long k = n0[2]; k < n1[2]; k++)
         for (long j = n0[1]; j < n1[1]; j++)
             for (long i = n0[0]; i < n1[0]; i++)
-                for (int b = 0; b < 4; b++) {
-                    double x[3] = {L->lat_origin[0] + (i + fcc_basis[b][0]) * L->a,
-                                   L->lat_origin[1] + (j + fcc_basis[b][1]) * L->a,
-                                   L->lat_origin[2] + (k + fcc_basis[b][2]) * L->a};
+                for (int b = 0; b < nb; b++) {
+                    double x[3] = {L->lat_origin[0] + (i + basis[b][0]) * L->a,
+                                   L->lat_origin[1] + (j + basis[b][1]) * L->a,
+                                   L->lat_origin[2] + (k + basis[b][2]) * L->a};
                     int in = 1;
                     for (int d = 0; d < 3; d++)
                         in &= x[d] >= lo[d] && x[d] < hi[d];
@@ -99,18 +104,51 @@ static int site_point(void *ctx, const double x[3])
     return add_point(c, x, hs->cr.mass, hs->omega0, region_mask(r) | HS_MASK_SITE);
 }
 
-/* Whether x is an fcc lattice site. */
+/* Whether x is a lattice site: its offset from the origin, in the cubic
+ * cell, is one of the basis sites. */
 static int on_site(const struct handshake_layout *L, const double x[3])
 {
-    long n = 0;
+    double basis[8][3];
+    const int nb = hs_lattice_basis(L->lattice, basis);
+    double u[3];
     for (int d = 0; d < 3; d++) {
-        double u = 2 * (x[d] - L->lat_origin[d]) / L->a;
-        long k = lround(u);
-        if (fabs(u - k) > 1e-6)
-            return 0;
-        n += k;
+        u[d] = (x[d] - L->lat_origin[d]) / L->a;
+        u[d] -= floor(u[d] + 1e-9);
     }
-    return (n & 1) == 0;
+    for (int b = 0; b < nb; b++) {
+        int same = 1;
+        for (int d = 0; d < 3; d++) {
+            double t = fabs(u[d] - basis[b][d]);
+            same &= t < 1e-6 || fabs(t - 1) < 1e-6;
+        }
+        if (same)
+            return 1;
+    }
+    return 0;
+}
+
+/* Eight points at the reduced coordinates (+-1/2, +-1/2, +-1/2) of a cell,
+ * each an eighth of its mass and volume: the two-point rule per axis,
+ * exact for the trilinear shape functions' gradients. */
+static int eight_points(struct fill_ctx *c, const double lo[3], const double size[3])
+{
+    const struct handshake *hs = c->hs;
+    double vol = size[0] * size[1] * size[2] / 8.0;
+    for (int k = 0; k < 8; k++) {
+        double x[3];
+        for (int d = 0; d < 3; d++)
+            x[d] = lo[d] + (((k >> d) & 1) ? 0.75 : 0.25) * size[d];
+        enum hs_region r = handshake_classify(&hs->lay, x);
+        if (r != HS_MPM)
+            return err_set(c->e, ERR_INPUT,
+                           "a coarse cell at (%g, %g, %g) Å reaches into the MD region or its "
+                           "regions II and III",
+                           lo[0], lo[1], lo[2]);
+        int rc = add_point(c, x, hs->rho * vol, vol, 0);
+        if (rc)
+            return rc;
+    }
+    return 0;
 }
 
 /* Points of one cell [lo, lo + size) of level `level`. */
@@ -130,22 +168,7 @@ static int fill_cell(struct fill_ctx *c, const double lo[3], const double size[3
         return add_point(c, x, hs->rho * vol, vol,
                          region_mask(r) | (on_site(&hs->lay, x) ? HS_MASK_SITE : 0));
     }
-    double vol = size[0] * size[1] * size[2] / 8.0;
-    for (int k = 0; k < 8; k++) {
-        double x[3];
-        for (int d = 0; d < 3; d++)
-            x[d] = lo[d] + (((k >> d) & 1) ? 0.75 : 0.25) * size[d];
-        enum hs_region r = handshake_classify(&hs->lay, x);
-        if (r != HS_MPM)
-            return err_set(c->e, ERR_INPUT,
-                           "a coarse cell at (%g, %g, %g) Å reaches into the MD region or its "
-                           "regions II and III",
-                           lo[0], lo[1], lo[2]);
-        int rc = add_point(c, x, hs->rho * vol, vol, 0);
-        if (rc)
-            return rc;
-    }
-    return 0;
+    return eight_points(c, lo, size);
 }
 
 static int fill_points(struct fill_ctx *c)
@@ -319,7 +342,8 @@ int handshake_create(struct handshake *hs, const struct handshake_layout *L,
     memset(hs, 0, sizeof *hs);
     hs->lay = *L;
     hs->cr = *cr;
-    hs->omega0 = L->a * L->a * L->a / 4.0;
+    double basis[8][3];
+    hs->omega0 = L->a * L->a * L->a / hs_lattice_basis(L->lattice, basis);
     hs->rho = cr->mass / hs->omega0;
     int rc = build_grid(hs, nthreads, e);
     if (rc)

@@ -1,7 +1,8 @@
 /* handshake_crystal: the crystal the MPM side must match -- lattice
  * constant, cohesive energy and C11, C12, C44 from the same potential as
  * the MD (Guo & Yang 2005, section 2.2: "these constants can be derived
- * from the atomic potential and then are used in the MPM region"). */
+ * from the atomic potential and then are used in the MPM region") -- and
+ * the cubic lattices the handshake lays out. */
 #include <stdio.h>
 #include <string.h>
 
@@ -9,9 +10,47 @@
 #include "couple/handshake.h"
 #include "md/crystal.h"
 
-int handshake_crystal_from_potential(struct potential *pot, const char *element, double a_min,
-                                     double a_max, struct handshake_crystal *cr, double *a0,
-                                     struct err *e)
+const char *const hs_lattice_names[] = {"fcc", "bcc", "diamond", NULL};
+
+int hs_lattice_basis(enum hs_lattice l, double basis[8][3])
+{
+    static const double fcc[4][3] = {{0, 0, 0}, {0.5, 0.5, 0}, {0.5, 0, 0.5}, {0, 0.5, 0.5}};
+    int n = 0;
+    switch (l) {
+    case HS_LATTICE_BCC:
+        memset(basis, 0, 2 * sizeof basis[0]);
+        for (int d = 0; d < 3; d++)
+            basis[1][d] = 0.5;
+        return 2;
+    case HS_LATTICE_DIAMOND:   /* fcc and fcc + (1/4, 1/4, 1/4) */
+        for (int b = 0; b < 4; b++)
+            for (int d = 0; d < 3; d++) {
+                basis[b][d] = fcc[b][d];
+                basis[4 + b][d] = fcc[b][d] + 0.25;
+            }
+        return 8;
+    case HS_LATTICE_FCC:
+    default:
+        for (int b = 0; b < 4; b++, n++)
+            memcpy(basis[b], fcc[b], sizeof fcc[b]);
+        return n;
+    }
+}
+
+double hs_lattice_offset(enum hs_lattice l)
+{
+    return l == HS_LATTICE_DIAMOND ? 0.125 : 0.25;
+}
+
+static enum lattice_style lattice_style_of(enum hs_lattice l)
+{
+    return l == HS_LATTICE_BCC ? LATTICE_BCC : l == HS_LATTICE_DIAMOND ? LATTICE_DIAMOND
+                                                                         : LATTICE_FCC;
+}
+
+int handshake_crystal_of_lattice(struct potential *pot, enum hs_lattice lattice,
+                                 const char *element, double a_min, double a_max,
+                                 struct handshake_crystal *cr, double *a0, struct err *e)
 {
     memset(cr, 0, sizeof *cr);
     snprintf(cr->element, sizeof cr->element, "%s", element);
@@ -22,11 +61,21 @@ int handshake_crystal_from_potential(struct potential *pot, const char *element,
         cr->mass = element_mass(element);
     if (!(cr->mass > 0))
         return err_set(e, ERR_INPUT, "no mass for element '%s'", element);
-    struct crystal_spec spec = {LATTICE_FCC, cr->element, cr->mass, 3};
+    /* C11 and C12 come from strains along the cube axes, which move no
+     * site of these lattices off its symmetric position; C44 of diamond is
+     * the unrelaxed one (crystal.h), which the [100] cases do not use */
+    struct crystal_spec spec = {lattice_style_of(lattice), cr->element, cr->mass, 3};
     double ecoh;
     int rc = crystal_equilibrium(pot, &spec, a_min, a_max, a0, &ecoh, e);
     if (!rc)
         rc = crystal_elastic_cubic(pot, &spec, *a0, &cr->c11, &cr->c12, &cr->c44, e);
     cr->pe_ref = -ecoh;
     return rc;
+}
+
+int handshake_crystal_from_potential(struct potential *pot, const char *element, double a_min,
+                                     double a_max, struct handshake_crystal *cr, double *a0,
+                                     struct err *e)
+{
+    return handshake_crystal_of_lattice(pot, HS_LATTICE_FCC, element, a_min, a_max, cr, a0, e);
 }

@@ -64,6 +64,15 @@ int handshake_layout_check(const struct handshake_layout *L, double cutoff,
     } while (0)
     if (!(a > 0))
         REFUSE(HS_KEY_GEOMETRY, "the lattice constant must be positive");
+    if ((unsigned)L->lattice >= HS_LATTICE_COUNT)
+        REFUSE(HS_KEY_GEOMETRY, "unknown lattice %d: fcc, bcc or diamond", (int)L->lattice);
+    if (L->lattice != HS_LATTICE_FCC && fabs(L->h - a) > 1e-9 * a)
+        REFUSE(HS_KEY_CELL,
+               "a %s crystal needs a finest cell of one lattice constant (%g Å is %g): in cells "
+               "of a/2 its sites fill %s of the cells, which leaves forces on the grid under a "
+               "uniform stress",
+               hs_lattice_names[L->lattice], L->h, L->h / a,
+               L->lattice == HS_LATTICE_BCC ? "a quarter" : "half, two sites each,");
     if (!(fabs(L->h - a) < 1e-9 * a || fabs(L->h - 0.5 * a) < 1e-9 * a))
         REFUSE(HS_KEY_CELL,
                "the finest cell must be 1 or 0.5 lattice constants (%g Å is %g): the lattice "
@@ -117,11 +126,12 @@ int handshake_layout_check(const struct handshake_layout *L, double cutoff,
                    "contain the MD region [%g, %g] Å",
                    "xyz"[d], L->mat_lo[d], L->mat_hi[d], L->dom_lo[d], L->dom_hi[d], L->md_lo[d],
                    L->md_hi[d]);
-        double off = L->lat_origin[d] - L->dom_lo[d] - 0.25 * a;
+        double off = L->lat_origin[d] - L->dom_lo[d] - hs_lattice_offset(L->lattice) * a;
         if (!multiple_of(off, 0.5 * a))
             REFUSE(HS_KEY_GEOMETRY,
-                   "lattice sites must lie a quarter lattice constant off the grid planes "
-                   "(lattice origin %g Å along %c)",
+                   "lattice sites must lie %g lattice constants off the grid planes (%s; "
+                   "lattice origin %g Å along %c)",
+                   hs_lattice_offset(L->lattice), hs_lattice_names[L->lattice],
                    L->lat_origin[d], "xyz"[d]);
         if (!multiple_of(L->md_lo[d] - L->dom_lo[d], 0.5 * a) ||
             !multiple_of(L->md_hi[d] - L->dom_lo[d], 0.5 * a))

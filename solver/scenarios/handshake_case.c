@@ -18,13 +18,16 @@ int hs_case_read(struct cfg_obj *root, struct hs_case *c)
     struct cfg_obj o;
     int rc;
     const char *element;
+    int lattice = HS_LATTICE_FCC;
     c->cfg = root->cfg;
     if ((rc = cfg_section_required(root, "crystal", &o)) ||
+        (rc = cfg_enum(&o, "lattice", "fcc", hs_lattice_names, &lattice)) ||
         (rc = cfg_string(&o, "element", "Cu", &element)) ||
         (rc = cfg_real(&o, "a_min", CFG_REQUIRED, CFG_GT(0), &c->a_min)) ||
         (rc = cfg_real(&o, "a_max", CFG_REQUIRED, CFG_GT(0), &c->a_max)) || (rc = cfg_close(&o)))
         return rc;
     snprintf(c->element, sizeof c->element, "%s", element);
+    c->lattice = (enum hs_lattice)lattice;
     if (!(c->a_max > c->a_min))
         return cfg_error_at(root->cfg, "crystal.a_max", "a_max = %g must exceed a_min = %g",
                             c->a_max, c->a_min);
@@ -90,8 +93,8 @@ int hs_case_build(struct hs_case *c, enum mpm_face_bc x_hi_face, int end_margin,
     struct cfg *cfg = c->cfg;
     struct err *e = cfg->err;
     double a;
-    int rc = handshake_crystal_from_potential(c->pot, c->element, c->a_min, c->a_max, &c->md_cr,
-                                              &a, e);
+    int rc = handshake_crystal_of_lattice(c->pot, c->lattice, c->element, c->a_min, c->a_max,
+                                          &c->md_cr, &a, e);
     if (rc)
         return cfg_error_at(cfg, "crystal", "%s", e->msg);
     c->a = a;
@@ -104,6 +107,7 @@ int hs_case_build(struct hs_case *c, enum mpm_face_bc x_hi_face, int end_margin,
     cr.c11 *= c->c11_scale;   /* Guo & Yang Fig. 5: C11 of the MPM doubled */
     struct handshake_layout L;
     memset(&L, 0, sizeof L);
+    L.lattice = c->lattice;
     L.a = a;
     double len = c->bar_mpm[0] + c->bar_md + c->bar_mpm[1];
     /* empty cells beyond a loaded end, room to stretch: one coarsest cell */
@@ -115,7 +119,7 @@ int hs_case_build(struct hs_case *c, enum mpm_face_bc x_hi_face, int end_margin,
                 margin *= 2;
     }
     for (int d = 0; d < 3; d++) {
-        L.lat_origin[d] = 0.25 * a;
+        L.lat_origin[d] = hs_lattice_offset(c->lattice) * a;
         L.dom_lo[d] = L.mat_lo[d] = 0;
         L.mat_hi[d] = (d == 0 ? len : c->bar_width) * a;
         L.dom_hi[d] = (d == 0 ? len + margin : c->bar_width) * a;

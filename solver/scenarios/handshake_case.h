@@ -4,9 +4,10 @@
  * the outputs (thermo, snapshots with the region of every atom and point,
  * stress profiles along the bar from both sides).
  *
- *   crystal:   {element: Cu, a_min: 3.5, a_max: 3.7}
- *              fcc; the lattice constant is the potential's 0 K minimum in
- *              [a_min, a_max] (so the crystal starts stress-free)
+ *   crystal:   {lattice: fcc, element: Cu, a_min: 3.5, a_max: 3.7}
+ *              fcc | bcc | diamond; the lattice constant is the potential's
+ *              0 K minimum in [a_min, a_max] (so the crystal starts
+ *              stress-free)
  *   potential: {style: eam/alloy, file: Cu_mishin1.eam.alloy}
  *   elastic:   {c11: 0, c12: 0, c44: 0, c11_scale: 1}
  *              GPa, the MPM's cubic constants; 0 = from the potential at
@@ -49,6 +50,7 @@ struct hs_case {
     /* read */
     struct potential *pot;        /* until the md owns it */
     char element[16];
+    enum hs_lattice lattice;      /* crystal.lattice: fcc (default), bcc, diamond */
     double a_min, a_max;
     double c_user[3];             /* GPa, 0: from the potential */
     double c11_scale;

@@ -15,6 +15,7 @@ struct hs_impact {
     long levels;
     int coarsen;                                 /* direction bits x 1, y 2, z 4 */
     double a;                                    /* Å: target.a */
+    enum hs_lattice lattice;                     /* target.lattice */
     struct handshake hs;
     int built;
     struct handshake_energy e0;                  /* when the run starts */
@@ -27,11 +28,18 @@ int handshake_impact_read(struct cfg_obj *t, struct impact_boundary *b)
     struct cfg *cfg = t->cfg;
     /* lattice, a and temperature are read before the boundary */
     json_t *lat = json_object_get(t->node, "lattice");
-    if (json_is_string(lat) && strcmp(json_string_value(lat), "fcc") != 0)
-        return cfg_error_at(cfg, "target.lattice",
-                            "boundary 'handshake' needs an fcc target (its MPM is cubic elastic "
-                            "with regions II and III on fcc sites), not '%s'",
-                            json_string_value(lat));
+    int lattice = HS_LATTICE_FCC;
+    if (json_is_string(lat)) {
+        for (lattice = 0; hs_lattice_names[lattice]; lattice++)
+            if (strcmp(json_string_value(lat), hs_lattice_names[lattice]) == 0)
+                break;
+        if (!hs_lattice_names[lattice])
+            return cfg_error_at(cfg, "target.lattice",
+                                "boundary 'handshake' needs a cubic target with its cube axes "
+                                "along x, y, z (fcc, bcc or diamond: the MPM is cubic elastic "
+                                "with regions II and III on the lattice sites), not '%s'",
+                                json_string_value(lat));
+    }
     double temp = json_number_value(json_object_get(t->node, "temperature"));
     if (temp > 0)
         return cfg_error_at(cfg, "target.temperature",
@@ -42,6 +50,7 @@ int handshake_impact_read(struct cfg_obj *t, struct impact_boundary *b)
     if (!h)
         return err_nomem(cfg->err, "handshake boundary");
     b->data = h;   /* freed by handshake_impact_destroy, also on errors */
+    h->lattice = (enum hs_lattice)lattice;
     h->a = json_number_value(json_object_get(t->node, "a"));
     static const double regions_def[3] = {2, 2, 2};
     int ci, rc;
@@ -89,8 +98,8 @@ int handshake_impact_prepare(struct impact_boundary *b, struct particles *p, str
         return cfg_error_at(cfg, "target.cells", "boundary 'handshake': the target has no atoms");
     struct handshake_crystal cr;
     double a0, a = h->a;
-    int rc = handshake_crystal_from_potential(pot, p->type_name[type], 0.9 * a, 1.1 * a, &cr,
-                                              &a0, e);
+    int rc = handshake_crystal_of_lattice(pot, h->lattice, p->type_name[type], 0.9 * a, 1.1 * a,
+                                          &cr, &a0, e);
     if (rc) {
         char msg[ERR_MSG_MAX];
         snprintf(msg, sizeof msg, "%s", e->msg);
@@ -107,11 +116,15 @@ int handshake_impact_prepare(struct impact_boundary *b, struct particles *p, str
     cr.mass = p->mass[type];
     struct handshake_layout L;
     memset(&L, 0, sizeof L);
+    L.lattice = h->lattice;
     L.a = a;
+    /* the MD box's faces lie between (100) planes of sites, as far from
+     * the outermost sites as the grid planes from the sites */
+    const double off = hs_lattice_offset(h->lattice) * a;
     for (int d = 0; d < 3; d++) {
         L.lat_origin[d] = lo[d];
-        L.md_lo[d] = lo[d] - 0.25 * a;
-        L.md_hi[d] = hi[d] + 0.25 * a;
+        L.md_lo[d] = lo[d] - off;
+        L.md_hi[d] = hi[d] + off;
         L.dom_lo[d] = L.mat_lo[d] = L.md_lo[d] - h->mpm * a;
         /* the top (+z) is the free surface: no MPM above it */
         L.dom_hi[d] = L.mat_hi[d] = d == 2 ? L.md_hi[d] : L.md_hi[d] + h->mpm * a;
