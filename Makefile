@@ -205,7 +205,8 @@ demo: deps
 # rewrites the baselines instead (review and commit them).
 NIGHTLY_DIR ?= runs/nightly
 NIGHTLY_STUDIES ?= studies/nightly.yaml studies/nightly_impact_quick.yaml \
-                   studies/nightly_hugoniot_quick.yaml studies/md_timestep_refine_quick.yaml
+                   studies/nightly_hugoniot_quick.yaml studies/md_timestep_refine_quick.yaml \
+                   studies/nightly_damage_quick.yaml
 nightly: deps
 	@$(MAKE) --no-print-directory $(SOLVER_BIN) $(CAMPAIGN_BIN)
 	@mkdir -p $(NIGHTLY_DIR)

@@ -311,6 +311,9 @@ void outcome_collect(struct outcome *o, const char *dir, const struct exit_info 
     json_t *metrics = res ? json_object_get(res, "metrics") : NULL;
     if (json_is_object(metrics))
         o->metrics = json_incref(metrics);
+    json_t *series = res ? json_object_get(res, "series") : NULL;
+    if (json_is_object(series))
+        o->series = json_incref(series);
     const char *tail_line = last_line(o->stderr_tail);
     int st = x->wait_status;
     o->exit_code = -1;
@@ -390,6 +393,8 @@ void outcome_collect(struct outcome *o, const char *dir, const struct exit_info 
 void outcome_free(struct outcome *o)
 {
     json_decref(o->metrics);
+    json_decref(o->series);
+    o->series = NULL;
     free(o->artifacts);
     o->metrics = NULL;
     o->artifacts = NULL;
@@ -449,6 +454,8 @@ json_t *outcome_to_json(const struct outcome *o)
     if (j) {
         json_object_set_new(j, "collect_s", json_real(o->collect_s));
         json_object_set_new(j, "resumed_from_step", json_integer(o->resumed_from_step));
+        if (o->series)
+            json_object_set(j, "series", o->series);
     }
     return j;
 }
@@ -489,6 +496,9 @@ int outcome_from_json(struct outcome *o, const json_t *j, struct err *e)
     json_t *m = json_object_get(j, "metrics");
     if (json_is_object(m))
         o->metrics = json_incref(m);
+    json_t *ser = json_object_get(j, "series");
+    if (json_is_object(ser))
+        o->series = json_incref(ser);
     json_t *arts = json_object_get(j, "artifacts");
     size_t n = json_array_size(arts);
     if (n) {

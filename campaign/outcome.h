@@ -66,6 +66,7 @@ struct outcome {
     char solver_version[128];   /* from result.json provenance, or "" */
     char solver_git[128];
     json_t *metrics;            /* {name: {"value": x, "unit": u}}, owned, or NULL */
+    json_t *series;             /* {name: {"values": [...], "unit": u}}, owned, or NULL */
     struct artifact *artifacts; /* owned */
     int nartifacts;
     double collect_s;           /* time spent reading result.json and hashing files */

@@ -643,6 +643,9 @@ static void fit_table(struct rdoc *doc, const struct study_analysis *a, const st
         rdoc_para(doc, "Least-squares fit %s = %s * %s^%s (a straight line in log-log)%s.",
                   f->metric, f->names[0], xname, f->names[1],
                   f->extrapolated ? " on the extrapolated values" : "");
+    if (f->has_range)
+        rdoc_para(doc, "Only the points with %s from %g to %g enter this fit.", xname, f->range[0],
+                  f->range[1]);
     const char *hdr[] = {"series", "points", f->names[0], f->names[1], "R^2", "rms residual"};
     struct tab t = {6, 0, 0, NULL, 0};
     for (int s = p->first; s < p->first + p->n; s++) {

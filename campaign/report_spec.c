@@ -219,7 +219,20 @@ static int read_fits(struct cfg_obj *rep, struct report_spec *rs)
             (rc = cfg_string_opt(&f, "along", &along, &have_along)) ||
             (rc = cfg_enum(&f, "model", "linear", fit_model_names, &model)) ||
             (rc = cfg_strings(&f, "names", 0, names, 2, &nn)) ||
-            (rc = cfg_bool(&f, "extrapolated", 0, &ft->extrapolated)) || (rc = cfg_close(&f)))
+            (rc = cfg_bool(&f, "extrapolated", 0, &ft->extrapolated)))
+            return rc;
+        ft->has_range = json_object_get(f.node, "range") != NULL;
+        if (ft->has_range) {
+            if ((rc = cfg_reals(&f, "range", 2, NULL, CFG_ANY, ft->range)))
+                return rc;
+            if (!(ft->range[0] < ft->range[1])) {
+                char p[CFG_PATH_MAX + 8];
+                snprintf(p, sizeof p, "%s.range", f.path);
+                return cfg_error_at(f.cfg, p, "give [low, high] with low < high, not [%g, %g]",
+                                    ft->range[0], ft->range[1]);
+            }
+        }
+        if ((rc = cfg_close(&f)))
             return rc;
         if ((rc = copy_name(f.cfg, f.path, metric, ft->metric, sizeof ft->metric)) ||
             (rc = copy_name(f.cfg, f.path, against, ft->against, sizeof ft->against)) ||

@@ -16,6 +16,7 @@
  *       cluster.atoms: {label: cluster size (atoms), log: true}
  *     fits:                         # least-squares fits against an axis or a metric
  *       - {metric: us, against: up_piston, model: linear, names: [c0, s]}
+ *       - {metric: v, against: e, model: power, range: [1, 10]}   # only 1 <= e <= 10
  *   regress:
  *     baseline: baselines/nightly.json   # relative to the study file
  *     tolerances:                   # |now - baseline| <= abs + rel |baseline|
@@ -64,6 +65,8 @@ struct rspec_fit {
     enum fit_model model;
     char names[2][32];              /* parameter names: intercept/slope (linear), prefactor/exponent (power) */
     int extrapolated;               /* fit the Richardson-extrapolated values, not the finest grid's */
+    int has_range;                  /* fit only the points with range[0] <= x <= range[1] */
+    double range[2];
     char where[64];                 /* "report.fits[2]" */
 };
 

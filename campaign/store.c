@@ -28,6 +28,7 @@ enum {
     Q_HEARTBEAT,
     Q_DONE_DIR,
     Q_SAME_CRASH,
+    Q_SERIES_INSERT,
     Q_COUNT
 };
 
@@ -71,6 +72,8 @@ static const char *const queries[Q_COUNT] = {
                      "AND solver_git = ?5 "
                      "AND attempt > (SELECT retry_after FROM jobs WHERE id = ?1) "
                      "ORDER BY attempt DESC",
+    [Q_SERIES_INSERT] = "INSERT OR REPLACE INTO series_values (run_id, name, idx, value, unit) "
+                        "VALUES (?1, ?2, ?3, ?4, ?5)",
 };
 
 int store_init(struct store *st, sqlite3 *db, const struct study *s, const struct solver *sv,
@@ -89,6 +92,8 @@ int store_init(struct store *st, sqlite3 *db, const struct study *s, const struc
     st->retries = s->retries;
     st->metrics = (const char *const *)s->metrics;
     st->nmetrics = s->nmetrics;
+    st->series = (const char *const *)s->series;
+    st->nseries = s->nseries;
     for (int q = 0; q < Q_COUNT; q++) {
         int rc = db_prepare(db, queries[q], &st->st[q], e);
         if (rc) {
@@ -537,6 +542,41 @@ static int check_repeat_crash(struct store *st, long long job_id, long long run_
     return 0;
 }
 
+/* The study's `series:` from result.json's {name: {"values": [...], "unit": u}}:
+ * one row per value (a missing series is no error: not every case writes
+ * every series). */
+static int record_series(struct store *st, long long run_id, json_t *series, struct err *e)
+{
+    sqlite3_stmt *s = q(st, Q_SERIES_INSERT);
+    int rc = 0;
+    for (int k = 0; k < st->nseries && !rc; k++) {
+        json_t *ser = json_object_get(series, st->series[k]);
+        json_t *vals = json_object_get(ser, "values");
+        const char *unit = json_string_value(json_object_get(ser, "unit"));
+        size_t i;
+        json_t *v;
+        json_array_foreach(vals, i, v)
+        {
+            sqlite3_reset(s);
+            sqlite3_bind_int64(s, 1, run_id);
+            bind_text(s, 2, st->series[k]);
+            sqlite3_bind_int64(s, 3, (sqlite3_int64)i);
+            double x = json_number_value(v);
+            if (json_is_number(v) && isfinite(x))
+                sqlite3_bind_double(s, 4, x);
+            else
+                sqlite3_bind_null(s, 4);
+            bind_text(s, 5, unit ? unit : "");
+            if (sqlite3_step(s) != SQLITE_DONE) {
+                rc = db_fail(st->db, e, "recording a series");
+                break;
+            }
+        }
+    }
+    sqlite3_reset(s);
+    return rc;
+}
+
 int store_finish(struct store *st, long long job_id, long long run_id, const char *run_dir,
                  struct outcome *o, int *lost, struct err *e)
 {
@@ -642,6 +682,8 @@ int store_finish(struct store *st, long long job_id, long long run_id, const cha
         }
         sqlite3_reset(s);
     }
+    if (!rc && json_is_object(o->series))
+        rc = record_series(st, run_id, o->series, e);
     if (!rc) {
         s = q(st, Q_ARTIFACT_INSERT);
         for (int i = 0; i < o->nartifacts && !rc; i++) {

@@ -31,6 +31,8 @@ struct store {
     long retries;
     const char *const *metrics;   /* record only these (NULL: all) */
     int nmetrics;
+    const char *const *series;    /* series to record (NULL: none) */
+    int nseries;
     sqlite3_stmt *st[16];
     long last_metric_rows;        /* metric rows the last store_finish wrote */
     char note[1024];              /* what the last store_finish could not do besides

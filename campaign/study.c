@@ -683,6 +683,36 @@ static int read_metrics(struct study *s, struct cfg_obj *root, struct err *e)
     return 0;
 }
 
+/* `series:` -- the result.json series to keep in the database (none by
+ * default: a long run's thermo series would swell it). */
+static int read_series(struct study *s, struct cfg_obj *root, struct err *e)
+{
+    cfg_allow(root, "series");
+    json_t *v = json_object_get(root->node, "series");
+    if (!v || json_is_null(v))
+        return 0;
+    if (!json_is_array(v) || json_array_size(v) == 0)
+        return fail_at(s, "series", e, "must be a list of series names from result.json");
+    s->nseries = (int)json_array_size(v);
+    s->series = mem_calloc((size_t)s->nseries, sizeof *s->series);
+    if (!s->series)
+        return err_nomem(e, "series");
+    for (int i = 0; i < s->nseries; i++) {
+        json_t *m = json_array_get(v, (size_t)i);
+        char w[64];
+        snprintf(w, sizeof w, "series[%d]", i);
+        if (!json_is_string(m) || !json_string_value(m)[0])
+            return fail_at(s, w, e, "must be a series name");
+        for (int j = 0; j < i; j++)
+            if (strcmp(s->series[j], json_string_value(m)) == 0)
+                return fail_at(s, w, e, "'%s' is listed twice", json_string_value(m));
+        s->series[i] = mem_strdup(json_string_value(m));
+        if (!s->series[i])
+            return err_nomem(e, "series");
+    }
+    return 0;
+}
+
 /* --- report settings against the study ------------------------------------ */
 
 static int swept(const struct study *s, const char *path)
@@ -852,7 +882,7 @@ static int study_read(struct study *s, struct err *e)
                 return rc;
         }
     }
-    if ((rc = read_metrics(s, &root, e)) || (rc = read_launcher(s, &root, e)) ||
+    if ((rc = read_metrics(s, &root, e)) || (rc = read_series(s, &root, e)) || (rc = read_launcher(s, &root, e)) ||
         (rc = cfg_int(&root, "threads", 1, CFG_RANGE(1, 1024), &s->threads)) ||
         (rc = cfg_real(&root, "timeout", 0.0, CFG_GE(0), &s->timeout)) ||
         (rc = cfg_int(&root, "retries", 0, CFG_RANGE(0, 100), &s->retries)))
@@ -920,6 +950,9 @@ void study_free(struct study *s)
     for (int i = 0; i < s->nmetrics; i++)
         free(s->metrics[i]);
     free(s->metrics);
+    for (int i = 0; i < s->nseries; i++)
+        free(s->series[i]);
+    free(s->series);
     report_spec_free(&s->report);
     slurm_spec_free(&s->slurm);
     memset(s, 0, sizeof *s);

@@ -14,6 +14,8 @@
  *   prep:                              # preparation jobs; cases read their
  *     equil: {base: ..., set: {...}}   # outputs as ${prep.equil}/FILE
  *   metrics: [pe, temperature] | all
+ *   series: [damage_eig_ratio]     result.json series to record in the database
+ *                                  (table series_values; default none)
  *   launcher: local | "mpirun -np 4 [args]"
  *   threads: 1                         # --threads of each job
  *   timeout: 600                       # seconds per job (0: none)
@@ -103,6 +105,8 @@ struct study {
     int nprep;
     char **metrics;                /* NULL: all */
     int nmetrics;
+    char **series;                 /* result.json series recorded in the database (NULL: none) */
+    int nseries;
     char launcher[512];            /* "local" or the mpirun command as written */
     int mpirun_np;                 /* 0: local */
     long threads;

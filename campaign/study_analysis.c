@@ -539,7 +539,17 @@ static int build_series(struct study_analysis *a, int m, int xa, int xm, int res
         if (fit >= 0) {
             const struct rspec_fit *f = &a->rs->fits[fit];
             const double *yy = f->extrapolated && xa >= 0 ? xs->yext : xs->y;
-            xs->fit_ok = fit_points(f->model, xs->x, yy, xs->n, &xs->fr) == 0;
+            if (f->has_range) {
+                /* the points inside the range only (x is sorted: a slice) */
+                int i0 = 0, i1 = xs->n;
+                while (i0 < xs->n && !(xs->x[i0] >= f->range[0]))
+                    i0++;
+                while (i1 > i0 && !(xs->x[i1 - 1] <= f->range[1]))
+                    i1--;
+                xs->fit_ok = fit_points(f->model, xs->x + i0, yy + i0, i1 - i0, &xs->fr) == 0;
+            } else {
+                xs->fit_ok = fit_points(f->model, xs->x, yy, xs->n, &xs->fr) == 0;
+            }
         }
     }
     if (a->nxs == first)

@@ -25,6 +25,7 @@
 #include <string.h>
 
 #include "helpers/th.h"
+#include "analysis/damage_shape.h"
 #include "scenarios/cluster_build.h"
 
 static void check_cut(enum lattice_style st, double a, long n)
@@ -133,6 +134,21 @@ Test(impact, bad_input_is_refused, .timeout = 60)
                    "md.timestep", "piston");
 }
 
+/* A dataset of doubles with ncols columns; *n its rows. */
+static double *read_field(hid_t f, const char *name, int ncols, size_t *n)
+{
+    hid_t ds = H5Dopen2(f, name, H5P_DEFAULT);
+    cr_assert(ds >= 0, "no dataset %s", name);
+    hid_t sp = H5Dget_space(ds);
+    hssize_t total = H5Sget_simple_extent_npoints(sp);
+    double *v = malloc((size_t)total * sizeof *v);
+    cr_assert(H5Dread(ds, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, v) >= 0);
+    H5Sclose(sp);
+    H5Dclose(ds);
+    *n = (size_t)total / (size_t)ncols;
+    return v;
+}
+
 static json_t *series(json_t *res, const char *name)
 {
     json_t *s = json_object_get(json_object_get(json_object_get(res, "series"), name), "values");
@@ -178,6 +194,21 @@ Test(impact, short_cu14_impact_records_damage, .timeout = 120)
     cr_assert_gt(metric(res, "displaced_peak"), 20.0);
     cr_assert_eq(json_array_size(series(res, "n_fcc")), 5);
     cr_assert_eq(json_array_size(series(res, "crater_depth_A")), 5);
+    /* the damage shape: counted below the surface, so never more than the
+     * displaced atoms; the metrics read the series */
+    json_t *dam = series(res, "damage_atoms"), *ratio = series(res, "damage_eig_ratio");
+    cr_assert_eq(json_array_size(dam), 5);
+    for (int k = 0; k < 5; k++)
+        cr_assert_leq(json_number_value(json_array_get(dam, k)),
+                      json_number_value(json_array_get(disp, k)));
+    cr_assert_gt(json_number_value(json_array_get(dam, 4)), 10.0);
+    double r_last = json_number_value(json_array_get(ratio, 4));
+    cr_assert(r_last > 0 && r_last <= 1, "eigenvalue ratio %g", r_last);
+    cr_assert_float_eq(metric(res, "damage_eig_ratio_final"), r_last, 1e-12);
+    double x_last = json_number_value(json_array_get(series(res, "damage_extent_ratio"), 4));
+    cr_assert_float_eq(metric(res, "damage_extent_ratio_final"), x_last, 1e-12);
+    cr_assert_geq(metric(res, "hcp_peak"), metric(res, "hcp_final"));
+    cr_assert_geq(metric(res, "crater_volume_peak"), metric(res, "crater_volume"));
     json_decref(res);
     /* the per-atom fields are datasets of every snapshot, with the
      * classes of the last analysis */
@@ -207,6 +238,27 @@ Test(impact, short_cu14_impact_records_damage, .timeout = 120)
     free(cls);
     H5Sclose(sp);
     H5Dclose(ds);
+    /* the last snapshot's displaced atoms below the surface (top layer at
+     * 7.5 a, half a layer spacing a/4) give the series' last shape again */
+    size_t n;
+    double *pos = read_field(f, "/particles/00000200/position", 3, &n);
+    double *dflag = read_field(f, "/particles/00000200/displaced", 1, &n);
+    unsigned char *use = malloc(n);
+    for (size_t i = 0; i < n; i++)
+        use[i] = dflag[i] == 1.0 && pos[3 * i + 2] < 7.5 * 3.615 - 0.25 * 3.615;
+    struct damage_shape dsh;
+    struct err e = {0};
+    cr_assert_eq(damage_shape_measure(pos, (int)n, use, NULL, &dsh, &e), 0);
+    size_t ns;
+    double *h5ratio = read_field(f, "/series/damage_eig_ratio", 1, &ns);
+    cr_assert_eq(ns, 5);
+    cr_assert_float_eq(h5ratio[4], r_last, 1e-12, "fields.h5 and result.json");
+    cr_assert_float_eq(dsh.eig_ratio, r_last, 1e-9, "from the snapshot %g, series %g", dsh.eig_ratio,
+                       r_last);
+    free(h5ratio);
+    free(pos);
+    free(dflag);
+    free(use);
     H5Fclose(f);
 }
 

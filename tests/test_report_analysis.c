@@ -311,6 +311,8 @@ Test(report_analysis, report_sections_checked_with_locations)
                  "report.fits[0]", "'pressure' is not among the study's metrics");
     expect_error("report:\n  fits:\n    - {metric: sum, against: fake.x, names: [a]}\n",
                  "report.fits[0].names", "two parameter names");
+    expect_error("report:\n  fits:\n    - {metric: sum, against: fake.x, range: [2, 1]}\n",
+                 "report.fits[0].range", "low < high");
     expect_error("regress:\n  tolerances:\n    sum: {abs: -1}\n", "regress.tolerances.sum.abs",
                  ">= 0");
     expect_error("regress:\n  tolerances:\n    sun: {abs: 1}\n", "regress.tolerances.sun",
@@ -387,6 +389,19 @@ Test(report_analysis, fit_of_a_metric_against_a_metric)
     cr_assert_float_eq(xs->fr.p1, want.p1, 1e-12);
     cr_assert(fabs(xs->fr.p1 - 1.49) < 3 * xs->fr.s1, "s = %g +- %g", xs->fr.p1, xs->fr.s1);
     cr_assert(fabs(xs->fr.p0 - 3.94) < 3 * xs->fr.s0, "c0 = %g +- %g", xs->fr.p0, xs->fr.s0);
+    sa_free(&a);
+    /* range: [0.9, 2.0] fits the three middle points only (x = 0.98, 1.47, 1.96) */
+    rs.fits[0].has_range = 1;
+    rs.fits[0].range[0] = 0.9;
+    rs.fits[0].range[1] = 2.0;
+    cr_assert_eq(sa_build(&a, &d, &rs, &e), 0, "%s", e.msg);
+    xs = &a.xs[a.xplots[2].first];
+    cr_assert_eq(xs->n, 5, "the plot keeps every point");
+    cr_assert(xs->fit_ok);
+    cr_assert_eq(xs->fr.n, 3);
+    cr_assert_eq(fit_points(FIT_LINEAR, x + 1, y + 1, 3, &want), 0);
+    cr_assert_float_eq(xs->fr.p1, want.p1, 1e-12);
+    cr_assert_float_eq(xs->fr.s1, want.s1, 1e-12);
     sa_free(&a);
     report_spec_free(&rs);
     rdata_free(&d);

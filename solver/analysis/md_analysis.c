@@ -57,6 +57,16 @@ int md_analysis_attach(struct md_analysis *a, struct particles *p,
         add_col(a, "crater_extent_110_A", "Å");
         add_col(a, "rim_height_A", "Å");
     }
+    if (o->damage_shape) {
+        add_col(a, "damage_atoms", "1");
+        add_col(a, "damage_lmax_A2", "Å^2");
+        add_col(a, "damage_lmin_A2", "Å^2");
+        add_col(a, "damage_eig_ratio", "1");
+        add_col(a, "damage_axis_deg", "deg");
+        add_col(a, "damage_extent_100_A", "Å");
+        add_col(a, "damage_extent_110_A", "Å");
+        add_col(a, "damage_extent_ratio", "1");
+    }
     return 0;
 }
 
@@ -84,14 +94,18 @@ static int reserve(struct md_analysis *a, int n, struct err *e)
     if (c)
         a->cls = c;
     unsigned char *s1 = realloc(a->sel, (size_t)cap), *s2 = realloc(a->sput, (size_t)cap),
-                  *s3 = realloc(a->floor_atom, (size_t)cap);
+                  *s3 = realloc(a->floor_atom, (size_t)cap), *s4 = realloc(a->damaged, (size_t)cap);
     if (s1) a->sel = s1;
     if (s2) a->sput = s2;
     if (s3) a->floor_atom = s3;
+    if (s4) a->damaged = s4;
     double *m = realloc(a->mass, (size_t)cap * sizeof *m);
     if (m)
         a->mass = m;
-    if (!c || !s1 || !s2 || !s3 || !m)
+    double *sc = realloc(a->shape_scratch, (size_t)(2 * cap) * sizeof *sc);
+    if (sc)
+        a->shape_scratch = sc;
+    if (!c || !s1 || !s2 || !s3 || !s4 || !m || !sc)
         return err_nomem(e, "analysis buffers");
     a->cap = cap;
     return 0;
@@ -120,7 +134,12 @@ int md_analysis_run(struct md_analysis *a, struct particles *p, const struct box
         a->displaced += disp;
         fs[i] = a->cls[i];
         fd[i] = disp;
+        /* the damage below the surface: not the rim, not what flies off */
+        a->damaged[i] = (unsigned char)(disp && p->x[3 * i + 2] < a->o.surface - a->o.crater_threshold);
     }
+    if (a->o.damage_shape &&
+        (rc = damage_shape_measure(p->x, n, a->damaged, a->shape_scratch, &a->shape, e)))
+        goto out;
     if (a->o.sputter) {
         /* connection and margin: the surface radius (about three neighbour
          * shells), so hot rim atoms with stretched bonds stay attached */
@@ -172,6 +191,17 @@ int md_analysis_run(struct md_analysis *a, struct particles *p, const struct box
         row[k++] = 0.5 * (a->crater.extent[2] + a->crater.extent[3]);
         row[k++] = a->crater.rim;
     }
+    if (a->o.damage_shape) {
+        const struct damage_shape *ds = &a->shape;
+        row[k++] = (double)ds->n;
+        row[k++] = ds->lmax;
+        row[k++] = ds->lmin;
+        row[k++] = ds->eig_ratio;
+        row[k++] = ds->axis_deg;
+        row[k++] = ds->extent_100;
+        row[k++] = ds->extent_110;
+        row[k++] = ds->extent_ratio;
+    }
     a->nrows++;
 out:
     if (timers)
@@ -205,7 +235,9 @@ void md_analysis_free(struct md_analysis *a)
     free(a->sel);
     free(a->sput);
     free(a->floor_atom);
+    free(a->damaged);
     free(a->mass);
+    free(a->shape_scratch);
     free(a->rows);
     memset(a, 0, sizeof *a);
 }

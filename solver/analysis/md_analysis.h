@@ -17,7 +17,11 @@
  *   analysis_time_ps, n_<class> for every class, displaced, and with the
  *   sputter and crater analyses sputtered_atoms, sputtered_clusters,
  *   crater_depth_A, crater_volume_A3, crater_extent_100_A,
- *   crater_extent_110_A, rim_height_A.
+ *   crater_extent_110_A, rim_height_A; with the damage shape (damage_shape.h)
+ *   of the displaced atoms below the surface: damage_atoms,
+ *   damage_lmax_A2, damage_lmin_A2, damage_eig_ratio, damage_axis_deg,
+ *   damage_extent_100_A, damage_extent_110_A, damage_extent_ratio (NaN,
+ *   null in result.json, while fewer than three atoms are displaced).
  *
  * The case section:
  *   analysis:
@@ -32,6 +36,7 @@
 #include <stdint.h>
 
 #include "analysis/crater.h"
+#include "analysis/damage_shape.h"
 #include "analysis/frame.h"
 #include "analysis/sputter.h"
 #include "analysis/structure.h"
@@ -49,9 +54,11 @@ struct md_analysis_opts {
     double center[2];          /* Å: impact point */
     double lat_lo[2], lat_hi[2];   /* Å: lateral extent for the crater grid */
     double crater_bin, crater_threshold;   /* Å */
+    int damage_shape;          /* top-view shape of the displaced atoms more than
+                                  crater_threshold below `surface` */
 };
 
-enum { MDA_MAXCOLS = 24 };
+enum { MDA_MAXCOLS = 32 };
 
 struct md_analysis {
     long every;
@@ -59,8 +66,8 @@ struct md_analysis {
     struct md_analysis_opts o;
     struct frame fr;
     int *cls;
-    unsigned char *sel, *sput, *floor_atom;
-    double *mass;
+    unsigned char *sel, *sput, *floor_atom, *damaged;
+    double *mass, *shape_scratch;
     int cap;
     int f_structure, f_displaced, f_sputtered, f_crater;
     int ncols;
@@ -72,6 +79,7 @@ struct md_analysis {
     long counts[STRUCT_NCLASSES], displaced, counted;
     struct sputter_stats sputter;
     struct crater_stats crater;
+    struct damage_shape shape;
 };
 
 /* Read the `analysis` section (always present in the resolved case);

@@ -56,6 +56,7 @@
 #include "scenarios/cluster_build.h"
 #include "scenarios/impact_boundary.h"
 #include "analysis/md_analysis.h"
+#include "analysis/stacking_faults.h"
 #include "output/md_output.h"
 #include "input/md_system.h"
 #include "md/md_timestep.h"
@@ -340,7 +341,8 @@ static int impact_read(struct cfg_obj *root, const struct case_common *common, v
             {c->lo[0] - q, c->lo[1] - q}, {c->hi[0] + q, c->hi[1] + q},
             s.ta,   /* columns of one cubic cell: two atoms of every (001) layer */
             /* half the (001) layer spacing: a/4 (fcc, bcc), a/8 (diamond) */
-            s.tlat == 2 ? s.ta / 8.0 : s.ta / 4.0};
+            s.tlat == 2 ? s.ta / 8.0 : s.ta / 4.0,
+            1};
         rc = md_analysis_attach(&c->an, c->md.p, &o, common->nthreads, root->cfg->err);
     }
     if (rc) {
@@ -406,6 +408,58 @@ static int impact_output(void *state, struct sim *s, unsigned due, struct err *e
                : 0;
 }
 
+/* The analysis row closest in time to t (-1: no rows). */
+static long row_at(const struct md_analysis *a, double t)
+{
+    long best = -1;
+    double d = INFINITY;
+    for (long r = 0; r < a->nrows; r++) {
+        double dr = fabs(md_analysis_row(a, r)[0] - t);
+        if (dr < d) {
+            d = dr;
+            best = r;
+        }
+    }
+    return best;
+}
+
+/* Column `name` of row r, NaN when either is missing. */
+static double cell(const struct md_analysis *a, long r, const char *name)
+{
+    int k = md_analysis_column(a, name);
+    return r >= 0 && k >= 0 ? md_analysis_row(a, r)[k] : NAN;
+}
+
+/* From the analysis series: stacking faults (stacking_faults.h), the
+ * damage shape at the displaced peak and at the end (damage_shape.h), and
+ * the largest crater volume. */
+static void report_series_metrics(const struct md_analysis *a, double peak_t, struct result *r)
+{
+    int kh = md_analysis_column(a, "n_hcp"), kv = md_analysis_column(a, "crater_volume_A3");
+    struct sf_burst b;
+    stacking_faults_burst(a->rows, kh >= 0 ? a->rows + kh : a->rows, kh >= 0 ? a->nrows : 0,
+                          a->ncols, STACKING_FAULTS_MIN_ATOMS, &b);
+    result_metric(r, "hcp_peak", b.peak, "1");
+    result_metric(r, "hcp_peak_time", b.peak_time, "ps");
+    result_metric(r, "hcp_burst_time", b.burst_time, "ps");
+    result_metric(r, "hcp_rise_time", b.rise_time, "ps");
+    long rp = row_at(a, peak_t), rf = a->nrows - 1;
+    result_metric(r, "damage_eig_ratio_at_peak", cell(a, rp, "damage_eig_ratio"), "1");
+    result_metric(r, "damage_axis_deg_at_peak", cell(a, rp, "damage_axis_deg"), "deg");
+    result_metric(r, "damage_extent_ratio_at_peak", cell(a, rp, "damage_extent_ratio"), "1");
+    result_metric(r, "damage_eig_ratio_final", cell(a, rf, "damage_eig_ratio"), "1");
+    result_metric(r, "damage_axis_deg_final", cell(a, rf, "damage_axis_deg"), "deg");
+    result_metric(r, "damage_extent_ratio_final", cell(a, rf, "damage_extent_ratio"), "1");
+    double vmax = 0, tv = NAN;
+    for (long q = 0; kv >= 0 && q < a->nrows; q++)
+        if (md_analysis_row(a, q)[kv] > vmax) {
+            vmax = md_analysis_row(a, q)[kv];
+            tv = md_analysis_row(a, q)[0];
+        }
+    result_metric(r, "crater_volume_peak", vmax, "Å^3");
+    result_metric(r, "crater_volume_peak_time", tv, "ps");
+}
+
 static int impact_report(void *state, struct sim *s, int run_rc, struct err *e)
 {
     struct impact *c = state;
@@ -445,6 +499,7 @@ static int impact_report(void *state, struct sim *s, int run_rc, struct err *e)
     result_metric(r, "crater_extent_110", w110, "Å");
     result_metric(r, "crater_shape_110_over_100", w100 > 0 ? w110 / w100 : 0.0, "1");
     result_metric(r, "rim_height", cs->rim, "Å");
+    report_series_metrics(&c->an, peak_t, r);
     result_metric(r, "energy_absorbed", e0 - etot, "eV");
     result_metric(r, "temperature", md_temperature(md), "K");
     if (c->bnd.ops->report)

@@ -16,7 +16,8 @@
  *     steps: 0          # crash: thermo.csv rows (a "step" column, 1..steps) written first
  *     counter: ""       # crash: a file counting its runs; each earlier run adds a row,
  *                       # so every attempt crashes at a later step
- *     x: 0.0, y: 0.0    # inputs of the metrics x_squared = x^2, sum = x + y
+ *     x: 0.0, y: 0.0    # inputs of the metrics x_squared = x^2, sum = x + y, and of
+ *                       # the series xs = [0, x, 2x, null] (unit m) and ys = [y]
  *     metrics: 0        # extra metrics m0..m{n-1} (for the speed test)
  *     flag: ""          # fail_once: exit 3 unless this file exists (then create it... see below)
  *                       # slow_once: sleep `seconds` only when it does not exist (creating
@@ -159,6 +160,8 @@ static int write_result(const char *dir, json_t *doc, const char *status, const 
             json_object_set_new(metrics, "read_bytes",
                                 json_pack("{s:f, s:s}", "value", (double)sb.st_size, "unit", "B"));
     }
+    json_t *series = json_pack("{s:{s:[f, f, f, n], s:s}, s:{s:[f], s:s}}", "xs", "values", 0.0,
+                               fc->x, 2 * fc->x, "unit", "m", "ys", "values", fc->y, "unit", "1");
     char key[CANON_KEY_LEN + 1];
     canon_key(doc, key);
     /* like the solver's timings, the pid makes every run's file its own, so
@@ -167,6 +170,7 @@ static int write_result(const char *dir, json_t *doc, const char *status, const 
                           "metrics", metrics, "provenance", "version", version(), "git_hash",
                           "standin", "case_key", key, "timing", "peak_rss_mib", 1.0, "pid",
                           (int)getpid());
+    json_object_set_new(r, "series", series);
     if (message)
         json_object_set_new(r, "message", json_string(message));
     if (restarted_from >= 0)
