@@ -81,14 +81,16 @@ static int thermal_read(struct cfg_obj *root, const struct case_common *common, 
         !(rc = cfg_real(&o, "equilibrate_damping", 0.1, CFG_GT(0), &w->eq_damping)) &&
         !(rc = cfg_real(&o, "block", 1, CFG_GT(0), &w->block)))
         rc = cfg_close(&o);
-    /* the MPM at T: its lattice and its constants are those of T, not 0 K */
-    if (!rc && !(c->a_given > 0))
+    /* the MPM at T: its lattice and its constants are those of T, not 0 K
+     * (checked in deep reads: check, run; a listing of the keys is shallow) */
+    int deep = !root->cfg->shallow;
+    if (!rc && deep && !(c->a_given > 0))
         rc = cfg_error_at(root->cfg, "thermal.lattice_constant",
                           "give the lattice constant at %g K (the metric lattice_constant of "
                           "type: elastic): the material points sit on the lattice at that "
                           "temperature",
                           w->bath.temperature);
-    if (!rc && !(c->c_user[0] > 0))
+    if (!rc && deep && !(c->c_user[0] > 0))
         rc = cfg_error_at(root->cfg, "elastic",
                           "give c11, c12 and c44 at %g K (the output of type: elastic): the MPM "
                           "needs the elastic constants at the MD temperature",
