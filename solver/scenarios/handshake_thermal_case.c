@@ -24,7 +24,8 @@
  * temperature_md_mean, temperature_core_mean, temperature_region_II_mean,
  * temperature_block_first, temperature_block_last, temperature_drift (last
  * block over first, - 1), temperature_max_deviation (largest |block / T -
- * 1|), bath_heat and bath_power; the block averages as series.
+ * 1|), temperature_trend (the least-squares slope of the blocks over the
+ * window, relative to T), bath_heat; the block averages as series.
  */
 #include <math.h>
 #include <stddef.h>
@@ -222,6 +223,17 @@ static int thermal_report(void *state, struct sim *s, int run_rc, struct err *e)
         dev = fmax(dev, fabs(w->blocks[3 * b] / T0 - 1));
     }
     double first = nb > 0 ? w->blocks[0] : NAN, last = nb > 0 ? w->blocks[3 * (nb - 1)] : NAN;
+    /* the trend: least-squares slope of the blocks times the window, over
+     * T (the blocks' canonical fluctuation, about sqrt(2 / 3N) per sample,
+     * enters the largest deviation but averages out of the slope) */
+    double tm = 0, sxy = 0, sxx = 0;
+    for (long b = 0; b < nb; b++)
+        tm += (double)b / (double)nb;
+    for (long b = 0; b < nb; b++) {
+        sxy += ((double)b - tm) * (w->blocks[3 * b] - mean[0]);
+        sxx += ((double)b - tm) * ((double)b - tm);
+    }
+    double trend = nb > 1 ? sxy / sxx * (double)nb / T0 : NAN;
     double window = (double)(c->steps - w->neq) * c->dt;
     result_metric(res, "temperature", T0, "K");
     result_metric(res, "lattice_constant_T", c->a, "Å");
@@ -236,6 +248,7 @@ static int thermal_report(void *state, struct sim *s, int run_rc, struct err *e)
     result_metric(res, "temperature_block_last", last, "K");
     result_metric(res, "temperature_drift", nb ? last / first - 1 : NAN, "1");
     result_metric(res, "temperature_max_deviation", nb ? dev : NAN, "1");
+    result_metric(res, "temperature_trend", trend, "1");
     result_metric(res, "bath_heat", w->bath.heat, "eV");
     result_series(res, "block_time", series, (int)nb, "ps");
     result_series(res, "block_temperature_md", series + nb, (int)nb, "K");
