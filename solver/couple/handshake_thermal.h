@@ -29,17 +29,24 @@
  *     replaced by thermal noise at T: region I sees a thermal neighbour
  *     and the short waves leave the MD into a bath instead of reflecting.
  *     Region III stays on its material points (it is region II's
- *     atmosphere; region I does not see it).
+ *     atmosphere; region I does not see it);
+ *   - the material points of regions II and III feel friction alone,
+ *     v_p <- c v_p: the MPM carries the mean field, and region I's
+ *     instantaneous thermal stress drives the grid at every step, whose
+ *     modes would otherwise heat without bound.  (It damps the coarse
+ *     waves crossing the band as well: an impact's energy goes into the
+ *     bath rather than into the MPM beyond; docs/handshake.md, Limits.)
  *
  * tau = 0 switches the bath off (region II then moves by MD alone, tied to
  * the MPM only through its neighbours): the control the bath is measured
- * against.  The random numbers are keyed on (seed, step, particle id), so
+ * against (it heats without bound).  The random numbers are keyed on (seed, step, particle id), so
  * runs are independent of thread count and restart bitwise.
  *
  * Checkpoints (handshake_checkpoint_write) store the heat and the step.
  *
  * Energy account: the bath's heat is the kinetic energy it takes out of
- * region II, net of what its noise puts in, summed over the steps.
+ * region II and the band's points, net of what its noise puts in, summed
+ * over the steps.
  */
 #ifndef CASCADE_HANDSHAKE_THERMAL_H
 #define CASCADE_HANDSHAKE_THERMAL_H
@@ -66,7 +73,7 @@ struct hs_thermal {
  * velocities plus Maxwell-Boltzmann velocities at `t_init` K. */
 void hs_thermal_attach(struct handshake *hs, struct hs_thermal *t, double t_init);
 
-/* The bath on region II: one Ornstein-Uhlenbeck step of md->dt (above);
+/* The bath on region II and the band's points: one step of md->dt (above);
  * adds what it took out to t->heat.  Called by handshake_advance_mpm
  * before the MPM step, i.e. after the previous step's second kick. */
 void hs_thermal_bath(struct handshake *hs);
