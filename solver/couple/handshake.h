@@ -140,6 +140,8 @@ struct handshake_crystal {
     double c11, c12, c44; /* of the MPM material */
 };
 
+struct hs_thermal;
+
 struct handshake {
     struct handshake_layout lay;
     struct handshake_crystal cr;
@@ -165,6 +167,8 @@ struct handshake {
     long ncopies;              /* MD copies of the lattice-site points of II, III */
     double md_damping;         /* 1/ps: velocity damping of the MD atoms (quasi-static) */
     double ramp;               /* ps: external point forces reach full value after this */
+    struct hs_thermal *thermal;   /* borrowed; NULL: 0 K, copies on their points
+                                     (handshake_thermal.h) */
     long step;
     double time;               /* ps */
 };

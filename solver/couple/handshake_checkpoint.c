@@ -3,6 +3,7 @@
 #include <string.h>
 
 #include "couple/handshake.h"
+#include "couple/handshake_thermal.h"
 
 /* Every per-point array, in the stored order (the handshake never reorders
  * its points: their indices are the links of the MD copies). */
@@ -77,6 +78,8 @@ int handshake_checkpoint_write(const struct handshake *hs, struct ckpt *ck, cons
     if (!rc) rc = ckpt_put_double(ck, "mpm_strain", m->strain);
     if (!rc) rc = ckpt_put_double(ck, "mpm_strain_before", m->strain_before);
     if (!rc) rc = ckpt_put_double(ck, "mpm_fext_scale", m->fext_scale);
+    if (!rc && hs->thermal) rc = ckpt_put_double(ck, "bath_heat", hs->thermal->heat);
+    if (!rc && hs->thermal) rc = ckpt_put_long(ck, "bath_step", hs->thermal->step);
     if (!rc) rc = put_points(ck, &m->pts);
     return rc;
 }
@@ -95,6 +98,8 @@ int handshake_checkpoint_read(struct handshake *hs, struct ckpt *ck, const char 
     if (!rc) rc = ckpt_get_double(ck, "mpm_strain", &m->strain);
     if (!rc) rc = ckpt_get_double(ck, "mpm_strain_before", &m->strain_before);
     if (!rc) rc = ckpt_get_double(ck, "mpm_fext_scale", &m->fext_scale);
+    if (!rc && hs->thermal) rc = ckpt_get_double(ck, "bath_heat", &hs->thermal->heat);
+    if (!rc && hs->thermal) rc = ckpt_get_long(ck, "bath_step", &hs->thermal->step);
     if (!rc) rc = get_points(ck, &m->pts);
     return rc;
 }

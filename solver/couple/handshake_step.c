@@ -10,6 +10,7 @@
 
 #include "core/units.h"
 #include "couple/handshake.h"
+#include "couple/handshake_thermal.h"
 
 void handshake_wrap(const struct handshake *hs, double x[3])
 {
@@ -115,6 +116,16 @@ static void gather_region_I(struct handshake *hs)
         }
         handshake_wrap(hs, x);
         handshake_atom_stress(hs, i, hs->sI + 6 * k);
+        if (hs->thermal) {   /* at T: the thermal pressure too (handshake_thermal.h) */
+            const double *v = p->v + 3 * i;
+            double mv = p->mass[p->type[i]] * UNITS_MVV2E / hs->omega0, *s = hs->sI + 6 * k;
+            s[0] -= mv * v[0] * v[0];
+            s[1] -= mv * v[1] * v[1];
+            s[2] -= mv * v[2] * v[2];
+            s[3] -= mv * v[0] * v[1];
+            s[4] -= mv * v[0] * v[2];
+            s[5] -= mv * v[1] * v[2];
+        }
     }
 }
 
@@ -126,6 +137,8 @@ static void sync_copies(struct handshake *hs)
     for (long k = 0; k < hs->nlink; k++) {
         int i = hs->link_md[k];
         long q = hs->link_pt[k];
+        if (hs->thermal && (p->mask[i] & HS_MASK_II))
+            continue;   /* at T region II moves by MD under the bath */
         double x[3] = {pt->x[3 * q], pt->x[3 * q + 1], pt->x[3 * q + 2]};
         handshake_wrap(hs, x);
         for (int d = 0; d < 3; d++) {
@@ -166,6 +179,8 @@ int handshake_advance_mpm(struct handshake *hs, struct err *e)
         timer_start(m->timers, TIMER_COUPLING);
     if (md->nrebuilds != hs->seen_builds && (rc = reindex(hs, e)))
         return rc;
+    if (hs->thermal)   /* the bath closes the previous step (handshake_thermal.h) */
+        hs_thermal_bath(hs);
     gather_region_I(hs);
     if (m->timers)
         timer_stop(m->timers, TIMER_COUPLING);

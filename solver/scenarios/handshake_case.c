@@ -97,6 +97,8 @@ int hs_case_build(struct hs_case *c, enum mpm_face_bc x_hi_face, int end_margin,
                                           &c->md_cr, &a, e);
     if (rc)
         return cfg_error_at(cfg, "crystal", "%s", e->msg);
+    if (c->a_given > 0)
+        a = c->a_given;
     c->a = a;
     struct handshake_crystal cr = c->md_cr;
     if (c->c_user[0] > 0) {

@@ -62,6 +62,8 @@ struct hs_case {
     double slab;                  /* lattice constants */
     long profile_every;
     double bar_mpm[2], bar_md, bar_width;   /* lattice constants */
+    double a_given;               /* Å: lattice constant of MD and MPM (0: the
+                                     potential's 0 K minimum; a thermal case sets a(T)) */
     struct cfg *cfg;              /* for errors found while building */
     /* built */
     int built;

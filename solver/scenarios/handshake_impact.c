@@ -8,6 +8,7 @@
 
 #include "core/units.h"
 #include "couple/handshake.h"
+#include "couple/handshake_thermal.h"
 #include "output/result.h"
 
 struct hs_impact {
@@ -19,7 +20,48 @@ struct hs_impact {
     struct handshake hs;
     int built;
     struct handshake_energy e0;                  /* when the run starts */
+    /* finite temperature (target.handshake.thermal, handshake_thermal.h) */
+    int thermal;                                 /* the section is given */
+    struct hs_thermal bath;
+    double c_user[3];                            /* GPa: MPM constants (0: the potential's at 0 K) */
+    double account0;                             /* the energy account when the run starts */
 };
+
+/* The energy account of the boundary (eV): the MD atoms of the target and
+ * cluster (kinetic, and potential above the perfect crystal), the MPM
+ * (kinetic and strain of every point), and at a temperature the heat the
+ * bath took out and the fine-scale energy of the MD copies of region II
+ * (atoms then): each copy's kinetic energy relative to its point,
+ * m |v - v_p|^2 / 2, and its potential energy above the perfect crystal
+ * less its point's strain energy, so that the coarse field of region II
+ * is counted once (as points).  What this account loses over a run is
+ * energy that vanished in the coupling. */
+static double energy_account(const struct hs_impact *h, const struct handshake_energy *en,
+                             double *fine_II)
+{
+    double f = 0;
+    if (h->thermal) {
+        const struct handshake *hs = &h->hs;
+        const struct particles *p = hs->md->p;
+        const struct mpm_points *pt = &hs->mpm.pts;
+        for (long k = 0; k < hs->nlink; k++) {
+            int i = hs->link_md[k];
+            if (!(p->mask[i] & HS_MASK_II))
+                continue;
+            long q = hs->link_pt[k];
+            double w = 0;
+            for (int d = 0; d < 3; d++) {
+                double dv = p->v[3 * i + d] - pt->v[3 * q + d];
+                w += dv * dv;
+            }
+            f += 0.5 * p->mass[p->type[i]] * UNITS_MVV2E * w + p->pe[i] - hs->cr.pe_ref -
+                 pt->eint[q];
+        }
+    }
+    if (fine_II)
+        *fine_II = f;
+    return en->total + f + (h->thermal ? h->bath.heat : 0);
+}
 
 static const char *const coarsen_names[] = {"x", "y", "xy", "z", "xz", "yz", "xyz", NULL};
 
@@ -41,9 +83,12 @@ int handshake_impact_read(struct cfg_obj *t, struct impact_boundary *b)
                                 json_string_value(lat));
     }
     double temp = json_number_value(json_object_get(t->node, "temperature"));
-    if (temp > 0)
+    json_t *hsn = json_object_get(t->node, "handshake");
+    int thermal = json_is_object(hsn) && json_object_get(hsn, "thermal") != NULL;
+    if (temp > 0 && !thermal)
         return cfg_error_at(cfg, "target.temperature",
-                            "boundary 'handshake' runs at 0 K only (the material points are not "
+                            "boundary 'handshake' runs at 0 K only without "
+                            "target.handshake.thermal (the material points are not "
                             "thermalised), not %g K",
                             temp);
     struct hs_impact *h = calloc(1, sizeof *h);
@@ -62,9 +107,37 @@ int handshake_impact_read(struct cfg_obj *t, struct impact_boundary *b)
         (rc = cfg_real(&o, "fine", 6, CFG_GE(0), &h->fine)) ||
         (rc = cfg_int(&o, "levels", 2, CFG_RANGE(0, MPM_MAX_LEVELS), &h->levels)) ||
         (rc = cfg_enum(&o, "coarsen", "xyz", coarsen_names, &ci)) ||
-        (rc = cfg_real(&o, "layer", 4, CFG_GT(0), &h->layer)) || (rc = cfg_close(&o)))
+        (rc = cfg_real(&o, "layer", 4, CFG_GT(0), &h->layer)))
         return rc;
     h->coarsen = ci + 1;
+    /* finite temperature: the bath on region II and the MPM's constants at T */
+    h->thermal = thermal;
+    h->bath.temperature = temp;
+    struct cfg_obj th, el;
+    long seed = 1;
+    /* read also when absent (its defaults are listed); given, it switches
+     * the bath on */
+    if ((rc = cfg_section(&o, "thermal", &th)) ||
+        (rc = cfg_real(&th, "damping_time", HS_THERMAL_DAMPING_TIME, CFG_GE(0),
+                       &h->bath.damping_time)) ||
+        (rc = cfg_int(&th, "seed", 1, CFG_GE(0), &seed)) || (rc = cfg_close(&th)))
+        return rc;
+    h->bath.seed = (uint64_t)seed;
+    if ((rc = cfg_section(&o, "elastic", &el)) ||
+        (rc = cfg_real(&el, "c11", 0, CFG_GE(0), &h->c_user[0])) ||
+        (rc = cfg_real(&el, "c12", 0, CFG_GE(0), &h->c_user[1])) ||
+        (rc = cfg_real(&el, "c44", 0, CFG_GE(0), &h->c_user[2])) || (rc = cfg_close(&el)) ||
+        (rc = cfg_close(&o)))
+        return rc;
+    int given = (h->c_user[0] > 0) + (h->c_user[1] > 0) + (h->c_user[2] > 0);
+    if (given != 0 && given != 3)
+        return cfg_error_at(cfg, "target.handshake.elastic",
+                            "give all of c11, c12, c44 or none (none: the potential's at 0 K)");
+    if (temp > 0 && given == 0)
+        return cfg_error_at(cfg, "target.handshake.elastic",
+                            "a target at %g K needs the MPM's elastic constants at that "
+                            "temperature: give c11, c12 and c44 (the output of type: elastic)",
+                            temp);
     b->peratom = 1;   /* region I gives the MPM its virial stress every step */
     return 0;
 }
@@ -105,8 +178,9 @@ int handshake_impact_prepare(struct impact_boundary *b, struct particles *p, str
         snprintf(msg, sizeof msg, "%s", e->msg);
         return cfg_error_at(cfg, "target.a", "boundary 'handshake': %s", msg);
     }
-    /* the MPM is stress-free at its sites: the MD must start so too */
-    if (fabs(a / a0 - 1) > 1e-3)
+    /* the MPM is stress-free at its sites: the MD must start so too (at a
+     * temperature target.a is a(T), which only the user knows: type: elastic) */
+    if (h->bath.temperature <= 0 && fabs(a / a0 - 1) > 1e-3)
         return cfg_error_at(cfg, "target.a",
                             "boundary 'handshake' needs the target at the potential's 0 K "
                             "lattice constant %.5f Å, not %g Å: the MPM is stress-free at its "
@@ -114,6 +188,11 @@ int handshake_impact_prepare(struct impact_boundary *b, struct particles *p, str
                             a0, a);
     cr.type = type;
     cr.mass = p->mass[type];
+    if (h->c_user[0] > 0) {
+        cr.c11 = h->c_user[0] / UNITS_EVA3_TO_GPA;
+        cr.c12 = h->c_user[1] / UNITS_EVA3_TO_GPA;
+        cr.c44 = h->c_user[2] / UNITS_EVA3_TO_GPA;
+    }
     struct handshake_layout L;
     memset(&L, 0, sizeof L);
     L.lattice = h->lattice;
@@ -132,6 +211,16 @@ int handshake_impact_prepare(struct impact_boundary *b, struct particles *p, str
         L.face[2 * d] = L.face[2 * d + 1] = MPM_FACE_FIXED;
     }
     L.face[5] = MPM_FACE_FREE;
+    if (h->thermal) {
+        /* at a temperature the top edge atoms of region I (grid particles)
+         * may rise above the surface plane: empty cells above the free
+         * top, one coarsest cell, give them room (as the bar's loaded end) */
+        double margin = h->cell * a;
+        if (h->coarsen & 4)
+            for (long l = 0; l < h->levels; l++)
+                margin *= 2;
+        L.dom_hi[2] += margin;
+    }
     L.h = h->cell * a;
     L.fine = h->fine * a;
     L.nlevels = (int)h->levels;
@@ -162,9 +251,22 @@ int handshake_impact_setup(struct impact_boundary *b, struct md *md, const doubl
     (void)hi;
     struct hs_impact *h = b->data;
     int rc = handshake_connect(&h->hs, md, e);
-    if (!rc)
-        handshake_energy(&h->hs, &h->e0);
-    return rc;
+    if (rc)
+        return rc;
+    if (h->thermal) {
+        double T = h->bath.temperature;
+        /* the target's Maxwell-Boltzmann velocities at T become 2T: a
+         * perfect lattice started at 2T settles at T (equipartition) */
+        struct particles *p = md->p;
+        for (int i = 0; i < p->n_owned; i++)
+            if (!(p->mask[i] & (IMPACT_GROUP_CLUSTER | HS_MASK_II | HS_MASK_III)))
+                for (int d = 0; d < 3; d++)
+                    p->v[3 * i + d] *= sqrt(2.0);
+        hs_thermal_attach(&h->hs, &h->bath, 2 * T);
+    }
+    handshake_energy(&h->hs, &h->e0);
+    h->account0 = energy_account(h, &h->e0, NULL);
+    return 0;
 }
 
 /* Before every md_step: region I at t to the MPM, the MPM to t + dt, the
@@ -212,6 +314,21 @@ void handshake_impact_report(const struct impact_boundary *b, struct result *r)
     result_metric(r, "coupled_energy_initial", h->e0.total, "eV");
     result_metric(r, "coupled_energy_final", en.total, "eV");
     result_metric(r, "c11_mpm", hs->cr.c11 * UNITS_EVA3_TO_GPA, "GPa");
+    result_metric(r, "c12_mpm", hs->cr.c12 * UNITS_EVA3_TO_GPA, "GPa");
+    result_metric(r, "c44_mpm", hs->cr.c44 * UNITS_EVA3_TO_GPA, "GPa");
+    double fine_II;
+    double acc = energy_account(h, &en, &fine_II);
+    result_metric(r, "energy_account_initial", h->account0, "eV");
+    result_metric(r, "energy_account_final", acc, "eV");
+    if (h->thermal) {
+        double T;
+        hs_thermal_group(hs, 0, HS_MASK_II | HS_MASK_III | HS_MASK_FIXED | IMPACT_GROUP_CLUSTER,
+                         NULL, &T, NULL);
+        result_metric(r, "bath_heat", h->bath.heat, "eV");
+        result_metric(r, "bath_damping_time", h->bath.damping_time, "ps");
+        result_metric(r, "region_II_fine_energy", fine_II, "eV");
+        result_metric(r, "target_temperature_final", T, "K");
+    }
 }
 
 void handshake_impact_destroy(struct impact_boundary *b)

@@ -20,8 +20,11 @@
  * The outer faces of the MPM are fixed ("the rest five surfaces are fixed")
  * and its top is free, flush with the target's surface.  The MPM is cubic
  * elastic with the potential's 0 K constants; the target must be fcc at the
- * potential's lattice constant and at 0 K (the MPM points are not
- * thermalised).
+ * potential's lattice constant and at 0 K, unless
+ *       elastic: {c11, c12, c44}          GPa, the MPM's constants (at T)
+ *       thermal: {damping_time: 0.1, seed: 1}
+ * are given: then the target may be at a temperature (target.a = a(T)) and
+ * region II is under a Langevin bath (couple/handshake_thermal.h).
  */
 #ifndef CASCADE_HANDSHAKE_IMPACT_H
 #define CASCADE_HANDSHAKE_IMPACT_H

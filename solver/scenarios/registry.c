@@ -14,6 +14,7 @@ extern const struct case_type mpm_case_type;
 extern const struct case_type handshake_wave_case_type;
 extern const struct case_type handshake_static_case_type;
 extern const struct case_type handshake_packet_case_type;
+extern const struct case_type handshake_thermal_case_type;
 extern const struct case_type dpd_grid_impact_case_type;
 extern const struct case_type dpd_grid_tensile_case_type;
 extern const struct case_type dpd_mpm_impact_case_type;
@@ -34,6 +35,7 @@ const struct case_type *const case_types[] = {
     &handshake_wave_case_type,
     &handshake_static_case_type,
     &handshake_packet_case_type,
+    &handshake_thermal_case_type,
     &dpd_grid_impact_case_type,
     &dpd_grid_tensile_case_type,
     &dpd_mpm_impact_case_type,
