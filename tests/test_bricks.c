@@ -20,119 +20,23 @@
 #include <sys/stat.h>
 
 #include "helpers/th.h"
+#include "helpers/th_bricks.h"
 
 #define REL 1e-10
-
-static void mpi_env(int np)
-{
-    setenv("OMPI_ALLOW_RUN_AS_ROOT", "1", 1);
-    setenv("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1", 1);
-    setenv("OMP_NUM_THREADS", "1", 1);
-    /* Open MPI's dlopen'ed components leak at exit (test_parallel.c); the
-     * serial runs keep leak checking for our code */
-    setenv("ASAN_OPTIONS", np > 0 ? "detect_leaks=0" : "detect_leaks=1", 1);
-}
-
-/* Run the case serially (np 0) or on np ranks into dir; extra: more
- * arguments (NULL-ended, may be NULL).  Returns the exit status. */
-static int run_np(const char *path, int np, const char *dir, const char *const *extra, char *out,
-                  size_t len)
-{
-    mpi_env(np);
-    char nps[16];
-    snprintf(nps, sizeof nps, "%d", np);
-    const char *argv[24];
-    int k = 0;
-    if (np > 0) {
-        argv[k++] = "/usr/bin/mpirun";
-        argv[k++] = "-np";
-        argv[k++] = nps;
-        argv[k++] = "--oversubscribe";
-    }
-    argv[k++] = th_solver();
-    argv[k++] = "run";
-    argv[k++] = path;
-    argv[k++] = "--out";
-    argv[k++] = dir;
-    argv[k++] = "--quiet";
-    for (int i = 0; extra && extra[i]; i++)
-        argv[k++] = extra[i];
-    argv[k] = NULL;
-    return th_run(argv, out, len);
-}
-
-static void must_run(const char *path, int np, const char *dir, const char *const *extra)
-{
-    static char out[16384];
-    int rc = run_np(path, np, dir, extra, out, sizeof out);
-    cr_assert_eq(rc, 0, "%d ranks, %s: exit %d\n%s", np, dir, rc, out);
-}
-
-/* A dataset of doubles (or int64 ids) of a run's fields.h5; *n its length. */
-static void *read_h5(const char *dir, const char *name, hid_t type, size_t elem, long *n)
-{
-    char path[600];
-    snprintf(path, sizeof path, "%s/fields.h5", dir);
-    hid_t f = H5Fopen(path, H5F_ACC_RDONLY, H5P_DEFAULT);
-    cr_assert_geq(f, 0, "%s", path);
-    hid_t ds = H5Dopen2(f, name, H5P_DEFAULT);
-    cr_assert_geq(ds, 0, "%s: %s", path, name);
-    hid_t sp = H5Dget_space(ds);
-    hssize_t cnt = H5Sget_simple_extent_npoints(sp);
-    void *buf = malloc((size_t)(cnt > 0 ? cnt : 1) * elem);
-    cr_assert_not_null(buf);
-    cr_assert_geq(H5Dread(ds, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, buf), 0);
-    H5Sclose(sp);
-    H5Dclose(ds);
-    H5Fclose(f);
-    *n = (long)cnt;
-    return buf;
-}
 
 static const char *const series_cols[] = {"pe_eV",     "ke_eV",     "etotal_eV", "temp_K",
                                           "press_GPa", "pxx_GPa",   "pyy_GPa",   "pzz_GPa",
                                           "pxy_GPa",   "pxz_GPa",   "pyz_GPa",   NULL};
 
-/* Two series agree to REL of the column's largest magnitude (an
+/* The thermo series agree to REL of each column's largest magnitude (an
  * off-diagonal pressure passes through zero: relative to itself it would
- * compare round-off with round-off). */
+ * compare round-off with round-off), over at least 11 rows. */
 static void compare_series(const char *a, const char *b, const char *tag)
 {
-    for (int c = 0; series_cols[c]; c++) {
-        char name[64];
-        snprintf(name, sizeof name, "/series/%s", series_cols[c]);
-        long na, nb;
-        double *x = read_h5(a, name, H5T_NATIVE_DOUBLE, sizeof(double), &na);
-        double *y = read_h5(b, name, H5T_NATIVE_DOUBLE, sizeof(double), &nb);
-        cr_assert_eq(na, nb, "%s %s: %ld vs %ld rows", tag, name, na, nb);
-        cr_assert_geq(na, 11);
-        double scale = 0;
-        for (long i = 0; i < na; i++)
-            scale = fmax(scale, fabs(x[i]));
-        for (long i = 0; i < na; i++)
-            cr_assert_leq(fabs(x[i] - y[i]), REL * scale, "%s %s row %ld: %.17g vs %.17g", tag,
-                          name, i, x[i], y[i]);
-        free(x);
-        free(y);
-    }
-}
-
-static double metric(json_t *res, const char *name)
-{
-    json_t *m = json_object_get(json_object_get(res, "metrics"), name);
-    cr_assert_not_null(m, "metric %s missing", name);
-    json_t *v = json_is_object(m) ? json_object_get(m, "value") : m;
-    return json_number_value(v);
-}
-
-static json_t *result_of(const char *dir)
-{
-    char path[600];
-    snprintf(path, sizeof path, "%s/result.json", dir);
-    json_error_t je;
-    json_t *r = json_load_file(path, 0, &je);
-    cr_assert_not_null(r, "%s: %s", path, je.text);
-    return r;
+    long n;
+    free(thb_read_h5(a, "/series/pe_eV", H5T_NATIVE_DOUBLE, sizeof(double), &n));
+    cr_assert_geq(n, 11, "%s: %ld thermo rows", tag, n);
+    thb_compare_series(a, b, series_cols, REL, tag);
 }
 
 /* Final metrics: to REL relative, except the ones that are differences of
@@ -145,50 +49,20 @@ static void compare_metrics(const char *a, const char *b, const char *tag)
                                       "temperature", "temperature_mean", "pressure",
                                       "pressure_mean", "pxx", "pyy", "pzz", "max_force", "volume",
                                       "density", "neighbor_rebuilds", NULL};
-    json_t *ra = result_of(a), *rb = result_of(b);
-    for (int k = 0; rel[k]; k++) {
-        double x = metric(ra, rel[k]), y = metric(rb, rel[k]);
-        /* result.json prints 12 digits */
-        cr_assert_leq(fabs(x - y), REL * fabs(x) + 1e-12 * fabs(x), "%s %s: %.17g vs %.17g", tag,
-                      rel[k], x, y);
-    }
-    double epa = fabs(metric(ra, "pe_per_atom"));
+    thb_compare_metrics(a, b, rel, REL, tag);
+    json_t *ra = thb_result(a), *rb = thb_result(b);
+    double epa = fabs(thb_metric(ra, "pe_per_atom"));
     static const char *const per_atom[] = {"energy_drift_rate", "energy_fluctuation", NULL};
     for (int k = 0; per_atom[k]; k++) {
-        double x = metric(ra, per_atom[k]), y = metric(rb, per_atom[k]);
+        double x = thb_metric(ra, per_atom[k]), y = thb_metric(rb, per_atom[k]);
         cr_assert_leq(fabs(x - y), REL * epa, "%s %s: %.17g vs %.17g", tag, per_atom[k], x, y);
     }
-    cr_assert_leq(fabs(metric(ra, "energy_drift") - metric(rb, "energy_drift")), REL, "%s drift",
-                  tag);
-    double pa = metric(ra, "momentum"), pb = metric(rb, "momentum");
+    cr_assert_leq(fabs(thb_metric(ra, "energy_drift") - thb_metric(rb, "energy_drift")), REL,
+                  "%s drift", tag);
+    double pa = thb_metric(ra, "momentum"), pb = thb_metric(rb, "momentum");
     cr_assert_leq(fabs(pa - pb), REL * pa + 1e-8, "%s: momentum %.17g vs %.17g", tag, pa, pb);
     json_decref(ra);
     json_decref(rb);
-}
-
-struct by_id {
-    int64_t id;
-    long i;
-};
-
-static int cmp_by_id(const void *a, const void *b)
-{
-    int64_t x = ((const struct by_id *)a)->id, y = ((const struct by_id *)b)->id;
-    return (x > y) - (x < y);
-}
-
-static struct by_id *order_of(const char *dir, const char *group, long *n)
-{
-    char name[128];
-    snprintf(name, sizeof name, "%s/id", group);
-    int64_t *id = read_h5(dir, name, H5T_NATIVE_INT64, sizeof(int64_t), n);
-    struct by_id *o = malloc((size_t)*n * sizeof *o);
-    cr_assert_not_null(o);
-    for (long i = 0; i < *n; i++)
-        o[i] = (struct by_id){id[i], i};
-    qsort(o, (size_t)*n, sizeof *o, cmp_by_id);
-    free(id);
-    return o;
 }
 
 /* The last snapshot: the same datasets, and the same atoms (by id) with
@@ -198,62 +72,9 @@ static void compare_snapshot(const char *a, const char *b, long step, const char
 {
     char group[64];
     snprintf(group, sizeof group, "/particles/%08ld", step);
-    long na, nb;
-    struct by_id *oa = order_of(a, group, &na), *ob = order_of(b, group, &nb);
-    cr_assert_eq(na, nb, "%s: %ld vs %ld atoms", tag, na, nb);
-    for (long i = 0; i < na; i++)
-        cr_assert_eq(oa[i].id, ob[i].id, "%s: id %ld differs", tag, i);
     static const char *const sets[] = {"position", "velocity", "force", "pe", "stress", NULL};
     static const int ncomp[] = {3, 3, 3, 1, 6};
-    for (int s = 0; sets[s]; s++) {
-        char name[128];
-        snprintf(name, sizeof name, "%s/%s", group, sets[s]);
-        long la, lb;
-        double *x = read_h5(a, name, H5T_NATIVE_DOUBLE, sizeof(double), &la);
-        double *y = read_h5(b, name, H5T_NATIVE_DOUBLE, sizeof(double), &lb);
-        cr_assert_eq(la, na * ncomp[s]);
-        cr_assert_eq(lb, nb * ncomp[s]);
-        double scale = 0;
-        for (long k = 0; k < la; k++)
-            scale = fmax(scale, fabs(x[k]));
-        for (long i = 0; i < na; i++)
-            for (int c = 0; c < ncomp[s]; c++) {
-                double u = x[oa[i].i * ncomp[s] + c], v = y[ob[i].i * ncomp[s] + c];
-                cr_assert_leq(fabs(u - v), REL * scale, "%s %s id %lld: %.17g vs %.17g", tag,
-                              name, (long long)oa[i].id, u, v);
-            }
-        free(x);
-        free(y);
-    }
-    free(oa);
-    free(ob);
-}
-
-/* The decomposition record of result.json: counts add up to the atoms and
- * the imbalance is their max over mean. */
-static void check_parallel_record(const char *dir, int np, long natoms)
-{
-    json_t *r = result_of(dir);
-    json_t *par = json_object_get(r, "parallel");
-    cr_assert_not_null(par, "%s: no parallel record", dir);
-    cr_assert_eq(json_integer_value(json_object_get(par, "ranks")), np);
-    json_t *per = json_object_get(par, "particles_per_rank");
-    cr_assert_eq((long)json_array_size(per), np);
-    long sum = 0, max = 0;
-    for (int k = 0; k < np; k++) {
-        long c = (long)json_integer_value(json_array_get(per, (size_t)k));
-        sum += c;
-        max = c > max ? c : max;
-    }
-    cr_assert_eq(sum, natoms);
-    double imb = json_real_value(json_object_get(par, "imbalance_max_over_mean"));
-    cr_assert_float_eq(imb, (double)max / ((double)sum / np), 1e-10);   /* 12 digits */
-    json_t *grid = json_object_get(par, "grid");
-    long prod = 1;
-    for (size_t d = 0; d < 3; d++)
-        prod *= (long)json_integer_value(json_array_get(grid, d));
-    cr_assert_eq(prod, np);
-    json_decref(r);
+    thb_compare_snapshot(a, b, group, sets, ncomp, REL, tag);
 }
 
 /* Serial, then 1 (bricks asked for), 2, 4 and 8 ranks. */
@@ -265,7 +86,7 @@ static void check_rank_counts(const char *tag, const char *yaml, long natoms, lo
     const int nps[5] = {0, 1, 2, 4, 8};
     for (int k = 0; k < 5; k++) {
         snprintf(dir[k], sizeof dir[k], "%s/%s-%d", th_temp_dir(), tag, nps[k]);
-        must_run(path, nps[k], dir[k], NULL);
+        thb_must_run(path, nps[k], dir[k], NULL);
     }
     for (int k = 1; k < 5; k++) {
         char what[96];
@@ -273,7 +94,7 @@ static void check_rank_counts(const char *tag, const char *yaml, long natoms, lo
         compare_series(dir[0], dir[k], what);
         compare_metrics(dir[0], dir[k], what);
         compare_snapshot(dir[0], dir[k], steps, what);
-        check_parallel_record(dir[k], nps[k], natoms);
+        thb_check_parallel_record(dir[k], nps[k], natoms);
     }
 }
 
@@ -386,14 +207,14 @@ static void drifting_crystal(const char *tag, double sign)
     const char *path = th_write_temp(2, name, yaml);
     snprintf(d0, sizeof d0, "%s/%s-serial", th_temp_dir(), tag);
     snprintf(d8, sizeof d8, "%s/%s-8", th_temp_dir(), tag);
-    must_run(path, 0, d0, NULL);
-    must_run(path, 8, d8, NULL);
+    thb_must_run(path, 0, d0, NULL);
+    thb_must_run(path, 8, d8, NULL);
     /* the crystal moved 40 Å per axis: more than two bricks */
     cr_assert_gt(v * 100 * 0.002, 2 * L / 2);
     compare_series(d0, d8, tag);
     compare_metrics(d0, d8, tag);
     compare_snapshot(d0, d8, 100, tag);
-    check_parallel_record(d8, 8, 864);
+    thb_check_parallel_record(d8, 8, 864);
 }
 
 Test(bricks, atoms_migrate_through_every_face_up, .timeout = 600)
@@ -448,8 +269,8 @@ Test(bricks, checkpoint_moves_between_rank_counts, .timeout = 600)
     char s1[600], m2[600];
     snprintf(s1, sizeof s1, "%s/ck-serial", th_temp_dir());
     snprintf(m2, sizeof m2, "%s/ck-2", th_temp_dir());
-    must_run(path, 0, s1, NULL);
-    must_run(path, 2, m2, NULL);
+    thb_must_run(path, 0, s1, NULL);
+    thb_must_run(path, 2, m2, NULL);
     compare_series(s1, m2, "uninterrupted 2 ranks");
     struct {
         const char *from;
@@ -463,7 +284,7 @@ Test(bricks, checkpoint_moves_between_rank_counts, .timeout = 600)
         snprintf(cmd_from, sizeof cmd_from, "%s/checkpoint-0000000050.h5", cases[k].from);
         cr_assert_eq(mkdir_copy(cmd_from, dir, ck), 0);
         const char *extra[] = {"--restart", NULL};
-        must_run(path, cases[k].np, dir, extra);
+        thb_must_run(path, cases[k].np, dir, extra);
         compare_series(s1, dir, cases[k].tag);
         compare_metrics(s1, dir, cases[k].tag);
         compare_snapshot(s1, dir, 100, cases[k].tag);
@@ -491,14 +312,14 @@ Test(bricks, bad_grid_names_file_and_line, .timeout = 300)
     const char *path = th_write_temp(0, "grid4.yaml", yaml);
     char dir[600];
     snprintf(dir, sizeof dir, "%s/bad-grid", th_temp_dir());
-    cr_assert_eq(run_np(path, 2, dir, NULL, out, sizeof out), 2, "%s", out);
+    cr_assert_eq(thb_run(path, 2, dir, NULL, out, sizeof out), 2, "%s", out);
     cr_assert(strstr(out, "grid4.yaml:8:") && strstr(out, "parallel.grid") &&
                   strstr(out, "product must equal the rank count"),
               "%s", out);
     /* 21.69 Å / 4 = 5.4 Å bricks, the range is 5.51 + 1 Å */
     snprintf(yaml, sizeof yaml, "%sparallel:\n  grid: [4, 1, 1]\n", base);
     path = th_write_temp(1, "thin.yaml", yaml);
-    cr_assert_eq(run_np(path, 4, dir, NULL, out, sizeof out), 2, "%s", out);
+    cr_assert_eq(thb_run(path, 4, dir, NULL, out, sizeof out), 2, "%s", out);
     cr_assert(strstr(out, "thin.yaml:8:") && strstr(out, "parallel.grid") &&
                   strstr(out, "thinner than the interaction range"),
               "%s", out);
@@ -508,13 +329,13 @@ Test(bricks, bad_grid_names_file_and_line, .timeout = 300)
              "  element: Cu\npotential: {style: eam/alloy, file: Cu_mishin1.eam.alloy}\n"
              "md: {steps: 10, temperature: 100}\nparallel:\n  decomposition: bricks\n");
     path = th_write_temp(2, "nogrid.yaml", yaml);
-    cr_assert_eq(run_np(path, 2, dir, NULL, out, sizeof out), 2, "%s", out);
+    cr_assert_eq(thb_run(path, 2, dir, NULL, out, sizeof out), 2, "%s", out);
     cr_assert(strstr(out, "nogrid.yaml:8:") && strstr(out, "parallel.decomposition"), "%s", out);
     /* a grid with replicated data, and a misspelt key, at check time */
     snprintf(yaml, sizeof yaml, "%sparallel:\n  decomposition: replicated\n  grid: [1, 1, 2]\n",
              base);
     path = th_write_temp(3, "repl.yaml", yaml);
-    mpi_env(0);   /* serial from here: leak checks on */
+    thb_mpi_env(0);   /* serial from here: leak checks on */
     const char *a1[] = {th_solver(), "check", path, NULL};
     cr_assert_eq(th_run(a1, out, sizeof out), 2, "%s", out);
     cr_assert(strstr(out, "repl.yaml:9:") && strstr(out, "parallel.grid"), "%s", out);
@@ -550,12 +371,12 @@ Test(bricks, other_case_types_say_they_are_not_decomposed, .timeout = 300)
     static char out[16384];
     snprintf(d0, sizeof d0, "%s/crystal-serial", th_temp_dir());
     snprintf(d2, sizeof d2, "%s/crystal-2", th_temp_dir());
-    must_run(path, 0, d0, NULL);
-    cr_assert_eq(run_np(path, 2, d2, NULL, out, sizeof out), 0, "%s", out);
+    thb_must_run(path, 0, d0, NULL);
+    cr_assert_eq(thb_run(path, 2, d2, NULL, out, sizeof out), 0, "%s", out);
     cr_assert(strstr(out, "note: case type 'crystal' is not decomposed into bricks yet"), "%s",
               out);
-    json_t *a = result_of(d0), *b = result_of(d2);
-    double x = metric(a, "lattice_constant"), y = metric(b, "lattice_constant");
+    json_t *a = thb_result(d0), *b = thb_result(d2);
+    double x = thb_metric(a, "lattice_constant"), y = thb_metric(b, "lattice_constant");
     cr_assert_eq(x, y, "lattice constant %.17g vs %.17g", x, y);
     cr_assert_null(json_object_get(b, "parallel"));
     json_decref(a);
@@ -581,11 +402,11 @@ Test(bricks, setup_builds_the_serial_atoms_brick_by_brick, .timeout = 600)
     char d0[600], d4[600];
     snprintf(d0, sizeof d0, "%s/setup-serial", th_temp_dir());
     snprintf(d4, sizeof d4, "%s/setup-4", th_temp_dir());
-    must_run(path, 0, d0, NULL);
-    must_run(path, 4, d4, NULL);
+    thb_must_run(path, 0, d0, NULL);
+    thb_must_run(path, 4, d4, NULL);
     long na, nb;
-    struct by_id *oa = order_of(d0, "/particles/00000000", &na);
-    struct by_id *ob = order_of(d4, "/particles/00000000", &nb);
+    struct thb_by_id *oa = thb_order_by_id(d0, "/particles/00000000", &na);
+    struct thb_by_id *ob = thb_order_by_id(d4, "/particles/00000000", &nb);
     cr_assert_eq(na, nb, "%ld vs %ld atoms", na, nb);
     cr_assert(na > 100 && na < 2048, "the region keeps %ld of 2048 sites", na);
     for (long i = 0; i < na; i++)
@@ -593,10 +414,10 @@ Test(bricks, setup_builds_the_serial_atoms_brick_by_brick, .timeout = 600)
     cr_assert_eq(oa[na - 1].id, na, "ids run 1..%ld", na);
     long lx, lv;
     const char *pos = "/particles/00000000/position", *vel = "/particles/00000000/velocity";
-    double *xa = read_h5(d0, pos, H5T_NATIVE_DOUBLE, sizeof(double), &lx);
-    double *xb = read_h5(d4, pos, H5T_NATIVE_DOUBLE, sizeof(double), &lx);
-    double *va = read_h5(d0, vel, H5T_NATIVE_DOUBLE, sizeof(double), &lv);
-    double *vb = read_h5(d4, vel, H5T_NATIVE_DOUBLE, sizeof(double), &lv);
+    double *xa = thb_read_h5(d0, pos, H5T_NATIVE_DOUBLE, sizeof(double), &lx);
+    double *xb = thb_read_h5(d4, pos, H5T_NATIVE_DOUBLE, sizeof(double), &lx);
+    double *va = thb_read_h5(d0, vel, H5T_NATIVE_DOUBLE, sizeof(double), &lv);
+    double *vb = thb_read_h5(d4, vel, H5T_NATIVE_DOUBLE, sizeof(double), &lv);
     double vmax = 0;
     for (long k = 0; k < lv; k++)
         vmax = fmax(vmax, fabs(va[k]));
@@ -609,7 +430,7 @@ Test(bricks, setup_builds_the_serial_atoms_brick_by_brick, .timeout = 600)
             cr_assert_leq(fabs(va[a] - vb[b]), 1e-13 * vmax, "id %lld v%d: %.17g vs %.17g",
                           (long long)oa[i].id, d, va[a], vb[b]);
         }
-    check_parallel_record(d4, 4, na);
+    thb_check_parallel_record(d4, 4, na);
     free(xa);
     free(xb);
     free(va);
@@ -631,7 +452,7 @@ Test(bricks, restart_refuses_an_id_on_two_ranks, .timeout = 600)
     const char *path = th_write_temp(0, "dup.yaml", yaml);
     char run[600], dir[700], from[700], ck[800];
     snprintf(run, sizeof run, "%s/dup-run", th_temp_dir());
-    must_run(path, 2, run, NULL);
+    thb_must_run(path, 2, run, NULL);
     snprintf(dir, sizeof dir, "%s/dup-restart", th_temp_dir());
     snprintf(from, sizeof from, "%s/checkpoint-0000000010.h5", run);
     snprintf(ck, sizeof ck, "%s/checkpoint-0000000010.h5", dir);
@@ -664,7 +485,7 @@ Test(bricks, restart_refuses_an_id_on_two_ranks, .timeout = 600)
     free(id);
     static char out[16384];
     const char *extra[] = {"--restart", NULL};
-    int rc = run_np(path, 2, dir, extra, out, sizeof out);
+    int rc = thb_run(path, 2, dir, extra, out, sizeof out);
     cr_assert_neq(rc, 0, "restart with a repeated id ran:\n%s", out);
     cr_assert(strstr(out, "1 id(s) given twice") && strstr(out, "checkpoint-0000000010.h5"), "%s",
               out);
@@ -722,15 +543,15 @@ Test(bricks, shift_balance_evens_a_cluster_above_a_slab, .timeout = 600)
     snprintf(d0, sizeof d0, "%s/impact-serial", th_temp_dir());
     snprintf(dbal, sizeof dbal, "%s/impact-shift", th_temp_dir());
     snprintf(deq, sizeof deq, "%s/impact-equal", th_temp_dir());
-    must_run(path, 0, d0, NULL);
-    must_run(path, 4, dbal, NULL);
-    must_run(path_eq, 4, deq, NULL);
+    thb_must_run(path, 0, d0, NULL);
+    thb_must_run(path, 4, dbal, NULL);
+    thb_must_run(path_eq, 4, deq, NULL);
     compare_series(d0, dbal, "shift balance");
     compare_metrics(d0, dbal, "shift balance");
     compare_snapshot(d0, dbal, 100, "shift balance");
-    check_parallel_record(dbal, 4, n);
-    check_parallel_record(deq, 4, n);
-    json_t *rb = result_of(dbal), *re = result_of(deq);
+    thb_check_parallel_record(dbal, 4, n);
+    thb_check_parallel_record(deq, 4, n);
+    json_t *rb = thb_result(dbal), *re = thb_result(deq);
     double ib = json_real_value(json_object_get(json_object_get(rb, "parallel"),
                                                 "imbalance_max_over_mean"));
     double ie = json_real_value(json_object_get(json_object_get(re, "parallel"),

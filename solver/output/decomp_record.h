@@ -1,7 +1,6 @@
 /*
  * decomp_record: the `parallel` record of result.json for a run on bricks
- * (the particle engines that are not struct md: DPD; md_output.c writes
- * the same record for MD): ranks, grid, owned particles per rank, their
+ * (MD through md_output_decomposition, DPD directly): ranks, grid, owned particles per rank, their
  * max/mean imbalance and the peak resident memory of every rank.
  * Collective: every rank calls it, rank 0's result is written.
  */

@@ -7,6 +7,7 @@
 
 #include "core/halo.h"
 #include "core/units.h"
+#include "output/decomp_record.h"
 #include "output/xyz_write.h"
 #include "util/mem.h"
 #include "util/wfile.h"
@@ -236,51 +237,9 @@ int md_output_step(struct md_output *o, struct run *run, struct md *md, long tot
     return rc;
 }
 
-/* Peak resident memory of this process (kB; VmHWM of /proc/self/status,
- * 0 where there is none). */
-static long peak_rss_kb(void)
-{
-    FILE *f = fopen("/proc/self/status", "r");
-    long kb = 0;
-    char line[256];
-    while (f && fgets(line, sizeof line, f))
-        if (sscanf(line, "VmHWM: %ld kB", &kb) == 1)
-            break;
-    if (f)
-        fclose(f);
-    return kb;
-}
-
 void md_output_decomposition(struct run *run, const struct md *md)
 {
-    const struct halo *h = md->halo;
-    int n = halo_nranks(h);
-    long *counts = malloc((size_t)n * sizeof *counts);
-    if (!counts)
-        return;
-    halo_counts(h, md->p, counts);
-    json_t *per = json_array();
-    long max = 0, sum = 0;
-    for (int r = 0; r < n; r++) {
-        json_array_append_new(per, json_integer((json_int_t)counts[r]));
-        max = counts[r] > max ? counts[r] : max;
-        sum += counts[r];
-    }
-    halo_allgather_long(h, peak_rss_kb(), counts);
-    json_t *rss = json_array();
-    for (int r = 0; r < n; r++)
-        json_array_append_new(rss, json_real((double)counts[r] / 1024.0));
-    free(counts);
-    double mean = (double)sum / n;
-    json_t *par = json_object();
-    json_object_set_new(par, "decomposition", json_string("bricks"));
-    json_object_set_new(par, "ranks", json_integer(n));
-    json_object_set_new(par, "grid", json_pack("[iii]", h->dc.grid[0], h->dc.grid[1],
-                                               h->dc.grid[2]));
-    json_object_set_new(par, "particles_per_rank", per);
-    json_object_set_new(par, "imbalance_max_over_mean", json_real(mean > 0 ? max / mean : 1.0));
-    json_object_set_new(par, "peak_rss_mib_per_rank", rss);
-    json_object_set_new(run->result.root, "parallel", par);
+    decomp_record_write(run, md->halo, md->p);
 }
 
 int md_output_end(struct md_output *o, struct run *run, struct err *e)

@@ -9,8 +9,7 @@
 
 #include "helpers/th.h"
 
-int thb_run(const char *path, int np, const char *dir, const char *const *extra, char *out,
-            size_t len)
+void thb_mpi_env(int np)
 {
     setenv("OMPI_ALLOW_RUN_AS_ROOT", "1", 1);
     setenv("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1", 1);
@@ -18,6 +17,12 @@ int thb_run(const char *path, int np, const char *dir, const char *const *extra,
     /* Open MPI's dlopen'ed components leak at exit (test_parallel.c); the
      * serial runs keep leak checking for our code */
     setenv("ASAN_OPTIONS", np > 0 ? "detect_leaks=0" : "detect_leaks=1", 1);
+}
+
+int thb_run(const char *path, int np, const char *dir, const char *const *extra, char *out,
+            size_t len)
+{
+    thb_mpi_env(np);
     char nps[16];
     snprintf(nps, sizeof nps, "%d", np);
     const char *argv[24];
@@ -120,26 +125,21 @@ void thb_compare_metrics(const char *a, const char *b, const char *const *names,
     json_decref(rb);
 }
 
-struct by_id {
-    int64_t id;
-    long i;
-};
-
 static int cmp_by_id(const void *a, const void *b)
 {
-    int64_t x = ((const struct by_id *)a)->id, y = ((const struct by_id *)b)->id;
+    int64_t x = ((const struct thb_by_id *)a)->id, y = ((const struct thb_by_id *)b)->id;
     return (x > y) - (x < y);
 }
 
-static struct by_id *order_of(const char *dir, const char *group, long *n)
+struct thb_by_id *thb_order_by_id(const char *dir, const char *group, long *n)
 {
     char name[160];
     snprintf(name, sizeof name, "%s/id", group);
     int64_t *id = thb_read_h5(dir, name, H5T_NATIVE_INT64, sizeof(int64_t), n);
-    struct by_id *o = malloc((size_t)(*n > 0 ? *n : 1) * sizeof *o);
+    struct thb_by_id *o = malloc((size_t)(*n > 0 ? *n : 1) * sizeof *o);
     cr_assert_not_null(o);
     for (long i = 0; i < *n; i++)
-        o[i] = (struct by_id){id[i], i};
+        o[i] = (struct thb_by_id){id[i], i};
     qsort(o, (size_t)*n, sizeof *o, cmp_by_id);
     free(id);
     return o;
@@ -149,7 +149,7 @@ void thb_compare_snapshot(const char *a, const char *b, const char *group,
                           const char *const *sets, const int *ncomp, double rel, const char *tag)
 {
     long na, nb;
-    struct by_id *oa = order_of(a, group, &na), *ob = order_of(b, group, &nb);
+    struct thb_by_id *oa = thb_order_by_id(a, group, &na), *ob = thb_order_by_id(b, group, &nb);
     cr_assert_eq(na, nb, "%s: %ld vs %ld particles", tag, na, nb);
     for (long i = 0; i < na; i++)
         cr_assert_eq(oa[i].id, ob[i].id, "%s: id %ld differs", tag, i);
@@ -185,10 +185,15 @@ void thb_check_parallel_record(const char *dir, int np, long n)
     cr_assert_eq(json_integer_value(json_object_get(par, "ranks")), np);
     json_t *per = json_object_get(par, "particles_per_rank");
     cr_assert_eq((long)json_array_size(per), np);
-    long sum = 0;
-    for (int k = 0; k < np; k++)
-        sum += (long)json_integer_value(json_array_get(per, (size_t)k));
+    long sum = 0, max = 0;
+    for (int k = 0; k < np; k++) {
+        long c = (long)json_integer_value(json_array_get(per, (size_t)k));
+        sum += c;
+        max = c > max ? c : max;
+    }
     cr_assert_eq(sum, n, "%s: %ld particles over the ranks, %ld expected", dir, sum, n);
+    double imb = json_real_value(json_object_get(par, "imbalance_max_over_mean"));
+    cr_assert_float_eq(imb, (double)max / ((double)sum / np), 1e-10);   /* 12 digits */
     json_t *grid = json_object_get(par, "grid");
     long prod = 1;
     for (size_t d = 0; d < 3; d++)

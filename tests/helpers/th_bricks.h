@@ -11,6 +11,10 @@
 #include <hdf5.h>
 #include <jansson.h>
 #include <stddef.h>
+#include <stdint.h>
+
+/* The environment of a run on np ranks (0: serial, leak checks on). */
+void thb_mpi_env(int np);
 
 /* Run path serially (np 0) or on np ranks into dir, extra arguments
  * NULL-ended (may be NULL); returns the exit status, output in out. */
@@ -41,7 +45,15 @@ void thb_compare_metrics(const char *a, const char *b, const char *const *names,
 void thb_compare_snapshot(const char *a, const char *b, const char *group,
                           const char *const *sets, const int *ncomp, double rel, const char *tag);
 
-/* result.json's parallel record: np ranks whose counts add up to n. */
+/* A snapshot group's particles in id order: (id, index in the datasets). */
+struct thb_by_id {
+    int64_t id;
+    long i;
+};
+struct thb_by_id *thb_order_by_id(const char *dir, const char *group, long *n);
+
+/* result.json's parallel record: np ranks whose counts add up to n, the
+ * imbalance their max over mean, a grid of np bricks. */
 void thb_check_parallel_record(const char *dir, int np, long n);
 
 #endif
