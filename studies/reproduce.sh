@@ -96,9 +96,13 @@ study_metrics() {
         sed 's/^metrics://' | tr -d '[] ' | tr ',' '\n' | grep .
 }
 
+# A finite decimal number (no nan, inf or hex).
+is_number() { printf '%s' "$1" | grep -Eq '^[-+]?([0-9]+[.]?[0-9]*|[.][0-9]+)([eE][-+]?[0-9]+)?$'; }
+
 if [ "$MODE" = check ]; then
     bad=0
     line=0
+    seen=
     for m in quick full; do
         [ $m = quick ] && c=4 || c=5
         for s in $(rows | cut -f "$c" | grep -v '^-$' | awk '!seen[$0]++'); do
@@ -111,6 +115,21 @@ if [ "$MODE" = check ]; then
     rows > "$tmp"
     while IFS="$TAB" read -r paper where quantity quick full job metric pval unit note; do
         line=$((line + 1))
+        if [ -z "$note" ] || [ -z "$paper" ] || [ -z "$quantity" ] || [ -z "$unit" ]; then
+            echo "$SPEC: row $line: needs 10 tab-separated fields (paper ... note), none empty" >&2
+            bad=1
+            continue
+        fi
+        if [ "$pval" != "-" ] && ! is_number "$pval"; then
+            echo "$SPEC: row $line ($quantity): paper_value '$pval' is neither - nor a finite number" >&2
+            bad=1
+        fi
+        if printf '%s\n' "$seen" | grep -qxF "$paper $quantity"; then
+            echo "$SPEC: row $line ($quantity): the same quantity of $paper twice" >&2
+            bad=1
+        fi
+        seen="$seen
+$paper $quantity"
         for m in quick full; do
             [ $m = quick ] && s=$quick || s=$full
             [ "$s" = "-" ] && continue
@@ -127,7 +146,6 @@ if [ "$MODE" = check ]; then
                 bad=1
             fi
         done
-        [ -n "$paper$where$quantity$unit$note$pval" ] || bad=1
     done < "$tmp"
     rm -f "$tmp"
     [ $bad = 0 ] && echo "reproduce.sh: $SPEC: $line rows, every study plans and every row picks one job"
@@ -152,7 +170,6 @@ for s in $studies; do
 done
 
 # 3. The table.
-is_number() { printf '%s' "$1" | grep -Eq '^[-+]?([0-9]+[.]?[0-9]*|[.][0-9]+)([eE][-+]?[0-9]+)?$'; }
 md=$OUT/summary.md
 csv=$OUT/summary.csv
 {

@@ -227,35 +227,6 @@ Test(bricks, atoms_migrate_through_every_face_down, .timeout = 600)
     drifting_crystal("drift_down", -1.0);
 }
 
-/* mkdir dir, copy file from into to. */
-static int mkdir_copy(const char *from, const char *dir, const char *to)
-{
-    if (mkdir(dir, 0755) != 0)
-        return -1;
-    FILE *a = fopen(from, "rb"), *b = fopen(to, "wb");
-    int rc = a && b ? 0 : -1;
-    char buf[65536];
-    size_t n;
-    while (!rc && (n = fread(buf, 1, sizeof buf, a)) > 0)
-        rc = fwrite(buf, 1, n, b) == n ? 0 : -1;
-    if (a)
-        fclose(a);
-    if (b && fclose(b) != 0)
-        rc = -1;
-    return rc;
-}
-
-static void read_text(const char *dir, const char *name, char *buf, size_t len)
-{
-    char path[700];
-    snprintf(path, sizeof path, "%s/%s", dir, name);
-    FILE *f = fopen(path, "r");
-    cr_assert_not_null(f, "%s", path);
-    size_t n = fread(buf, 1, len - 1, f);
-    buf[n] = '\0';
-    fclose(f);
-}
-
 /* A checkpoint written on N ranks restarts on M: the restarted run ends
  * where the uninterrupted one does (to REL; on the same rank count the
  * thermo is the same text). */
@@ -282,7 +253,7 @@ Test(bricks, checkpoint_moves_between_rank_counts, .timeout = 600)
         snprintf(dir, sizeof dir, "%s/ck-restart-%d", th_temp_dir(), k);
         snprintf(ck, sizeof ck, "%s/checkpoint-0000000050.h5", dir);
         snprintf(cmd_from, sizeof cmd_from, "%s/checkpoint-0000000050.h5", cases[k].from);
-        cr_assert_eq(mkdir_copy(cmd_from, dir, ck), 0);
+        cr_assert_eq(thb_mkdir_copy(cmd_from, dir, ck), 0);
         const char *extra[] = {"--restart", NULL};
         thb_must_run(path, cases[k].np, dir, extra);
         compare_series(s1, dir, cases[k].tag);
@@ -290,8 +261,8 @@ Test(bricks, checkpoint_moves_between_rank_counts, .timeout = 600)
         compare_snapshot(s1, dir, 100, cases[k].tag);
         if (k == 2) {   /* same rank count: bitwise (the thermo text, after its header) */
             static char t1[65536], t2[65536];
-            read_text(m2, "thermo.csv", t1, sizeof t1);
-            read_text(dir, "thermo.csv", t2, sizeof t2);
+            thb_read_text(m2, "thermo.csv", t1, sizeof t1);
+            thb_read_text(dir, "thermo.csv", t2, sizeof t2);
             const char *b1 = strchr(t1, '\n'), *b2 = strchr(t2, '\n');
             cr_assert(b1 && b2);
             cr_assert_str_eq(b1, b2, "2 to 2 restart is not bitwise");
@@ -456,7 +427,7 @@ Test(bricks, restart_refuses_an_id_on_two_ranks, .timeout = 600)
     snprintf(dir, sizeof dir, "%s/dup-restart", th_temp_dir());
     snprintf(from, sizeof from, "%s/checkpoint-0000000010.h5", run);
     snprintf(ck, sizeof ck, "%s/checkpoint-0000000010.h5", dir);
-    cr_assert_eq(mkdir_copy(from, dir, ck), 0);
+    cr_assert_eq(thb_mkdir_copy(from, dir, ck), 0);
     /* the atom lowest in z takes the id of the one highest in z */
     hid_t f = H5Fopen(ck, H5F_ACC_RDWR, H5P_DEFAULT);
     cr_assert_geq(f, 0);

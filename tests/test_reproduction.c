@@ -41,8 +41,9 @@ Test(reproduction, spec_rows_each_pick_one_job_of_a_planned_study, .timeout = 30
     ct_rmrf(dir);
 }
 
-/* A selector that matches no job, one that matches several, and a metric
- * the study does not record: each is named with its row. */
+/* A selector that matches no job, one that matches several, a metric the
+ * study does not record, a paper value that is not a finite number, a
+ * quantity given twice and a short row: each is named with its row. */
 Test(reproduction, bad_rows_are_named, .timeout = 120)
 {
     char dir[64], out[16384];
@@ -54,12 +55,23 @@ Test(reproduction, bad_rows_are_named, .timeout = 120)
         "guo2005\tFig. 9\ttoo many\t-\tguo2005/handshake_packet.yaml\tpacket.sigma=1"
         "\ttransmitted_fraction\t-\t1\tx\n"
         "guo2005\tFig. 4\tnot recorded\tguo2005/handshake_quick.yaml\t-\tsweep"
-        "\tno_such_metric\t-\t1\tx\n");
+        "\tno_such_metric\t-\t1\tx\n"
+        "guo2005\tFig. 4\tnan value\tguo2005/handshake_quick.yaml\t-\tsweep"
+        "\tfront_speed_error\tnan\t1\tx\n"
+        "guo2005\tFig. 4\tnan value\tguo2005/handshake_quick.yaml\t-\tsweep"
+        "\tfront_speed_error\t1e999x\t1\tx\n"
+        "guo2005\tFig. 4\tshort row\n");
     int rc = run_check(dir, spec, out, sizeof out);
     cr_assert_eq(rc, 1, "%s", out);
     cr_assert(strstr(out, "row 1 (no such sigma): job 'packet.sigma=7' picks 0 jobs") != NULL, "%s", out);
     cr_assert(strstr(out, "row 2 (too many): job 'packet.sigma=1' picks 4 jobs") != NULL, "%s", out);
     cr_assert(strstr(out, "row 3 (not recorded): guo2005/handshake_quick.yaml does not record "
                           "no_such_metric") != NULL, "%s", out);
+    cr_assert(strstr(out, "row 4 (nan value): paper_value 'nan' is neither - nor a finite number")
+              != NULL, "%s", out);
+    cr_assert(strstr(out, "row 5 (nan value): the same quantity of guo2005 twice") != NULL, "%s",
+              out);
+    cr_assert(strstr(out, "row 5 (nan value): paper_value '1e999x' is neither") != NULL, "%s", out);
+    cr_assert(strstr(out, "row 6: needs 10 tab-separated fields") != NULL, "%s", out);
     ct_rmrf(dir);
 }

@@ -24,6 +24,18 @@ size_t halo_record_size(const struct particles *p)
         buf += (bytes);                  \
     } while (0)
 
+/* The box shift of the copy of particle i sent across dim: an owned
+ * particle is its own copy (its slot may hold a stale ghost's count: a
+ * checkpoint read refills slots), a ghost adds this hop to its own. */
+static void copy_shift(const struct particles *p, int i, int dim, double shift, int gs[3])
+{
+    gs[0] = gs[1] = gs[2] = 0;
+    if (i >= p->n_owned)
+        memcpy(gs, p->gshift + 3 * (size_t)i, 3 * sizeof(int));
+    if (dim >= 0 && shift != 0)
+        gs[dim] += shift > 0 ? 1 : -1;
+}
+
 void halo_pack(const struct particles *p, int i, int dim, double shift, unsigned char *buf)
 {
     double x[3] = {p->x[3 * i], p->x[3 * i + 1], p->x[3 * i + 2]};
@@ -40,12 +52,8 @@ void halo_pack(const struct particles *p, int i, int dim, double shift, unsigned
     PUT(p->image + 3 * (size_t)i, 3 * sizeof(int));
     /* box lengths the copy is shifted by from its owner: the DPD pair keys
      * (dpd/dpd_pair.h) tell periodic images of one pair apart with it */
-    int gs[3] = {0, 0, 0};   /* an owned particle is its own copy (its slot may hold a
-                              * stale ghost's count: a checkpoint read refills slots) */
-    if (i >= p->n_owned)
-        memcpy(gs, p->gshift + 3 * (size_t)i, sizeof gs);
-    if (dim >= 0 && shift != 0)
-        gs[dim] += shift > 0 ? 1 : -1;
+    int gs[3];
+    copy_shift(p, i, dim, shift, gs);
     PUT(gs, sizeof gs);
     for (int k = 0; k < p->nfields; k++) {
         size_t nc = (size_t)p->fields[k].ncomp;
@@ -94,11 +102,8 @@ void halo_pack_ghost(const struct particles *p, int i, int dim, double shift, un
     /* the owner's image counts and the box shift, as in halo_pack: DPD's
      * pair keys (dpd/dpd_pair.h) need both on ghosts */
     PUT(p->image + 3 * (size_t)i, 3 * sizeof(int));
-    int gs[3] = {0, 0, 0};
-    if (i >= p->n_owned)
-        memcpy(gs, p->gshift + 3 * (size_t)i, sizeof gs);
-    if (dim >= 0 && shift != 0)
-        gs[dim] += shift > 0 ? 1 : -1;
+    int gs[3];
+    copy_shift(p, i, dim, shift, gs);
     PUT(gs, sizeof gs);
     for (int k = 0; k < p->nfields; k++) {
         size_t nc = (size_t)p->fields[k].ncomp;

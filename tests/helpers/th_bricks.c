@@ -6,6 +6,7 @@
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <sys/stat.h>
 
 #include "helpers/th.h"
 
@@ -200,4 +201,33 @@ void thb_check_parallel_record(const char *dir, int np, long n)
         prod *= (long)json_integer_value(json_array_get(grid, d));
     cr_assert_eq(prod, np);
     json_decref(r);
+}
+
+/* mkdir dir, copy file from into to. */
+int thb_mkdir_copy(const char *from, const char *dir, const char *to)
+{
+    if (mkdir(dir, 0755) != 0)
+        return -1;
+    FILE *a = fopen(from, "rb"), *b = fopen(to, "wb");
+    int rc = a && b ? 0 : -1;
+    char buf[65536];
+    size_t n;
+    while (!rc && (n = fread(buf, 1, sizeof buf, a)) > 0)
+        rc = fwrite(buf, 1, n, b) == n ? 0 : -1;
+    if (a)
+        fclose(a);
+    if (b && fclose(b) != 0)
+        rc = -1;
+    return rc;
+}
+
+void thb_read_text(const char *dir, const char *name, char *buf, size_t len)
+{
+    char path[700];
+    snprintf(path, sizeof path, "%s/%s", dir, name);
+    FILE *f = fopen(path, "r");
+    cr_assert_not_null(f, "%s", path);
+    size_t n = fread(buf, 1, len - 1, f);
+    buf[n] = '\0';
+    fclose(f);
 }

@@ -52,6 +52,11 @@ struct thb_by_id {
 };
 struct thb_by_id *thb_order_by_id(const char *dir, const char *group, long *n);
 
+/* mkdir dir, then copy the file from to the file to (0, or -1). */
+int thb_mkdir_copy(const char *from, const char *dir, const char *to);
+/* dir/name as text into buf (at most len - 1 bytes; asserts it opens). */
+void thb_read_text(const char *dir, const char *name, char *buf, size_t len);
+
 /* result.json's parallel record: np ranks whose counts add up to n, the
  * imbalance their max over mean, a grid of np bricks. */
 void thb_check_parallel_record(const char *dir, int np, long n);
