@@ -83,7 +83,7 @@ int main(int argc, char **argv)
         fprintf(stderr, "md_kernel_probe: %s\n", e.msg);
         return 1;
     }
-    struct box box;
+    struct box box = {0};
     double cell[3];
     lattice_cell(&l, cell);
     for (int d = 0; d < 3; d++) {

@@ -18,7 +18,7 @@ int fuzz_extxyz_one(const uint8_t *data, size_t size)
     struct particles *p = particles_create(64);
     if (!p)
         abort();
-    struct box b = {{0, 0, 0}, {0, 0, 0}, {BOUNDARY_PERIODIC, BOUNDARY_PERIODIC, BOUNDARY_PERIODIC}};
+    struct box b = {{0, 0, 0}, {0, 0, 0}, {BOUNDARY_PERIODIC, BOUNDARY_PERIODIC, BOUNDARY_PERIODIC}, {0, 0, 0}};
     int pbc[3];
     int rc = config_read_extxyz(path, NULL, p, &b, pbc, &e);
     fuzz_check_error(rc, e.msg);

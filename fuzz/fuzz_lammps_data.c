@@ -16,7 +16,7 @@ static void read_once(const char *path, const char *const *elements, int nelemen
     struct particles *p = particles_create(64);
     if (!p)
         abort();
-    struct box b = {{0, 0, 0}, {0, 0, 0}, {BOUNDARY_PERIODIC, BOUNDARY_PERIODIC, BOUNDARY_PERIODIC}};
+    struct box b = {{0, 0, 0}, {0, 0, 0}, {BOUNDARY_PERIODIC, BOUNDARY_PERIODIC, BOUNDARY_PERIODIC}, {0, 0, 0}};
     int rc = config_read_lammps_data(path, elements, nelements, NULL, p, &b, &e);
     fuzz_check_error(rc, e.msg);
     if (!rc) {

@@ -163,7 +163,7 @@ Test(dpd, fluctuation_dissipation_reaches_bath_temperature, .timeout = 300)
  * while heat does flow into the internal energies. */
 Test(dpd, dpde_energy_conserved_in_impact, .timeout = 300)
 {
-    struct box box;
+    struct box box = {0};
     struct particles *p = th_crystal(LATTICE_FCC, 7.23, 4, "Cu", 0.0, 3, &box);
     /* stretch to 8 x 4 x 4 cells: a second block, then a flyer slab below x = 0 */
     int n1 = p->n_owned;

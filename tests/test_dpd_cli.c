@@ -307,7 +307,7 @@ Test(dpd_cli, final_state_reads_back)
     char data[1024], yaml[2048], dir2[600];
     snprintf(data, sizeof data, "%s/final.data", dir);
     struct particles *p = particles_create(16);
-    struct box b;
+    struct box b = {0};
     struct err e = {0};
     cr_assert_eq(config_read_lammps_data(data, NULL, 0, NULL, p, &b, &e), 0, "%s", e.msg);
     cr_assert_eq(p->n_owned, 108);

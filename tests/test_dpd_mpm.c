@@ -93,7 +93,7 @@ static void run_steps(struct dpd_mpm *c, int n)
 Test(dpd_mpm, force_mapping_conserves_force_mass_and_momentum)
 {
     long n[3] = {4, 3, 3};
-    struct box box;
+    struct box box = {0};
     struct particles *p = block(7.28, n, 0.4, 0, &box);
     struct dpd d;
     struct dpd_settings set = th_dpd_settings(DPD_ENERGY, 0.2, 298);
@@ -141,7 +141,7 @@ Test(dpd_mpm, force_mapping_conserves_force_mass_and_momentum)
 Test(dpd_mpm, flyer_impact_conserves_momentum)
 {
     long n[3] = {5, 3, 3};
-    struct box box;
+    struct box box = {0};
     struct particles *p = block(7.28, n, 0.2, 0, &box);
     /* the first (100) layer of cells becomes a free rigid flyer at 5 Å/ps,
      * pulled back from the rest by 1 Å */
@@ -180,7 +180,7 @@ Test(dpd_mpm, flyer_impact_conserves_momentum)
 Test(dpd_mpm, fine_grid_is_symplectic_euler_of_the_dpd_forces)
 {
     long n[3] = {3, 3, 3};
-    struct box b1, b2;
+    struct box b1 = {0}, b2 = {0};
     struct dpd d1, d2;
     struct dpd_settings set = th_dpd_settings(DPD_ISOTHERMAL, 0.2, 298);
     dpd_on(&d1, block(7.28, n, 0.3, 0, &b1), &b1, &set, 0.005);
@@ -230,7 +230,7 @@ Test(dpd_mpm, compressed_translating_crystal_has_no_spurious_forces)
     cr_assert_eq(cg_lattice_solve_pressure(&prm.sc, 0, 0, 0.0, 6.5, 8.0, &a0), 0);
     double a = 0.99 * a0;
     long n[3] = {4, 4, 4};
-    struct box box;
+    struct box box = {0};
     struct particles *p = block(a, n, 0.0, 1, &box);
     for (int i = 0; i < p->n_owned; i++)
         p->v[3 * i] = 2.0;
@@ -276,7 +276,7 @@ Test(dpd_mpm, compressed_translating_crystal_has_no_spurious_forces)
 static double energy_deviation(enum dpd_variant variant, double h, int steps, double *heat)
 {
     long n[3] = {4, 3, 3};
-    struct box box;
+    struct box box = {0};
     struct particles *p = block(7.28, n, 0.1, 0, &box);
     struct dpd d;
     struct dpd_settings set = th_dpd_settings(variant, 0.2, 298);
@@ -318,7 +318,7 @@ Test(dpd_mpm, dpde_on_the_grid_conserves_total_energy)
 Test(dpd_mpm, cell_edge_must_be_smaller_than_the_cutoff)
 {
     long n[3] = {2, 2, 2};
-    struct box box;
+    struct box box = {0};
     struct dpd d;
     struct dpd_settings set = th_dpd_settings(DPD_ISOTHERMAL, 0.2, 298);
     dpd_on(&d, block(7.28, n, 0.0, 0, &box), &box, &set, 0.005);

@@ -52,7 +52,7 @@ static void build(struct concurrent *s, const long n[3], double strain, double s
     int64_t id = 1;
     struct err e = {0};
     cr_assert(lattice_fill(&l, n, NULL, all, t, &id, &e) > 0);
-    struct box box;
+    struct box box = {0};
     for (int k = 0; k < 3; k++) {
         s->L[k] = n[k] * s->a;
         box.lo[k] = 0;

@@ -20,7 +20,7 @@
 static double force_fd_error(const char *potyaml, enum lattice_style style, double a, long n,
                              const char *el, double displace)
 {
-    struct box box;
+    struct box box = {0};
     struct particles *p = th_crystal(style, a, n, el, displace, 12345, &box);
     struct md md;
     th_md(&md, p, &box, th_potential(potyaml), 1);
@@ -112,7 +112,7 @@ static void pressure_check(const char *potyaml, enum lattice_style style, double
     const double h = 1e-5;
     const double s[4] = {-2 * h, -h, h, 2 * h};
     for (int q = -1; q < 4; q++) {
-        struct box box;
+        struct box box = {0};
         struct particles *p = th_crystal(style, a, n, el, 0.1, 777, &box);
         double scale = q < 0 ? 1.0 : 1.0 + s[q];
         for (int i = 0; i < p->n_owned; i++)

@@ -106,7 +106,7 @@ static void read_xyz(const char *crash, int *rc, char *msg, size_t len)
     char path[4096];
     snprintf(path, sizeof path, "%s/tests/fuzz/crashes/extxyz/%s", th_root(), crash);
     struct particles *p = particles_create(8);
-    struct box b;
+    struct box b = {0};
     int pbc[3];
     struct err e = {0};
     *rc = config_read_extxyz(path, NULL, p, &b, pbc, &e);
@@ -208,7 +208,7 @@ Test(fuzz_corpus, periodic_box_far_below_the_range)
     struct particles *p = particles_create(8);
     particles_add(p, (double[]){0, 5, 5}, NULL, particles_type_index(p, "Cu", 63.546), 1);
     struct box b = {{0, 0, 0}, {1e-300, 10, 10}, {BOUNDARY_PERIODIC, BOUNDARY_PERIODIC,
-                                                  BOUNDARY_PERIODIC}};
+                                                  BOUNDARY_PERIODIC}, {0, 0, 0}};
     struct err e = {0};
     cr_assert_eq(ghost_build(p, &b, 11.83, &e), ERR_INPUT);
     /* either guard may answer first: the estimate of the images, or the

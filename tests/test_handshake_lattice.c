@@ -266,7 +266,7 @@ static void reference_crystal(struct md *md, const struct bar *b, const struct m
                 }
     struct box box = {{x_lo - 10, 0, 0},
                       {x_hi + 10, L->md_hi[1], L->md_hi[2]},
-                      {BOUNDARY_FREE, BOUNDARY_PERIODIC, BOUNDARY_PERIODIC}};
+                      {BOUNDARY_FREE, BOUNDARY_PERIODIC, BOUNDARY_PERIODIC}, {0, 0, 0}};
     th_md(md, p, &box, th_potential(m->pot), 1);
 }
 

@@ -51,7 +51,7 @@ static void compare(const struct lmp_ref *ref)
     char path[1024];
     snprintf(path, sizeof path, "%s/tests/data/cu256.data", th_root());
     struct particles *p = particles_create(300);
-    struct box box;
+    struct box box = {0};
     struct err e = {0};
     cr_assert_eq(config_read_lammps_data(path, NULL, 0, NULL, p, &box, &e), 0, "%s", e.msg);
     for (int d = 0; d < 3; d++)

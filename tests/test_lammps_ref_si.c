@@ -79,7 +79,7 @@ static void compare(const struct lmp_ref *ref, int nthreads)
     char path[1024];
     snprintf(path, sizeof path, "%s/tests/data/%s", th_root(), ref->data);
     struct particles *p = particles_create(300);
-    struct box box;
+    struct box box = {0};
     struct err e = {0};
     int two = ref == &sw_gan;
     cr_assert_eq(config_read_lammps_data(path, two ? elements : NULL, two ? 2 : 0, NULL, p, &box,

@@ -101,7 +101,7 @@ Test(lattice, free_boundary_shrink_wraps_and_fixed_boundary_loses_atoms)
     double a[3] = {1, 1, 1}, b[3] = {4, 5, 6};
     particles_add(p, a, NULL, 0, 1);
     particles_add(p, b, NULL, 0, 2);
-    struct box box = {{0, 0, 0}, {10, 10, 10}, {BOUNDARY_FREE, BOUNDARY_PERIODIC, BOUNDARY_FIXED}};
+    struct box box = {{0, 0, 0}, {10, 10, 10}, {BOUNDARY_FREE, BOUNDARY_PERIODIC, BOUNDARY_FIXED}, {0, 0, 0}};
     struct err e = {0};
     cr_assert_eq(box_remap(&box, p, 0.0, &e), 0);
     cr_assert_float_eq(box.lo[0], 1.0, 1e-12);

@@ -18,7 +18,7 @@
  * to about 300 K by equipartition.) */
 Test(md, nve_energy_drift_and_momentum, .timeout = 600)
 {
-    struct box box;
+    struct box box = {0};
     struct particles *p = th_crystal(LATTICE_FCC, 3.615, 4, "Cu", 0.0, 1, &box);
     struct err e = {0};
     struct potential *pot = th_potential(POT_MISHIN);
@@ -119,7 +119,7 @@ static void check_lists(double L, double cutoff, double skin, enum nlist_kind ki
 {
     struct particles *p = particles_create(64);
     particles_type_index(p, "Ar", 39.948);
-    struct box box = {{0, 0, 0}, {L, 0.8 * L, 1.1 * L}, {BOUNDARY_PERIODIC, BOUNDARY_PERIODIC, BOUNDARY_PERIODIC}};
+    struct box box = {{0, 0, 0}, {L, 0.8 * L, 1.1 * L}, {BOUNDARY_PERIODIC, BOUNDARY_PERIODIC, BOUNDARY_PERIODIC}, {0, 0, 0}};
     unsigned s = 99;
     int64_t id = 1;
     add_uniform(p, box.lo, box.hi, 300, &s, &id);
@@ -145,7 +145,7 @@ Test(neighbor, sparse_system_wide_cells_equal_brute_force)
     for (int kind = 0; kind < 2; kind++) {
         struct particles *p = particles_create(64);
         particles_type_index(p, "Ar", 39.948);
-        struct box box = {{0, 0, 0}, {420, 410, 400}, {BOUNDARY_PERIODIC, BOUNDARY_PERIODIC, BOUNDARY_PERIODIC}};
+        struct box box = {{0, 0, 0}, {420, 410, 400}, {BOUNDARY_PERIODIC, BOUNDARY_PERIODIC, BOUNDARY_PERIODIC}, {0, 0, 0}};
         unsigned s = 7;
         int64_t id = 1;
         double lo1[3] = {0, 0, 0}, hi1[3] = {12, 12, 12};
@@ -164,7 +164,7 @@ Test(md, forces_independent_of_threads)
 {
     const char *pots[] = {POT_MISHIN, "style: sw\nfile: Si.sw\nelements: [Si]\n"};
     for (int k = 0; k < 2; k++) {
-        struct box b1, b2;
+        struct box b1 = {0}, b2 = {0};
         enum lattice_style st = k ? LATTICE_DIAMOND : LATTICE_FCC;
         double a = k ? 5.431 : 3.615;
         const char *el = k ? "Si" : "Cu";
@@ -188,7 +188,7 @@ Test(md, forces_independent_of_threads)
 Test(md, thermostats_reach_target, .timeout = 300)
 {
     for (int style = THERMOSTAT_BERENDSEN; style <= THERMOSTAT_LANGEVIN; style++) {
-        struct box box;
+        struct box box = {0};
         struct particles *p = th_crystal(LATTICE_FCC, 3.615, 3, "Cu", 0.0, 1, &box);
         struct err e = {0};
         struct potential *pot = th_potential(POT_MISHIN);

@@ -81,7 +81,7 @@ Test(output, zero_step_run_writes_energy_forces_pressure)
     /* extended XYZ reads back with the same atoms */
     snprintf(xp, sizeof xp, "%s/snapshots.xyz", dir);
     struct particles *p = particles_create(200);
-    struct box b;
+    struct box b = {0};
     int pbc[3];
     struct err e = {0};
     cr_assert_eq(config_read_extxyz(xp, NULL, p, &b, pbc, &e), 0, "%s", e.msg);

@@ -56,7 +56,7 @@ static void run_stretched(double eps, const char *tag, char *outdir, size_t len,
     cr_assert(lattice_fill(&l, cells, NULL, p, t, &id, &e) > 0, "%s", e.msg);
     double cell[3];
     lattice_cell(&l, cell);
-    struct box b;
+    struct box b = {0};
     for (int d = 0; d < 3; d++) {
         b.lo[d] = 0;
         b.hi[d] = cells[d] * cell[d] * (d == 0 ? 1.0 + eps : 1.0);

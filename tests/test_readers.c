@@ -154,9 +154,9 @@ Test(readers, lammps_data_bad_input)
                        "found " LONG_EXCERPT},
         {21, "1 0 0 0x1", "m.data:21: Velocities line: field 4 (vz) must be a finite decimal"},
         {16, "2 1 3 3 3 0 0", "m.data:16: Atoms line must be 'id type x y z [ix iy iz]'"},
-        /* triclinic boxes: only zero tilt (the MD box is orthogonal) */
-        {8, "0 0.5 0 xy xz yz", "m.data:8: xy xz yz: tilt xz = 0.5: only orthogonal boxes are "
-                                "simulated (tilt 0 0 0)"},
+        /* triclinic boxes: LAMMPS' tilt limit (core/box.h) */
+        {8, "0 7.5 0 xy xz yz", "m.data:8: xy xz yz: tilt xz = 7.5 is more than half the box "
+                                "length lx = 14"},
         {8, "0 0 0x1 xy xz yz", "m.data:8: xy xz yz: tilt factor yz must be a finite decimal "
                                 "number, found '0x1'"},
         {8, "0 0 xy xz yz", "m.data:8: unrecognised header line '0 0 xy xz yz' (a triclinic "
@@ -176,7 +176,7 @@ Test(readers, zero_tilt_data_and_ase_momenta)
     snprintf(yaml, sizeof yaml, DATA_CASE, data);
     cr_assert_eq(solver("check", yaml, NULL, out, sizeof out, NULL), 0, "%s", out);
     struct particles *p = particles_create(8);
-    struct box b;
+    struct box b = {0};
     struct err e = {0};
     cr_assert_eq(config_read_lammps_data(data, NULL, 0, NULL, p, &b, &e), 0, "%s", e.msg);
     cr_assert_eq(p->n_owned, 3);
@@ -273,9 +273,11 @@ Test(readers, extxyz_bad_input)
          "m.xyz:2: Properties: pos must be pos:R:3, found pos:R:2"},
         {2, "Lattice=\"10 0 0 0 10 0 0 0 10 10\" Properties=species:S:1:pos:R:3:id:I:1",
          "m.xyz:2: Lattice needs 9 finite decimal numbers"},
-        {2, "Lattice=\"10 0 0 2.5 10 0 0 0 10\" Properties=species:S:1:pos:R:3:id:I:1",
-         "m.xyz:2: Lattice vector 2 has x component 2.5: only orthogonal lattices (diagonal "
-         "Lattice) are simulated"},
+        {2, "Lattice=\"10 0 0 2.5 10 0.5 0 0 10\" Properties=species:S:1:pos:R:3:id:I:1",
+         "m.xyz:2: Lattice vector 2 has z component 0.5: the cell must be LAMMPS' restricted "
+         "triclinic one"},
+        {2, "Lattice=\"10 0 0 0 10 0 0 5.5 10\" Properties=species:S:1:pos:R:3:id:I:1",
+         "m.xyz:2: Lattice: tilt yz = 5.5 is more than half the box length ly = 10"},
     };
     run_table("m.xyz", XYZ_OK, XYZ_CASE, rows, sizeof rows / sizeof rows[0]);
 }

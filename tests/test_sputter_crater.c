@@ -39,7 +39,7 @@ static struct particles *slab(long n, long nz, struct box *b)
 
 Test(sputter, groups_above_the_surface_moving_away)
 {
-    struct box b;
+    struct box b = {0};
     struct particles *p = slab(4, 3, &b);
     double top = 2.5 * 3.615;   /* highest layer */
     int t = 0;
@@ -113,7 +113,7 @@ static struct crater_stats measure(struct particles *p, const struct box *b, dou
 Test(crater, square_pit_depth_volume_and_shape)
 {
     const double a = 3.615;
-    struct box b;
+    struct box b = {0};
     struct particles *p = slab(16, 6, &b);
     double top = 5.5 * a, c[2] = {8 * a, 8 * a};
     unsigned char *fl;

@@ -73,7 +73,7 @@ static struct particles *lattice(enum lattice_style st, double a, const int (*or
 
 Test(structure, fcc_copper_at_300K_is_all_fcc, .timeout = 60)
 {
-    struct box box;
+    struct box box = {0};
     struct particles *p = th_crystal(LATTICE_FCC, 3.615, 5, "Cu", 0.0, 1, &box);
     struct err e = {0};
     struct potential *pot = th_potential("style: eam/alloy\nfile: Cu_mishin1.eam.alloy\n");
@@ -98,7 +98,7 @@ Test(structure, fcc_copper_at_300K_is_all_fcc, .timeout = 60)
 
 Test(structure, perfect_hcp_bcc_are_all_hcp_bcc)
 {
-    struct box b;
+    struct box b = {0};
     long c[STRUCT_NCLASSES];
     struct particles *p = lattice(LATTICE_HCP, 2.556, NULL, 5, 3, 3, &b);
     long n = classify(p, &b, STRUCT_REF_HCP, CNA_FIXED, 2.556, 1, c, NULL);
@@ -138,7 +138,7 @@ Test(structure, icosahedron_centre_is_icosahedral)
                 double x[3] = {c0[0] + s * v[0], c0[1] + s * v[1], c0[2] + s * v[2]};
                 particles_add(p, x, NULL, t, id++);
             }
-    struct box b = {{0, 0, 0}, {40, 40, 40}, {BOUNDARY_FREE, BOUNDARY_FREE, BOUNDARY_FREE}};
+    struct box b = {{0, 0, 0}, {40, 40, 40}, {BOUNDARY_FREE, BOUNDARY_FREE, BOUNDARY_FREE}, {0, 0, 0}};
     long c[STRUCT_NCLASSES];
     int *cls;
     /* vertex-vertex 2.63 Å, centre-vertex 2.5 Å: Cu's fcc cutoff 3.086 Å takes both */
@@ -185,7 +185,7 @@ static struct particles *stacking(const char *seq, double d, int nx, int ny, str
 Test(structure, intrinsic_stacking_fault_gives_two_hcp_planes)
 {
     const double d = 3.615 / M_SQRT2;
-    struct box b;
+    struct box b = {0};
     long c[STRUCT_NCLASSES];
     /* control: perfect ABC stacking from the same builder */
     struct particles *p = stacking("ABCABCABCABC", d, 4, 3, &b);
@@ -241,7 +241,7 @@ static void check_slab(struct particles *p, const struct box *b, double layer_to
 
 Test(structure, free_slab_surfaces_are_surface)
 {
-    struct box b;
+    struct box b = {0};
     struct particles *p = lattice(LATTICE_FCC, 3.615, NULL, 5, 5, 5, &b);
     b.bc[2] = BOUNDARY_FREE;
     check_slab(p, &b, 0.1, STRUCT_REF_FCC, 3.615, STRUCT_FCC, CNA_FIXED);
@@ -261,7 +261,7 @@ Test(structure, free_slab_surfaces_are_surface)
 
 Test(structure, vacancy_neighbours_are_displaced_not_surface)
 {
-    struct box b;
+    struct box b = {0};
     long c[STRUCT_NCLASSES];
     struct particles *p = lattice(LATTICE_FCC, 3.615, NULL, 5, 5, 5, &b);
     unsigned char *keep = malloc((size_t)p->n_owned);
@@ -316,7 +316,7 @@ static void near_cb(void *ctx, int entry, double r2)
 Test(structure, pairs_at_the_cutoff_are_judged_consistently)
 {
     long c[STRUCT_NCLASSES];
-    struct box b;
+    struct box b = {0};
     /* 1e-4 Å inside: 14 neighbours for every atom, and their topology is
      * that of bcc -- fcc squeezed along [100] is a body-centred tetragonal
      * lattice on the Bain path; a fixed cutoff calls it bcc, the adaptive

@@ -43,7 +43,7 @@ Test(wave_analysis, lagrangian_slabs_and_profiles)
         particles_add(p, x, NULL, 0, i + 1);
     }
     p->mask[0] |= 2u;
-    struct box b = {{0, 0, 0}, {100, 1, 1}, {BOUNDARY_FREE, BOUNDARY_FREE, BOUNDARY_FREE}};
+    struct box b = {{0, 0, 0}, {100, 1, 1}, {BOUNDARY_FREE, BOUNDARY_FREE, BOUNDARY_FREE}, {0, 0, 0}};
     struct err e = {0};
     int f = displacement_begin(p, &b, &e);
     cr_assert_geq(f, 0, "%s", e.msg);

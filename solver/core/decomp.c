@@ -162,7 +162,7 @@ int decomp_shift(struct decomp *dc, const double *x, int n, double range, struct
     }
     free(hist);
     if (!rc) {
-        struct box b;
+        struct box b = {0};
         memset(&b, 0, sizeof b);
         for (int d = 0; d < 3; d++) {
             b.lo[d] = dc->blo[d];

@@ -18,7 +18,9 @@
 /* Create ghosts for every periodic axis: images of owned particles (and of
  * ghosts made for earlier axes, which covers edges and corners) that lie
  * within `range` of the box.  Several image layers are made when the box is
- * shorter than `range`.  Existing ghosts are dropped first. */
+ * shorter than `range`.  Existing ghosts are dropped first.  A tilted box
+ * (core/box.h) selects the images by their fractional coordinates (see
+ * ghost.c). */
 int ghost_build(struct particles *p, const struct box *b, double range, struct err *e);
 
 /* Ghosts ghost_build would make for n particles spread uniformly over the
@@ -28,7 +30,8 @@ int ghost_build(struct particles *p, const struct box *b, double range, struct e
  * 1e8 image layers per axis. */
 double ghost_estimate(const struct box *b, long n, double range);
 
-/* x[g] = x[origin[g]] + gshift[g] * L, for all ghosts; extra fields flagged
+/* x[g] = x[origin[g]] + gshift[g] . (a, b, c) (gshift[g] * L per axis in
+ * an orthogonal box), for all ghosts; extra fields flagged
  * ghost_copy are copied as well. */
 void ghost_update_positions(struct particles *p, const struct box *b);
 /* Copy velocities to ghosts (needed by velocity-dependent pair forces). */

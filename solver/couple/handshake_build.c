@@ -396,7 +396,7 @@ int handshake_setup(struct handshake *hs, struct md *md, const struct handshake_
         potential_destroy(&pot);
         return rc;
     }
-    struct box box;
+    struct box box = {0};
     for (int d = 0; d < 3; d++) {
         box.bc[d] = L->md_periodic[d] ? BOUNDARY_PERIODIC : BOUNDARY_FREE;
         box.lo[d] = L->md_periodic[d] ? L->md_lo[d] : L->md_lo[d] - L->w[1] - L->w[2];

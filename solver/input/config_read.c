@@ -13,7 +13,7 @@
 struct config_rules config_rules_default(void)
 {
     struct config_rules r = {{BOUNDARY_PERIODIC, BOUNDARY_PERIODIC, BOUNDARY_PERIODIC},
-                             CONFIG_MAX_ATOMS_DEFAULT, CONFIG_MIN_DISTANCE_DEFAULT};
+                             CONFIG_MAX_ATOMS_DEFAULT, CONFIG_MIN_DISTANCE_DEFAULT, 1, NULL};
     return r;
 }
 
@@ -103,6 +103,16 @@ static int atom_lines_push(struct atom_lines *al, int line, struct err *e)
 static int check_position(struct textfile *t, const struct config_rules *r, const struct box *b,
                           long id, const double x[3], struct err *e)
 {
+    if (box_tilted(b)) {   /* all periodic (box_check_tilt): the same rule on s */
+        double s[3];
+        box_to_fractional(b, x, s);
+        for (int d = 0; d < 3; d++)
+            if (!(s[d] >= -1.0 && s[d] < 2.0))
+                return textfile_error(t, e, "atom id %ld at (%.10g, %.10g, %.10g) is more than "
+                                      "one cell edge %c outside the tilted box (fractional "
+                                      "coordinate %.10g)", id, x[0], x[1], x[2], "abc"[d], s[d]);
+        return 0;
+    }
     for (int d = 0; d < 3; d++) {
         double lo = b->lo[d], hi = b->hi[d], len = hi - lo;
         char ax = "xyz"[d];
@@ -162,11 +172,32 @@ static int check_close_atoms(struct textfile *t, const struct particles *p, int 
     if (n < 2 || !(dmin > 0))
         return 0;
     const double *x = p->x + 3 * (size_t)base;
+    /* a tilted box (all periodic) is sorted on the fractional coordinates
+     * times the cell's heights: an orthogonal box of the same volume whose
+     * cells of edge >= w hold every pair closer than w in neighbour cells */
+    const int tilted = box_tilted(b);
+    double *bx = NULL;
+    if (tilted) {
+        bx = malloc((size_t)3 * n * sizeof *bx);
+        if (!bx)
+            return err_nomem(e, "close atom check");
+        double hgt[3] = {box_height(b, 0), box_height(b, 1), box_height(b, 2)};
+        for (int i = 0; i < n; i++) {
+            double f[3];
+            box_to_fractional(b, x + 3 * i, f);
+            for (int d = 0; d < 3; d++)
+                bx[3 * i + d] = f[d] * hgt[d];
+        }
+    }
+    const double *xb = tilted ? bx : x;
     double lo[3], len[3], ext[3], vol = 1;
     int per[3], nc[3];
     for (int d = 0; d < 3; d++) {
         per[d] = r->bc[d] == BOUNDARY_PERIODIC;
-        if (per[d]) {
+        if (tilted) {
+            lo[d] = 0;
+            len[d] = box_height(b, d);
+        } else if (per[d]) {
             lo[d] = b->lo[d];
             len[d] = b->hi[d] - b->lo[d];
         } else {   /* free or fixed: the atoms' own extent */
@@ -197,12 +228,13 @@ static int check_close_atoms(struct textfile *t, const struct particles *p, int 
         free(start);
         free(cell);
         free(order);
+        free(bx);
         return err_nomem(e, "close atom check");
     }
     for (int i = 0; i < n; i++) {
         long c = 0;
         for (int d = 2; d >= 0; d--) {
-            double u = x[3 * i + d] - lo[d];
+            double u = xb[3 * i + d] - lo[d];
             if (per[d])   /* positions are not wrapped yet (up to a box length out) */
                 u -= len[d] * floor(u / len[d]);
             double q = u / ext[d] * nc[d];
@@ -219,6 +251,7 @@ static int check_close_atoms(struct textfile *t, const struct particles *p, int 
         free(start);
         free(cell);
         free(order);
+        free(bx);
         return err_nomem(e, "close atom check");
     }
     memcpy(fill, start, (size_t)ncell * sizeof *fill);
@@ -261,13 +294,16 @@ static int check_close_atoms(struct textfile *t, const struct particles *p, int 
                         int j = order[s];
                         if (j >= i || (hit_j >= 0 && j > hit_j))
                             continue;
-                        double r2 = 0;
+                        double r2 = 0, dv[3];
                         for (int d = 0; d < 3; d++) {
-                            double dx = x[3 * i + d] - x[3 * j + d];
-                            if (per[d])
-                                dx -= len[d] * nearbyint(dx / len[d]);
-                            r2 += dx * dx;
+                            dv[d] = x[3 * i + d] - x[3 * j + d];
+                            if (per[d] && !tilted)
+                                dv[d] -= len[d] * nearbyint(dv[d] / len[d]);
                         }
+                        if (tilted)   /* exact for dmin below half of lx, ly, lz */
+                            box_min_image(b, dv);
+                        for (int d = 0; d < 3; d++)
+                            r2 += dv[d] * dv[d];
                         if (r2 < dmin * dmin) {
                             hit_i = i;
                             hit_j = j;
@@ -279,6 +315,7 @@ static int check_close_atoms(struct textfile *t, const struct particles *p, int 
     free(start);
     free(cell);
     free(order);
+    free(bx);
     if (hit_i < 0)
         return 0;
     const double *xi = x + 3 * hit_i;
@@ -298,6 +335,34 @@ static int check_atom_count(struct textfile *t, long n, const struct config_rule
 }
 
 /* --- LAMMPS data ---------------------------------------------------------- */
+
+/* The tilt of a triclinic header (line tilt_line, 0: none) into b, refused
+ * at that line when the caller's case type simulates orthogonal boxes only
+ * (r->allow_tilt 0) or beyond LAMMPS' rules (box_check_tilt, with r->bc). */
+static int accept_tilt(struct textfile *t, int tilt_line, const char *field, const double tilt[3],
+                       const struct config_rules *r, struct box *b, struct err *e)
+{
+    struct box c = *b;
+    for (int d = 0; d < 3; d++) {
+        c.tilt[d] = tilt[d];
+        c.bc[d] = r->bc[d];
+    }
+    if (!box_tilted(&c))
+        return 0;   /* a prism of tilt 0 0 0 is the orthogonal box */
+    if (!r->allow_tilt) {
+        int q = tilt[0] != 0 ? 0 : tilt[1] != 0 ? 1 : 2;
+        return textfile_error_at(t, tilt_line, e, "%s: tilt %s = %.10g: %s simulates "
+                                 "orthogonal boxes only (tilt 0 0 0); a tilted box runs in "
+                                 "type: md", field, (const char *const[]){"xy", "xz", "yz"}[q],
+                                 tilt[q], r->who ? r->who : "this case type");
+    }
+    char why[512];
+    if (box_check_tilt(&c, why, sizeof why) != 0)
+        return textfile_error_at(t, tilt_line, e, "%s: %s", field, why);
+    for (int d = 0; d < 3; d++)
+        b->tilt[d] = tilt[d];
+    return 0;
+}
 
 /* Header line "<count> words..." with the words given: 1 and the count, 0
  * when the words differ, -1 when they match but the count is not an
@@ -324,7 +389,9 @@ int config_read_lammps_data(const char *path, const char *const *elements, int n
     int *vline = NULL;   /* line of each atom's velocity, to find a repeat */
     const int base = p->n_owned;
     long natoms = -1, ntypes = -1;
-    int have_box[3] = {0, 0, 0}, have_tilt = 0;
+    int have_box[3] = {0, 0, 0}, tilt_line = 0;
+    double tilt[3] = {0, 0, 0};
+    b->tilt[0] = b->tilt[1] = b->tilt[2] = 0;
     double masses[PARTICLES_MAX_TYPES] = {0};
     int mass_line[PARTICLES_MAX_TYPES] = {0};
     char names[PARTICLES_MAX_TYPES][16] = {{0}};
@@ -374,10 +441,8 @@ int config_read_lammps_data(const char *path, const char *const *elements, int n
             ntypes = count;
         } else if (ntok == 6 && strcmp(tok[3], "xy") == 0 && strcmp(tok[4], "xz") == 0 &&
                    strcmp(tok[5], "yz") == 0) {
-            /* a triclinic box: the MD box is orthogonal (core/box.h), so
-             * only zero tilt (as LAMMPS writes for a prism of 0 0 0) is
-             * honoured; any other would be silently a different crystal */
-            double tilt[3];
+            /* a triclinic box (core/box.h); checked against the bounds
+             * after the header (they may come later) */
             for (int q = 0; q < 3; q++)
                 if (text_parse_real(tok[q], &tilt[q]) != 0) {
                     rc = textfile_error(&t, e, "xy xz yz: tilt factor %s must be a finite "
@@ -385,19 +450,12 @@ int config_read_lammps_data(const char *path, const char *const *elements, int n
                                         text_excerpt(tok[q], ex));
                     goto done;
                 }
-            if (have_tilt) {
-                rc = textfile_error(&t, e, "a second 'xy xz yz' line");
+            if (tilt_line) {
+                rc = textfile_error(&t, e, "a second 'xy xz yz' line (the first is at line %d)",
+                                    tilt_line);
                 goto done;
             }
-            have_tilt = 1;
-            for (int q = 0; q < 3; q++)
-                if (tilt[q] != 0) {
-                    rc = textfile_error(&t, e, "xy xz yz: tilt %s = %.10g: only orthogonal "
-                                        "boxes are simulated (tilt 0 0 0); the force and "
-                                        "neighbour code has no tilted periodic images",
-                                        tok[3 + q], tilt[q]);
-                    goto done;
-                }
+            tilt_line = t.line;
         } else if (ntok >= 4 && strcmp(tok[ntok - 1], "yz") == 0) {
             rc = textfile_error(&t, e, "unrecognised header line '%s' (a triclinic box is "
                                 "'xy xz yz' after its three tilt factors)",
@@ -451,6 +509,8 @@ int config_read_lammps_data(const char *path, const char *const *elements, int n
             rc = textfile_error(&t, e, "header lacks '%clo %chi'", "xyz"[d], "xyz"[d]);
             goto done;
         }
+    if ((rc = accept_tilt(&t, tilt_line, "xy xz yz", tilt, r, b, e)))
+        goto done;
     long natoms_read = 0;
     int atoms_line = 0, vel_line = 0;
     /* sections; t.buf holds the first keyword line */
@@ -782,12 +842,13 @@ int config_read_extxyz(const char *path, const struct config_rules *rules, struc
         rc = textfile_error(&t, e, "Lattice needs 9 finite decimal numbers");
         goto done;
     }
-    for (int k = 0; k < 9; k++)
-        if (k % 4 != 0 && L[k] != 0) {
-            /* the MD box is orthogonal (core/box.h): a tilted cell would
-             * be simulated as another crystal */
-            rc = textfile_error(&t, e, "Lattice vector %d has %c component %.10g: only "
-                                "orthogonal lattices (diagonal Lattice) are simulated",
+    /* LAMMPS' restricted triclinic cell (core/box.h): a along x, b in the
+     * xy plane; a general cell would need the atoms rotated */
+    for (int k = 1; k <= 5; k += (k == 2 ? 3 : 1))   /* ay az bz: k = 1 2 5 */
+        if (L[k] != 0) {
+            rc = textfile_error(&t, e, "Lattice vector %d has %c component %.10g: the cell "
+                                "must be LAMMPS' restricted triclinic one (a = (lx 0 0), b = "
+                                "(xy ly 0), c = (xz yz lz)); rotate the atoms to it",
                                 k / 3 + 1, "xyz"[k % 3], L[k]);
             goto done;
         }
@@ -809,6 +870,12 @@ int config_read_extxyz(const char *path, const struct config_rules *rules, struc
         if (sscanf(val, "%7s %7s %7s", a[0], a[1], a[2]) == 3)
             for (int d = 0; d < 3; d++)
                 pbc[d] = a[d][0] == 'T' || a[d][0] == 't';
+    }
+    {
+        double tilt[3] = {L[3], L[6], L[7]};   /* xy = b_x, xz = c_x, yz = c_y */
+        b->tilt[0] = b->tilt[1] = b->tilt[2] = 0;
+        if ((rc = accept_tilt(&t, t.line, "Lattice", tilt, r, b, e)))
+            goto done;
     }
     /* Properties: find columns of species, pos, vel/velo, id */
     int col_species = 0, col_pos = 1, col_vel = -1, col_id = -1, col_mom = -1, col_mass = -1;

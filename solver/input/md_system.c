@@ -229,6 +229,14 @@ int md_system_read_split(struct cfg_obj *root, uint64_t seed, const struct md_sy
         for (int d = 0; d < 3; d++)
             rules.bc[d] = b->bc[d];
         rules.max_atoms = info->max_particles;
+        /* only the md engine has tilted periodic images (core/ghost.h);
+         * other case types refuse a tilted file at its tilt line */
+        rules.allow_tilt = split && split->tilt_ok;
+        json_t *type = json_object_get(root->node, "type");
+        char who[96];
+        snprintf(who, sizeof who, "case type %s", json_is_string(type) ? json_string_value(type)
+                                                                         : "md");
+        rules.who = who;
         if (has_data) {
             rc = config_read_lammps_data(path, elements, nelements, &rules, p, b, e);
         } else {

@@ -56,6 +56,9 @@ struct halo;
 struct md_system_split {
     int (*plan)(void *ctx, const struct box *b, struct halo **out);
     void *ctx;
+    int tilt_ok;   /* the caller runs tilted boxes (read from a data or XYZ
+                    * file); without it (and with md_system_read) a tilted
+                    * file is refused at its tilt line */
 };
 
 /* The key max_particles of a section that builds atoms (system, and the

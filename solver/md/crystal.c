@@ -30,7 +30,7 @@ int crystal_energy(struct potential *pot, const struct crystal_spec *c, double a
     }
     double cell[3];
     lattice_cell(&l, cell);
-    struct box b = {{0, 0, 0}, {0, 0, 0}, {BOUNDARY_PERIODIC, BOUNDARY_PERIODIC, BOUNDARY_PERIODIC}};
+    struct box b = {{0, 0, 0}, {0, 0, 0}, {BOUNDARY_PERIODIC, BOUNDARY_PERIODIC, BOUNDARY_PERIODIC}, {0, 0, 0}};
     double s[3] = {1, 1, 1};
     if (eps)
         for (int d = 0; d < 3; d++)

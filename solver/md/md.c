@@ -340,15 +340,12 @@ int md_einstein_frequency(struct md *md, double *omega, struct err *e)
     for (int i = 0; sampler && i < n && ns < MAXS; i += 1 + n / (4 * MAXS)) {
         int ok = 1;
         for (int k = 0; k < ns && ok; k++) {
-            double r2 = 0;
-            for (int d = 0; d < 3; d++) {
-                double dd = p->x[3 * i + d] - p->x[3 * sample[k] + d];
-                if (md->box.bc[d] == BOUNDARY_PERIODIC) {
-                    double L = box_length(&md->box, d);
-                    dd -= L * round(dd / L);
-                }
-                r2 += dd * dd;
-            }
+            double r2 = 0, dd[3];
+            for (int d = 0; d < 3; d++)
+                dd[d] = p->x[3 * i + d] - p->x[3 * sample[k] + d];
+            box_min_image(&md->box, dd);
+            for (int d = 0; d < 3; d++)
+                r2 += dd[d] * dd[d];
             ok = r2 > sep * sep;
         }
         if (ok)

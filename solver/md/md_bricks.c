@@ -15,6 +15,20 @@ int md_bricks_plan(const struct parallel *par, const struct parallel_settings *p
     /* one rank: bricks only when asked for (auto keeps the serial path) */
     if (ps->decomposition == DECOMP_AUTO && par->size == 1)
         return 0;
+    /* the halo exchange cuts the box along x, y and z and ships images by
+     * box lengths: it has no tilted cell (core/box.h) */
+    if (box_tilted(b)) {
+        if (ps->decomposition == DECOMP_BRICKS || ps->grid_given)
+            return cfg_error_at(c, ps->grid_given ? "parallel.grid" : "parallel.decomposition",
+                                "the box is tilted (xy xz yz = %g %g %g): the brick "
+                                "decomposition has orthogonal boxes only; use decomposition: "
+                                "replicated (or auto)", b->tilt[0], b->tilt[1], b->tilt[2]);
+        if (par->rank == 0)
+            fprintf(stderr, "note: the box is tilted (xy xz yz = %g %g %g): replicated data "
+                            "(the brick decomposition has orthogonal boxes only)\n",
+                    b->tilt[0], b->tilt[1], b->tilt[2]);
+        return 0;
+    }
     int grid[3] = {1, 1, 1};
     char why[512];
     if (ps->grid_given) {

@@ -469,6 +469,8 @@ int ckpt_put_box(struct ckpt *c, const char *name, const struct box *b)
     if (!rc) rc = ckpt_put_doubles(c, "lo", b->lo, 3);
     if (!rc) rc = ckpt_put_doubles(c, "hi", b->hi, 3);
     if (!rc) rc = ckpt_put_ints(c, "boundary", bc, 3);
+    /* only a tilted box has the record: orthogonal checkpoints are as before */
+    if (!rc && box_tilted(b)) rc = ckpt_put_doubles(c, "tilt", b->tilt, 3);
     return rc;
 }
 
@@ -476,7 +478,7 @@ int ckpt_get_box(struct ckpt *c, const char *name, struct box *b)
 {
     int rc = ckpt_enter(c, name);
     int bc[3];
-    struct box nb;
+    struct box nb = {0};
     if (!rc) rc = ckpt_get_doubles(c, "lo", nb.lo, 3);
     if (!rc) rc = ckpt_get_doubles(c, "hi", nb.hi, 3);
     if (!rc) rc = ckpt_get_ints(c, "boundary", bc, 3);
@@ -485,6 +487,9 @@ int ckpt_get_box(struct ckpt *c, const char *name, struct box *b)
             rc = fail(c, "boundary differs from the case", "boundary");
         nb.bc[d] = b->bc[d];
     }
+    /* the case's box says whether there is a tilt to read (the case file
+     * is the same at a restart) */
+    if (!rc && box_tilted(b)) rc = ckpt_get_doubles(c, "tilt", nb.tilt, 3);
     if (!rc)
         *b = nb;
     return rc;

@@ -8,7 +8,7 @@
  *        id, type, pe (eV), stress (N x 6: xx yy zz xy xz yz, GPa),
  *        and any extra per-particle fields (structure class, region, ...);
  *        cell/ (h5out_snapshot_cell): lo, hi (3, Å), tilt (xy xz yz, Å;
- *        0 0 0: orthogonal), pbc (3, 1 = periodic), attribute boundary
+ *        0 0 0: orthogonal; the MD box's, core/box.h), pbc (3, 1 = periodic), attribute boundary
  *        (for example "periodic periodic free")
  *   /series/NAME              1-D time series (thermo columns)
  *   /points/NNNNNNNN/         MPM material points (a point cloud like /particles)

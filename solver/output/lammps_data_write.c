@@ -34,6 +34,8 @@ int lammps_data_write(const char *path, const struct particles *p, const struct 
     fprintf(f, "%d atoms\n%d atom types\n\n", p->n_owned, p->ntypes);
     for (int d = 0; d < 3; d++)
         fprintf(f, "%.17g %.17g %clo %chi\n", lo[d], hi[d], "xyz"[d], "xyz"[d]);
+    if (box_tilted(b))   /* LAMMPS' restricted triclinic cell (core/box.h) */
+        fprintf(f, "%.17g %.17g %.17g xy xz yz\n", b->tilt[0], b->tilt[1], b->tilt[2]);
     fprintf(f, "\nMasses\n\n");
     for (int t = 0; t < p->ntypes; t++)
         fprintf(f, "%d %.17g # %s\n", t + 1, p->mass[t], p->type_name[t]);

@@ -8,6 +8,8 @@
  *
  * Along non-periodic axes the bounds are widened to contain every particle
  * (a free boundary's box is only shrink-wrapped at neighbour rebuilds).
+ * A tilted box (core/box.h) adds the line "xy xz yz" after the bounds;
+ * image flags count its edges, as LAMMPS' write_data writes them.
  */
 #ifndef CASCADE_LAMMPS_DATA_WRITE_H
 #define CASCADE_LAMMPS_DATA_WRITE_H

@@ -143,7 +143,9 @@ int run_write_final_state(struct run *r, const struct particles *p, const struct
                           long step, double time, struct err *e)
 {
     const char *name = r->out.final_state;
-    if (!name)
+    /* replicated data: every rank holds the state, rank 0 writes it (two
+     * ranks renaming one temporary file failed) */
+    if (!name || r->opt.rank != 0)
         return 0;
     char path[4096];
     run_path(r, name, path, sizeof path);
@@ -230,8 +232,7 @@ int run_snapshot_cell(struct run *r, hid_t g, const struct box *b, struct err *e
              boundary_names[b->bc[1]], boundary_names[b->bc[2]]);
     for (int d = 0; d < 3; d++)
         pbc[d] = b->bc[d] == BOUNDARY_PERIODIC;
-    /* the MD box is orthogonal (core/box.h): tilt 0 0 0 */
-    return h5out_snapshot_cell(&r->h5, g, b->lo, b->hi, NULL, pbc, boundary, e);
+    return h5out_snapshot_cell(&r->h5, g, b->lo, b->hi, b->tilt, pbc, boundary, e);
 }
 
 int run_snapshot_particles(struct run *r, hid_t g, const struct particles *p,

@@ -18,12 +18,13 @@ int xyz_write_frame(FILE *out, const struct particles *p, const struct box *b, l
     const double t_ase = sqrt(UNITS_MVV2E);
     fprintf(out, "%d\n", p->n_owned);
     fprintf(out,
-            "Lattice=\"%.10g 0 0 0 %.10g 0 0 0 %.10g\" Origin=\"%.10g %.10g %.10g\" "
+            "Lattice=\"%.10g 0 0 %.10g %.10g 0 %.10g %.10g %.10g\" Origin=\"%.10g %.10g %.10g\" "
             "Properties=species:S:1:pos:R:3:velo:R:3:forces:R:3:id:I:1:masses:R:1:momenta:R:3"
             "%s%s%s%s%s Time=%.10g Step=%ld pbc=\"%c %c %c\" "
             "units=\"pos:Å velo:Å/ps forces:eV/Å masses:amu momenta:amu*Å/(Å*sqrt(amu/eV))%s%s "
             "Time:ps\" program=\"cascade-solver %s (git %s)\"\n",
-            box_length(b, 0), box_length(b, 1), box_length(b, 2), b->lo[0], b->lo[1], b->lo[2],
+            box_length(b, 0), b->tilt[0], box_length(b, 1), b->tilt[1], b->tilt[2],
+            box_length(b, 2), b->lo[0], b->lo[1], b->lo[2],
             x->pe ? ":energies:R:1" : "", x->stress ? ":stress:R:6" : "", extra ? ":" : "",
             extra ? x->int_name : "", extra ? ":I:1" : "", time, step,
             b->bc[0] == BOUNDARY_PERIODIC ? 'T' : 'F', b->bc[1] == BOUNDARY_PERIODIC ? 'T' : 'F',

@@ -1,6 +1,7 @@
 /*
  * xyz_write: extended XYZ frames: a count line, a comment line with
- * Lattice, Origin, Properties, Time, Step and pbc, then one line per
+ * Lattice (the three cell vectors a b c, LAMMPS' restricted triclinic
+ * cell of core/box.h), Origin, Properties, Time, Step and pbc, then one line per
  * particle.  The columns carry the names the readers of OVITO and ASE map
  * to their own properties without a column mapping:
  *

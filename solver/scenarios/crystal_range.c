@@ -16,7 +16,7 @@ int crystal_check_range(struct cfg_obj *root, struct cfg_obj *potential_section,
     struct lattice l = {spec->style, a_min, {0, 0, 0}, {{0}}};
     double cell[3];
     lattice_cell(&l, cell);
-    struct box b = {{0, 0, 0}, {0, 0, 0}, {BOUNDARY_PERIODIC, BOUNDARY_PERIODIC, BOUNDARY_PERIODIC}};
+    struct box b = {{0, 0, 0}, {0, 0, 0}, {BOUNDARY_PERIODIC, BOUNDARY_PERIODIC, BOUNDARY_PERIODIC}, {0, 0, 0}};
     for (int d = 0; d < 3; d++)
         b.hi[d] = (double)spec->cells * cell[d];
     long n = spec->cells * spec->cells * spec->cells * (long)lattice_cell_sites(&l);

@@ -47,7 +47,7 @@ int crystal_pressure_md(struct potential *pot, const struct crystal_spec *c, dou
     }
     double cell[3];
     lattice_cell(&l, cell);
-    struct box b = {{0, 0, 0}, {0, 0, 0}, {BOUNDARY_PERIODIC, BOUNDARY_PERIODIC, BOUNDARY_PERIODIC}};
+    struct box b = {{0, 0, 0}, {0, 0, 0}, {BOUNDARY_PERIODIC, BOUNDARY_PERIODIC, BOUNDARY_PERIODIC}, {0, 0, 0}};
     for (int d = 0; d < 3; d++) {
         double s = 1.0 + (eps ? eps[d] : 0.0);
         b.hi[d] = nc[d] * cell[d] * s;

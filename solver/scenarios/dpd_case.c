@@ -75,7 +75,7 @@ static int dpd_bricks(const struct dpd_input *in, const struct box *box, struct 
 static int dpd_case_read(struct cfg_obj *root, const struct case_common *common, void **state)
 {
     struct particles *p = NULL;
-    struct box box;
+    struct box box = {0};
     struct md_system_info info;
     struct dpd_input in;
     int rc = md_system_read(root, common->seed, &p, &box, &info);

@@ -129,7 +129,7 @@ struct impact_case {
 static int impact_read(struct cfg_obj *root, const struct case_common *common, void **state)
 {
     struct particles *p = NULL;
-    struct box box;
+    struct box box = {0};
     struct md_system_info info;
     struct dpd_input in;
     struct dpd_impact_keys k;

@@ -391,7 +391,7 @@ static int impact_read(struct cfg_obj *root, const struct case_common *common, v
                        int concurrent)
 {
     struct particles *p = NULL;
-    struct box box;
+    struct box box = {0};
     struct md_system_info info;
     struct dpd_input in;
     struct dpd_mpm_grid_keys gk;

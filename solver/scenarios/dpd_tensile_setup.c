@@ -30,7 +30,7 @@ int dpd_tensile_read(struct cfg_obj *root, const struct case_common *common, str
                      struct dpd_tensile *t)
 {
     struct particles *p = NULL;
-    struct box box;
+    struct box box = {0};
     struct md_system_info info;
     struct dpd_input in;
     memset(t, 0, sizeof *t);

@@ -261,7 +261,7 @@ static int build(struct impact *c, const struct impact_spec *s, struct potential
         p->mask[i] |= IMPACT_GROUP_CLUSTER;
     }
     cluster_cut_free(&cut);
-    struct box box;
+    struct box box = {0};
     for (int d = 0; d < 3; d++) {
         box.lo[d] = c->lo[d];
         box.hi[d] = d == 2 ? cz + 2 * c->cluster_radius : c->hi[d];

@@ -35,7 +35,7 @@ struct structure_case {
 static int structure_read(struct cfg_obj *root, const struct case_common *common, void **state)
 {
     struct particles *p = NULL;
-    struct box box;
+    struct box box = {0};
     struct md_system_info info;
     int rc = md_system_read(root, common->seed, &p, &box, &info);
     if (rc)

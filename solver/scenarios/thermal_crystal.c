@@ -24,7 +24,7 @@ int thermal_crystal_md(struct md *md, struct potential *pot, const struct therma
     }
     double cell[3];
     lattice_cell(&l, cell);
-    struct box b;
+    struct box b = {0};
     for (int d = 0; d < 3; d++) {
         double f = scale ? scale[d] : 1.0;
         b.lo[d] = 0;

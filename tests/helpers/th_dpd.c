@@ -27,7 +27,7 @@ struct dpd_settings th_dpd_settings(enum dpd_variant v, double gamma, double T)
 void th_dpd(struct dpd *d, long n, double a, int periodic, double displace,
             const struct dpd_settings *set, double dt, int nthreads, uint64_t seed)
 {
-    struct box box;
+    struct box box = {0};
     struct particles *p = th_crystal(LATTICE_FCC, a, n, "Cu", displace, 7, &box);
     if (!periodic)
         for (int k = 0; k < 3; k++)
