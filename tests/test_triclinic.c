@@ -23,6 +23,7 @@
 #include "core/velocity.h"
 #include "helpers/th.h"
 #include "helpers/th_bricks.h"
+#include "helpers/th_restart.h"
 #include "input/config_read.h"
 #include "output/lammps_data_write.h"
 
@@ -472,4 +473,113 @@ Test(triclinic, structure_case_refuses_a_tilted_file)
     snprintf(want, sizeof want, "%s:9: xy xz yz: tilt xy = 7.23: case type structure simulates "
              "orthogonal boxes only (tilt 0 0 0)", data);
     cr_assert(strstr(out, want), "%s\nwant: %s", out, want);
+}
+
+/* A tilted run killed and restarted from its checkpoint (which stores the
+ * tilt) continues bitwise (tests/test_restart.c). */
+Test(triclinic, restart_continues_bitwise, .timeout = 300)
+{
+    const char *data = write_tilted_data("rs.data");
+    char yaml[2048];
+    snprintf(yaml, sizeof yaml,
+             "seed: 3\nsystem: {read_data: %s, elements: [Cu]}\n"
+             "potential: {style: eam/alloy, file: Cu_mishin1.eam.alloy}\n"
+             "md: {steps: 120, timestep: 0.002, thermostat: {style: langevin, temperature: 500, "
+             "tau: 0.1}}\n"
+             "output: {thermo_every: 20, snapshot_every: 60, checkpoint_every: 40}\n",
+             data);
+    static const char *const fields[] = {"position", "velocity", "force", NULL};
+    const char *const kills[] = {"70", NULL};
+    th_kill_and_restart(yaml, kills, 1, "particles", fields);
+}
+
+/* What other tools read: fields.h5 cell/tilt (the file's, bitwise), the
+ * XDMF outline's far corner lo + a + b + c, the extended XYZ Lattice as
+ * ASE reads it (cell rows a, b, c; Debian's python3-ase), and the XYZ
+ * final state read back by Cascade. */
+static const char *const ase_cell =
+    "import sys\nimport ase.io\n"
+    "a = ase.io.read(sys.argv[1], index=-1)\n"
+    "print('cell', *['%.17g' % c for c in a.cell.array.ravel()])\n"
+    "print('volume %.17g' % a.get_volume())\n"
+    "print('pbc', *[int(b) for b in a.pbc])\n";
+
+Test(triclinic, fields_h5_xdmf_and_xyz_carry_the_tilt, .timeout = 120)
+{
+    const char *data = write_tilted_data("out.data");
+    char yaml[2048], dir[1200], out[8192];
+    snprintf(yaml, sizeof yaml,
+             "system: {read_data: %s, elements: [Cu]}\n"
+             "potential: {style: eam/alloy, file: Cu_mishin1.eam.alloy}\n"
+             "md: {steps: 2}\noutput: {xyz_every: 1, snapshot_every: 2, final_state: end.xyz}\n",
+             data);
+    const char *cpath = th_write_temp(3, "out.yaml", yaml);
+    snprintf(dir, sizeof dir, "%s/out", th_temp_dir());
+    thb_must_run(cpath, 0, dir, NULL);
+    const double L = 2 * 3.615, lx = 2 * L, ly = 2 * L, lz = L;
+
+    long n;
+    double *tilt = thb_read_h5(dir, "/particles/00000000/cell/tilt", H5T_NATIVE_DOUBLE,
+                               sizeof(double), &n);
+    double *lo = thb_read_h5(dir, "/particles/00000000/cell/lo", H5T_NATIVE_DOUBLE,
+                             sizeof(double), &n);
+    for (int d = 0; d < 3; d++)
+        cr_assert_eq(tilt[d], L, "cell/tilt %d: %.17g", d, tilt[d]);
+
+    /* XDMF: corner 7 of the cell_0 polyline */
+    char xdmf[65536];
+    thb_read_text(dir, "fields.xdmf", xdmf, sizeof xdmf);
+    const char *g = strstr(xdmf, "<Grid Name=\"cell_0\"");
+    cr_assert_not_null(g, "no cell_0 grid");
+    g = strstr(g, "<Geometry");
+    cr_assert_not_null(g);
+    g = strstr(g, "Format=\"XML\">");
+    cr_assert_not_null(g);
+    g += strlen("Format=\"XML\">");
+    double c[24];
+    for (int k = 0; k < 24; k++) {
+        char *end;
+        c[k] = strtod(g, &end);
+        cr_assert(end != g, "corner %d", k / 3);
+        g = end;
+    }
+    const double far[3] = {lo[0] + lx + L + L, lo[1] + ly + L, lo[2] + lz};
+    for (int d = 0; d < 3; d++)
+        cr_assert_lt(fabs(c[21 + d] - far[d]), 1e-12, "outline corner lo + a + b + c %c: %.17g",
+                     "xyz"[d], c[21 + d]);
+    free(tilt);
+    free(lo);
+
+    /* ASE: cell rows a, b, c */
+    char xyz[1300];
+    snprintf(xyz, sizeof xyz, "%s/snapshots.xyz", dir);
+    const char *script = th_write_temp(4, "cell.py", ase_cell);
+    const char *argv[] = {"/usr/bin/python3", script, xyz, NULL};
+    int rc = th_run(argv, out, sizeof out);
+    cr_assert_eq(rc, 0, "ase could not read %s (exit %d): %s", xyz, rc, out);
+    double cell[9], vol;
+    int pbc[3];
+    cr_assert_eq(sscanf(out, "cell %lf %lf %lf %lf %lf %lf %lf %lf %lf\nvolume %lf\npbc %d %d %d",
+                        &cell[0], &cell[1], &cell[2], &cell[3], &cell[4], &cell[5], &cell[6],
+                        &cell[7], &cell[8], &vol, &pbc[0], &pbc[1], &pbc[2]),
+                 13, "%s", out);
+    const double want[9] = {lx, 0, 0, L, ly, 0, L, L, lz};
+    for (int k = 0; k < 9; k++)
+        cr_assert_lt(fabs(cell[k] - want[k]), 1e-9 * lx, "ASE cell[%d][%d] %.12g, want %.12g",
+                     k / 3, k % 3, cell[k], want[k]);
+    cr_assert_lt(fabs(vol - lx * ly * lz), 1e-9 * vol, "ASE volume %.12g", vol);
+    cr_assert(pbc[0] && pbc[1] && pbc[2]);
+
+    /* the XYZ final state read back */
+    char end[1300];
+    snprintf(end, sizeof end, "%s/end.xyz", dir);
+    struct particles *p = particles_create(8);
+    struct box b = {0};
+    int bpbc[3];
+    struct err e = {0};
+    cr_assert_eq(config_read_extxyz(end, NULL, p, &b, bpbc, &e), 0, "%s", e.msg);
+    cr_assert_eq(p->n_owned, 128);
+    for (int d = 0; d < 3; d++)
+        cr_assert_lt(fabs(b.tilt[d] - L), 1e-9 * L, "end.xyz tilt %d: %.12g", d, b.tilt[d]);
+    particles_destroy(&p);
 }

@@ -80,6 +80,14 @@ int box_check_tilt(const struct box *b, char *why, size_t len)
     static const int against[3] = {0, 0, 1};
     if (!box_tilted(b))
         return 0;
+    for (int d = 0; d < 3; d++) {
+        double h = box_height(b, d);
+        if (!(h > 0 && isfinite(h) && box_length(b, d) > 0 && isfinite(box_length(b, d)))) {
+            snprintf(why, len, "the tilted cell is degenerate: %g Å high across its %c faces",
+                     h, "abc"[d]);
+            return -1;
+        }
+    }
     for (int q = 0; q < 3; q++) {
         double l = box_length(b, against[q]);
         if (!(fabs(b->tilt[q]) <= 0.5 * l)) {
