@@ -123,6 +123,7 @@ run_bench bench_cna.sh
 run_bench bench_checkpoint.sh
 run_bench bench_slurm.sh
 run_bench bench_md_mpi.sh
+run_bench bench_mpm_mpi.sh
 
 # bench.json: the run's circumstances and every BENCH line, one a line
 load_end=$(bench_load)

@@ -34,7 +34,10 @@
 #include "engine/models.h"
 
 #include <math.h>
+#include <stdlib.h>
 #include <string.h>
+
+#include "mpm/mpm_bricks.h"
 
 /* the nodes are stored as doubles */
 _Static_assert(sizeof(struct mpm_node) == 8 * sizeof(double), "mpm_node is 8 doubles");
@@ -68,13 +71,16 @@ static int mpm_model_force(void *self, struct sim *s, struct err *e)
 {
     struct mpm_model *mm = self;
     (void)s;
-    return mpm_step_map(mm->m, e);
+    if (mm->sync_rc)
+        return err_set(e, mm->sync_rc, "mpm: no memory to reorder the points after a checkpoint");
+    return mm->bricks ? mpm_bricks_step_map(mm->bricks, mm->m, e) : mpm_step_map(mm->m, e);
 }
 
 static int mpm_model_integrate(void *self, struct sim *s, struct err *e)
 {
     struct mpm_model *mm = self;
-    return mpm_step_update(mm->m, s->dt, e);
+    return mm->bricks ? mpm_bricks_step_update(mm->bricks, mm->m, s->dt, e)
+                      : mpm_step_update(mm->m, s->dt, e);
 }
 
 /* Energy is conserved only without driving or damping: no rigid body, load
@@ -166,9 +172,43 @@ static int get_points(struct ckpt *ck, struct mpm_points *p, int nbody)
     return rc;
 }
 
+/* Bricks: every rank reads the whole set of the checkpoint (written on any
+ * rank count, in id order) and keeps the points of its brick. */
+static int get_points_bricks(struct ckpt *ck, struct mpm_model *mm, struct err *e)
+{
+    struct mpm *m = mm->m;
+    long n = 0, nstate = 0, has_fext = 0;
+    int rc = ckpt_enter(ck, "model/mpm/points");
+    if (!rc) rc = ckpt_get_long(ck, "n", &n);
+    if (!rc) rc = ckpt_get_long(ck, "nstate", &nstate);
+    if (!rc) rc = ckpt_get_long(ck, "has_fext", &has_fext);
+    if (!rc && (nstate != m->pts.nstate || (has_fext != 0) != (m->pts.fext != NULL) || n < 0))
+        rc = err_set(ck->e, ERR_INPUT,
+                     "%s: checkpoint has %ld material points with %ld state variables%s, the "
+                     "case's points have %d%s",
+                     ck->path, n, nstate, has_fext ? " and loads" : "", m->pts.nstate,
+                     m->pts.fext ? " and loads" : "");
+    struct mpm_points all;
+    mpm_points_init(&all, m->pts.nstate, e);
+    if (!rc) rc = mpm_points_reserve(&all, n > 0 ? n : 1, e);
+    if (!rc && has_fext) rc = mpm_points_enable_fext(&all, e);
+    if (!rc) {
+        all.n = n;
+        rc = get_points(ck, &all, m->nbody);
+    }
+    double np = (double)n;
+    if (!rc) rc = mpm_bricks_keep_owned(mm->bricks, m, &all, e);
+    mpm_points_free(&all);
+    rc = mpm_bricks_agree(mm->bricks, rc, e);
+    if (!rc && mpm_bricks_npoints(mm->bricks, m) != (long)np)
+        rc = err_set(e, ERR_INPUT, "%s: the ranks kept %ld of the checkpoint's %ld points",
+                     ck->path, mpm_bricks_npoints(mm->bricks, m), n);
+    return rc;
+}
+
 static int mpm_model_checkpoint_write(void *self, struct ckpt *ck, struct err *e)
 {
-    const struct mpm_model *mm = self;
+    struct mpm_model *mm = self;
     const struct mpm *m = mm->m;
     (void)e;
     double react[3 * MPM_MAX_BODIES];
@@ -183,11 +223,17 @@ static int mpm_model_checkpoint_write(void *self, struct ckpt *ck, struct err *e
     if (!rc) rc = ckpt_put_double(ck, "strain_before", m->strain_before);
     if (!rc) rc = ckpt_put_double(ck, "fext_scale", m->fext_scale);
     if (!rc) rc = ckpt_put_doubles(ck, "reaction", react, 3L * m->nbody);
-    if (!rc) rc = ckpt_put_long(ck, "fused_ready", m->fused_ready);
-    if (!rc) rc = ckpt_put_long(ck, "grid_fresh", m->grid_fresh);
-    if (!rc) rc = put_points(ck, &m->pts);
+    /* bricks: the points of every rank in id order; the nodes are not
+     * stored (each rank maps afresh after a checkpoint, checkpoint_sync) */
+    int bricks = mm->bricks != NULL;
+    if (!rc) rc = ckpt_put_long(ck, "fused_ready", bricks ? 0 : m->fused_ready);
+    if (!rc) rc = ckpt_put_long(ck, "grid_fresh", bricks ? 0 : m->grid_fresh);
+    if (!rc) rc = put_points(ck, bricks ? &mm->gathered : &m->pts);
+    if (bricks)
+        mpm_points_free(&mm->gathered);
     /* the next step's s1-s3, summed by the fused pass in its own order */
-    if (!rc && (m->fused_ready || m->grid_fresh) && !(rc = ckpt_enter(ck, "model/mpm/grid"))) {
+    if (!rc && !bricks && (m->fused_ready || m->grid_fresh) &&
+        !(rc = ckpt_enter(ck, "model/mpm/grid"))) {
         rc = ckpt_put_long(ck, "nnodes", m->grid.nnodes);
         if (!rc)
             rc = ckpt_put_doubles(ck, "node", &m->grid.node[0].m, 8 * m->grid.nnodes);
@@ -212,7 +258,12 @@ static int mpm_model_checkpoint_read(void *self, struct ckpt *ck, struct err *e)
     if (!rc) rc = ckpt_get_doubles(ck, "reaction", react, 3L * m->nbody);
     if (!rc) rc = ckpt_get_long(ck, "fused_ready", &fused);
     if (!rc) rc = ckpt_get_long(ck, "grid_fresh", &fresh);
-    if (!rc) rc = get_points(ck, &m->pts, m->nbody);
+    if (!rc && mm->bricks)
+        rc = get_points_bricks(ck, mm, e);
+    else if (!rc)
+        rc = get_points(ck, &m->pts, m->nbody);
+    if (!rc && mm->bricks && (fused || fresh))   /* a serial run's stored mapping: remap */
+        fused = fresh = 0;
     if (!rc && (fused || fresh) && !(rc = ckpt_enter(ck, "model/mpm/grid"))) {
         long nn = 0;
         rc = ckpt_get_long(ck, "nnodes", &nn);
@@ -230,6 +281,8 @@ static int mpm_model_checkpoint_read(void *self, struct ckpt *ck, struct err *e)
     m->fused_ready = (int)fused;
     m->grid_fresh = (int)fresh;
     m->bins[0].blk_step = -1;   /* recomputed from the positions (checkpoint_sync) */
+    if (mm->bricks)   /* every rank's energies and largest speed, as before the write */
+        return mpm_bricks_agree(mm->bricks, 0, e);
     return 0;
 }
 
@@ -239,6 +292,29 @@ static void mpm_model_checkpoint_sync(void *self)
 {
     struct mpm_model *mm = self;
     mm->m->bins[0].blk_step = -1;
+    if (mm->bricks) {   /* the restarted run maps afresh: so does the continuing one */
+        if (mm->m->fused_ready) {
+            struct mpm_grid *g = &mm->m->grid;
+            struct mpm_node *t = g->node;   /* back to this step's velocities (snapshots) */
+            g->node = g->node_next;
+            g->node_next = t;
+        }
+        mm->m->fused_ready = mm->m->grid_fresh = 0;
+        /* the order a restart reads them in; an error (out of memory) stops
+         * the next step */
+        struct err e = {0};
+        mm->sync_rc = mpm_bricks_sort_by_id(mm->bricks, mm->m, &e);
+    }
+}
+
+/* Bricks: the points of every rank, gathered on rank 0 in id order. */
+static int mpm_model_checkpoint_collect(void *self, struct err *e)
+{
+    struct mpm_model *mm = self;
+    if (!mm->bricks)
+        return 0;
+    mpm_points_free(&mm->gathered);
+    return mpm_bricks_gather_points(mm->bricks, &mm->m->pts, &mm->gathered, e);
 }
 
 const struct sim_model_ops sim_model_mpm = {
@@ -251,4 +327,5 @@ const struct sim_model_ops sim_model_mpm = {
     .checkpoint_write = mpm_model_checkpoint_write,
     .checkpoint_read = mpm_model_checkpoint_read,
     .checkpoint_sync = mpm_model_checkpoint_sync,
+    .checkpoint_collect = mpm_model_checkpoint_collect,
 };

@@ -57,6 +57,12 @@ struct mpm_model {
     int adaptive;               /* recompute the CFL step before every step */
     double load_ramp;           /* ps: loads reach full value after this (0: at once) */
     double max_energy_change;   /* relative; closed systems only (0: no check) */
+    /* bricks (mpm/mpm_bricks.h; borrowed from the case), or NULL: the
+     * stages exchange halo nodes and migrate points, checkpoints hold the
+     * points of every rank gathered in id order */
+    struct mpm_bricks *bricks;
+    struct mpm_points gathered;    /* rank 0, between checkpoint_collect and _write */
+    int sync_rc;                   /* bricks: the reorder of checkpoint_sync failed */
 };
 extern const struct sim_model_ops sim_model_mpm;
 /* The time step the model takes from its current state (ps). */

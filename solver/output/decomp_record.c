@@ -5,6 +5,8 @@
 #include <stdio.h>
 #include <stdlib.h>
 
+#include "core/parallel.h"
+
 /* Peak resident memory of this process (kB; VmHWM of /proc/self/status,
  * 0 where there is none). */
 static long peak_rss_kb(void)
@@ -22,11 +24,17 @@ static long peak_rss_kb(void)
 
 void decomp_record_write(struct run *run, const struct halo *h, const struct particles *p)
 {
-    int n = halo_nranks(h);
+    decomp_record_write_counts(run, h->dc.par, h->dc.grid, p->n_owned);
+}
+
+void decomp_record_write_counts(struct run *run, const struct parallel *par, const int grid[3],
+                                long owned)
+{
+    int n = par ? par->size : 1;
     long *counts = malloc((size_t)n * sizeof *counts);
     if (!counts)
         return;
-    halo_counts(h, p, counts);
+    parallel_allgather_long(par, owned, counts);
     json_t *per = json_array();
     long max = 0, sum = 0;
     for (int r = 0; r < n; r++) {
@@ -34,19 +42,18 @@ void decomp_record_write(struct run *run, const struct halo *h, const struct par
         max = counts[r] > max ? counts[r] : max;
         sum += counts[r];
     }
-    halo_allgather_long(h, peak_rss_kb(), counts);
+    parallel_allgather_long(par, peak_rss_kb(), counts);
     json_t *rss = json_array();
     for (int r = 0; r < n; r++)
         json_array_append_new(rss, json_real((double)counts[r] / 1024.0));
     free(counts);
     double mean = (double)sum / n;
-    json_t *par = json_object();
-    json_object_set_new(par, "decomposition", json_string("bricks"));
-    json_object_set_new(par, "ranks", json_integer(n));
-    json_object_set_new(par, "grid", json_pack("[iii]", h->dc.grid[0], h->dc.grid[1],
-                                               h->dc.grid[2]));
-    json_object_set_new(par, "particles_per_rank", per);
-    json_object_set_new(par, "imbalance_max_over_mean", json_real(mean > 0 ? max / mean : 1.0));
-    json_object_set_new(par, "peak_rss_mib_per_rank", rss);
-    json_object_set_new(run->result.root, "parallel", par);
+    json_t *rec = json_object();
+    json_object_set_new(rec, "decomposition", json_string("bricks"));
+    json_object_set_new(rec, "ranks", json_integer(n));
+    json_object_set_new(rec, "grid", json_pack("[iii]", grid[0], grid[1], grid[2]));
+    json_object_set_new(rec, "particles_per_rank", per);
+    json_object_set_new(rec, "imbalance_max_over_mean", json_real(mean > 0 ? max / mean : 1.0));
+    json_object_set_new(rec, "peak_rss_mib_per_rank", rss);
+    json_object_set_new(run->result.root, "parallel", rec);
 }

@@ -1,6 +1,6 @@
 /*
  * decomp_record: the `parallel` record of result.json for a run on bricks
- * (MD through md_output_decomposition, DPD directly): ranks, grid, owned particles per rank, their
+ * (MD through md_output_decomposition, DPD and MPM directly): ranks, grid, owned particles per rank, their
  * max/mean imbalance and the peak resident memory of every rank.
  * Collective: every rank calls it, rank 0's result is written.
  */
@@ -11,5 +11,10 @@
 #include "output/run.h"
 
 void decomp_record_write(struct run *run, const struct halo *h, const struct particles *p);
+
+/* The same for any particle set on a grid of bricks: `owned` this rank's
+ * particles (the MPM's material points). */
+void decomp_record_write_counts(struct run *run, const struct parallel *par, const int grid[3],
+                                long owned);
 
 #endif

@@ -10,6 +10,7 @@
 #include <string.h>
 
 #include "core/units.h"
+#include "mpm/mpm_bricks.h"
 #include "mpm/mpm_hgrid.h"
 #include "scenarios/mpm_case.h"
 #include "util/mem.h"
@@ -30,6 +31,13 @@ long mpm_probe_means(const struct mpm_case *c, int k, double stress[6], double d
         for (int a = 0; a < 3; a++)
             u[a] += p->x[3 * i + a] - p->x0[3 * i + a];
         cnt++;
+    }
+    if (c->bricks) {   /* the points of every rank */
+        double all[10] = {s[0], s[1], s[2], s[3], s[4], s[5], u[0], u[1], u[2], (double)cnt};
+        mpm_bricks_sum(c->bricks, all, 10);
+        memcpy(s, all, sizeof s);
+        memcpy(u, all + 6, sizeof u);
+        cnt = (long)all[9];
     }
     for (int a = 0; a < 6; a++)
         stress[a] = cnt ? s[a] / cnt : 0.0;
@@ -283,7 +291,8 @@ static int grid_snapshot(struct mpm_output *o, struct run *run, struct mpm_case 
     /* after a step the nodes hold the updated velocities and accelerations
      * (s5), or, when mpm_step fused them, the fresh mapping of the next step */
     int fresh = m->step == 0 || m->grid_fresh;
-    if (m->step == 0) {   /* nothing mapped yet: map the initial state (s1-s3) */
+    if (m->step == 0 && !c->bricks) {   /* nothing mapped yet: map the initial state (s1-s3);
+                                           bricks: mapped and gathered by the caller */
         int rc = mpm_locate_particles(m, e);
         if (rc)
             return rc;
@@ -334,8 +343,57 @@ static int grid_snapshot(struct mpm_output *o, struct run *run, struct mpm_case 
     return rc;
 }
 
+/* Bricks: the points of every rank (id order) and the owned nodes of every
+ * rank, gathered on rank 0 into the serial layout, which writes them with
+ * the serial code (the same datasets as a serial run; the points in id
+ * order).  Collective. */
+static int bricks_snapshot(struct mpm_output *o, struct run *run, struct mpm_case *c,
+                           struct err *e)
+{
+    struct mpm *m = &c->m;
+    struct mpm_bricks *b = c->bricks;
+    int rc = 0, root = mpm_bricks_rank(b) == 0;
+    if (c->output_grid && m->step == 0)   /* the initial mapping, as a serial snapshot */
+        rc = mpm_bricks_map_initial(b, m, e);
+    struct mpm_points all;
+    if (!rc)
+        rc = mpm_bricks_gather_points(b, &m->pts, &all, e);
+    else
+        return rc;
+    struct mpm_grid full;
+    memset(&full, 0, sizeof full);
+    if (!rc && c->output_grid) {
+        int r0 = 0;
+        if (root) {
+            long ncell[3] = {b->ncell[0], b->ncell[1], b->ncell[2]};
+            r0 = mpm_grid_init_uniform(&full, m->grid.origin, m->grid.h, ncell, m->grid.shape, e);
+        }
+        rc = mpm_bricks_agree(b, r0, e);
+        if (!rc)
+            rc = mpm_bricks_gather_nodes(b, &m->grid, &full, e);
+    }
+    if (!rc && root && run->h5_open) {
+        /* the serial layout in place of this rank's for the writers */
+        struct mpm_points mine = m->pts;
+        struct mpm_grid patch = m->grid;
+        m->pts = all;
+        if (c->output_grid)
+            m->grid = full;
+        rc = points_snapshot(o, run, c, e);
+        if (!rc && c->output_grid)
+            rc = grid_snapshot(o, run, c, e);
+        m->pts = mine;
+        m->grid = patch;
+    }
+    mpm_points_free(&all);
+    mpm_grid_free(&full);
+    return rc;
+}
+
 int mpm_output_snapshot(struct mpm_output *o, struct run *run, struct mpm_case *c, struct err *e)
 {
+    if (c->bricks)
+        return bricks_snapshot(o, run, c, e);
     if (!run->h5_open)
         return 0;
     int rc = points_snapshot(o, run, c, e);

@@ -13,6 +13,8 @@
 #include <string.h>
 
 #include "core/units.h"
+#include "mpm/mpm_bricks.h"
+#include "output/decomp_record.h"
 #include "scenarios/mpm_case.h"
 
 static int mpm_type_read(struct cfg_obj *root, const struct case_common *common, void **state)
@@ -71,7 +73,7 @@ static int mpm_case_output(void *state, struct sim *s, unsigned due, struct err 
     if (due & SIM_DUE_THERMO) {
         struct mpm_totals t = c->t0;
         if (s->step > 0)
-            mpm_totals(&c->m, &t);
+            mpm_bricks_totals(c->bricks, &c->m, &t);   /* over all ranks on bricks */
         rc = mpm_output_thermo(&c->out, s->run, c, s->dt, &t, e);
     }
     if (!rc && (due & SIM_DUE_SNAPSHOT))
@@ -93,10 +95,12 @@ static int mpm_case_report(void *state, struct sim *s, int run_rc, struct err *e
     double e0 = t0.kinetic + t0.strain;
     /* metrics, in the case's units */
     struct mpm_totals t;
-    mpm_totals(m, &t);
+    mpm_bricks_totals(c->bricks, m, &t);
     struct result *res = &s->run->result;
-    result_metric(res, "points", (double)m->pts.n, "1");
-    result_metric(res, "nodes", (double)m->grid.nnodes, "1");
+    /* bricks: the counts of the serial grid and of all points */
+    result_metric(res, "points", (double)c->npoints_total, "1");
+    result_metric(res, "nodes", c->bricks ? (double)c->bricks->serial_nodes
+                                          : (double)m->grid.nnodes, "1");
     result_metric(res, "steps_done", (double)m->step, "1");
     result_metric(res, "time", m->time / u->time, u->time_name);
     result_metric(res, "timestep", c->dt_first / u->time, u->time_name);
@@ -127,6 +131,7 @@ static int mpm_case_report(void *state, struct sim *s, int run_rc, struct err *e
         pscale += m->pts.mass[i] * sqrt(m->pts.v[3 * i] * m->pts.v[3 * i] +
                                          m->pts.v[3 * i + 1] * m->pts.v[3 * i + 1] +
                                          m->pts.v[3 * i + 2] * m->pts.v[3 * i + 2]);
+    mpm_bricks_sum(c->bricks, &pscale, 1);
     for (int d = 0; d < 3; d++)
         dp += (t.momentum[d] - t0.momentum[d]) * (t.momentum[d] - t0.momentum[d]);
     result_metric(res, "momentum_change", pscale > 0 ? sqrt(dp) / pscale : sqrt(dp), "1");
@@ -140,6 +145,7 @@ static int mpm_case_report(void *state, struct sim *s, int run_rc, struct err *e
                     sg[3] * sg[3] + sg[4] * sg[4] + sg[5] * sg[5];
         smax = fmax(smax, sqrt(3 * j2));
     }
+    mpm_bricks_max(c->bricks, &smax, 1);
     result_metric(res, "von_mises_max", smax / u->stress, u->stress_name);
     for (int k = 0; k < c->nreport; k++) {
         char name[48];
@@ -159,6 +165,10 @@ static int mpm_case_report(void *state, struct sim *s, int run_rc, struct err *e
             for (int d = 0; d < 3; d++)
                 pb[d] += m->pts.mass[i] * m->pts.v[3 * i + d];
         }
+        double sb[4] = {mb, pb[0], pb[1], pb[2]};
+        mpm_bricks_sum(c->bricks, sb, 4);
+        mb = sb[0];
+        memcpy(pb, sb + 1, sizeof pb);
         for (int d = 0; d < 3; d++) {
             char name[64];
             snprintf(name, sizeof name, "%s_velocity_%c", m->body[b].name, "xyz"[d]);
@@ -185,7 +195,11 @@ static int mpm_case_report(void *state, struct sim *s, int run_rc, struct err *e
     }
     double bytes = mpm_points_bytes_per_point(&m->pts) * (double)m->pts.n +
                    mpm_grid_bytes(&m->grid);
-    result_metric(res, "model_bytes_per_point", m->pts.n ? bytes / (double)m->pts.n : 0, "B");
+    mpm_bricks_sum(c->bricks, &bytes, 1);   /* bricks: the patches' ghost nodes count */
+    long np = c->npoints_total;
+    result_metric(res, "model_bytes_per_point", np ? bytes / (double)np : 0, "B");
+    if (c->bricks)
+        decomp_record_write_counts(s->run, c->bricks->par, c->bricks->grid, m->pts.n);
     return mpm_output_end(&c->out, s->run, e);
 }
 
@@ -250,10 +264,16 @@ static int mpm_type_run(void *state, struct run *run, struct err *e)
     const struct mpm_units *u = &c->u;
     m->timers = &run->timers;
     m->nthreads = run->opt.nthreads > 0 ? run->opt.nthreads : 1;
-    c->model = (struct mpm_model){m, c->dt_fixed, c->cfl, c->adaptive, c->load_ramp,
-                                  c->energy_tolerance};
+    mpm_points_free(&c->model.gathered);
+    c->model = (struct mpm_model){.m = m,
+                                  .dt_fixed = c->dt_fixed,
+                                  .cfl = c->cfl,
+                                  .adaptive = c->adaptive,
+                                  .load_ramp = c->load_ramp,
+                                  .max_energy_change = c->energy_tolerance,
+                                  .bricks = c->bricks};
     /* the accumulators from the state at step 0 (a restart reads them back) */
-    mpm_totals(m, &c->t0);
+    mpm_bricks_totals(c->bricks, m, &c->t0);
     double dt = mpm_model_timestep(&c->model);
     c->dt_first = c->dt_min = c->dt_max = dt;
     c->de_max = c->dec_max = 0;
@@ -263,7 +283,8 @@ static int mpm_type_run(void *state, struct run *run, struct err *e)
     run_log(run,
             "mpm: %ld points, %ld nodes (%s grid, %s), %s; time step %.6g %s from %s "
             "(explicit limit %.6g %s, Courant number %.3g)",
-            m->pts.n, m->grid.nnodes, m->grid.kind == MPM_GRID_HIER ? "hierarchical" : "uniform",
+            c->npoints_total, c->bricks ? c->bricks->serial_nodes : m->grid.nnodes,
+            m->grid.kind == MPM_GRID_HIER ? "hierarchical" : "uniform",
             m->grid.shape == MPM_SHAPE_GIMP ? "GIMP" : "linear",
             m->algorithm == MPM_MUSL ? "MUSL" : "USL", dt / u->time, u->time_name,
             c->dt_fixed > 0 ? "mpm.timestep" : "the CFL condition", mpm_stable_dt(m) / u->time,
@@ -284,7 +305,7 @@ static void mpm_type_destroy(void *state)
 static long mpm_type_particles(const void *state)
 {
     const struct mpm_case *c = state;
-    return c ? c->m.pts.n : 0;
+    return c ? c->npoints_total : 0;
 }
 
 static long mpm_type_steps(const void *state)
@@ -297,4 +318,5 @@ const struct case_type mpm_case_type = {
     "mpm", "material point method (MUSL/USL, uniform or hierarchical grid)",
     mpm_type_read, mpm_type_run, mpm_type_destroy, mpm_type_particles, mpm_type_steps,
     .checkpoints = 1,
+    .decomposes = 1,
 };

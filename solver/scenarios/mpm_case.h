@@ -52,6 +52,10 @@ struct mpm_case {
     int output_grid;        /* grid fields in the snapshots */
     double energy_tolerance;   /* relative total-energy change counted as divergence */
 
+    /* bricks (mpm/mpm_bricks.h; owned), or NULL: serial or replicated */
+    struct mpm_bricks *bricks;
+    long npoints_total;     /* material points of all ranks */
+
     /* the run on the engine (mpm_case.c) */
     struct mpm_model model;
     struct mpm_output out;

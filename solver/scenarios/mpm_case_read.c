@@ -55,6 +55,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "mpm/mpm_bricks.h"
 #include "mpm/mpm_build.h"
 #include "mpm/mpm_hgrid.h"
 #include "scenarios/mpm_case.h"
@@ -185,6 +186,8 @@ void mpm_case_free(struct mpm_case *c)
     if (!c)
         return;
     mpm_free(&c->m);
+    mpm_bricks_destroy(&c->bricks);
+    mpm_points_free(&c->model.gathered);
     free(c->out.buf);
     free(c->out.ibuf);
     free(c->out.series);
@@ -544,7 +547,16 @@ int mpm_case_read(struct cfg_obj *root, const struct case_common *common, struct
         c->m.sort_every = (int)sort_every;
         c->m.fuse = fuse;
         rc = mpm_prepare(&c->m, cfg->err);
+        c->npoints_total = c->m.pts.n;
     }
+    /* under mpirun: the grid and the points on bricks (docs/parallel.md) */
+    if (!rc)
+        rc = mpm_bricks_plan(common->par, &common->parallel, &c->m.grid, gs->nlevels > 0, cfg,
+                             &c->bricks);
+    if (!rc && c->bricks)
+        rc = mpm_bricks_distribute(c->bricks, &c->m, cfg->err);
+    if (!rc && c->bricks)
+        rc = mpm_bricks_prepare(c->bricks, &c->m, cfg->err);
     if (!rc) {
         *out = c;
         c = NULL;

@@ -1,0 +1,991 @@
+/* mpm_bricks: the grid patch of each rank, point migration, and the
+ * reverse and forward halo of the nodes (mpm_bricks.h). */
+#include "mpm/mpm_bricks.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "core/decomp.h"
+#include "core/parallel.h"
+#include "input/parallel_settings.h"
+#include "util/cfg.h"
+
+#define MIN_BRICK_CELLS 4   /* a neighbour's patch reaches MARGIN + 1 nodes into a brick */
+
+/* --- geometry of the bricks ------------------------------------------------ */
+
+static int rank_of(const struct mpm_bricks *b, const int c[3])
+{
+    for (int d = 0; d < 3; d++)
+        if (c[d] < 0 || c[d] >= b->grid[d])
+            return -1;
+    /* MPI_Cart_create without reordering: row-major, the last axis fastest */
+    return (c[0] * b->grid[1] + c[1]) * b->grid[2] + c[2];
+}
+
+/* Brick coordinate along d of global cell k (clamped to the grid). */
+static int cell_owner(const struct mpm_bricks *b, int d, long k)
+{
+    int lo = 0, hi = b->grid[d] - 1;
+    while (lo < hi) {   /* the last c with cut[c] <= k */
+        int mid = (lo + hi + 1) / 2;
+        if (b->cut[d][mid] <= k)
+            lo = mid;
+        else
+            hi = mid - 1;
+    }
+    return lo;
+}
+
+/* Global nodes [*lo, *hi) that brick c owns along d. */
+static void owned_range(const struct mpm_bricks *b, int d, int c, long *lo, long *hi)
+{
+    *lo = c == 0 ? -1 : b->cut[d][c];
+    *hi = c + 1 == b->grid[d] ? b->ncell[d] + 2 : b->cut[d][c + 1];
+}
+
+/* Patch cells [*pa, *pb) of brick c along d. */
+static void patch_cells(const struct mpm_bricks *b, int d, int c, long *pa, long *pb)
+{
+    long a = b->cut[d][c] - MPM_BRICKS_MARGIN, z = b->cut[d][c + 1] + MPM_BRICKS_MARGIN;
+    *pa = a > 0 ? a : 0;
+    *pb = z < b->ncell[d] ? z : b->ncell[d];
+}
+
+/* Global nodes [*lo, *hi) the patch of brick c allocates along d (its
+ * nodes and the grid's halo node either side). */
+static void alloc_range(const struct mpm_bricks *b, int d, int c, long *lo, long *hi)
+{
+    long pa, pb;
+    patch_cells(b, d, c, &pa, &pb);
+    *lo = pa - 1;
+    *hi = pb + 2;
+}
+
+/* --- plan ------------------------------------------------------------------- */
+
+static int choose_grid(int n, const long ncell[3], int grid[3])
+{
+    double best = INFINITY;
+    for (int px = 1; px <= n; px++) {
+        if (n % px)
+            continue;
+        for (int py = 1; py <= n / px; py++) {
+            if ((n / px) % py)
+                continue;
+            int g[3] = {px, py, n / px / py};
+            int ok = 1;
+            double w[3];
+            for (int d = 0; d < 3; d++) {
+                ok &= g[d] == 1 || ncell[d] / g[d] >= MIN_BRICK_CELLS;
+                w[d] = (double)ncell[d] / g[d];
+            }
+            double area = w[0] * w[1] + w[1] * w[2] + w[0] * w[2];
+            if (ok && area < best * (1 - 1e-12)) {
+                best = area;
+                memcpy(grid, g, sizeof g);
+            }
+        }
+    }
+    return isfinite(best) ? 0 : -1;
+}
+
+int mpm_bricks_plan(const struct parallel *par, const struct parallel_settings *ps,
+                    const struct mpm_grid *g, int hierarchical, struct cfg *c,
+                    struct mpm_bricks **out)
+{
+    *out = NULL;
+    if (!par || !par->mpi || ps->decomposition == DECOMP_REPLICATED)
+        return 0;
+    if (ps->decomposition == DECOMP_AUTO && par->size == 1)
+        return 0;
+    if (hierarchical) {
+        if (ps->decomposition == DECOMP_BRICKS)
+            return cfg_error_at(c, "parallel.decomposition",
+                                "a hierarchical MPM grid (mpm.grid.levels) is not decomposed "
+                                "into bricks yet (its hanging nodes across brick faces); use "
+                                "decomposition: replicated or a uniform grid");
+        if (par->rank == 0)
+            fprintf(stderr, "note: a hierarchical MPM grid is not decomposed into bricks yet: "
+                            "each of the %d ranks runs the whole case and rank 0 writes\n",
+                    par->size);
+        return 0;
+    }
+    int grid[3] = {1, 1, 1};
+    if (ps->grid_given) {
+        long prod = (long)ps->grid[0] * ps->grid[1] * ps->grid[2];
+        if (prod != par->size)
+            return cfg_error_at(c, "parallel.grid",
+                                "a grid of %d x %d x %d = %ld bricks for %d MPI ranks: the "
+                                "product must equal the rank count",
+                                ps->grid[0], ps->grid[1], ps->grid[2], prod, par->size);
+        for (int d = 0; d < 3; d++) {
+            if (ps->grid[d] > 1 && g->ncell[d] / ps->grid[d] < MIN_BRICK_CELLS)
+                return cfg_error_at(c, "parallel.grid",
+                                    "bricks of %ld / %d cells along %c are thinner than %d "
+                                    "cells (the patch of a neighbour reaches %d nodes in)",
+                                    g->ncell[d], ps->grid[d], "xyz"[d], MIN_BRICK_CELLS,
+                                    MPM_BRICKS_MARGIN + 2);
+            grid[d] = ps->grid[d];
+        }
+    } else if (choose_grid(par->size, g->ncell, grid) != 0) {
+        if (ps->decomposition == DECOMP_BRICKS)
+            return cfg_error_at(c, "parallel.decomposition",
+                                "no grid of %d bricks of the %ld x %ld x %ld-cell MPM grid "
+                                "has bricks at least %d cells wide; use fewer ranks or "
+                                "decomposition: replicated",
+                                par->size, g->ncell[0], g->ncell[1], g->ncell[2],
+                                MIN_BRICK_CELLS);
+        if (par->rank == 0)
+            fprintf(stderr, "note: the %ld x %ld x %ld-cell MPM grid has no grid of %d bricks "
+                            "at least %d cells wide: replicated data\n",
+                    g->ncell[0], g->ncell[1], g->ncell[2], par->size, MIN_BRICK_CELLS);
+        return 0;
+    }
+    struct mpm_bricks *b = calloc(1, sizeof *b);
+    if (!b)
+        return err_nomem(c->err, "MPM bricks");
+    b->par = par;
+    memcpy(b->grid, grid, sizeof b->grid);
+    int nbr[3][2], periodic[3] = {0, 0, 0};
+    int rc = parallel_cart(par, grid, periodic, b->coords, nbr, c->err);
+    b->serial_nodes = 1;
+    for (int d = 0; !rc && d < 3; d++) {
+        b->ncell[d] = g->ncell[d];
+        b->serial_nodes *= g->ncell[d] + 3;
+        b->cut[d] = malloc((size_t)(grid[d] + 1) * sizeof *b->cut[d]);
+        if (!b->cut[d]) {
+            rc = err_nomem(c->err, "MPM bricks");
+            break;
+        }
+        for (int k = 0; k <= grid[d]; k++)   /* equal shares of the cells */
+            b->cut[d][k] = (long)((double)g->ncell[d] * k / grid[d] + 0.5);
+    }
+    if (!rc && rank_of(b, b->coords) != par->rank)
+        rc = err_set(c->err, ERR_RUNTIME, "MPM bricks: rank %d sits at brick %d %d %d",
+                     par->rank, b->coords[0], b->coords[1], b->coords[2]);
+    if (rc) {
+        mpm_bricks_destroy(&b);
+        return rc;
+    }
+    *out = b;
+    return 0;
+}
+
+void mpm_bricks_destroy(struct mpm_bricks **bp)
+{
+    struct mpm_bricks *b = *bp;
+    if (!b)
+        return;
+    for (int d = 0; d < 3; d++)
+        free(b->cut[d]);
+    for (int k = 0; k < MPM_BRICKS_NBR; k++) {
+        free(b->link[k].ghost);
+        free(b->link[k].owned);
+    }
+    free(b->is_ghost);
+    free(b->sbuf);
+    free(b->rbuf);
+    free(b->pbuf);
+    free(b->prbuf);
+    free(b);
+    *bp = NULL;
+}
+
+/* --- collectives ------------------------------------------------------------ */
+
+void mpm_bricks_sum(const struct mpm_bricks *b, double *buf, int n)
+{
+    if (b)
+        parallel_sum(b->par, buf, (size_t)n);
+}
+
+void mpm_bricks_max(const struct mpm_bricks *b, double *buf, int n)
+{
+    if (b)
+        parallel_max(b->par, buf, (size_t)n);
+}
+
+int mpm_bricks_agree(const struct mpm_bricks *b, int rc, struct err *e)
+{
+    if (!b || b->par->size < 2)
+        return rc;
+    if (parallel_any(b->par, rc != 0) && !rc)
+        rc = err_set(e, ERR_RUNTIME, "stopped: another MPI rank failed (its message is on "
+                                     "that rank's output)");
+    return rc;
+}
+
+int mpm_bricks_rank(const struct mpm_bricks *b)
+{
+    return b ? b->par->rank : 0;
+}
+
+long mpm_bricks_npoints(const struct mpm_bricks *b, const struct mpm *m)
+{
+    double n = (double)m->pts.n;
+    mpm_bricks_sum(b, &n, 1);
+    return (long)n;
+}
+
+void mpm_bricks_totals(const struct mpm_bricks *b, const struct mpm *m, struct mpm_totals *t)
+{
+    mpm_totals(m, t);
+    if (!b)
+        return;
+    double s[6] = {t->mass, t->momentum[0], t->momentum[1], t->momentum[2], t->kinetic,
+                   t->strain};
+    mpm_bricks_sum(b, s, 6);
+    mpm_bricks_max(b, &t->vmax, 1);
+    *t = (struct mpm_totals){s[0], {s[1], s[2], s[3]}, s[4], s[5], t->vmax};
+}
+
+/* --- the patch and its links ------------------------------------------------ */
+
+/* Offset k of the 26 as (dx, dy, dz). */
+static void offset_of(int k, int o[3])
+{
+    int q = k < 13 ? k : k + 1;   /* skip (0, 0, 0) */
+    o[0] = q % 3 - 1;
+    o[1] = (q / 3) % 3 - 1;
+    o[2] = q / 9 - 1;
+}
+
+/* The patch indices of the global nodes in the box [lo, hi) (z, y, x
+ * order) into *list. */
+static int box_list(const struct mpm_grid *g, const long lo[3], const long hi[3], int32_t **list,
+                    long *n, struct err *e)
+{
+    long cnt = 1;
+    for (int d = 0; d < 3; d++)
+        cnt *= hi[d] > lo[d] ? hi[d] - lo[d] : 0;
+    *n = cnt;
+    *list = NULL;
+    if (cnt == 0)
+        return 0;
+    *list = malloc((size_t)cnt * sizeof **list);
+    if (!*list)
+        return err_nomem(e, "MPM halo lists");
+    long k = 0;
+    for (long z = lo[2]; z < hi[2]; z++)
+        for (long y = lo[1]; y < hi[1]; y++)
+            for (long x = lo[0]; x < hi[0]; x++) {
+                long i = (x - g->lo[0] + g->halo) + (y - g->lo[1] + g->halo) * g->stride[1] +
+                         (z - g->lo[2] + g->halo) * g->stride[2];
+                (*list)[k++] = (int32_t)i;
+            }
+    return 0;
+}
+
+static int build_links(struct mpm_bricks *b, const struct mpm_grid *g, struct err *e)
+{
+    long nghost_total = 0;
+    for (int k = 0; k < MPM_BRICKS_NBR; k++) {
+        struct mpm_bricks_link *L = &b->link[k];
+        int o[3], to[3], from[3];
+        offset_of(k, o);
+        for (int d = 0; d < 3; d++) {
+            to[d] = b->coords[d] + o[d];
+            from[d] = b->coords[d] - o[d];
+        }
+        L->rank_to = rank_of(b, to);
+        L->rank_from = rank_of(b, from);
+        long lo[3], hi[3], a, z;
+        if (L->rank_to >= 0) {   /* my patch's nodes that brick `to` owns */
+            for (int d = 0; d < 3; d++) {
+                alloc_range(b, d, b->coords[d], &lo[d], &hi[d]);
+                owned_range(b, d, to[d], &a, &z);
+                lo[d] = lo[d] > a ? lo[d] : a;
+                hi[d] = hi[d] < z ? hi[d] : z;
+            }
+            int rc = box_list(g, lo, hi, &L->ghost, &L->nghost, e);
+            if (rc)
+                return rc;
+            nghost_total += L->nghost;
+        }
+        if (L->rank_from >= 0) {   /* my nodes in the patch of brick `from` */
+            for (int d = 0; d < 3; d++) {
+                owned_range(b, d, b->coords[d], &lo[d], &hi[d]);
+                alloc_range(b, d, from[d], &a, &z);
+                lo[d] = lo[d] > a ? lo[d] : a;
+                hi[d] = hi[d] < z ? hi[d] : z;
+            }
+            int rc = box_list(g, lo, hi, &L->owned, &L->nowned, e);
+            if (rc)
+                return rc;
+        }
+    }
+    /* every patch node I do not own is a ghost of exactly one neighbour */
+    b->is_ghost = calloc((size_t)g->nnodes, 1);
+    if (!b->is_ghost)
+        return err_nomem(e, "MPM halo lists");
+    long nown = 1;
+    for (int d = 0; d < 3; d++) {
+        long lo, hi, a, z;
+        alloc_range(b, d, b->coords[d], &lo, &hi);
+        owned_range(b, d, b->coords[d], &a, &z);
+        nown *= (hi < z ? hi : z) - (lo > a ? lo : a);
+    }
+    for (int k = 0; k < MPM_BRICKS_NBR; k++)
+        for (long i = 0; i < b->link[k].nghost; i++)
+            b->is_ghost[b->link[k].ghost[i]] = 1;
+    if (nown + nghost_total != g->nnodes)
+        return err_set(e, ERR_RUNTIME, "MPM bricks: the patch of %ld nodes has %ld owned and "
+                                       "%ld ghost nodes",
+                       g->nnodes, nown, nghost_total);
+    return 0;
+}
+
+/* --- node halo --------------------------------------------------------------- */
+
+static int reserve_doubles(double **buf, size_t *cap, size_t n, struct err *e)
+{
+    if (n <= *cap)
+        return 0;
+    double *p = realloc(*buf, n * sizeof *p);
+    if (!p)
+        return err_nomem(e, "MPM halo buffer");
+    *buf = p;
+    *cap = n;
+    return 0;
+}
+
+/* The values are nc doubles per node at base + stride * i.  reverse: the
+ * ghosts' values are added to (aux_max: the last one taken as a maximum,
+ * the rigid body of the node) their owners, then zeroed; forward: the
+ * owners' values overwrite the ghosts'. */
+static int node_exchange(struct mpm_bricks *b, double *base, int stride, int nc, int reverse,
+                         int aux_max, long nnodes, struct err *e)
+{
+    for (int k = 0; k < MPM_BRICKS_NBR; k++) {
+        struct mpm_bricks_link *L = &b->link[k];
+        if (L->rank_to < 0 && L->rank_from < 0)
+            continue;
+        /* reverse: ghosts to their owner (+o), my owned from -o; forward:
+         * my owned to -o, my ghosts from +o */
+        const int32_t *slist = reverse ? L->ghost : L->owned;
+        long ns = reverse ? L->nghost : L->nowned;
+        const int32_t *rlist = reverse ? L->owned : L->ghost;
+        long nr = reverse ? L->nowned : L->nghost;
+        int dest = reverse ? L->rank_to : L->rank_from;
+        int src = reverse ? L->rank_from : L->rank_to;
+        if (dest < 0)
+            ns = 0;
+        if (src < 0)
+            nr = 0;
+        int rc = reserve_doubles(&b->sbuf, &b->scap, (size_t)(ns * nc + 1), e);
+        if (!rc)
+            rc = reserve_doubles(&b->rbuf, &b->rcap, (size_t)(nr * nc + 1), e);
+        if (rc)
+            return rc;
+        for (long i = 0; i < ns; i++)
+            memcpy(b->sbuf + i * nc, base + (long)slist[i] * stride, (size_t)nc * sizeof(double));
+        rc = parallel_sendrecv_known(b->par, dest, b->sbuf, (size_t)ns * nc * sizeof(double), src,
+                                     b->rbuf, (size_t)nr * nc * sizeof(double), e);
+        if (rc)
+            return rc;
+        for (long i = 0; i < nr; i++) {
+            double *dst = base + (long)rlist[i] * stride;
+            const double *v = b->rbuf + i * nc;
+            if (!reverse) {
+                memcpy(dst, v, (size_t)nc * sizeof(double));
+                continue;
+            }
+            int nsum = aux_max ? nc - 1 : nc;
+            for (int c = 0; c < nsum; c++)
+                dst[c] += v[c];
+            if (aux_max && v[nc - 1] > dst[nc - 1])
+                dst[nc - 1] = v[nc - 1];
+        }
+    }
+    if (reverse)
+        for (long i = 0; i < nnodes; i++)
+            if (b->is_ghost[i])
+                memset(base + i * stride, 0, (size_t)nc * sizeof(double));
+    return 0;
+}
+
+static int nodes_reverse(struct mpm_bricks *b, struct mpm *m, struct err *e)
+{
+    struct mpm_grid *g = &m->grid;
+    return node_exchange(b, &g->node[0].m, 8, 8, 1, 1, g->nnodes, e);
+}
+
+static int nodes_forward(struct mpm_bricks *b, struct mpm *m, struct err *e)
+{
+    struct mpm_grid *g = &m->grid;
+    return node_exchange(b, &g->node[0].m, 8, 8, 0, 0, g->nnodes, e);
+}
+
+/* --- points ------------------------------------------------------------------- */
+
+static long point_doubles(const struct mpm_points *p)
+{
+    return 3 + 3 + 3 + 1 + 1 + 1 + 6 + 9 + 1 + p->nstate + (p->fext ? 3 : 0) + 3;
+}
+
+static void pack_point(const struct mpm_points *p, long i, double *r)
+{
+    long k = 0;
+    memcpy(r + k, p->x + 3 * i, 3 * sizeof *r), k += 3;
+    memcpy(r + k, p->x0 + 3 * i, 3 * sizeof *r), k += 3;
+    memcpy(r + k, p->v + 3 * i, 3 * sizeof *r), k += 3;
+    r[k++] = p->mass[i];
+    r[k++] = p->vol0[i];
+    r[k++] = p->vol[i];
+    memcpy(r + k, p->stress + 6 * i, 6 * sizeof *r), k += 6;
+    memcpy(r + k, p->F + 9 * i, 9 * sizeof *r), k += 9;
+    r[k++] = p->eint[i];
+    if (p->nstate)
+        memcpy(r + k, p->state + (long)p->nstate * i, (size_t)p->nstate * sizeof *r);
+    k += p->nstate;
+    if (p->fext) {
+        memcpy(r + k, p->fext + 3 * i, 3 * sizeof *r);
+        k += 3;
+    }
+    int64_t body = p->body[i], mask = p->mask[i];
+    memcpy(r + k++, &body, sizeof body);
+    memcpy(r + k++, &p->id[i], sizeof p->id[i]);
+    memcpy(r + k++, &mask, sizeof mask);
+}
+
+static void unpack_point(struct mpm_points *p, long i, const double *r)
+{
+    long k = 0;
+    memcpy(p->x + 3 * i, r + k, 3 * sizeof *r), k += 3;
+    memcpy(p->x0 + 3 * i, r + k, 3 * sizeof *r), k += 3;
+    memcpy(p->v + 3 * i, r + k, 3 * sizeof *r), k += 3;
+    p->mass[i] = r[k++];
+    p->vol0[i] = r[k++];
+    p->vol[i] = r[k++];
+    memcpy(p->stress + 6 * i, r + k, 6 * sizeof *r), k += 6;
+    memcpy(p->F + 9 * i, r + k, 9 * sizeof *r), k += 9;
+    p->eint[i] = r[k++];
+    if (p->nstate)
+        memcpy(p->state + (long)p->nstate * i, r + k, (size_t)p->nstate * sizeof *r);
+    k += p->nstate;
+    if (p->fext) {
+        memcpy(p->fext + 3 * i, r + k, 3 * sizeof *r);
+        k += 3;
+    }
+    int64_t body, mask;
+    memcpy(&body, r + k++, sizeof body);
+    memcpy(&p->id[i], r + k++, sizeof p->id[i]);
+    memcpy(&mask, r + k++, sizeof mask);
+    p->body[i] = (int32_t)body;
+    p->mask[i] = (uint32_t)mask;
+}
+
+/* Copy point i of src to slot j of dst (same layout). */
+static void copy_point(struct mpm_points *dst, long j, const struct mpm_points *src, long i)
+{
+    double rec[64 + 3 * 3 + 16];
+    double *r = src->nstate > 32 ? malloc((size_t)point_doubles(src) * sizeof *r) : rec;
+    if (!r)
+        return;
+    pack_point(src, i, r);
+    unpack_point(dst, j, r);
+    if (r != rec)
+        free(r);
+}
+
+/* The brick coordinates of the cell holding x (clamped to the grid). */
+static void point_brick(const struct mpm_bricks *b, const struct mpm_grid *g, const double *x,
+                        int c[3], long cell[3])
+{
+    for (int d = 0; d < 3; d++) {
+        double u = floor((x[d] - g->origin[d]) * g->inv_h);
+        long k = !(u >= 0) ? 0 : u >= (double)b->ncell[d] ? b->ncell[d] - 1 : (long)u;
+        cell[d] = k;
+        c[d] = cell_owner(b, d, k);
+    }
+}
+
+/* Offset index (0..25) from me to brick c, -1 for me, -2 beyond the
+ * neighbours. */
+static int offset_index(const struct mpm_bricks *b, const int c[3])
+{
+    int q = 0, mul = 1, self = 1;
+    for (int d = 0; d < 3; d++) {
+        int o = c[d] - b->coords[d];
+        if (o < -1 || o > 1)
+            return -2;
+        self &= o == 0;
+        q += (o + 1) * mul;
+        mul *= 3;
+    }
+    if (self)
+        return -1;
+    return q < 13 ? q : q - 1;
+}
+
+/* Points whose cell another brick owns go to it (one of the 26
+ * neighbours: a point moves less than a cell per step).  Collective. */
+static int migrate(struct mpm_bricks *b, struct mpm *m, long *moved, struct err *e)
+{
+    struct mpm_points *p = &m->pts;
+    long n = p->n, rec = point_doubles(p);
+    long cnt[MPM_BRICKS_NBR] = {0}, nleave = 0, far = -1;
+    int8_t *dest = NULL;
+    *moved = 0;
+    for (long i = 0; i < n; i++) {
+        int c[3];
+        long cell[3];
+        point_brick(b, &m->grid, p->x + 3 * i, c, cell);
+        int q = offset_index(b, c);
+        if (q == -2 && far < 0)
+            far = i;
+        if (q >= 0)
+            nleave++;
+    }
+    int rc = 0;
+    if (far >= 0)
+        rc = err_set(e, ERR_DIVERGED, "material point %lld moved more than a brick in one step "
+                                      "(step %ld)",
+                     (long long)p->id[far], m->step);
+    rc = mpm_bricks_agree(b, rc, e);
+    if (rc)
+        return rc;
+    if (!parallel_any(b->par, nleave > 0))
+        return 0;
+    if (nleave) {
+        dest = malloc((size_t)n);
+        if (!dest)
+            rc = err_nomem(e, "MPM migration");
+    }
+    for (long i = 0; !rc && nleave && i < n; i++) {
+        int c[3];
+        long cell[3];
+        point_brick(b, &m->grid, p->x + 3 * i, c, cell);
+        int q = offset_index(b, c);
+        dest[i] = (int8_t)q;
+        if (q >= 0)
+            cnt[q]++;
+    }
+    size_t need = (size_t)(nleave * rec + 1) * sizeof(double);
+    if (!rc && need > b->pcap) {
+        unsigned char *pb = realloc(b->pbuf, need);
+        if (!pb)
+            rc = err_nomem(e, "MPM migration");
+        else {
+            b->pbuf = pb;
+            b->pcap = need;
+        }
+    }
+    rc = mpm_bricks_agree(b, rc, e);
+    if (rc) {
+        free(dest);
+        return rc;
+    }
+    /* pack by destination, in point order */
+    long start[MPM_BRICKS_NBR + 1];
+    start[0] = 0;
+    for (int q = 0; q < MPM_BRICKS_NBR; q++)
+        start[q + 1] = start[q] + cnt[q];
+    long fill[MPM_BRICKS_NBR];
+    memcpy(fill, start, sizeof fill);
+    double *sb = (double *)b->pbuf;
+    long keep = 0;
+    for (long i = 0; i < n; i++) {
+        if (nleave && dest[i] >= 0) {
+            pack_point(p, i, sb + fill[dest[i]]++ * rec);
+            continue;
+        }
+        if (keep != i)
+            copy_point(p, keep, p, i);
+        keep++;
+    }
+    free(dest);
+    p->n = keep;
+    *moved = nleave;
+    for (int q = 0; q < MPM_BRICKS_NBR && !rc; q++) {
+        struct mpm_bricks_link *L = &b->link[q];
+        size_t got = 0;
+        rc = parallel_sendrecv(b->par, L->rank_to, sb + start[q] * rec,
+                               (size_t)cnt[q] * rec * sizeof(double), L->rank_from, &b->prbuf,
+                               &b->prcap, &got, e);
+        long nin = (long)(got / (rec * sizeof(double)));
+        if (!rc && nin > 0) {
+            if (p->n + nin > p->cap)
+                rc = mpm_points_reserve(p, p->n + nin + p->n / 8, e);
+            for (long k = 0; !rc && k < nin; k++)
+                unpack_point(p, p->n++, (const double *)b->prbuf + k * rec);
+            *moved += nin;
+        }
+    }
+    if (!rc && m->scratch_cap < p->n) {   /* the reorder's scratch follows the count */
+        free(m->scratch);
+        m->scratch_cap = p->n + p->n / 8 + 16;
+        m->scratch = malloc((size_t)m->scratch_cap * sizeof *m->scratch);
+        if (!m->scratch) {
+            m->scratch_cap = 0;
+            rc = err_nomem(e, "reorder scratch");
+        }
+    }
+    return mpm_bricks_agree(b, rc, e);
+}
+
+/* --- set-up -------------------------------------------------------------- */
+
+int mpm_bricks_keep_owned(struct mpm_bricks *b, struct mpm *m, struct mpm_points *all,
+                          struct err *e)
+{
+    struct mpm_points *p = &m->pts;
+    long mine = 0;
+    for (long i = 0; i < all->n; i++) {
+        int c[3];
+        long cell[3];
+        point_brick(b, &m->grid, all->x + 3 * i, c, cell);
+        mine += offset_index(b, c) == -1;
+    }
+    int rc = mpm_points_reserve(p, mine > 0 ? mine : 1, e);
+    if (!rc && all->fext && !p->fext)
+        rc = mpm_points_enable_fext(p, e);
+    p->n = 0;
+    for (long i = 0; !rc && i < all->n; i++) {
+        int c[3];
+        long cell[3];
+        point_brick(b, &m->grid, all->x + 3 * i, c, cell);
+        if (offset_index(b, c) == -1)
+            copy_point(p, p->n++, all, i);
+    }
+    mpm_points_moved(m);
+    return rc;
+}
+
+int mpm_bricks_distribute(struct mpm_bricks *b, struct mpm *m, struct err *e)
+{
+    struct mpm_grid *old = &m->grid, patch;
+    long pa[3], pb[3], npatch[3];
+    for (int d = 0; d < 3; d++) {
+        patch_cells(b, d, b->coords[d], &pa[d], &pb[d]);
+        npatch[d] = pb[d] - pa[d];
+    }
+    double origin[3];
+    memcpy(origin, old->origin, sizeof origin);
+    int rc = mpm_grid_init_uniform(&patch, origin, old->h, npatch, old->shape, e);
+    if (rc)
+        return mpm_bricks_agree(b, rc, e);
+    /* the patch's nodes are numbered from its first global node; the grid's
+     * faces and cells stay the serial grid's */
+    for (int d = 0; d < 3; d++) {
+        patch.lo[d] = pa[d];
+        patch.ncell[d] = b->ncell[d];
+    }
+    rc = mpm_grid_set_faces(&patch, old->face, e);
+    if (!rc)
+        rc = build_links(b, &patch, e);
+    if (rc) {
+        mpm_grid_free(&patch);
+        return mpm_bricks_agree(b, rc, e);
+    }
+    /* the points of the whole set (every rank built them): keep mine */
+    struct mpm_points all = m->pts;
+    mpm_points_init(&m->pts, all.nstate, e);
+    mpm_grid_free(old);
+    m->grid = patch;
+    /* the bins' block counts were sized for the serial grid */
+    for (int s = 0; s <= MPM_MAX_EXTRA; s++) {
+        free(m->bins[s].start);
+        free(m->bins[s].count);
+        m->bins[s].start = NULL;
+        m->bins[s].count = NULL;
+        m->bins[s].count_cap = 0;
+        m->bins[s].blk_step = -1;
+    }
+    rc = mpm_bricks_keep_owned(b, m, &all, e);
+    mpm_points_free(&all);
+    return mpm_bricks_agree(b, rc, e);
+}
+
+int mpm_bricks_prepare(struct mpm_bricks *b, struct mpm *m, struct err *e)
+{
+    int rc = mpm_bricks_agree(b, mpm_prepare(m, e), e);
+    if (rc)
+        return rc;
+    /* the lightest point and the largest speed of all ranks; the energies
+     * summed over the ranks */
+    double mmin = INFINITY;
+    for (long i = 0; i < m->pts.n; i++)
+        mmin = fmin(mmin, m->pts.mass[i]);
+    double mx[2] = {-mmin, m->vmax};
+    mpm_bricks_max(b, mx, 2);
+    m->small_mass = isfinite(mx[0]) ? m->small_mass_rel * -mx[0] : 0.0;
+    m->vmax = mx[1];
+    double s[2] = {m->ke, m->strain};
+    mpm_bricks_sum(b, s, 2);
+    m->ke = m->ke_centred = s[0];
+    m->strain = m->strain_before = s[1];
+    return 0;
+}
+
+/* --- the step ------------------------------------------------------------ */
+
+static void tstart(struct mpm *m, enum timer_id t)
+{
+    if (m->timers)
+        timer_start(m->timers, t);
+}
+
+static void tstop(struct mpm *m, enum timer_id t)
+{
+    if (m->timers)
+        timer_stop(m->timers, t);
+}
+
+int mpm_bricks_step_map(struct mpm_bricks *b, struct mpm *m, struct err *e)
+{
+    tstart(m, TIMER_COMM);
+    long moved = 0;
+    int rc = migrate(b, m, &moved, e);
+    tstop(m, TIMER_COMM);
+    if (rc)
+        return rc;
+    b->migrated = moved;
+    if (moved)   /* indices changed: the cached blocks are stale (the mapping is not) */
+        m->bins[0].blk_step = -1;
+    int fresh = !(mpm_fusable(m) && m->fused_ready);   /* the same on every rank */
+    rc = mpm_bricks_agree(b, mpm_step_map(m, e), e);
+    if (rc || !fresh)
+        return rc;   /* a fused mapping was reduced by the last update */
+    tstart(m, TIMER_COMM);
+    rc = mpm_bricks_agree(b, nodes_reverse(b, m, e), e);
+    tstop(m, TIMER_COMM);
+    return rc;
+}
+
+int mpm_bricks_map_initial(struct mpm_bricks *b, struct mpm *m, struct err *e)
+{
+    int rc = mpm_bricks_agree(b, mpm_locate_particles(m, e), e);
+    if (rc)
+        return rc;
+    mpm_clear_grid(m);
+    mpm_map_to_grid(m, MPM_MAP_ALL);
+    return mpm_bricks_agree(b, nodes_reverse(b, m, e), e);
+}
+
+int mpm_bricks_step_update(struct mpm_bricks *b, struct mpm *m, double dt, struct err *e)
+{
+    struct mpm_grid *g = &m->grid;
+    int fused = mpm_fusable(m);
+    tstart(m, TIMER_MPM_GRID);
+    mpm_update_grid(m, dt);                /* s4-s5 on the owned nodes (ghosts are zero) */
+    tstop(m, TIMER_MPM_GRID);
+    tstart(m, TIMER_COMM);
+    int rc = nodes_forward(b, m, e);
+    tstop(m, TIMER_COMM);
+    if ((rc = mpm_bricks_agree(b, rc, e)))
+        return rc;
+    tstart(m, TIMER_MPM_G2P);
+    mpm_map_to_particles(m, dt);           /* s6, s10 */
+    tstop(m, TIMER_MPM_G2P);
+    if (m->algorithm == MPM_MUSL) {
+        tstart(m, TIMER_COMM);
+        rc = node_exchange(b, g->r, 4, 4, 1, 0, g->nnodes, e);   /* the remap to the owners */
+        tstop(m, TIMER_COMM);
+        tstart(m, TIMER_MPM_GRID);
+        if (!rc)
+            mpm_update_grid_velocity(m);   /* s11 */
+        tstop(m, TIMER_MPM_GRID);
+        tstart(m, TIMER_COMM);
+        if (!rc)
+            rc = node_exchange(b, g->r, 4, 4, 0, 0, g->nnodes, e);
+        tstop(m, TIMER_COMM);
+        if ((rc = mpm_bricks_agree(b, rc, e)))
+            return rc;
+    }
+    tstart(m, TIMER_MPM_G2P);
+    m->fused_map_seconds = 0;
+    if (fused)
+        mpm_update_particles_and_map(m, dt);   /* s7-s8, s12-s14 and s1-s3 of the next step */
+    else
+        mpm_update_particles(m, dt);           /* s7-s8, s12-s14 */
+    tstop(m, TIMER_MPM_G2P);
+    if (m->timers && fused) {
+        m->timers->total[TIMER_MPM_G2P] -= m->fused_map_seconds;
+        m->timers->total[TIMER_MPM_P2G] += m->fused_map_seconds;
+    }
+    /* a fused mapping is kept only when every rank kept its own and no
+     * point left its patch (the pass skips those) */
+    int drop = 0;
+    if (fused) {
+        drop = !m->fused_ready;
+        const int32_t *blk = m->bins[0].blk;
+        for (long i = 0; i < m->pts.n && !drop; i++)
+            drop = blk[i] < 0;
+    }
+    /* global: energies, momenta of the rigid bodies' nodes, largest speed */
+    double s[3 + 3 * MPM_MAX_BODIES];
+    int ns = 0;
+    s[ns++] = m->ke;
+    s[ns++] = m->ke_centred;
+    s[ns++] = m->strain;
+    for (int k = 0; k < m->nbody; k++)
+        for (int d = 0; d < 3; d++)
+            s[ns++] = m->body[k].reaction[d];
+    tstart(m, TIMER_COMM);
+    mpm_bricks_sum(b, s, ns);
+    double mx[2] = {m->vmax, drop};
+    mpm_bricks_max(b, mx, 2);
+    ns = 0;
+    m->ke = s[ns++];
+    m->ke_centred = s[ns++];
+    m->strain = s[ns++];
+    for (int k = 0; k < m->nbody; k++)
+        for (int d = 0; d < 3; d++)
+            m->body[k].reaction[d] = s[ns++];
+    m->vmax = mx[0];
+    if (fused && mx[1] > 0) {
+        if (m->fused_ready) {   /* back to the velocities of this step; map afresh */
+            struct mpm_node *t = g->node;
+            g->node = g->node_next;
+            g->node_next = t;
+        }
+        m->fused_ready = m->grid_fresh = 0;
+    } else if (fused) {
+        rc = nodes_reverse(b, m, e);   /* the next step's s1-s3 to the owners */
+    }
+    tstop(m, TIMER_COMM);
+    if ((rc = mpm_bricks_agree(b, rc, e)))
+        return rc;
+    m->time += dt;
+    m->step++;
+    if (!isfinite(m->vmax))
+        return err_set(e, ERR_DIVERGED, "non-finite particle velocity at step %ld", m->step);
+    return 0;
+}
+
+/* --- gathers for output and checkpoints ------------------------------------ */
+
+static int cmp_id(const void *a, const void *b)
+{
+    int64_t x = ((const int64_t *)a)[0], y = ((const int64_t *)b)[0];
+    return (x > y) - (x < y);
+}
+
+int mpm_bricks_sort_by_id(struct mpm_bricks *b, struct mpm *m, struct err *e)
+{
+    struct mpm_points *p = &m->pts;
+    long n = p->n;
+    int64_t *key = malloc((size_t)(n > 0 ? n : 1) * 2 * sizeof *key);
+    int32_t *perm = malloc((size_t)(n > 0 ? n : 1) * sizeof *perm);
+    int rc = key && perm ? 0 : err_nomem(e, "MPM point order");
+    if (!rc && m->scratch_cap < n) {
+        free(m->scratch);
+        m->scratch = malloc((size_t)(n > 0 ? n : 1) * sizeof *m->scratch);
+        m->scratch_cap = m->scratch ? n : 0;
+        if (!m->scratch)
+            rc = err_nomem(e, "reorder scratch");
+    }
+    if (!rc) {
+        for (long i = 0; i < n; i++) {
+            key[2 * i] = p->id[i];
+            key[2 * i + 1] = i;
+        }
+        qsort(key, (size_t)n, 2 * sizeof *key, cmp_id);
+        for (long i = 0; i < n; i++)
+            perm[i] = (int32_t)key[2 * i + 1];
+        mpm_points_permute(p, perm, m->scratch, m->nthreads);
+        mpm_points_moved(m);
+    }
+    free(key);
+    free(perm);
+    return mpm_bricks_agree(b, rc, e);
+}
+
+int mpm_bricks_gather_points(struct mpm_bricks *b, const struct mpm_points *p,
+                             struct mpm_points *all, struct err *e)
+{
+    mpm_points_init(all, p->nstate, e);
+    long rec = point_doubles(p);
+    double *sb = malloc((size_t)(p->n * rec + 1) * sizeof *sb);
+    int rc = sb ? 0 : err_nomem(e, "MPM gather");
+    for (long i = 0; !rc && i < p->n; i++)
+        pack_point(p, i, sb + i * rec);
+    rc = mpm_bricks_agree(b, rc, e);
+    void *rb = NULL;
+    size_t rbytes = 0;
+    if (!rc)
+        rc = parallel_gather_bytes(b->par, sb, (size_t)p->n * rec * sizeof *sb, &rb, &rbytes, e);
+    free(sb);
+    if (rc || b->par->rank != 0) {
+        free(rb);
+        return mpm_bricks_agree(b, rc, e);
+    }
+    long n = (long)(rbytes / (rec * sizeof(double)));
+    /* sort the records by id: (id, index) pairs */
+    int64_t *key = malloc((size_t)(n > 0 ? n : 1) * 2 * sizeof *key);
+    if (!key)
+        rc = err_nomem(e, "MPM gather");
+    long idoff = rec - 2;
+    for (long i = 0; !rc && i < n; i++) {
+        memcpy(&key[2 * i], (const double *)rb + i * rec + idoff, sizeof(int64_t));
+        key[2 * i + 1] = i;
+    }
+    if (!rc)
+        qsort(key, (size_t)n, 2 * sizeof *key, cmp_id);
+    if (!rc && p->fext)
+        rc = mpm_points_enable_fext(all, e);
+    if (!rc)
+        rc = mpm_points_reserve(all, n > 0 ? n : 1, e);
+    for (long i = 0; !rc && i < n; i++)
+        unpack_point(all, i, (const double *)rb + key[2 * i + 1] * rec);
+    if (!rc)
+        all->n = n;
+    free(key);
+    free(rb);
+    return mpm_bricks_agree(b, rc, e);
+}
+
+int mpm_bricks_gather_nodes(struct mpm_bricks *b, const struct mpm_grid *g, struct mpm_grid *full,
+                            struct err *e)
+{
+    /* my owned nodes: global index triple, the 8 doubles of the record, r */
+    long lo[3], hi[3], cnt = 1;
+    for (int d = 0; d < 3; d++) {
+        long a, z;
+        alloc_range(b, d, b->coords[d], &lo[d], &hi[d]);
+        owned_range(b, d, b->coords[d], &a, &z);
+        lo[d] = lo[d] > a ? lo[d] : a;
+        hi[d] = hi[d] < z ? hi[d] : z;
+        cnt *= hi[d] - lo[d];
+    }
+    enum { REC = 3 + 8 + 4 };
+    double *sb = malloc((size_t)(cnt * REC + 1) * sizeof *sb);
+    int rc = mpm_bricks_agree(b, sb ? 0 : err_nomem(e, "MPM gather"), e);
+    if (rc) {
+        free(sb);
+        return rc;
+    }
+    long k = 0;
+    for (long z = lo[2]; z < hi[2]; z++)
+        for (long y = lo[1]; y < hi[1]; y++)
+            for (long x = lo[0]; x < hi[0]; x++, k++) {
+                long i = (x - g->lo[0] + g->halo) + (y - g->lo[1] + g->halo) * g->stride[1] +
+                         (z - g->lo[2] + g->halo) * g->stride[2];
+                double *r = sb + k * REC;
+                r[0] = (double)x;
+                r[1] = (double)y;
+                r[2] = (double)z;
+                memcpy(r + 3, &g->node[i].m, 8 * sizeof(double));
+                memcpy(r + 11, g->r + 4 * i, 4 * sizeof(double));
+            }
+    void *rb = NULL;
+    size_t rbytes = 0;
+    rc = parallel_gather_bytes(b->par, sb, (size_t)cnt * REC * sizeof *sb, &rb, &rbytes, e);
+    free(sb);
+    if (!rc && b->par->rank == 0) {
+        long n = (long)(rbytes / (REC * sizeof(double)));
+        for (long j = 0; j < n; j++) {
+            const double *r = (const double *)rb + j * REC;
+            long i = ((long)r[0] + full->halo) + ((long)r[1] + full->halo) * full->stride[1] +
+                     ((long)r[2] + full->halo) * full->stride[2];
+            memcpy(&full->node[i].m, r + 3, 8 * sizeof(double));
+            memcpy(full->r + 4 * i, r + 11, 4 * sizeof(double));
+        }
+    }
+    free(rb);
+    return mpm_bricks_agree(b, rc, e);
+}

@@ -1,0 +1,145 @@
+/*
+ * mpm_bricks: the material point method on a brick decomposition of its
+ * background grid (docs/parallel.md, "MPM on bricks").
+ *
+ * The grid's cells are cut into grid[0] x grid[1] x grid[2] bricks along
+ * cell faces, one per MPI rank (the Cartesian grid of core/parallel.h).  A
+ * rank
+ *   - owns the material points whose cell lies in its brick; they migrate
+ *     to the owner of their new cell at the start of every step (a point
+ *     moves less than a cell per step, so to one of the 26 neighbours);
+ *   - owns the nodes of its brick's cells from their lower corner on (the
+ *     first brick along an axis also the serial grid's halo node below 0,
+ *     the last one the nodes at and beyond the upper face), so every node
+ *     of the serial grid has exactly one owner;
+ *   - holds a patch of the grid (mpm_grid's uniform patch: lo, nn, halo):
+ *     its brick's cells plus MARGIN cells on every side that is not a
+ *     face of the grid, plus the grid's own halo node.  A point up to
+ *     MARGIN cells outside the brick still maps into the patch, which is
+ *     what the fused update-and-map pass (mpm.h) needs: it maps the next
+ *     step at the new positions, before the points migrate.
+ * The nodes of the patch that another rank owns are ghosts.  After every
+ * particle-to-grid pass their partial sums go to their owners and are
+ * added there (the reverse halo: s1-s3, and the MUSL remap of s10), the
+ * ghosts are zeroed, the owners update their nodes (s4-s5, s11), and the
+ * owners' values go back to every ghost (the forward halo), so the
+ * grid-to-particle passes (s6-s8, s12) see complete nodes.  Each message
+ * goes straight to the neighbour that owns (or holds) the nodes: the
+ * patches of edge and corner neighbours overlap too.
+ *
+ * What is global: the time step (the largest point speed is a maximum over
+ * the ranks), the small-mass threshold (the lightest point of all), the
+ * energies, momenta and rigid-body reactions (sums over the ranks), and
+ * the decision to keep a fused mapping (all ranks keep theirs or all map
+ * afresh: a point that migrated was mapped by its old owner).  Round-off:
+ * a node's mass, momentum and force are sums over points; on bricks the
+ * ghost contributions are added after the owner's own, so the last bits
+ * differ from a serial run (docs/parallel.md gives the measured agreement).
+ *
+ * Hierarchical grids (mpm_hgrid.h) and extra particle sets (the couplings)
+ * are not decomposed: mpm_bricks_plan refuses them on bricks.
+ */
+#ifndef CASCADE_MPM_BRICKS_H
+#define CASCADE_MPM_BRICKS_H
+
+#include <stdint.h>
+
+#include "mpm/mpm.h"
+#include "util/err.h"
+
+struct parallel;
+struct parallel_settings;
+struct cfg;
+
+#define MPM_BRICKS_MARGIN 1   /* cells a point may be outside its brick and still map */
+#define MPM_BRICKS_NBR 26
+
+/* Node lists exchanged with one neighbour (offset o = (dx, dy, dz)). */
+struct mpm_bricks_link {
+    int rank_to, rank_from;   /* the ranks at coords + o and coords - o (-1: none) */
+    int32_t *ghost;           /* my ghost nodes the rank at +o owns (patch indices) */
+    long nghost;
+    int32_t *owned;           /* my owned nodes the rank at -o holds as ghosts */
+    long nowned;
+};
+
+struct mpm_bricks {
+    const struct parallel *par;   /* borrowed */
+    int grid[3], coords[3];
+    long *cut[3];                 /* grid[d] + 1 cell indices along d: brick c has cells
+                                     [cut[d][c], cut[d][c + 1]) */
+    long ncell[3];                /* the serial grid's cells */
+    long serial_nodes;            /* the serial grid's node count (with its halo) */
+    struct mpm_bricks_link link[MPM_BRICKS_NBR];
+    uint8_t *is_ghost;            /* per patch node */
+    double *sbuf, *rbuf;          /* message buffers */
+    size_t scap, rcap;
+    unsigned char *pbuf;          /* migration buffers */
+    size_t pcap;
+    void *prbuf;
+    size_t prcap;
+    long migrated;                /* points sent away in the last step (diagnostics) */
+};
+
+/* Whether a `type: mpm` case runs on bricks: *out a new decomposition
+ * plan (grid of ranks and cell cuts; the caller owns it) or NULL for a
+ * serial or replicated run.  Refuses, naming the case file, line and key,
+ * a grid that does not multiply to the rank count or cuts an axis into
+ * bricks thinner than 4 cells; a hierarchical grid is refused when bricks
+ * are asked for and falls back to replicated data (with a note) under
+ * `auto`.  c: the case's cfg (for messages). */
+int mpm_bricks_plan(const struct parallel *par, const struct parallel_settings *ps,
+                    const struct mpm_grid *g, int hierarchical, struct cfg *c,
+                    struct mpm_bricks **out);
+
+/* Every rank holds the whole model (built from the case): replace the grid
+ * by this rank's patch and keep this rank's points.  Collective. */
+int mpm_bricks_distribute(struct mpm_bricks *b, struct mpm *m, struct err *e);
+
+void mpm_bricks_destroy(struct mpm_bricks **b);
+
+/* mpm_prepare over all ranks: thresholds, the largest speed and the
+ * energies of the points of every rank.  Collective. */
+int mpm_bricks_prepare(struct mpm_bricks *b, struct mpm *m, struct err *e);
+
+/* The engine's force and integrate stages on bricks (mpm_step_map and
+ * mpm_step_update with the exchanges).  Collective; an error on one rank
+ * is an error on every rank. */
+int mpm_bricks_step_map(struct mpm_bricks *b, struct mpm *m, struct err *e);
+int mpm_bricks_step_update(struct mpm_bricks *b, struct mpm *m, double dt, struct err *e);
+
+/* Sums, maxima over the ranks (no-op when b is NULL). */
+void mpm_bricks_sum(const struct mpm_bricks *b, double *buf, int n);
+void mpm_bricks_max(const struct mpm_bricks *b, double *buf, int n);
+/* rc made collective (an error on any rank is an error on every rank). */
+int mpm_bricks_agree(const struct mpm_bricks *b, int rc, struct err *e);
+/* mpm_totals over all ranks. */
+void mpm_bricks_totals(const struct mpm_bricks *b, const struct mpm *m, struct mpm_totals *t);
+/* Points of all ranks. */
+long mpm_bricks_npoints(const struct mpm_bricks *b, const struct mpm *m);
+int mpm_bricks_rank(const struct mpm_bricks *b);
+
+/* The points of every rank sorted by id into *all on rank 0 (an empty set
+ * elsewhere; all is initialised here, the caller frees it).  Collective. */
+int mpm_bricks_gather_points(struct mpm_bricks *b, const struct mpm_points *p,
+                             struct mpm_points *all, struct err *e);
+/* The owned nodes of every rank (records and the remapped velocities) into
+ * the serial layout's node[] and r[] of *full on rank 0 (a uniform grid the
+ * caller made with the serial grid's cells).  Collective. */
+int mpm_bricks_gather_nodes(struct mpm_bricks *b, const struct mpm_grid *g, struct mpm_grid *full,
+                            struct err *e);
+/* The step-0 mapping (s9, s1-s3 and the reverse halo) for a snapshot of
+ * the initial grid.  Collective. */
+int mpm_bricks_map_initial(struct mpm_bricks *b, struct mpm *m, struct err *e);
+
+/* This rank's points in id order (the order a restart reads them in, so
+ * that a run continued after a checkpoint and one restarted from it sum in
+ * the same order).  Collective. */
+int mpm_bricks_sort_by_id(struct mpm_bricks *b, struct mpm *m, struct err *e);
+
+/* Keep, of the n points of a whole set (a checkpoint read on every rank),
+ * those this rank owns, replacing m's points. */
+int mpm_bricks_keep_owned(struct mpm_bricks *b, struct mpm *m, struct mpm_points *all,
+                          struct err *e);
+
+#endif

@@ -1,0 +1,339 @@
+/*
+ * The MPM on bricks (docs/parallel.md, solver/mpm/mpm_bricks.h): `mpirun -np
+ * N cascade-solver run` of a `type: mpm` case cuts the background grid into
+ * N bricks; each rank owns its brick's nodes and points, ghost nodes'
+ * partial sums go to their owners after every particle-to-grid pass and the
+ * owners' values come back before every grid-to-particle pass, and points
+ * migrate with their cell.  The arithmetic per point is the serial one; a
+ * node's mass, momentum and force are the same terms summed in another
+ * order (the ghosts' contributions after the owner's own), so the runs
+ * agree with the serial one to round-off: over 100 steps the thermo series,
+ * the final metrics, the points of the last snapshot (matched by id) and
+ * the grid fields agree to REL relative.  Quantities that vanish in exact
+ * arithmetic (a momentum component of a symmetric impact: 1e-13 of the
+ * momentum scale, round-off itself) are compared on the scale of the run's
+ * momentum, and the relative energy changes absolutely.
+ */
+#include <criterion/criterion.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "helpers/th.h"
+#include "helpers/th_bricks.h"
+
+#define REL 1e-10
+
+/* Two aluminium blocks in head-on impact with sideways velocities, on a
+ * 30 x 12 x 12-cell grid: the brick faces of 2, 4 and 8 ranks cut block A
+ * (x = 0.15 m) and both blocks (y, z = 0.06 m), and at 400 m/s the points
+ * cross them (3 cells in 100 steps): migration and the fused mapping of
+ * points outside their brick are exercised.  The blocks rebound within the
+ * 100 steps and stay inside the grid. */
+static const char *const impact_yaml =
+    "title: two cubes on bricks\n"
+    "type: mpm\n"
+    "mpm:\n"
+    "  units: si\n"
+    "  grid: {origin: [0, 0, 0], cell: 0.01, cells: [30, 12, 12], shape: linear}\n"
+    "  materials:\n"
+    "    - {name: al, law: linear_elastic, density: 2700, E: 70.0e9, nu: 0.3}\n"
+    "  bodies:\n"
+    "    - {name: A, material: al, velocity: [400, 60, 30],\n"
+    "       region: {shape: box, lo: [0.04, 0.02, 0.02], hi: [0.165, 0.10, 0.10]}}\n"
+    "    - {name: B, material: al, velocity: [-400, -50, 80],\n"
+    "       region: {shape: box, lo: [0.175, 0.02, 0.02], hi: [0.26, 0.10, 0.10]}}\n"
+    "  algorithm: musl\n"
+    "  steps: 100\n"
+    "  report_steps: [50, 100]\n"
+    "output: {thermo_every: 10, snapshot_every: 50}\n"
+    "parallel: {decomposition: bricks}\n";
+
+/* A stress wave in a copper bar of 64 x 2 x 2 cells (uGIMP, USL, sliding
+ * side faces): a traction on the first layer, a rigid grip over the last
+ * four cells (its reaction is a sum over the nodes of every rank), probes
+ * either side of the brick faces.  Not fusable (GIMP, loads): the
+ * mapping of every step is summed over the ranks. */
+static const char *const wave_yaml =
+    "title: GIMP wave on bricks\n"
+    "type: mpm\n"
+    "mpm:\n"
+    "  units: metal\n"
+    "  grid:\n"
+    "    cell: 3.615\n"
+    "    cells: [64, 2, 2]\n"
+    "    shape: gimp\n"
+    "    faces: {y_lo: sliding, y_hi: sliding, z_lo: sliding, z_hi: sliding}\n"
+    "  materials:\n"
+    "    - {name: Cu, law: cubic_elastic, density: 8.94, C11: 169.9, C12: 122.6, C44: 76.2}\n"
+    "  bodies:\n"
+    "    - {name: bar, material: Cu, region: {shape: box, lo: [0, 0, 0], hi: [216.9, 7.23, "
+    "7.23]}}\n"
+    "    - {name: grip, material: Cu, rigid: true, velocity: [0, 0, 0],\n"
+    "       region: {shape: box, lo: [216.9, 0, 0], hi: [231.36, 7.23, 7.23]}}\n"
+    "  loads:\n"
+    "    - {region: {shape: box, lo: [0, 0, 0], hi: [1.0, 7.23, 7.23]}, normal: x, traction: "
+    "[0.1, 0, 0]}\n"
+    "  probes:\n"
+    "    - {name: near, region: {shape: box, lo: [20, 0, 0], hi: [60, 7.23, 7.23]}}\n"
+    "    - {name: far, region: {shape: box, lo: [100, 0, 0], hi: [140, 7.23, 7.23]}}\n"
+    "  algorithm: usl\n"
+    "  steps: 100\n"
+    "output: {thermo_every: 5, snapshot_every: 100}\n"
+    "parallel: {decomposition: bricks}\n";
+
+static const char *const impact_series[] = {"ke",   "strain_energy", "etotal", "etotal_centred",
+                                            "pz",   "vmax",          "dt",     "time",
+                                            NULL};
+static const char *const impact_metrics[] = {
+    "points",        "nodes",          "steps_done",   "time",         "timestep_min",
+    "timestep_max",  "mass",           "ke_initial",   "ke",           "strain_energy",
+    "etotal",        "vmax",           "von_mises_max", "ke_step_50",  "ke_step_100",
+    "A_velocity_x",  "A_velocity_z",   "B_velocity_x", "B_velocity_z", "momentum_z",
+    NULL};
+static const char *const wave_series[] = {"ke",      "strain_energy", "etotal",
+                                          "grip_fx", "near_sxx",      "near_ux",
+                                          "far_sxx", "far_ux",        "vmax",
+                                          NULL};
+static const char *const wave_metrics[] = {"points",  "nodes",        "steps_done",   "time",
+                                           "ke",      "strain_energy", "grip_force_x", "near_sxx",
+                                           "near_ux", "far_sxx",       "far_ux",       "vmax",
+                                           "von_mises_max", NULL};
+
+/* Metrics that are zero in exact arithmetic or relative changes: absolute
+ * agreement on their own scale. */
+static void compare_small(const char *a, const char *b, const char *const *names, double tol,
+                          const char *tag)
+{
+    json_t *ra = thb_result(a), *rb = thb_result(b);
+    for (int k = 0; names[k]; k++) {
+        double va = thb_metric(ra, names[k]), vb = thb_metric(rb, names[k]);
+        cr_assert_leq(fabs(va - vb), tol, "%s: %s %.17g vs %.17g (tolerance %g)", tag, names[k],
+                      va, vb, tol);
+    }
+    json_decref(ra);
+    json_decref(rb);
+}
+
+/* /grid/<step>/<set> of two runs, node by node (the same structured
+ * layout), to rel of the set's largest magnitude. */
+static void compare_grid(const char *a, const char *b, long step, const char *tag)
+{
+    static const char *const sets[] = {"mass", "velocity", "force", NULL};
+    for (int k = 0; sets[k]; k++) {
+        char name[96];
+        snprintf(name, sizeof name, "/grid/%08ld/%s", step, sets[k]);
+        long na = 0, nb = 0;
+        double *va = thb_read_h5(a, name, H5T_NATIVE_DOUBLE, sizeof(double), &na);
+        double *vb = thb_read_h5(b, name, H5T_NATIVE_DOUBLE, sizeof(double), &nb);
+        cr_assert_eq(na, nb, "%s: %s has %ld vs %ld values", tag, name, na, nb);
+        double scale = 0, worst = 0;
+        for (long i = 0; i < na; i++)
+            scale = fmax(scale, fabs(va[i]));
+        for (long i = 0; i < na; i++)
+            worst = fmax(worst, fabs(va[i] - vb[i]));
+        cr_assert(scale > 0, "%s: %s is all zero", tag, name);
+        cr_assert_leq(worst, REL * scale, "%s: %s differs by %g of %g", tag, name, worst, scale);
+        free(va);
+        free(vb);
+    }
+}
+
+static void compare_impact(const char *a, const char *b, const char *tag)
+{
+    thb_compare_series(a, b, impact_series, REL, tag);
+    thb_compare_metrics(a, b, impact_metrics, REL, tag);
+    /* momentum scale sum m |v| ~ 3.3 kg x 400 m/s: 1e-10 of it */
+    static const char *const zero[] = {"momentum_x", "momentum_y", "A_velocity_y",
+                                       "B_velocity_y", NULL};
+    compare_small(a, b, zero, 1e-10 * 1300, tag);
+    static const char *const changes[] = {"energy_change", "energy_change_max",
+                                          "energy_change_centred_max", NULL};
+    compare_small(a, b, changes, REL, tag);
+    static const char *const sets[] = {"position", "velocity", "stress", "displacement", NULL};
+    static const int ncomp[] = {3, 3, 6, 3};
+    thb_compare_snapshot(a, b, "/points/00000100", sets, ncomp, REL, tag);
+    compare_grid(a, b, 100, tag);
+}
+
+static const char *write_case(const char *name, const char *yaml)
+{
+    return th_write_temp(0, name, yaml);
+}
+
+/* The impact on 1 (bricks asked for), 2, 4 and 8 ranks against the serial
+ * run; each run's parallel record counts every point once.  Energy
+ * conservation is the serial run's: the closed system's largest change of
+ * the time-centred energy agrees to REL absolute. */
+Test(bricks_mpm, impact_matches_serial_on_1_2_4_8_ranks, .timeout = 900)
+{
+    const char *path = write_case("impact.yaml", impact_yaml);
+    char d0[600], dk[600];
+    snprintf(d0, sizeof d0, "%s/impact-serial", th_temp_dir());
+    thb_must_run(path, 0, d0, NULL);
+    static const int nps[] = {1, 2, 4, 8};
+    for (int k = 0; k < 4; k++) {
+        snprintf(dk, sizeof dk, "%s/impact-%d", th_temp_dir(), nps[k]);
+        thb_must_run(path, nps[k], dk, NULL);
+        char tag[64];
+        snprintf(tag, sizeof tag, "impact on %d ranks", nps[k]);
+        compare_impact(d0, dk, tag);
+        thb_check_parallel_record(dk, nps[k], 10752);
+    }
+    /* the points did cross the brick faces: on 8 ranks the final counts
+     * are not those of step 0 */
+    char yaml0[4096], d8[600];
+    snprintf(yaml0, sizeof yaml0, "%s", impact_yaml);
+    char *st = strstr(yaml0, "steps: 100");
+    cr_assert(st);
+    memcpy(st, "steps: 0  ", 10);
+    snprintf(d8, sizeof d8, "%s/impact-8-step0", th_temp_dir());
+    thb_must_run(write_case("impact0.yaml", yaml0), 8, d8, NULL);
+    json_t *r = thb_result(dk), *r0 = thb_result(d8);
+    json_t *per = json_object_get(json_object_get(r, "parallel"), "particles_per_rank");
+    json_t *per0 = json_object_get(json_object_get(r0, "parallel"), "particles_per_rank");
+    cr_assert_eq(json_array_size(per), 8);
+    cr_assert_eq(json_array_size(per0), 8);
+    int moved = 0;
+    for (size_t i = 0; i < 8; i++)
+        moved |= json_integer_value(json_array_get(per, i)) !=
+                 json_integer_value(json_array_get(per0, i));
+    json_decref(r);
+    json_decref(r0);
+    cr_assert(moved, "no point changed its rank in 100 steps");
+}
+
+/* GIMP, USL, a load, a rigid grip and probes (global sums of the points
+ * and of the grip's nodes) on 2, 4 and 8 ranks. */
+Test(bricks_mpm, gimp_wave_with_load_and_grip_matches_serial, .timeout = 900)
+{
+    const char *path = write_case("wave.yaml", wave_yaml);
+    char d0[600], dk[600];
+    snprintf(d0, sizeof d0, "%s/wave-serial", th_temp_dir());
+    thb_must_run(path, 0, d0, NULL);
+    static const int nps[] = {2, 4, 8};
+    for (int k = 0; k < 3; k++) {
+        snprintf(dk, sizeof dk, "%s/wave-%d", th_temp_dir(), nps[k]);
+        thb_must_run(path, nps[k], dk, NULL);
+        char tag[64];
+        snprintf(tag, sizeof tag, "wave on %d ranks", nps[k]);
+        thb_compare_series(d0, dk, wave_series, REL, tag);
+        thb_compare_metrics(d0, dk, wave_metrics, REL, tag);
+        static const char *const sets[] = {"position", "velocity", "stress", NULL};
+        static const int ncomp[] = {3, 3, 6};
+        thb_compare_snapshot(d0, dk, "/points/00000100", sets, ncomp, REL, tag);
+        compare_grid(d0, dk, 100, tag);
+    }
+    /* the wave reached the far probe: the comparison is not of zeros */
+    json_t *r = thb_result(d0);
+    cr_assert_gt(fabs(thb_metric(r, "far_sxx")), 1e-3, "far_sxx %g GPa",
+                 thb_metric(r, "far_sxx"));
+    cr_assert_gt(fabs(thb_metric(r, "grip_force_x")), 0, "no grip reaction");
+    json_decref(r);
+}
+
+/* A checkpoint written on N ranks restarts on M: the restarted run ends
+ * where the uninterrupted serial one does (to REL); on the same rank count
+ * the thermo is the same text (a continuing run puts its points in id
+ * order and maps afresh after each checkpoint, as a restarted one does). */
+Test(bricks_mpm, checkpoint_moves_between_rank_counts, .timeout = 900)
+{
+    char yaml[4096];
+    snprintf(yaml, sizeof yaml, "%s", impact_yaml);
+    char *o = strstr(yaml, "output: {");
+    cr_assert(o);
+    snprintf(o, sizeof yaml - (size_t)(o - yaml),
+             "output: {thermo_every: 10, snapshot_every: 50, checkpoint_every: 50}\n"
+             "parallel: {decomposition: bricks}\n");
+    const char *path = write_case("ck.yaml", yaml);
+    char s1[600], m2[600];
+    snprintf(s1, sizeof s1, "%s/ck-serial", th_temp_dir());
+    snprintf(m2, sizeof m2, "%s/ck-2", th_temp_dir());
+    thb_must_run(path, 0, s1, NULL);
+    thb_must_run(path, 2, m2, NULL);
+    compare_impact(s1, m2, "uninterrupted 2 ranks");
+    struct {
+        const char *from;
+        int np;
+        const char *tag;
+    } cases[] = {{m2, 0, "2 to 1"}, {s1, 2, "1 to 2"}, {m2, 4, "2 to 4"}, {m2, 2, "2 to 2"}};
+    for (int k = 0; k < 4; k++) {
+        char dir[700], ck[800], from[800];
+        snprintf(dir, sizeof dir, "%s/ck-restart-%d", th_temp_dir(), k);
+        snprintf(ck, sizeof ck, "%s/checkpoint-0000000050.h5", dir);
+        snprintf(from, sizeof from, "%s/checkpoint-0000000050.h5", cases[k].from);
+        cr_assert_eq(thb_mkdir_copy(from, dir, ck), 0, "%s", from);
+        const char *extra[] = {"--restart", NULL};
+        thb_must_run(path, cases[k].np, dir, extra);
+        compare_impact(s1, dir, cases[k].tag);
+        if (k == 3) {
+            static char t1[65536], t2[65536];
+            thb_read_text(m2, "thermo.csv", t1, sizeof t1);
+            thb_read_text(dir, "thermo.csv", t2, sizeof t2);
+            const char *b1 = strchr(t1, '\n'), *b2 = strchr(t2, '\n');
+            cr_assert(b1 && b2);
+            cr_assert_str_eq(b1, b2, "2 to 2 restart is not bitwise");
+        }
+    }
+}
+
+/* A hierarchical grid is not decomposed: asked for bricks it is refused
+ * naming the case file, line and key; under `auto` it runs replicated
+ * with a note.  Bricks thinner than 4 cells are refused likewise. */
+Test(bricks_mpm, hierarchical_grid_and_thin_bricks_are_refused, .timeout = 300)
+{
+    static char out[16384];
+    const char *hier =
+        "type: mpm\n"
+        "mpm:\n"
+        "  units: metal\n"
+        "  grid:\n"
+        "    cell: 3.615\n"
+        "    cells: [32, 2, 2]\n"
+        "    levels:\n"
+        "      - {coarsen: xyz, region: {shape: slab, axis: x, lo: 60, hi: 1.0e9}}\n"
+        "  materials:\n"
+        "    - {name: Cu, law: linear_elastic, density: 8.94, E: 120, nu: 0.3}\n"
+        "  bodies:\n"
+        "    - {name: bar, material: Cu, region: {shape: box, lo: [0, 0, 0], hi: [115.68, "
+        "7.23, 7.23]}}\n"
+        "  steps: 5\n"
+        "parallel:\n"
+        "  decomposition: bricks\n";
+    const char *path = write_case("hier.yaml", hier);
+    char dir[600];
+    snprintf(dir, sizeof dir, "%s/hier-2", th_temp_dir());
+    cr_assert_eq(thb_run(path, 2, dir, NULL, out, sizeof out), 2, "%s", out);
+    cr_assert(strstr(out, "hier.yaml:15:") && strstr(out, "parallel.decomposition") &&
+                  strstr(out, "hierarchical MPM grid"),
+              "%s", out);
+    char autoy[2048];
+    snprintf(autoy, sizeof autoy, "%s", hier);
+    char *p = strstr(autoy, "decomposition: bricks");
+    cr_assert(p);
+    memcpy(p, "decomposition: auto  ", 21);
+    path = write_case("hier_auto.yaml", autoy);
+    snprintf(dir, sizeof dir, "%s/hier-auto-2", th_temp_dir());
+    cr_assert_eq(thb_run(path, 2, dir, NULL, out, sizeof out), 0, "%s", out);
+    cr_assert(strstr(out, "hierarchical MPM grid is not decomposed"), "%s", out);
+
+    const char *thin =
+        "type: mpm\n"
+        "mpm:\n"
+        "  units: metal\n"
+        "  grid: {cell: 3.615, cells: [6, 2, 2]}\n"
+        "  materials:\n"
+        "    - {name: Cu, law: linear_elastic, density: 8.94, E: 120, nu: 0.3}\n"
+        "  bodies:\n"
+        "    - {name: bar, material: Cu, region: {shape: box, lo: [0, 0, 0], hi: [21.69, "
+        "7.23, 7.23]}}\n"
+        "  steps: 5\n"
+        "parallel: {decomposition: bricks, grid: [2, 1, 1]}\n";
+    path = write_case("thin.yaml", thin);
+    snprintf(dir, sizeof dir, "%s/thin-2", th_temp_dir());
+    cr_assert_eq(thb_run(path, 2, dir, NULL, out, sizeof out), 2, "%s", out);
+    cr_assert(strstr(out, "thin.yaml:10:") && strstr(out, "parallel.grid") &&
+                  strstr(out, "thinner than 4 cells"),
+              "%s", out);
+}
