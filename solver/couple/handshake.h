@@ -88,9 +88,39 @@ int hs_lattice_basis(enum hs_lattice l, double basis[8][3]);
  * on a cell face of a or a/2. */
 double hs_lattice_offset(enum hs_lattice l);
 
+/* Orientations of the crystal in the box.  Zero is [100] (cube axes along
+ * x, y, z), so a layout cleared with memset keeps it.  [110]: x along
+ * [110], y along [-110], z along [001]. */
+enum hs_orientation { HS_ORIENT_100 = 0, HS_ORIENT_110, HS_ORIENT_COUNT };
+extern const char *const hs_orientation_names[];   /* "100", "110", NULL */
+
+/* The crystal directions along x, y, z (rows, unit vectors in cube
+ * coordinates). */
+void hs_orientation_axes(enum hs_orientation o, double R[3][3]);
+
+/* The orthogonal repeat cell of lattice l in orientation o: its edges
+ * (period[d], in lattice constants: 1, 1, 1 along [100]; fcc and diamond
+ * along [110] a/sqrt2, a/sqrt2, a; bcc along [110] sqrt2 a, sqrt2 a, a)
+ * and its sites (fractions of the edges, at most 8); returns how many. */
+int hs_cell_basis(enum hs_lattice l, enum hs_orientation o, double basis[8][3],
+                  double period[3]);
+
+/* hs_lattice_offset per axis of the oriented cell, as a fraction of its
+ * edge: an eighth where the sites are a quarter edge apart, else a
+ * quarter. */
+double hs_cell_offset(enum hs_lattice l, enum hs_orientation o, int d);
+
+/* Longitudinal modulus along x (cl) and the moduli coupling x to y and to
+ * z (uniaxial strain along x: sigma_yy = cxy eps, sigma_zz = cxz eps) of a
+ * cubic crystal in orientation o: C11, C12, C12 along [100]; along [110]
+ * (C11 + C12 + 2 C44) / 2, (C11 + C12 - 2 C44) / 2, C12. */
+void hs_oriented_moduli(enum hs_orientation o, double c11, double c12, double c44, double *cl,
+                        double *cxy, double *cxz);
+
 /* Where things are (all lengths in Å). */
 struct handshake_layout {
     enum hs_lattice lattice;   /* fcc (0), bcc or diamond                       */
+    enum hs_orientation orient;   /* [100] (0) or [110] along x                 */
     double a;                  /* cubic lattice constant                        */
     double lat_origin[3];      /* one lattice site                              */
     double dom_lo[3], dom_hi[3];   /* MPM domain D (the grid)                   */
@@ -99,7 +129,8 @@ struct handshake_layout {
     double md_lo[3], md_hi[3];     /* MD box B                                  */
     int md_periodic[3];        /* MD periodic along an axis where B spans D     */
     double w[3];               /* widths of regions I, II, III                  */
-    double h;                  /* finest cell edge                              */
+    double h;                  /* finest cell edge along x; along y and z the
+                                  same fraction of the oriented cell's edge     */
     double fine;               /* distance from B to the first coarse cell      */
     int nlevels;               /* coarsening levels (0: uniform grid)           */
     unsigned coarsen;          /* directions halved per level (x 1, y 2, z 4)   */
@@ -122,6 +153,10 @@ enum hs_layout_key {
  * refusal fills *key and `why`. */
 int handshake_layout_check(const struct handshake_layout *L, double cutoff,
                            enum hs_layout_key *key, char *why, size_t len);
+
+/* The oriented cell's edges (Å) and the finest grid cell's edges (Å). */
+void handshake_layout_period(const struct handshake_layout *L, double p[3]);
+void handshake_layout_cell(const struct handshake_layout *L, double h[3]);
 
 /* Whether face f (0..5) of B is an interface (strictly inside the material). */
 int handshake_face_coupled(const struct handshake_layout *L, int f);

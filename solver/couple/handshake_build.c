@@ -37,21 +37,22 @@ typedef int (*site_fn)(void *ctx, const double x[3]);
 static int for_sites(const struct handshake_layout *L, const double lo[3], const double hi[3],
                      site_fn fn, void *ctx)
 {
-    double basis[8][3];
-    const int nb = hs_lattice_basis(L->lattice, basis);
+    double basis[8][3], P[3];
+    const int nb = hs_cell_basis(L->lattice, L->orient, basis, P);
+    handshake_layout_period(L, P);
     long n0[3], n1[3];
     for (int d = 0; d < 3; d++) {
-        n0[d] = (long)floor((lo[d] - L->lat_origin[d]) / L->a) - 1;
-        n1[d] = (long)ceil((hi[d] - L->lat_origin[d]) / L->a) + 1;
+        n0[d] = (long)floor((lo[d] - L->lat_origin[d]) / P[d]) - 1;
+        n1[d] = (long)ceil((hi[d] - L->lat_origin[d]) / P[d]) + 1;
     }
     /* x fastest within a (100) plane pair, so neighbours stay close in memory */
     for (long k = n0[2]; k < n1[2]; k++)
         for (long j = n0[1]; j < n1[1]; j++)
             for (long i = n0[0]; i < n1[0]; i++)
                 for (int b = 0; b < nb; b++) {
-                    double x[3] = {L->lat_origin[0] + (i + basis[b][0]) * L->a,
-                                   L->lat_origin[1] + (j + basis[b][1]) * L->a,
-                                   L->lat_origin[2] + (k + basis[b][2]) * L->a};
+                    double x[3] = {L->lat_origin[0] + (i + basis[b][0]) * P[0],
+                                   L->lat_origin[1] + (j + basis[b][1]) * P[1],
+                                   L->lat_origin[2] + (k + basis[b][2]) * P[2]};
                     int in = 1;
                     for (int d = 0; d < 3; d++)
                         in &= x[d] >= lo[d] && x[d] < hi[d];
@@ -108,11 +109,12 @@ static int site_point(void *ctx, const double x[3])
  * cell, is one of the basis sites. */
 static int on_site(const struct handshake_layout *L, const double x[3])
 {
-    double basis[8][3];
-    const int nb = hs_lattice_basis(L->lattice, basis);
+    double basis[8][3], P[3];
+    const int nb = hs_cell_basis(L->lattice, L->orient, basis, P);
+    handshake_layout_period(L, P);
     double u[3];
     for (int d = 0; d < 3; d++) {
-        u[d] = (x[d] - L->lat_origin[d]) / L->a;
+        u[d] = (x[d] - L->lat_origin[d]) / P[d];
         u[d] -= floor(u[d] + 1e-9);
     }
     for (int b = 0; b < nb; b++) {
@@ -155,7 +157,9 @@ static int eight_points(struct fill_ctx *c, const double lo[3], const double siz
 static int fill_cell(struct fill_ctx *c, const double lo[3], const double size[3], int level)
 {
     const struct handshake *hs = c->hs;
-    if (level == 0 && fabs(size[0] - hs->lay.a) < 1e-9 * hs->lay.a) {
+    double P[3];
+    handshake_layout_period(&hs->lay, P);
+    if (level == 0 && fabs(size[0] - P[0]) < 1e-9 * P[0]) {   /* one oriented cell */
         double hi[3] = {lo[0] + size[0], lo[1] + size[1], lo[2] + size[2]};
         return for_sites(&hs->lay, lo, hi, site_point, c);
     }
@@ -180,8 +184,8 @@ static int fill_points(struct fill_ctx *c)
             const struct mpm_hcell *cl = &hg->cell[k];
             double lo[3], size[3];
             for (int d = 0; d < 3; d++) {
-                lo[d] = g->origin[d] + cl->lo[d] * g->h;
-                size[d] = (double)(1L << cl->lg[d]) * g->h;
+                lo[d] = g->origin[d] + cl->lo[d] * g->hd[d];
+                size[d] = (double)(1L << cl->lg[d]) * g->hd[d];
             }
             int rc = fill_cell(c, lo, size, cl->level);
             if (rc)
@@ -189,12 +193,12 @@ static int fill_points(struct fill_ctx *c)
         }
         return 0;
     }
-    double size[3] = {g->h, g->h, g->h};
+    const double *size = g->hd;
     for (long kz = 0; kz < g->ncell[2]; kz++)
         for (long ky = 0; ky < g->ncell[1]; ky++)
             for (long kx = 0; kx < g->ncell[0]; kx++) {
-                double lo[3] = {g->origin[0] + kx * g->h, g->origin[1] + ky * g->h,
-                                g->origin[2] + kz * g->h};
+                double lo[3] = {g->origin[0] + kx * g->hd[0], g->origin[1] + ky * g->hd[1],
+                                g->origin[2] + kz * g->hd[2]};
                 int rc = fill_cell(c, lo, size, 0);
                 if (rc)
                     return rc;
@@ -206,8 +210,10 @@ static int build_grid(struct handshake *hs, int nthreads, struct err *e)
 {
     const struct handshake_layout *L = &hs->lay;
     long ncell[3];
+    double h[3];
+    handshake_layout_cell(L, h);
     for (int d = 0; d < 3; d++)
-        ncell[d] = lround((L->dom_hi[d] - L->dom_lo[d]) / L->h);
+        ncell[d] = lround((L->dom_hi[d] - L->dom_lo[d]) / h[d]);
     struct mpm_grid grid;
     int rc;
     if (L->nlevels > 0) {
@@ -227,12 +233,12 @@ static int build_grid(struct handshake *hs, int nthreads, struct err *e)
             }
         }
         struct mpm_hgrid *hg;
-        rc = mpm_hgrid_build(&hg, L->dom_lo, L->h, ncell, lv, L->nlevels, MPM_HANGING_MODIFIED, e);
+        rc = mpm_hgrid_build3(&hg, L->dom_lo, h, ncell, lv, L->nlevels, MPM_HANGING_MODIFIED, e);
         if (rc)
             return rc;
         rc = mpm_grid_init_hier(&grid, hg, e);
     } else {
-        rc = mpm_grid_init_uniform(&grid, L->dom_lo, L->h, ncell, MPM_SHAPE_LINEAR, e);
+        rc = mpm_grid_init_uniform3(&grid, L->dom_lo, h, ncell, MPM_SHAPE_LINEAR, e);
     }
     if (!rc)
         rc = mpm_grid_set_faces(&grid, L->face, e);
@@ -342,16 +348,24 @@ int handshake_create(struct handshake *hs, const struct handshake_layout *L,
     memset(hs, 0, sizeof *hs);
     hs->lay = *L;
     hs->cr = *cr;
-    double basis[8][3];
-    hs->omega0 = L->a * L->a * L->a / hs_lattice_basis(L->lattice, basis);
+    double basis[8][3], P[3];
+    const int nb = hs_cell_basis(L->lattice, L->orient, basis, P);
+    handshake_layout_period(L, P);
+    hs->omega0 = P[0] * P[1] * P[2] / nb;
     hs->rho = cr->mass / hs->omega0;
     int rc = build_grid(hs, nthreads, e);
     if (rc)
         return rc;
     struct mpm *m = &hs->mpm;
     m->sort_every = 0;   /* point indices are the links of the MD copies */
-    struct mpm_material *mat = mpm_material_cubic_elastic("crystal", hs->rho, cr->c11, cr->c12,
-                                                          cr->c44);
+    /* the cubic constants in the crystal's frame; turned, the orthotropic
+     * stiffness of the rotated tensor */
+    double R[3][3];
+    hs_orientation_axes(L->orient, R);
+    struct mpm_material *mat =
+        L->orient == HS_ORIENT_100
+            ? mpm_material_cubic_elastic("crystal", hs->rho, cr->c11, cr->c12, cr->c44)
+            : mpm_material_cubic_elastic_rotated("crystal", hs->rho, cr->c11, cr->c12, cr->c44, R);
     if (!mat)
         return err_nomem(e, "handshake material");
     if (mpm_add_material(m, mat, e) < 0)

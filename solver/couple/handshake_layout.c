@@ -5,6 +5,22 @@
 
 #include "couple/handshake.h"
 
+void handshake_layout_period(const struct handshake_layout *L, double p[3])
+{
+    double basis[8][3];
+    hs_cell_basis(L->lattice, L->orient, basis, p);
+    for (int d = 0; d < 3; d++)
+        p[d] *= L->a;
+}
+
+void handshake_layout_cell(const struct handshake_layout *L, double h[3])
+{
+    double p[3];
+    handshake_layout_period(L, p);
+    for (int d = 0; d < 3; d++)
+        h[d] = d == 0 ? L->h : L->h / p[0] * p[d];
+}
+
 int handshake_face_coupled(const struct handshake_layout *L, int f)
 {
     int d = f / 2;
@@ -66,14 +82,25 @@ int handshake_layout_check(const struct handshake_layout *L, double cutoff,
         REFUSE(HS_KEY_GEOMETRY, "the lattice constant must be positive");
     if ((unsigned)L->lattice >= HS_LATTICE_COUNT)
         REFUSE(HS_KEY_GEOMETRY, "unknown lattice %d: fcc, bcc or diamond", (int)L->lattice);
-    if (L->lattice != HS_LATTICE_FCC && fabs(L->h - a) > 1e-9 * a)
+    if ((unsigned)L->orient >= HS_ORIENT_COUNT)
+        REFUSE(HS_KEY_GEOMETRY, "unknown orientation %d: 100 or 110", (int)L->orient);
+    /* the oriented cell: along [100] a cube of a; along [110] edges a/sqrt2
+     * (fcc, diamond) or sqrt2 a (bcc) across and a along z.  Lengths are
+     * checked against its edge along each axis (P[d]), cells are the same
+     * fraction of it along every axis. */
+    double P[3], H[3];
+    handshake_layout_period(L, P);
+    handshake_layout_cell(L, H);
+    const int turned = L->orient != HS_ORIENT_100;
+    const char *unit = turned ? "cell edges" : "lattice constants";
+    if ((L->lattice != HS_LATTICE_FCC || turned) && fabs(L->h - P[0]) > 1e-9 * P[0])
         REFUSE(HS_KEY_CELL,
-               "a %s crystal needs a finest cell of one lattice constant (%g Å is %g): in cells "
-               "of a/2 its sites fill %s of the cells, which leaves forces on the grid under a "
+               "a %s crystal needs a finest cell of one %s%s (%g Å is %g): in smaller cells "
+               "its sites fill only part of the cells, which leaves forces on the grid under a "
                "uniform stress",
-               hs_lattice_names[L->lattice], L->h, L->h / a,
-               L->lattice == HS_LATTICE_BCC ? "a quarter" : "half, two sites each,");
-    if (!(fabs(L->h - a) < 1e-9 * a || fabs(L->h - 0.5 * a) < 1e-9 * a))
+               hs_lattice_names[L->lattice], turned ? "cell edge" : "lattice constant",
+               turned ? " when turned to [110] (cell: 1)" : "", L->h, L->h / P[0]);
+    if (!(fabs(L->h - a) < 1e-9 * a || fabs(L->h - 0.5 * a) < 1e-9 * a) && !turned)
         REFUSE(HS_KEY_CELL,
                "the finest cell must be 1 or 0.5 lattice constants (%g Å is %g): the lattice "
                "sites of regions II and III must sit at the same place in every cell",
@@ -81,20 +108,25 @@ int handshake_layout_check(const struct handshake_layout *L, double cutoff,
     for (int k = 0; k < 3; k++)
         if (L->w[k] < cutoff * (1 - 1e-12))
             REFUSE(HS_KEY_REGIONS,
-                   "region %s is %.4g Å (%g lattice constants) wide, narrower than the potential "
+                   "region %s is %.4g Å (%g %s) wide, narrower than the potential "
                    "cutoff %.4g Å: each handshake region must be at least one cutoff wide",
-                   rname[k], L->w[k], L->w[k] / a, cutoff);
-    for (int k = 0; k < 3; k++)
-        if (!multiple_of(L->w[k], 0.5 * a))
+                   rname[k], L->w[k], L->w[k] / P[0], unit, cutoff);
+    for (int d = 0; d < 3; d++) {
+        if (!handshake_face_coupled(L, 2 * d) && !handshake_face_coupled(L, 2 * d + 1))
+            continue;
+        for (int k = 0; k < 3; k++)
+            if (!multiple_of(L->w[k], 0.5 * P[d]))
+                REFUSE(HS_KEY_REGIONS,
+                       "region %s is %g Å wide: across an interface normal to %c widths must "
+                       "be multiples of 0.5 %s (%g Å: whole lattice planes)",
+                       rname[k], L->w[k], "xyz"[d], turned ? "cell edges" : "lattice constants",
+                       0.5 * P[d]);
+        if (L->w[0] < 2 * H[d] * (1 - 1e-12))
             REFUSE(HS_KEY_REGIONS,
-                   "region %s is %g lattice constants wide: widths must be multiples of 0.5 "
-                   "(whole (100) planes)",
-                   rname[k], L->w[k] / a);
-    if (L->w[0] < 2 * L->h * (1 - 1e-12))
-        REFUSE(HS_KEY_REGIONS,
-               "region I (%g Å) must be at least two cells (%g Å) wide, so that no node moving a "
-               "region II point sees its inner edge",
-               L->w[0], 2 * L->h);
+                   "region I (%g Å) must be at least two cells (%g Å) wide, so that no node "
+                   "moving a region II point sees its inner edge",
+                   L->w[0], 2 * H[d]);
+    }
     if (L->nlevels < 0 || L->nlevels > MPM_MAX_LEVELS)
         REFUSE(HS_KEY_LEVELS, "levels = %d: between 0 and %d", L->nlevels, MPM_MAX_LEVELS);
     if (L->nlevels > 0 && (L->coarsen & 7u) == 0)
@@ -111,9 +143,9 @@ int handshake_layout_check(const struct handshake_layout *L, double cutoff,
     int ncoupled = 0;
     for (int d = 0; d < 3; d++) {
         double ext = L->dom_hi[d] - L->dom_lo[d];
-        if (!(ext > 0) || !multiple_of(ext, L->h))
+        if (!(ext > 0) || !multiple_of(ext, H[d]))
             REFUSE(HS_KEY_GEOMETRY, "the MPM domain along %c (%g Å) is not a whole number of "
-                   "cells of %g Å", "xyz"[d], ext, L->h);
+                   "cells of %g Å", "xyz"[d], ext, H[d]);
         if (L->md_lo[d] < L->dom_lo[d] - 1e-9 * a || L->md_hi[d] > L->dom_hi[d] + 1e-9 * a ||
             !(L->md_hi[d] > L->md_lo[d]))
             REFUSE(HS_KEY_GEOMETRY,
@@ -126,19 +158,20 @@ int handshake_layout_check(const struct handshake_layout *L, double cutoff,
                    "contain the MD region [%g, %g] Å",
                    "xyz"[d], L->mat_lo[d], L->mat_hi[d], L->dom_lo[d], L->dom_hi[d], L->md_lo[d],
                    L->md_hi[d]);
-        double off = L->lat_origin[d] - L->dom_lo[d] - hs_lattice_offset(L->lattice) * a;
-        if (!multiple_of(off, 0.5 * a))
+        double off_frac = hs_cell_offset(L->lattice, L->orient, d);
+        double off = L->lat_origin[d] - L->dom_lo[d] - off_frac * P[d];
+        if (!multiple_of(off, 0.5 * P[d]))
             REFUSE(HS_KEY_GEOMETRY,
-                   "lattice sites must lie %g lattice constants off the grid planes (%s; "
+                   "lattice sites must lie %g %s off the grid planes (%s; "
                    "lattice origin %g Å along %c)",
-                   hs_lattice_offset(L->lattice), hs_lattice_names[L->lattice],
+                   off_frac * P[d] / (turned ? P[d] : a), unit, hs_lattice_names[L->lattice],
                    L->lat_origin[d], "xyz"[d]);
-        if (!multiple_of(L->md_lo[d] - L->dom_lo[d], 0.5 * a) ||
-            !multiple_of(L->md_hi[d] - L->dom_lo[d], 0.5 * a))
+        if (!multiple_of(L->md_lo[d] - L->dom_lo[d], 0.5 * P[d]) ||
+            !multiple_of(L->md_hi[d] - L->dom_lo[d], 0.5 * P[d]))
             REFUSE(HS_KEY_MD,
-                   "the MD region's faces along %c must lie between (100) planes (multiples of "
-                   "0.5 lattice constants from the domain's corner)",
-                   "xyz"[d]);
+                   "the MD region's faces along %c must lie between lattice planes (multiples "
+                   "of 0.5 %s, %g Å, from the domain's corner)",
+                   "xyz"[d], unit, 0.5 * P[d]);
         for (int s = 0; s < 2; s++) {
             if (!handshake_face_coupled(L, 2 * d + s))
                 continue;

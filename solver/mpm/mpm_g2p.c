@@ -246,7 +246,7 @@ static inline long next_block(const struct mpm_grid *g, const double *x)
 {
     long key = 0;
     for (int d = 0; d < 3; d++) {
-        double u = (x[d] - g->origin[d]) * g->inv_h - (double)g->lo[d];
+        double u = (x[d] - g->origin[d]) * g->inv_hd[d] - (double)g->lo[d];
         if (!(u >= 0) || u >= (double)(g->nn[d] - 1))
             return -1;
         if (d == g->slab_axis)
@@ -273,7 +273,7 @@ update_point_linear(const struct mpm *m, long p, double dt, const double *vel,
     mpm_lin_eval(&m->grid, x, &st);
     const struct mpm_node *nb = node + st.base;
     const double *vb4 = musl ? vel + 4 * st.base : NULL;
-    const double ih = m->grid.inv_h;
+    const double *ih = m->grid.inv_hd;
     /* vq: the velocities whose gradient is L -- s11 (MUSL) or s5 (USL) */
     mpm_v4 vq[8], vs[8];
 #pragma GCC unroll 8
@@ -295,9 +295,9 @@ update_point_linear(const struct mpm *m, long p, double dt, const double *vel,
             Lz += (st.wy[bb]) * (st.wx[0] * (vq[2 * bc] - vq[2 * bc - 4]) +
                                  st.wx[1] * (vq[2 * bc + 1] - vq[2 * bc - 3]));
     }
-    Lx *= ih;
-    Ly *= ih;
-    Lz *= ih;
+    Lx *= ih[0];
+    Ly *= ih[1];
+    Lz *= ih[2];
     x[0] += vb[1] * dt;   /* Eq. (s8) */
     x[1] += vb[2] * dt;
     x[2] += vb[3] * dt;
@@ -444,7 +444,7 @@ void mpm_update_particles_and_map(struct mpm *m, double dt)
                     if (blk[p] < 0)
                         continue;   /* left the grid: the next step reports it */
                     long key =
-                        (long)((pts->x[3 * p + ax] - g->origin[ax]) * g->inv_h - g->lo[ax]);
+                        (long)((pts->x[3 * p + ax] - g->origin[ax]) * g->inv_hd[ax] - g->lo[ax]);
                     if (key < kmin || key > kmax) {
                         far = 1;
                         continue;

@@ -59,14 +59,31 @@ static int make_blocks(struct mpm_grid *g, const long nkeys[3], long width, stru
     return 0;
 }
 
+/* Edges per axis; h and inv_h are those along x. */
+static void set_edges(struct mpm_grid *g, const double h[3])
+{
+    for (int d = 0; d < 3; d++) {
+        g->hd[d] = h[d];
+        g->inv_hd[d] = 1.0 / h[d];
+    }
+    g->h = g->hd[0];
+    g->inv_h = g->inv_hd[0];
+}
+
 int mpm_grid_init_uniform(struct mpm_grid *g, const double origin[3], double h,
                           const long ncell[3], enum mpm_shape_kind shape, struct err *e)
+{
+    const double h3[3] = {h, h, h};
+    return mpm_grid_init_uniform3(g, origin, h3, ncell, shape, e);
+}
+
+int mpm_grid_init_uniform3(struct mpm_grid *g, const double origin[3], const double h[3],
+                           const long ncell[3], enum mpm_shape_kind shape, struct err *e)
 {
     memset(g, 0, sizeof *g);
     g->kind = MPM_GRID_UNIFORM;
     g->shape = shape;
-    g->h = h;
-    g->inv_h = 1.0 / h;
+    set_edges(g, h);
     g->halo = 1;   /* GIMP reaches one node beyond the cell of a point near a face */
     g->nnodes = 1;
     for (int d = 0; d < 3; d++) {
@@ -103,8 +120,7 @@ int mpm_grid_init_hier(struct mpm_grid *g, struct mpm_hgrid *hg, struct err *e)
     g->kind = MPM_GRID_HIER;
     g->shape = MPM_SHAPE_LINEAR;
     g->hg = hg;
-    g->h = hg->h;
-    g->inv_h = 1.0 / hg->h;
+    set_edges(g, hg->hd);
     g->nnodes = hg->nnodes;
     long nkeys[3], width = 2;
     for (int d = 0; d < 3; d++) {
@@ -153,7 +169,7 @@ void mpm_grid_node_position(const struct mpm_grid *g, long i, double x[3])
     long ijk[3];
     node_ijk(g, i, ijk);
     for (int d = 0; d < 3; d++)
-        x[d] = g->origin[d] + (double)ijk[d] * g->h;
+        x[d] = g->origin[d] + (double)ijk[d] * g->hd[d];
 }
 
 int mpm_grid_set_faces(struct mpm_grid *g, const enum mpm_face_bc face[6], struct err *e)
@@ -203,14 +219,14 @@ int mpm_grid_set_faces(struct mpm_grid *g, const enum mpm_face_bc face[6], struc
 
 double mpm_grid_min_cell(const struct mpm_grid *g)
 {
-    return g->h;
+    return fmin(g->hd[0], fmin(g->hd[1], g->hd[2]));
 }
 
 void mpm_grid_bounds(const struct mpm_grid *g, double lo[3], double hi[3])
 {
     for (int d = 0; d < 3; d++) {
         lo[d] = g->origin[d];
-        hi[d] = g->origin[d] + (double)g->ncell[d] * g->h;
+        hi[d] = g->origin[d] + (double)g->ncell[d] * g->hd[d];
     }
 }
 
@@ -219,7 +235,7 @@ int mpm_grid_contains(const struct mpm_grid *g, const double x[3])
     if (g->kind == MPM_GRID_HIER)
         return mpm_hgrid_find(g->hg, x) >= 0;
     for (int d = 0; d < 3; d++) {
-        double u = (x[d] - g->origin[d]) * g->inv_h;
+        double u = (x[d] - g->origin[d]) * g->inv_hd[d];
         if (!(u >= 0) || u >= (double)g->ncell[d])
             return 0;
     }

@@ -48,7 +48,9 @@ struct mpm_grid {
     enum mpm_grid_kind kind;
     enum mpm_shape_kind shape;
     double origin[3];            /* Å: global position of node (0, 0, 0)   */
-    double h, inv_h;             /* Å: (finest) cell edge                  */
+    double h, inv_h;             /* Å: (finest) cell edge along x          */
+    double hd[3], inv_hd[3];     /* Å: (finest) cell edge per axis: all h but for the
+                                    cells of a rotated crystal (handshake along [110]) */
     long ncell[3];               /* global cells per direction (finest)    */
     enum mpm_face_bc face[6];    /* x_lo x_hi y_lo y_hi z_lo z_hi          */
 
@@ -86,6 +88,9 @@ struct mpm_grid {
 /* A uniform grid of ncell cells of edge h (Å) with its low corner at origin. */
 int mpm_grid_init_uniform(struct mpm_grid *g, const double origin[3], double h,
                           const long ncell[3], enum mpm_shape_kind shape, struct err *e);
+/* The same with an edge per axis (Å): cells h[0] x h[1] x h[2]. */
+int mpm_grid_init_uniform3(struct mpm_grid *g, const double origin[3], const double h[3],
+                           const long ncell[3], enum mpm_shape_kind shape, struct err *e);
 /* The hierarchical grid `hg` (built with mpm_hgrid_build; the grid takes
  * ownership).  Linear shape functions only. */
 int mpm_grid_init_hier(struct mpm_grid *g, struct mpm_hgrid *hg, struct err *e);

@@ -27,8 +27,9 @@ static int block_wants(const struct builder *b, const long lo[3], const long siz
     for (long k = lo[2]; k < lo[2] + size[2]; k++)
         for (long j = lo[1]; j < lo[1] + size[1]; j++)
             for (long i = lo[0]; i < lo[0] + size[0]; i++) {
-                double x[3] = {hg->origin[0] + (i + 0.5) * hg->h, hg->origin[1] + (j + 0.5) * hg->h,
-                               hg->origin[2] + (k + 0.5) * hg->h};
+                double x[3] = {hg->origin[0] + (i + 0.5) * hg->hd[0],
+                               hg->origin[1] + (j + 0.5) * hg->hd[1],
+                               hg->origin[2] + (k + 0.5) * hg->hd[2]};
                 if (wanted_level(b, x) < l)
                     return 0;
             }
@@ -370,6 +371,14 @@ int mpm_hgrid_build(struct mpm_hgrid **out, const double origin[3], double h,
                     const long ncell[3], const struct mpm_hlevel *levels, int nlevels,
                     enum mpm_hanging hanging, struct err *e)
 {
+    const double h3[3] = {h, h, h};
+    return mpm_hgrid_build3(out, origin, h3, ncell, levels, nlevels, hanging, e);
+}
+
+int mpm_hgrid_build3(struct mpm_hgrid **out, const double origin[3], const double h[3],
+                     const long ncell[3], const struct mpm_hlevel *levels, int nlevels,
+                     enum mpm_hanging hanging, struct err *e)
+{
     *out = NULL;
     if (nlevels < 0 || nlevels > MPM_MAX_LEVELS)
         return err_set(e, ERR_INPUT, "hierarchical grid: %d levels (at most %d)", nlevels,
@@ -378,10 +387,11 @@ int mpm_hgrid_build(struct mpm_hgrid **out, const double origin[3], double h,
     if (!hg)
         return err_nomem(e, "hierarchical grid");
     hg->nlevels = nlevels;
-    hg->h = h;
+    hg->h = h[0];
     hg->hanging = hanging;
     for (int d = 0; d < 3; d++) {
         hg->origin[d] = origin[d];
+        hg->hd[d] = h[d];
         hg->ncell_fine[d] = ncell[d];
         hg->lg[0][d] = 0;
     }

@@ -48,7 +48,8 @@ struct mpm_hgrid {
     unsigned coarsen[MPM_MAX_LEVELS + 1];
     int lg[MPM_MAX_LEVELS + 1][3];   /* log2 cell size of level l per direction */
     long ncell_fine[3];
-    double origin[3], h;
+    double origin[3], h;             /* h: finest edge along x */
+    double hd[3];                    /* finest edge per axis (all h for cubic cells) */
     enum mpm_hanging hanging;
 
     long nroot[3];
@@ -69,6 +70,10 @@ struct mpm_hgrid {
 int mpm_hgrid_build(struct mpm_hgrid **out, const double origin[3], double h,
                     const long ncell[3], const struct mpm_hlevel *levels, int nlevels,
                     enum mpm_hanging hanging, struct err *e);
+/* The same with a finest edge per axis, h[0] x h[1] x h[2] (Å). */
+int mpm_hgrid_build3(struct mpm_hgrid **out, const double origin[3], const double h[3],
+                     const long ncell[3], const struct mpm_hlevel *levels, int nlevels,
+                     enum mpm_hanging hanging, struct err *e);
 void mpm_hgrid_destroy(struct mpm_hgrid **hg);
 
 /* Cell containing x (Å), or -1 outside. */
@@ -76,7 +81,7 @@ static inline long mpm_hgrid_find(const struct mpm_hgrid *hg, const double x[3])
 {
     long i[3];
     for (int d = 0; d < 3; d++) {
-        double u = (x[d] - hg->origin[d]) / hg->h;
+        double u = (x[d] - hg->origin[d]) / hg->hd[d];
         if (!(u >= 0) || u >= (double)hg->ncell_fine[d])
             return -1;
         i[d] = (long)u;

@@ -5,7 +5,7 @@
  * a + b s1 + c s2) and has
  *   N_q = wx[a] t[bc],  t[bc] = wy[b] wz[c]  (bc = b + 2c),
  *   G_q = (dx[a] wy[b] wz[c], wx[a] dy[b] wz[c], wx[a] wy[b] dz[c]),
- * with w0 = 1 - f, w1 = f, d0 = -1/h, d1 = +1/h.  Sums over the 8 nodes
+ * with w0 = 1 - f, w1 = f, d0 = -1/h, d1 = +1/h (h: the cell edge along the axis).  Sums over the 8 nodes
  * are taken as sums over the 4 (b, c) pairs of the two x-neighbours, which
  * needs far fewer operations than forming the 8 weights and 24 gradients.
  */
@@ -28,7 +28,7 @@ static inline __attribute__((always_inline)) void mpm_lin_eval(const struct mpm_
     double f[3];
     long base = 0;
     for (int k = 0; k < 3; k++) {
-        double u = (x[k] - g->origin[k]) * g->inv_h - (double)g->lo[k];
+        double u = (x[k] - g->origin[k]) * g->inv_hd[k] - (double)g->lo[k];
         long i = (long)u;   /* u >= 0 */
         f[k] = u - (double)i;
         base += (i + g->halo) * g->stride[k];

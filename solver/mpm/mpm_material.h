@@ -61,6 +61,15 @@ struct mpm_material *mpm_material_linear_elastic(const char *name, double densit
                                                  double nu);
 struct mpm_material *mpm_material_cubic_elastic(const char *name, double density, double c11,
                                                 double c12, double c44);
+/* A cubic crystal turned so that box axis i is the crystal direction R[i]
+ * (rows: orthonormal unit vectors in crystal coordinates); the stiffness is
+ * C'_ijkl = R_ia R_jb R_kc R_ld C_abcd. */
+struct mpm_material *mpm_material_cubic_elastic_rotated(const char *name, double density,
+                                                        double c11, double c12, double c44,
+                                                        const double R[3][3]);
+/* The Voigt stiffness (xx yy zz xy xz yz, on engineering shears) of a
+ * cubic_elastic material in the box frame, eV/Å^3. */
+void mpm_material_cubic_stiffness(const struct mpm_material *m, double C[6][6]);
 struct mpm_material *mpm_material_j2(const char *name, double density, double E, double nu,
                                      double yield, double hardening);
 

@@ -29,7 +29,7 @@ p2g_lin_add(const struct mpm *m, const struct mpm_view *w, long p, const struct 
             int mm, int hs, int hf, mpm_v4 A[8], mpm_v4 B[8], double aux[8])
 {
     const struct mpm_lin st = *stp;
-    const double ih = m->grid.inv_h;
+    const double ihx = m->grid.inv_hd[0], ihy = m->grid.inv_hd[1], ihz = m->grid.inv_hd[2];
     double M = mpm_view_mass(w, p);
     const double *v = w->v + 3 * p;
     mpm_v4 z = {0, 0, 0, 0};
@@ -54,9 +54,9 @@ p2g_lin_add(const struct mpm *m, const struct mpm_view *w, long p, const struct 
         A[2 * bc] += (st.wx[0] * t) * mq;
         A[2 * bc + 1] += (st.wx[1] * t) * mq;
         /* Eq. (s3a): -G_q . (V sigma) = -(dx[a] t s0 + wx[a] (dy[b] wz[c] s1 + wy[b] dz[c] s2)) */
-        mpm_v4 U = (ih * t) * s0;
-        mpm_v4 W = (ih * (bb ? st.wz[cc] : -st.wz[cc])) * s1 +
-                   (ih * (cc ? st.wy[bb] : -st.wy[bb])) * s2;
+        mpm_v4 U = (ihx * t) * s0;
+        mpm_v4 W = (ihy * (bb ? st.wz[cc] : -st.wz[cc])) * s1 +
+                   (ihz * (cc ? st.wy[bb] : -st.wy[bb])) * s2;
         B[2 * bc] += U - st.wx[0] * W;
         B[2 * bc + 1] += -U - st.wx[1] * W;
         if (hf) {   /* Eq. (s3b): f_p N_q */

@@ -35,8 +35,8 @@ void mpm_stencil_hier(const struct mpm_grid *g, long c, const double *x, struct 
     double b[3][3], db[3][3];
     for (int d = 0; d < 3; d++) {
         double size = (double)(1L << cl->lg[d]);
-        double inv = g->inv_h / size;   /* d t / d x */
-        double t = ((x[d] - g->origin[d]) * g->inv_h - (double)cl->lo[d]) / size;
+        double inv = g->inv_hd[d] / size;   /* d t / d x */
+        double t = ((x[d] - g->origin[d]) * g->inv_hd[d] - (double)cl->lo[d]) / size;
         double xi = 2.0 * t - 1.0;
         b[d][0] = 1.0 - t;
         db[d][0] = -inv;

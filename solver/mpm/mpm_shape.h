@@ -35,7 +35,7 @@ struct mpm_stencil {
 /* Patch-local node coordinate of x along d. */
 static inline double mpm_grid_u(const struct mpm_grid *g, const double *x, int d)
 {
-    return (x[d] - g->origin[d]) * g->inv_h - (double)g->lo[d];
+    return (x[d] - g->origin[d]) * g->inv_hd[d] - (double)g->lo[d];
 }
 
 /* Linear shape functions on a uniform grid: 8 nodes of the cell holding x. */
@@ -50,8 +50,8 @@ static inline void mpm_stencil_linear(const struct mpm_grid *g, const double *x,
         double f = u - (double)i;
         w[d][0] = 1.0 - f;
         w[d][1] = f;
-        dw[d][0] = -g->inv_h;
-        dw[d][1] = g->inv_h;
+        dw[d][0] = -g->inv_hd[d];
+        dw[d][1] = g->inv_hd[d];
         base += (i + g->halo) * g->stride[d];
     }
     int k = 0;
@@ -108,7 +108,7 @@ static inline void mpm_stencil_gimp(const struct mpm_grid *g, const double *x, c
         long b = mpm_gimp_base(u, lp[d]);
         for (int a = 0; a < 3; a++) {
             mpm_gimp_1d(u - (double)(b + a), lp[d], &w[d][a], &dw[d][a]);
-            dw[d][a] *= g->inv_h;
+            dw[d][a] *= g->inv_hd[d];
         }
         base += (b + g->halo) * g->stride[d];
     }

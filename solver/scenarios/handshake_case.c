@@ -19,15 +19,23 @@ int hs_case_read(struct cfg_obj *root, struct hs_case *c)
     int rc;
     const char *element;
     int lattice = HS_LATTICE_FCC;
+    long orient = 100;
     c->cfg = root->cfg;
     if ((rc = cfg_section_required(root, "crystal", &o)) ||
         (rc = cfg_enum(&o, "lattice", "fcc", hs_lattice_names, &lattice)) ||
+        (rc = cfg_int(&o, "orientation", 100, CFG_ANY, &orient)) ||
         (rc = cfg_string(&o, "element", "Cu", &element)) ||
         (rc = cfg_real(&o, "a_min", CFG_REQUIRED, CFG_GT(0), &c->a_min)) ||
         (rc = cfg_real(&o, "a_max", CFG_REQUIRED, CFG_GT(0), &c->a_max)) || (rc = cfg_close(&o)))
         return rc;
     snprintf(c->element, sizeof c->element, "%s", element);
     c->lattice = (enum hs_lattice)lattice;
+    if (orient != 100 && orient != 110)
+        return cfg_error_at(root->cfg, "crystal.orientation",
+                            "orientation %ld: 100 (cube axes along x, y, z) or 110 (x along "
+                            "[110], y along [-110], z along [001])",
+                            orient);
+    c->orient = orient == 110 ? HS_ORIENT_110 : HS_ORIENT_100;
     if (!(c->a_max > c->a_min))
         return cfg_error_at(root->cfg, "crystal.a_max", "a_max = %g must exceed a_min = %g",
                             c->a_max, c->a_min);
@@ -83,9 +91,9 @@ int hs_case_read(struct cfg_obj *root, struct hs_case *c)
     return 0;
 }
 
-double hs_case_wave_speed(const struct hs_case *c, double c11)
+double hs_case_wave_speed(const struct hs_case *c, double cl)
 {
-    return sqrt(c11 / c->hs.rho * UNITS_FTM2V);
+    return sqrt(cl / c->hs.rho * UNITS_FTM2V);
 }
 
 int hs_case_build(struct hs_case *c, enum mpm_face_bc x_hi_face, int end_margin, int nthreads)
@@ -110,7 +118,15 @@ int hs_case_build(struct hs_case *c, enum mpm_face_bc x_hi_face, int end_margin,
     struct handshake_layout L;
     memset(&L, 0, sizeof L);
     L.lattice = c->lattice;
+    L.orient = c->orient;
     L.a = a;
+    /* lengths in edges of the oriented cell along each axis (a along [100]) */
+    handshake_layout_period(&L, c->unit);
+    const double *u = c->unit;
+    double cxy;
+    hs_oriented_moduli(c->orient, cr.c11, cr.c12, cr.c44, &c->cl, &cxy, &c->cxz);
+    hs_oriented_moduli(c->orient, c->md_cr.c11, c->md_cr.c12, c->md_cr.c44, &c->cl_md, &cxy,
+                       &c->cxz_md);
     double len = c->bar_mpm[0] + c->bar_md + c->bar_mpm[1];
     /* empty cells beyond a loaded end, room to stretch: one coarsest cell */
     double margin = 0;
@@ -121,20 +137,20 @@ int hs_case_build(struct hs_case *c, enum mpm_face_bc x_hi_face, int end_margin,
                 margin *= 2;
     }
     for (int d = 0; d < 3; d++) {
-        L.lat_origin[d] = hs_lattice_offset(c->lattice) * a;
+        L.lat_origin[d] = hs_cell_offset(c->lattice, c->orient, d) * u[d];
         L.dom_lo[d] = L.mat_lo[d] = 0;
-        L.mat_hi[d] = (d == 0 ? len : c->bar_width) * a;
-        L.dom_hi[d] = (d == 0 ? len + margin : c->bar_width) * a;
-        L.md_lo[d] = d == 0 ? c->bar_mpm[0] * a : 0;
-        L.md_hi[d] = d == 0 ? (c->bar_mpm[0] + c->bar_md) * a : c->bar_width * a;
+        L.mat_hi[d] = (d == 0 ? len : c->bar_width) * u[d];
+        L.dom_hi[d] = (d == 0 ? len + margin : c->bar_width) * u[d];
+        L.md_lo[d] = d == 0 ? c->bar_mpm[0] * u[d] : 0;
+        L.md_hi[d] = d == 0 ? (c->bar_mpm[0] + c->bar_md) * u[d] : c->bar_width * u[d];
         L.md_periodic[d] = d != 0;
-        L.w[d] = c->regions[d] * a;
+        L.w[d] = c->regions[d] * u[0];   /* across the x interfaces */
     }
-    L.h = c->cell * a;
-    L.fine = c->fine * a;
+    L.h = c->cell * u[0];
+    L.fine = c->fine * u[0];
     L.nlevels = (int)c->levels;
     L.coarsen = (unsigned)c->coarsen;
-    L.layer = c->layer * a;
+    L.layer = c->layer * u[0];
     for (int f = 0; f < 6; f++)
         L.face[f] = MPM_FACE_SLIDING;
     L.face[1] = x_hi_face;
@@ -153,7 +169,7 @@ int hs_case_build(struct hs_case *c, enum mpm_face_bc x_hi_face, int end_margin,
         return rc;
     if ((rc = md_check_timestep(&c->md, cfg, "md.timestep")))
         return rc;
-    return hs_profile_init(&c->prof, &c->hs, 0, c->slab * a, e);
+    return hs_profile_init(&c->prof, &c->hs, 0, c->slab * u[0], e);
 }
 
 void hs_case_free(struct hs_case *c)
@@ -561,6 +577,11 @@ int hs_case_output_end(struct hs_case *c, struct run *run, struct err *e)
     result_metric(res, "c11_mpm", hs->cr.c11 * G, "GPa");
     result_metric(res, "c12_mpm", hs->cr.c12 * G, "GPa");
     result_metric(res, "c44_mpm", hs->cr.c44 * G, "GPa");
+    /* the bar's direction and its longitudinal modulus (C11 along [100];
+     * (C11 + C12 + 2 C44) / 2 along [110]) */
+    result_metric(res, "orientation", c->orient == HS_ORIENT_110 ? 110 : 100, "1");
+    result_metric(res, "cl_md", c->cl_md * G, "GPa");
+    result_metric(res, "cl_mpm", c->cl * G, "GPa");
     result_metric(res, "steps_done", (double)hs->step, "1");
     result_metric(res, "time", hs->time, "ps");
     result_metric(res, "timestep", c->md.dt, "ps");

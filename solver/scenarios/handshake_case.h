@@ -4,10 +4,14 @@
  * the outputs (thermo, snapshots with the region of every atom and point,
  * stress profiles along the bar from both sides).
  *
- *   crystal:   {lattice: fcc, element: Cu, a_min: 3.5, a_max: 3.7}
+ *   crystal:   {lattice: fcc, element: Cu, a_min: 3.5, a_max: 3.7, orientation: 100}
  *              fcc | bcc | diamond; the lattice constant is the potential's
  *              0 K minimum in [a_min, a_max] (so the crystal starts
- *              stress-free)
+ *              stress-free); orientation 100 (cube axes along x, y, z) or
+ *              110 (x along [110], y along [-110], z along [001]: the
+ *              lengths below are then in edges of the oriented cell along
+ *              each axis, a/sqrt2 across [001] for fcc and diamond, sqrt2 a
+ *              for bcc, a along z)
  *   potential: {style: eam/alloy, file: Cu_mishin1.eam.alloy}
  *   elastic:   {c11: 0, c12: 0, c44: 0, c11_scale: 1}
  *              GPa, the MPM's cubic constants; 0 = from the potential at
@@ -51,6 +55,7 @@ struct hs_case {
     struct potential *pot;        /* until the md owns it */
     char element[16];
     enum hs_lattice lattice;      /* crystal.lattice: fcc (default), bcc, diamond */
+    enum hs_orientation orient;   /* crystal.orientation: 100 (default) or 110 */
     double a_min, a_max;
     double c_user[3];             /* GPa, 0: from the potential */
     double c11_scale;
@@ -68,6 +73,11 @@ struct hs_case {
     /* built */
     int built;
     double a;                     /* Å */
+    double unit[3];               /* Å: the length unit of the case keys along each
+                                     axis (a along [100]; the oriented cell's edges) */
+    double cl, cl_md;             /* eV/Å^3: longitudinal modulus along the bar of the
+                                     MPM's and of the MD's constants (C11 along [100]) */
+    double cxz, cxz_md;           /* eV/Å^3: the x-z coupling (sigma_zz = cxz eps_xx) */
     struct handshake_crystal md_cr;   /* the MD crystal's own constants */
     struct md md;
     struct handshake hs;
@@ -106,13 +116,21 @@ void hs_case_destroy(void *state);
 long hs_case_particles(const void *state);
 long hs_case_steps(const void *state);
 
+/* What the case's lengths are counted in: "lattice constants" along
+ * [100], "cell edges" (of the oriented cell, along each axis) along [110]. */
+static inline const char *hs_case_unit_name(const struct hs_case *c)
+{
+    return c->orient == HS_ORIENT_100 ? "lattice constants" : "cell edges";
+}
+
 /* Bar coordinates (Å): the interfaces and the ends. */
 static inline double hs_case_x_left(const struct hs_case *c) { return c->hs.lay.md_lo[0]; }
 static inline double hs_case_x_right(const struct hs_case *c) { return c->hs.lay.md_hi[0]; }
 static inline double hs_case_length(const struct hs_case *c) { return c->hs.lay.mat_hi[0]; }
 
-/* Longitudinal wave speed along [100] (Å/ps) of constants c11 (eV/Å^3). */
-double hs_case_wave_speed(const struct hs_case *c, double c11);
+/* Longitudinal wave speed (Å/ps) of a longitudinal modulus cl (eV/Å^3): C11
+ * along [100], c->cl or c->cl_md in general. */
+double hs_case_wave_speed(const struct hs_case *c, double cl);
 
 /* A traction t (eV/Å^3, +x) on the last cell layer at the x_hi end, as
  * point forces (scaled by the handshake's ramp). */

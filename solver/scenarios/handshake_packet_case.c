@@ -84,11 +84,12 @@ static int packet_read(struct cfg_obj *root, const struct case_common *common, v
     if (!rc && c->bar_mpm[1] != 0)
         rc = cfg_error_at(root->cfg, "bar.mpm",
                           "the packet case has MPM on the left only: give [length, 0]");
+    const char *un = hs_case_unit_name(c);
     if (!rc && !(w->center + 4 * w->sigma <= c->bar_md - w->fixed))
         rc = cfg_error_at(root->cfg, "packet.center",
-                          "the packet (centre %g, 4 sigma = %g lattice constants) must fit in the "
-                          "MD region of %g lattice constants without its fixed end (%g)",
-                          w->center, 4 * w->sigma, c->bar_md, w->fixed);
+                          "the packet (centre %g, 4 sigma = %g %s) must fit in the MD region of "
+                          "%g %s without its fixed end (%g)",
+                          w->center, 4 * w->sigma, un, c->bar_md, un, w->fixed);
     /* with the automatic measure time the reflected packet must be back
      * left of X0 and the reference packet short of the held end, both 5
      * sigma clear (the lattice's dispersion spreads them), and the
@@ -97,27 +98,26 @@ static int packet_read(struct cfg_obj *root, const struct case_common *common, v
     if (!rc && w->measure_time <= 0 &&
         !(w->center >= c->regions[1] + c->regions[2] + 10 * w->sigma))
         rc = cfg_error_at(root->cfg, "packet.center",
-                          "the centre must lie at least regions II + III + 10 sigma = %g lattice "
-                          "constants from the interface, so that the reflected packet is back "
-                          "left of it when the energies are measured",
-                          c->regions[1] + c->regions[2] + 10 * w->sigma);
+                          "the centre must lie at least regions II + III + 10 sigma = %g %s from "
+                          "the interface, so that the reflected packet is back left of it when "
+                          "the energies are measured",
+                          c->regions[1] + c->regions[2] + 10 * w->sigma, un);
     if (!rc && w->measure_time <= 0 &&
         !(w->center + travel + 5 * w->sigma <= c->bar_md - w->fixed))
         rc = cfg_error_at(root->cfg, "bar.md",
                           "the reference packet would reach the held end before the energies are "
-                          "measured: the MD region needs %g lattice constants",
-                          w->center + travel + 5 * w->sigma + w->fixed);
+                          "measured: the MD region needs %g %s",
+                          w->center + travel + 5 * w->sigma + w->fixed, un);
     if (!rc && w->measure_time <= 0 &&
         !(c->bar_mpm[0] >= travel - w->center + 3 * w->sigma))
         rc = cfg_error_at(root->cfg, "bar.mpm",
-                          "the MPM part must hold the transmitted packet: at least %g lattice "
-                          "constants",
-                          travel - w->center + 3 * w->sigma);
+                          "the MPM part must hold the transmitted packet: at least %g %s",
+                          travel - w->center + 3 * w->sigma, un);
     if (!rc && !(w->center - 6 * w->sigma >= c->regions[0]))
         rc = cfg_error_at(root->cfg, "packet.center",
-                          "the packet's centre (%g lattice constants from the interface) must lie "
-                          "6 sigma (%g) beyond region I (%g): it would start inside the handshake",
-                          w->center, 6 * w->sigma, c->regions[0]);
+                          "the packet's centre (%g %s from the interface) must lie 6 sigma (%g) "
+                          "beyond region I (%g): it would start inside the handshake",
+                          w->center, un, 6 * w->sigma, c->regions[0]);
     if (!rc && !root->cfg->shallow)
         rc = hs_case_build(c, MPM_FACE_FREE, 0, common->nthreads);
     if (rc || root->cfg->shallow) {
@@ -127,7 +127,7 @@ static int packet_read(struct cfg_obj *root, const struct case_common *common, v
     }
     /* the held end */
     struct particles *p = c->md.p;
-    double xf = hs_case_length(c) - w->fixed * c->a;
+    double xf = hs_case_length(c) - w->fixed * c->unit[0];
     const double *x0 = p->fields[c->hs.f_x0].data;
     for (int i = 0; i < p->n_owned; i++)
         if (!(p->mask[i] & (HS_MASK_II | HS_MASK_III)) && x0[3 * i] >= xf) {
@@ -138,8 +138,8 @@ static int packet_read(struct cfg_obj *root, const struct case_common *common, v
         }
     c->md.frozen_mask |= HS_MASK_FIXED;
     /* the packet: a Gaussian displacement at rest */
-    w->x0 = hs_case_x_left(c) + w->center * c->a;
-    double s = w->sigma * c->a;
+    w->x0 = hs_case_x_left(c) + w->center * c->unit[0];
+    double s = w->sigma * c->unit[0];
     for (int i = 0; i < p->n_owned; i++) {
         if (p->mask[i] & (HS_MASK_II | HS_MASK_III | HS_MASK_FIXED))
             continue;
@@ -156,9 +156,10 @@ static int packet_read(struct cfg_obj *root, const struct case_common *common, v
     struct handshake_energy en;
     handshake_energy(&c->hs, &en);
     w->e_init = en.total;
-    double c_md = hs_case_wave_speed(c, c->md_cr.c11);
+    double c_md = hs_case_wave_speed(c, c->cl_md);
     if (w->measure_time <= 0)
-        w->measure_time = (w->center + c->regions[1] + c->regions[2] + 5 * w->sigma) * c->a / c_md;
+        w->measure_time =
+            (w->center + c->regions[1] + c->regions[2] + 5 * w->sigma) * c->unit[0] / c_md;
     if (c->steps <= 0)
         c->steps = (long)ceil(w->measure_time / c->dt);
     *state = w;

@@ -146,7 +146,7 @@ static int static_report(void *state, struct sim *s, int run_rc, struct err *e)
     /* deviation from the applied traction over the last profile */
     struct hs_profile *pr = &c->prof;
     hs_profile_compute(pr, hs);
-    double xcut = hs_case_length(c) - w->exclude * c->a;
+    double xcut = hs_case_length(c) - w->exclude * c->unit[0];
     double dmd = 0, dmpm = 0, smd = 0, smpm = 0;
     long nmd = 0, nmpm = 0;
     for (long k = 0; k < pr->nbins; k++) {

@@ -9,8 +9,10 @@
  * layer of cells at the x_hi end; the step wave runs through the right
  * MPM part, the MD region and into the left MPM part.  The analytical
  * solution (from the MPM's elastic constants, as in the paper) is a step
- * sigma_xx = traction moving at c = sqrt(C11 / rho); behind it the lateral
- * stresses are C12 / C11 sigma_xx (uniaxial strain).
+ * sigma_xx = traction moving at c = sqrt(C_L / rho); behind it the lateral
+ * stress sigma_zz is C_xz / C_L sigma_xx (uniaxial strain).  Along [100]
+ * C_L = C11 and C_xz = C12; along [110] C_L = (C11 + C12 + 2 C44) / 2 and
+ * C_xz = C12 (z along [001]).
  *
  *   load: {traction: 0.5, ramp: 0}   GPa (tension > 0), ps to full value
  *   probes: {every: 10}              steps between probe samples
@@ -171,7 +173,7 @@ static int wave_sample(struct wave_case *w, struct run *run, long step, struct e
     struct hs_case *c = &w->c;
     struct handshake *hs = &c->hs;
     const struct front *fr = &w->fr;
-    const double a = c->a, margin = 6 * a, side = 4 * a;
+    const double a = c->unit[0], margin = 6 * a, side = 4 * a;   /* a along [100] */
     int probe = step % w->probe_every == 0 || step == c->steps;
     int prof = run_due(step, c->steps, c->profile_every);
     int rc = 0;
@@ -380,7 +382,7 @@ static int wave_report(void *state, struct sim *s, int run_rc, struct err *e)
     /* lateral stress: uniaxial strain on each side, sigma_xx carried
      * through the interface with the transmission coefficient of the two
      * impedances (1 when the constants match) */
-    double zmd = sqrt(c->md_cr.c11 * hs->rho), zmpm = sqrt(hs->cr.c11 * hs->rho);
+    double zmd = sqrt(c->cl_md * hs->rho), zmpm = sqrt(c->cl * hs->rho);
     double sxx_t = 2 * zmd / (zmd + zmpm) * w->traction;
     double szz_md = avg_mean(&av[W_SZZ_MD_R]), szz_mpm = avg_mean(&av[W_SZZ_MPM_R]);
     result_metric(res, "szz_md_right", szz_md * G, "GPa");
@@ -388,8 +390,8 @@ static int wave_report(void *state, struct sim *s, int run_rc, struct err *e)
     result_metric(res, "szz_jump_right", (szz_md - szz_mpm) * G, "GPa");
     result_metric(res, "szz_ratio_md_mpm", szz_md / szz_mpm, "1");
     result_metric(res, "sxx_transmitted_predicted", sxx_t * G, "GPa");
-    result_metric(res, "szz_md_predicted", c->md_cr.c12 / c->md_cr.c11 * sxx_t * G, "GPa");
-    result_metric(res, "szz_mpm_predicted", hs->cr.c12 / hs->cr.c11 * sxx_t * G, "GPa");
+    result_metric(res, "szz_md_predicted", c->cxz_md / c->cl_md * sxx_t * G, "GPa");
+    result_metric(res, "szz_mpm_predicted", c->cxz / c->cl * sxx_t * G, "GPa");
     return hs_case_output_end(c, s->run, e);
 }
 
@@ -463,9 +465,9 @@ static int wave_run(void *state, struct run *run, struct err *e)
     int rc = hs_apply_end_traction(hs, w->traction, e);
     if (rc)
         return rc;
-    const double a = c->a;
+    const double a = c->unit[0];   /* the length unit along the bar: a along [100] */
     w->fr = (struct front){hs_case_length(c), hs_case_x_right(c), hs_case_x_left(c),
-                           hs_case_wave_speed(c, hs->cr.c11), hs_case_wave_speed(c, c->md_cr.c11)};
+                           hs_case_wave_speed(c, c->cl), hs_case_wave_speed(c, c->cl_md)};
     w->an = (struct analytic_ctx){w->fr.L, w->fr.c_mpm, w->traction, 0};
     /* probes: MD a quarter of the MD length in from each interface, MPM 6
      * and 18 lattice constants beyond the left interface */
