@@ -337,3 +337,52 @@ Test(bricks_mpm, hierarchical_grid_and_thin_bricks_are_refused, .timeout = 300)
                   strstr(out, "thinner than 4 cells"),
               "%s", out);
 }
+
+/* Shifted boundaries: two blocks colliding along y in one end of the grid
+ * leave the other half of the cells empty; equal bricks along x put every
+ * point on one of 2 ranks (max/mean 2), `balance: shift` cuts at the
+ * points' median cell and evens them, and the run still agrees with the
+ * serial one. */
+Test(bricks_mpm, shift_balance_evens_a_block_in_one_end, .timeout = 600)
+{
+    const char *base =
+        "type: mpm\n"
+        "mpm:\n"
+        "  units: si\n"
+        "  grid: {origin: [0, 0, 0], cell: 0.01, cells: [24, 8, 8]}\n"
+        "  materials:\n"
+        "    - {name: al, law: linear_elastic, density: 2700, E: 70.0e9, nu: 0.3}\n"
+        "  bodies:\n"
+        "    - {name: A, material: al, velocity: [0, 200, 0],\n"
+        "       region: {shape: box, lo: [0.03, 0.005, 0.02], hi: [0.11, 0.035, 0.06]}}\n"
+        "    - {name: B, material: al, velocity: [0, -200, 0],\n"
+        "       region: {shape: box, lo: [0.03, 0.04, 0.02], hi: [0.11, 0.075, 0.06]}}\n"
+        "  steps: 60\n"
+        "output: {thermo_every: 10, snapshot_every: 60}\n";
+    char yaml[2048], d0[600], d1[600], d2[600];
+    snprintf(yaml, sizeof yaml, "%sparallel: {decomposition: bricks, grid: [2, 1, 1]}\n", base);
+    const char *equal = write_case("equal.yaml", yaml);
+    snprintf(yaml, sizeof yaml,
+             "%sparallel: {decomposition: bricks, grid: [2, 1, 1], balance: shift}\n", base);
+    const char *shift = th_write_temp(1, "shift.yaml", yaml);   /* another slot: equal stays */
+    snprintf(d0, sizeof d0, "%s/shift-serial", th_temp_dir());
+    snprintf(d1, sizeof d1, "%s/shift-equal-2", th_temp_dir());
+    snprintf(d2, sizeof d2, "%s/shift-2", th_temp_dir());
+    thb_must_run(shift, 0, d0, NULL);
+    thb_must_run(equal, 2, d1, NULL);
+    thb_must_run(shift, 2, d2, NULL);
+    json_t *r1 = thb_result(d1), *r2 = thb_result(d2);
+    double i1 = json_real_value(
+               json_object_get(json_object_get(r1, "parallel"), "imbalance_max_over_mean")),
+           i2 = json_real_value(
+               json_object_get(json_object_get(r2, "parallel"), "imbalance_max_over_mean"));
+    json_decref(r1);
+    json_decref(r2);
+    cr_assert_gt(i1, 1.9, "equal bricks: imbalance %g", i1);
+    cr_assert_lt(i2, 1.2, "shifted bricks: imbalance %g", i2);
+    static const char *const series[] = {"ke", "strain_energy", "etotal", "vmax", NULL};
+    static const char *const metrics[] = {"ke", "strain_energy", "etotal", "A_velocity_y",
+                                          "vmax", "von_mises_max", NULL};
+    thb_compare_series(d0, d2, series, REL, "shifted bricks");
+    thb_compare_metrics(d0, d2, metrics, REL, "shifted bricks");
+}

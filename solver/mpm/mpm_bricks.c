@@ -163,6 +163,7 @@ int mpm_bricks_plan(const struct parallel *par, const struct parallel_settings *
         for (int k = 0; k <= grid[d]; k++)   /* equal shares of the cells */
             b->cut[d][k] = (long)((double)g->ncell[d] * k / grid[d] + 0.5);
     }
+    b->shift = ps->balance == BALANCE_SHIFT;
     if (!rc && rank_of(b, b->coords) != par->rank)
         rc = err_set(c->err, ERR_RUNTIME, "MPM bricks: rank %d sits at brick %d %d %d",
                      par->rank, b->coords[0], b->coords[1], b->coords[2]);
@@ -279,6 +280,18 @@ static int box_list(const struct mpm_grid *g, const long lo[3], const long hi[3]
     return 0;
 }
 
+static int reserve_doubles(double **buf, size_t *cap, size_t n, struct err *e)
+{
+    if (n <= *cap)
+        return 0;
+    double *p = realloc(*buf, n * sizeof *p);
+    if (!p)
+        return err_nomem(e, "MPM halo buffer");
+    *buf = p;
+    *cap = n;
+    return 0;
+}
+
 static int build_links(struct mpm_bricks *b, const struct mpm_grid *g, struct err *e)
 {
     long nghost_total = 0;
@@ -328,9 +341,20 @@ static int build_links(struct mpm_bricks *b, const struct mpm_grid *g, struct er
         owned_range(b, d, b->coords[d], &a, &z);
         nown *= (hi < z ? hi : z) - (lo > a ? lo : a);
     }
-    for (int k = 0; k < MPM_BRICKS_NBR; k++)
+    long most = 0;
+    for (int k = 0; k < MPM_BRICKS_NBR; k++) {
         for (long i = 0; i < b->link[k].nghost; i++)
             b->is_ghost[b->link[k].ghost[i]] = 1;
+        most = b->link[k].nghost > most ? b->link[k].nghost : most;
+        most = b->link[k].nowned > most ? b->link[k].nowned : most;
+    }
+    /* the largest message of a node pass: the passes then allocate nothing
+     * and cannot fail on one rank alone */
+    int rc = reserve_doubles(&b->sbuf, &b->scap, (size_t)(8 * most + 1), e);
+    if (!rc)
+        rc = reserve_doubles(&b->rbuf, &b->rcap, (size_t)(8 * most + 1), e);
+    if (rc)
+        return rc;
     if (nown + nghost_total != g->nnodes)
         return err_set(e, ERR_RUNTIME, "MPM bricks: the patch of %ld nodes has %ld owned and "
                                        "%ld ghost nodes",
@@ -339,18 +363,6 @@ static int build_links(struct mpm_bricks *b, const struct mpm_grid *g, struct er
 }
 
 /* --- node halo --------------------------------------------------------------- */
-
-static int reserve_doubles(double **buf, size_t *cap, size_t n, struct err *e)
-{
-    if (n <= *cap)
-        return 0;
-    double *p = realloc(*buf, n * sizeof *p);
-    if (!p)
-        return err_nomem(e, "MPM halo buffer");
-    *buf = p;
-    *cap = n;
-    return 0;
-}
 
 /* The values are nc doubles per node at base + stride * i.  reverse: the
  * ghosts' values are added to (aux_max: the last one taken as a maximum,
@@ -407,16 +419,19 @@ static int node_exchange(struct mpm_bricks *b, double *base, int stride, int nc,
     return 0;
 }
 
+/* A node record as 8 doubles (m, q, f, aux; checked in model_mpm.c). */
+_Static_assert(sizeof(struct mpm_node) == 8 * sizeof(double), "mpm_node is 8 doubles");
+
 static int nodes_reverse(struct mpm_bricks *b, struct mpm *m, struct err *e)
 {
     struct mpm_grid *g = &m->grid;
-    return node_exchange(b, &g->node[0].m, 8, 8, 1, 1, g->nnodes, e);
+    return node_exchange(b, (double *)g->node, 8, 8, 1, 1, g->nnodes, e);
 }
 
 static int nodes_forward(struct mpm_bricks *b, struct mpm *m, struct err *e)
 {
     struct mpm_grid *g = &m->grid;
-    return node_exchange(b, &g->node[0].m, 8, 8, 0, 0, g->nnodes, e);
+    return node_exchange(b, (double *)g->node, 8, 8, 0, 0, g->nnodes, e);
 }
 
 /* --- points ------------------------------------------------------------------- */
@@ -540,16 +555,20 @@ static int migrate(struct mpm_bricks *b, struct mpm *m, long *moved, struct err 
         if (q >= 0)
             nleave++;
     }
-    int rc = 0;
+    /* one reduction: did a point move beyond the neighbours, does any leave */
+    double flag[2] = {far >= 0, nleave > 0};
+    parallel_max(b->par, flag, 2);
     if (far >= 0)
-        rc = err_set(e, ERR_DIVERGED, "material point %lld moved more than a brick in one step "
-                                      "(step %ld)",
-                     (long long)p->id[far], m->step);
-    rc = mpm_bricks_agree(b, rc, e);
-    if (rc)
-        return rc;
-    if (!parallel_any(b->par, nleave > 0))
+        return err_set(e, ERR_DIVERGED, "material point %lld moved more than a brick in one step "
+                                        "(step %ld)",
+                       (long long)p->id[far], m->step);
+    if (flag[0] > 0)
+        return err_set(e, ERR_DIVERGED, "step %ld: a material point moved more than a brick "
+                                        "in one step (on another MPI rank)",
+                       m->step);
+    if (flag[1] == 0)
         return 0;
+    int rc = 0;
     if (nleave) {
         dest = malloc((size_t)n);
         if (!dest)
@@ -655,8 +674,52 @@ int mpm_bricks_keep_owned(struct mpm_bricks *b, struct mpm *m, struct mpm_points
     return rc;
 }
 
+/* Shifted boundaries (parallel.balance: shift), as decomp_shift does for
+ * particles: along every axis cut more than once, the cuts go to the
+ * quantiles of the points' cells (every rank holds all points here, so
+ * every rank computes the same cuts), then apart where needed so that
+ * every brick keeps MIN_BRICK_CELLS cells. */
+static int shift_cuts(struct mpm_bricks *b, const struct mpm *m, struct err *e)
+{
+    const struct mpm_points *p = &m->pts;
+    for (int d = 0; d < 3; d++) {
+        int P = b->grid[d];
+        long nc = b->ncell[d];
+        if (P < 2 || p->n == 0)
+            continue;
+        long *hist = calloc((size_t)nc, sizeof *hist);
+        if (!hist)
+            return err_nomem(e, "MPM balance");
+        for (long i = 0; i < p->n; i++) {
+            double u = floor((p->x[3 * i + d] - m->grid.origin[d]) * m->grid.inv_h);
+            long k = !(u >= 0) ? 0 : u >= (double)nc ? nc - 1 : (long)u;
+            hist[k]++;
+        }
+        long acc = 0, k = 0;
+        for (int c = 1; c < P; c++) {   /* the first cell after c / P of the points */
+            long want = (long)((double)p->n * c / P + 0.5);
+            while (k < nc && acc + hist[k] <= want)
+                acc += hist[k++];
+            b->cut[d][c] = k;
+        }
+        free(hist);
+        for (int c = 1; c < P; c++)   /* wide enough bricks, from below then from above */
+            if (b->cut[d][c] < b->cut[d][c - 1] + MIN_BRICK_CELLS)
+                b->cut[d][c] = b->cut[d][c - 1] + MIN_BRICK_CELLS;
+        for (int c = P - 1; c >= 1; c--)
+            if (b->cut[d][c] > b->cut[d][c + 1] - MIN_BRICK_CELLS)
+                b->cut[d][c] = b->cut[d][c + 1] - MIN_BRICK_CELLS;
+    }
+    return 0;
+}
+
 int mpm_bricks_distribute(struct mpm_bricks *b, struct mpm *m, struct err *e)
 {
+    if (b->shift) {
+        int rc = mpm_bricks_agree(b, shift_cuts(b, m, e), e);
+        if (rc)
+            return rc;
+    }
     struct mpm_grid *old = &m->grid, patch;
     long pa[3], pb[3], npatch[3];
     for (int d = 0; d < 3; d++) {
@@ -751,7 +814,7 @@ int mpm_bricks_step_map(struct mpm_bricks *b, struct mpm *m, struct err *e)
     if (rc || !fresh)
         return rc;   /* a fused mapping was reduced by the last update */
     tstart(m, TIMER_COMM);
-    rc = mpm_bricks_agree(b, nodes_reverse(b, m, e), e);
+    rc = nodes_reverse(b, m, e);
     tstop(m, TIMER_COMM);
     return rc;
 }
@@ -774,9 +837,9 @@ int mpm_bricks_step_update(struct mpm_bricks *b, struct mpm *m, double dt, struc
     mpm_update_grid(m, dt);                /* s4-s5 on the owned nodes (ghosts are zero) */
     tstop(m, TIMER_MPM_GRID);
     tstart(m, TIMER_COMM);
-    int rc = nodes_forward(b, m, e);
+    int rc = nodes_forward(b, m, e);   /* buffers reserved at set-up: fails on no rank */
     tstop(m, TIMER_COMM);
-    if ((rc = mpm_bricks_agree(b, rc, e)))
+    if (rc)
         return rc;
     tstart(m, TIMER_MPM_G2P);
     mpm_map_to_particles(m, dt);           /* s6, s10 */
@@ -793,7 +856,7 @@ int mpm_bricks_step_update(struct mpm_bricks *b, struct mpm *m, double dt, struc
         if (!rc)
             rc = node_exchange(b, g->r, 4, 4, 0, 0, g->nnodes, e);
         tstop(m, TIMER_COMM);
-        if ((rc = mpm_bricks_agree(b, rc, e)))
+        if (rc)
             return rc;
     }
     tstart(m, TIMER_MPM_G2P);
@@ -848,7 +911,7 @@ int mpm_bricks_step_update(struct mpm_bricks *b, struct mpm *m, double dt, struc
         rc = nodes_reverse(b, m, e);   /* the next step's s1-s3 to the owners */
     }
     tstop(m, TIMER_COMM);
-    if ((rc = mpm_bricks_agree(b, rc, e)))
+    if (rc)
         return rc;
     m->time += dt;
     m->step++;
@@ -969,7 +1032,7 @@ int mpm_bricks_gather_nodes(struct mpm_bricks *b, const struct mpm_grid *g, stru
                 r[0] = (double)x;
                 r[1] = (double)y;
                 r[2] = (double)z;
-                memcpy(r + 3, &g->node[i].m, 8 * sizeof(double));
+                memcpy(r + 3, (const double *)(g->node + i), 8 * sizeof(double));
                 memcpy(r + 11, g->r + 4 * i, 4 * sizeof(double));
             }
     void *rb = NULL;
@@ -982,7 +1045,7 @@ int mpm_bricks_gather_nodes(struct mpm_bricks *b, const struct mpm_grid *g, stru
             const double *r = (const double *)rb + j * REC;
             long i = ((long)r[0] + full->halo) + ((long)r[1] + full->halo) * full->stride[1] +
                      ((long)r[2] + full->halo) * full->stride[2];
-            memcpy(&full->node[i].m, r + 3, 8 * sizeof(double));
+            memcpy((double *)(full->node + i), r + 3, 8 * sizeof(double));
             memcpy(full->r + 4 * i, r + 11, 4 * sizeof(double));
         }
     }

@@ -68,6 +68,8 @@ struct mpm_bricks {
     int grid[3], coords[3];
     long *cut[3];                 /* grid[d] + 1 cell indices along d: brick c has cells
                                      [cut[d][c], cut[d][c + 1]) */
+    int shift;                    /* parallel.balance: shift -- cuts at the points'
+                                     quantiles (set when the points are distributed) */
     long ncell[3];                /* the serial grid's cells */
     long serial_nodes;            /* the serial grid's node count (with its halo) */
     struct mpm_bricks_link link[MPM_BRICKS_NBR];
@@ -92,8 +94,10 @@ int mpm_bricks_plan(const struct parallel *par, const struct parallel_settings *
                     const struct mpm_grid *g, int hierarchical, struct cfg *c,
                     struct mpm_bricks **out);
 
-/* Every rank holds the whole model (built from the case): replace the grid
- * by this rank's patch and keep this rank's points.  Collective. */
+/* Every rank holds the whole model (built from the case): with shifted
+ * boundaries, move the cuts to the quantiles of the points along each cut
+ * axis; then replace the grid by this rank's patch and keep this rank's
+ * points.  Collective. */
 int mpm_bricks_distribute(struct mpm_bricks *b, struct mpm *m, struct err *e);
 
 void mpm_bricks_destroy(struct mpm_bricks **b);

@@ -353,6 +353,8 @@ static int bricks_snapshot(struct mpm_output *o, struct run *run, struct mpm_cas
     struct mpm *m = &c->m;
     struct mpm_bricks *b = c->bricks;
     int rc = 0, root = mpm_bricks_rank(b) == 0;
+    if (!run->out.hdf5)   /* the setting every rank knows (rank 0 alone opens the file) */
+        return 0;
     if (c->output_grid && m->step == 0)   /* the initial mapping, as a serial snapshot */
         rc = mpm_bricks_map_initial(b, m, e);
     struct mpm_points all;
