@@ -72,7 +72,10 @@ CFLAGS   := -std=c11 -D_POSIX_C_SOURCE=200809L -D_DEFAULT_SOURCE $(OPT_$(VARIANT
 SAN_LD_asan := -fsanitize=address,undefined,float-cast-overflow
 SAN_LD_fuzz := -fsanitize=address,undefined
 LDFLAGS  := -fopenmp $(SAN_LD_$(VARIANT))
-LDLIBS   := $(PKG_LIBS) -lm
+# hdf5_hl (H5LT: the small datasets and string attributes of h5out.c) has
+# no pkg-config file of its own: it sits beside libhdf5 (whose -L is in
+# PKG_LIBS) and comes before it
+LDLIBS   := -lhdf5_hl $(PKG_LIBS) -lm
 
 # --- sources ---------------------------------------------------------------
 UTIL_SRC     := $(wildcard solver/util/*.c)

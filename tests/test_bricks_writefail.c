@@ -1,12 +1,14 @@
 /*
  * A file write that fails on one rank of a brick run stops every rank
- * (util/fault.h under mpirun): rank 0 writes thermo.csv, fields.h5 and the
- * checkpoints; before, a failure there left the other ranks waiting in the
- * next step's exchange for a rank that had stopped, and mpirun hung.
+ * (util/fault.h under mpirun): rank 0 writes thermo.csv and the serial
+ * parts of fields.h5 and the checkpoints, every rank writes its own atoms
+ * into them collectively (parallel HDF5); before, a failure on one rank
+ * left the others waiting in the next exchange (or collective HDF5 call)
+ * for a rank that had stopped, and mpirun hung.
  *
  * A 2-rank LJ run with every output on first counts its writes
- * (CASCADE_FAULT_WRITE=0: every rank prints its count; rank 0 has them
- * all), then runs again with the Nth write failing, N swept over the
+ * (CASCADE_FAULT_WRITE=0: every rank prints its count; rank 0 has the
+ * most), then runs again with the Nth write failing on every rank, N swept over the
  * count: under a 60 s timeout each run must end, with exit 1 and rank 0's
  * message when a write failed (exit 0 only when no write failed), and
  * leave no checkpoint .tmp behind.  The

@@ -110,17 +110,33 @@ static int dpd_model_checkpoint_write(void *self, struct ckpt *ck, struct err *e
     if (!rc) rc = ckpt_put_doubles(ck, "body_velocity", bv, 3 * d->nbodies);
     if (!rc) rc = ckpt_put_doubles(ck, "body_force", bf, 3 * d->nbodies);
     if (!rc) rc = ckpt_put_box(ck, box, &d->box);
-    /* bricks: the particles of every rank, gathered in id order */
-    if (!rc) rc = ckpt_put_particles(ck, parts, m->gathered ? m->gathered : d->p);
-    particles_destroy(&m->gathered);
+    /* bricks: the datasets for every rank's particles; each rank writes
+     * its own (dpd_model_checkpoint_write_part) */
+    if (!rc && d->p->halo)
+        rc = ckpt_put_particles_layout(ck, parts, d->p, m->ck_total);
+    else if (!rc)
+        rc = ckpt_put_particles(ck, parts, d->p);
     return rc;
 }
 
+static int dpd_model_checkpoint_write_part(void *self, struct ckpt *ck, struct err *e)
+{
+    struct dpd_model *m = self;
+    char parts[200];
+    snprintf(parts, sizeof parts, "%s/particles", ck->where);   /* model/<name> */
+    return m->d->p->halo ? ckpt_put_particles_part(ck, parts, m->d->p, m->ck_offset) : 0;
+}
+
+/* Bricks: this rank's rows of the checkpoint's particles follow those of
+ * the lower ranks. */
 static int dpd_model_checkpoint_collect(void *self, struct err *e)
 {
     struct dpd_model *m = self;
-    particles_destroy(&m->gathered);
-    return m->d->p->halo ? halo_gather(m->d->p->halo, m->d->p, &m->gathered, e) : 0;
+    m->ck_offset = m->ck_total = 0;
+    struct halo *h = m->d->p->halo;
+    if (!h)
+        return 0;
+    return model_checkpoint_rows(h, m->d->p, &m->ck_offset, &m->ck_total, e);
 }
 
 static int dpd_model_checkpoint_read(void *self, struct ckpt *ck, struct err *e)
@@ -198,6 +214,7 @@ const struct sim_model_ops sim_model_dpd = {
     .checkpoint_read = dpd_model_checkpoint_read,
     .checkpoint_sync = dpd_model_checkpoint_sync,
     .checkpoint_collect = dpd_model_checkpoint_collect,
+    .checkpoint_write_part = dpd_model_checkpoint_write_part,
 };
 
 const struct sim_model_ops sim_model_dpd_ref = {
@@ -211,4 +228,5 @@ const struct sim_model_ops sim_model_dpd_ref = {
     .checkpoint_read = dpd_model_checkpoint_read,
     .checkpoint_sync = dpd_model_checkpoint_sync,
     .checkpoint_collect = dpd_model_checkpoint_collect,
+    .checkpoint_write_part = dpd_model_checkpoint_write_part,
 };

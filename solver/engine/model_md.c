@@ -2,6 +2,7 @@
 #include "engine/models.h"
 
 #include "core/halo.h"
+#include "core/parallel.h"
 
 #include <stdlib.h>
 #include <string.h>
@@ -60,10 +61,20 @@ static int md_model_checkpoint_write(void *self, struct ckpt *ck, struct err *e)
     if (!rc) rc = ckpt_put_double(ck, "energy", md->last.energy);
     if (!rc) rc = ckpt_put_doubles(ck, "virial", md->last.virial, 6);
     if (!rc) rc = ckpt_put_box(ck, "model/md/box", &md->box);
-    /* bricks: the atoms of every rank, gathered in id order */
-    if (!rc) rc = ckpt_put_particles(ck, "model/md/atoms", m->gathered ? m->gathered : md->p);
-    particles_destroy(&m->gathered);
+    /* bricks: the datasets for every rank's atoms; each rank writes its
+     * own (md_model_checkpoint_write_part) */
+    if (!rc && md->halo)
+        rc = ckpt_put_particles_layout(ck, "model/md/atoms", md->p, m->ck_total);
+    else if (!rc)
+        rc = ckpt_put_particles(ck, "model/md/atoms", md->p);
     return rc;
+}
+
+static int md_model_checkpoint_write_part(void *self, struct ckpt *ck, struct err *e)
+{
+    struct md_model *m = self;
+    return m->md->halo ? ckpt_put_particles_part(ck, "model/md/atoms", m->md->p, m->ck_offset)
+                       : 0;
 }
 
 static int in_brick(const void *ctx, const double x[3])
@@ -115,23 +126,36 @@ static int md_model_checkpoint_read(void *self, struct ckpt *ck, struct err *e)
     if (md->halo) {   /* bricks: each rank reads its brick's atoms */
         if (!rc)
             decomp_set_box(&md->halo->dc, &md->box);
-        if (!rc)
-            rc = ckpt_get_particles_where(ck, "model/md/atoms", md->p, in_brick, &md->halo->dc);
-        rc = halo_agree(md->halo, rc, e);
+        if (ck->par) {   /* an even share of the stored rows, read collectively */
+            const struct parallel *par = md->halo->dc.par;
+            if (!rc)
+                rc = ckpt_get_particles_part(ck, "model/md/atoms", md->p, par->rank, par->size);
+            /* counted over the ranks; the sync migrates them to their bricks */
+            rc = halo_adopt(md->halo, md->p, rc, e);
+        } else {
+            if (!rc)
+                rc = ckpt_get_particles_where(ck, "model/md/atoms", md->p, in_brick,
+                                              &md->halo->dc);
+            rc = halo_agree(md->halo, rc, e);
+        }
         if (!rc)
             rc = ids_unique_over_ranks(md, ck, e);
-        m->read_all = !rc;   /* the sync counts them and migrates strays */
+        m->read_all = !rc && !ck->par;   /* the sync counts them and migrates strays */
         return rc;
     }
     if (!rc) rc = ckpt_get_particles(ck, "model/md/atoms", md->p);
     return rc;
 }
 
+/* Bricks: this rank's rows of the checkpoint's atoms follow those of
+ * the lower ranks. */
 static int md_model_checkpoint_collect(void *self, struct err *e)
 {
     struct md_model *m = self;
-    particles_destroy(&m->gathered);
-    return m->md->halo ? halo_gather(m->md->halo, m->md->p, &m->gathered, e) : 0;
+    m->ck_offset = m->ck_total = 0;
+    if (!m->md->halo)
+        return 0;
+    return model_checkpoint_rows(m->md->halo, m->md->p, &m->ck_offset, &m->ck_total, e);
 }
 
 /* Ghosts and lists are rebuilt from the stored state at the next force
@@ -158,4 +182,5 @@ const struct sim_model_ops sim_model_md = {
     .checkpoint_read = md_model_checkpoint_read,
     .checkpoint_sync = md_model_checkpoint_sync,
     .checkpoint_collect = md_model_checkpoint_collect,
+    .checkpoint_write_part = md_model_checkpoint_write_part,
 };

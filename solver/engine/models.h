@@ -23,10 +23,17 @@ struct md_model {
                                  * snapshots */
     long peratom_every;         /* ... and every this many steps (0: never),
                                  * for a case's own sampling */
-    struct particles *gathered; /* bricks: all atoms on rank 0 for a checkpoint */
+    long ck_offset, ck_total;   /* bricks: this rank's first row and all rows of a
+                                 * checkpoint's atoms (checkpoint_collect) */
     int read_all;               /* bricks: a checkpoint read put every atom on every rank */
 };
 extern const struct sim_model_ops sim_model_md;
+
+/* Bricks: the rows of a checkpoint's particle set this rank writes -- its
+ * first (the owned particles of the lower ranks) and all of them.
+ * Collective. */
+int model_checkpoint_rows(struct halo *h, const struct particles *p, long *offset, long *total,
+                          struct err *e);
 
 /* An impact target's boundary treatment (scenarios/impact_boundary.h):
  * its pre_step before the md's drift, its step after the md's kick.  The
@@ -75,7 +82,8 @@ double mpm_model_timestep(const struct mpm_model *mm);
 struct dpd_model {
     struct dpd *d;              /* borrowed from the case */
     int snapshots;              /* 1: per-particle energies when a snapshot is due */
-    struct particles *gathered; /* bricks: all particles on rank 0 for a checkpoint */
+    long ck_offset, ck_total;   /* bricks: this rank's first row and all rows of a
+                                 * checkpoint's particles (checkpoint_collect) */
     int read_all;               /* bricks: a checkpoint read put every particle on every rank */
     int sync_rc;                /* bricks: the redistribution after a checkpoint failed */
 };

@@ -224,6 +224,34 @@ static void prune_checkpoints(struct sim *s, int keep)
     }
 }
 
+/* Under MPI, the second phase of a checkpoint: every rank opens the file
+ * rank 0 wrote and closed, and each decomposed model writes its own
+ * particles into it (collective parallel HDF5, docs/parallel.md). */
+static int write_checkpoint_parts(struct sim *s, const char *tmp, struct err *e)
+{
+    int any = 0;
+    for (int k = 0; k < s->nmodels; k++)
+        any |= s->model[k].ops->checkpoint_write_part != NULL;
+    if (!any)
+        return 0;
+    struct ckpt ck;
+    int rc = ckpt_open_parallel(&ck, tmp, 1, NULL, NULL, e);
+    if (rc)
+        return rc;
+    for (int k = 0; !rc && k < s->nmodels; k++) {
+        const struct sim_model *m = &s->model[k];
+        if (!m->ops->checkpoint_write_part)
+            continue;
+        char g[96];
+        snprintf(g, sizeof g, "model/%s", m->name);
+        rc = ckpt_agree(&ck, ckpt_enter(&ck, g));
+        if (!rc)
+            rc = ckpt_agree(&ck, m->ops->checkpoint_write_part(m->self, &ck, e));
+    }
+    int rc2 = ckpt_close(&ck);
+    return rc ? rc : rc2;
+}
+
 static int write_checkpoint(struct sim *s, struct err *e)
 {
     for (int k = 0; k < s->nmodels; k++)
@@ -232,28 +260,38 @@ static int write_checkpoint(struct sim *s, struct err *e)
             if (rc)
                 return rc;
         }
-    if (s->run->opt.rank != 0)
-        return 0;
+    const struct parallel *par = s->run->opt.par;
+    int parallel = par && par->mpi;   /* a brick model may lay out its particles */
     char path[4096], tmp[4200];
     ckpt_name(s, s->step, path, sizeof path);
     snprintf(tmp, sizeof tmp, "%s.tmp", path);
-    struct ckpt ck;
-    int rc = ckpt_create(&ck, tmp, s->run->case_doc, s->run->case_key, s->step, s->time, e);
-    if (!rc)
-        rc = write_engine_state(s, &ck);
-    for (int k = 0; !rc && k < s->nmodels; k++) {
-        const struct sim_model *m = &s->model[k];
-        if (!m->ops->checkpoint_write)
-            continue;
-        char g[96];
-        snprintf(g, sizeof g, "model/%s", m->name);
-        if (!(rc = ckpt_enter(&ck, g)))
-            rc = m->ops->checkpoint_write(m->self, &ck, e);
+    int rc = 0;
+    if (s->run->opt.rank == 0) {   /* rank 0 writes the file (the models' own parts later) */
+        struct ckpt ck;
+        rc = ckpt_create(&ck, tmp, s->run->case_doc, s->run->case_key, s->step, s->time, e);
+        if (!rc)
+            rc = write_engine_state(s, &ck);
+        for (int k = 0; !rc && k < s->nmodels; k++) {
+            const struct sim_model *m = &s->model[k];
+            if (!m->ops->checkpoint_write)
+                continue;
+            char g[96];
+            snprintf(g, sizeof g, "model/%s", m->name);
+            if (!(rc = ckpt_enter(&ck, g)))
+                rc = m->ops->checkpoint_write(m->self, &ck, e);
+        }
+        if (!rc && s->case_ops && s->case_ops->checkpoint_write && !(rc = ckpt_enter(&ck, "case")))
+            rc = s->case_ops->checkpoint_write(s->case_state, &ck, e);
+        int rc2 = ckpt_close(&ck);
+        rc = rc ? rc : rc2;
     }
-    if (!rc && s->case_ops && s->case_ops->checkpoint_write && !(rc = ckpt_enter(&ck, "case")))
-        rc = s->case_ops->checkpoint_write(s->case_state, &ck, e);
-    int rc2 = ckpt_close(&ck);
-    rc = rc ? rc : rc2;
+    if (parallel) {
+        rc = agree(s, rc, "a checkpoint", e);
+        if (!rc)
+            rc = write_checkpoint_parts(s, tmp, e);
+    }
+    if (s->run->opt.rank != 0)
+        return rc;
     if (!rc && wfile_rename(tmp, path) != 0)
         rc = err_set(e, ERR_RUNTIME, "%s: cannot rename checkpoint: %s", tmp, strerror(errno));
     if (rc) {
@@ -268,7 +306,12 @@ static int read_checkpoint(struct sim *s, const char *path, struct err *e)
 {
     struct ckpt ck;
     long step = 0;
-    int rc = ckpt_open(&ck, path, s->run->case_key, &step, e);
+    /* under MPI every rank reads through MPI-IO (a decomposed model reads
+     * its part of the particles collectively) */
+    const struct parallel *par = s->run->opt.par;
+    int rc = par && par->mpi
+                 ? ckpt_open_parallel(&ck, path, 0, s->run->case_key, &step, e)
+                 : ckpt_open(&ck, path, s->run->case_key, &step, e);
     if (rc)
         return rc;
     rc = read_engine_state(s, &ck);

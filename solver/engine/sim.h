@@ -69,8 +69,16 @@ struct sim_model_ops {
     int (*checkpoint_write)(void *self, struct ckpt *ck, struct err *e);
     int (*checkpoint_read)(void *self, struct ckpt *ck, struct err *e);
     /* before checkpoint_write, on every MPI rank (checkpoint_write runs on
-     * rank 0 only): a decomposed model gathers its state there */
+     * rank 0 only): a decomposed model gathers its state there, or counts
+     * what each rank will write with checkpoint_write_part */
     int (*checkpoint_collect)(void *self, struct err *e);
+    /* under MPI, after rank 0 wrote and closed the checkpoint, on every
+     * rank with the file open through MPI-IO (ckpt_open_parallel) and the
+     * model's group entered: a decomposed model writes its own particles
+     * into the datasets checkpoint_write laid out (ckpt_put_particles_part).
+     * Collective.  NULL: nothing distributed.  A checkpoint is read on
+     * every rank through MPI-IO as well (checkpoint_read on every rank). */
+    int (*checkpoint_write_part)(void *self, struct ckpt *ck, struct err *e);
     /* a checkpoint was just written (or read): the model puts itself in
      * the state both runs continue from (e.g. a fresh neighbour list) */
     void (*checkpoint_sync)(void *self);

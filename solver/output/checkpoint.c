@@ -3,6 +3,7 @@
 
 #include <errno.h>
 #include <math.h>
+#include <mpi.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -93,6 +94,31 @@ int ckpt_create(struct ckpt *c, const char *path, const json_t *case_doc, const 
     return 0;
 }
 
+/* The root attributes a reader checks (ckpt_open, ckpt_open_parallel). */
+static int check_root(struct ckpt *c, const char *path, const char *expect_key, long *step,
+                      struct err *e)
+{
+    char fmt[64] = "", key[64] = "";
+    double version = 0, s = -1;
+    if (read_attr_string(c->file, "format", fmt, sizeof fmt) != 0 || strcmp(fmt, CKPT_FORMAT) != 0)
+        return err_set(e, ERR_INPUT, "%s: not a Cascade checkpoint (format attribute '%s')", path,
+                       fmt);
+    if (read_attr_double(c->file, "version", &version) != 0 || version != CKPT_VERSION)
+        return err_set(e, ERR_INPUT,
+                       "%s: checkpoint format version %g, this solver reads version %d", path,
+                       version, CKPT_VERSION);
+    if (read_attr_string(c->file, "case_key", key, sizeof key) != 0 ||
+        (expect_key && strcmp(key, expect_key) != 0))
+        return err_set(e, ERR_INPUT,
+                       "%s: checkpoint of another case (job key %s, this case has %s)", path, key,
+                       expect_key ? expect_key : "?");
+    if (read_attr_double(c->file, "step", &s) != 0 || s < 0)
+        return err_set(e, ERR_INPUT, "%s: checkpoint has no step", path);
+    if (step)
+        *step = (long)s;
+    return 0;
+}
+
 int ckpt_open(struct ckpt *c, const char *path, const char *expect_key, long *step,
               struct err *e)
 {
@@ -109,33 +135,61 @@ int ckpt_open(struct ckpt *c, const char *path, const char *expect_key, long *st
     if (c->file < 0)
         return err_set(e, ERR_INPUT, "%s: cannot open (truncated or corrupt checkpoint?)", path);
     c->group = c->file;
-    char fmt[64] = "", key[64] = "";
-    double version = 0, s = -1;
-    if (read_attr_string(c->file, "format", fmt, sizeof fmt) != 0 || strcmp(fmt, CKPT_FORMAT) != 0) {
+    int rc = check_root(c, path, expect_key, step, e);
+    if (rc)
         ckpt_close(c);
-        return err_set(e, ERR_INPUT, "%s: not a Cascade checkpoint (format attribute '%s')", path,
-                       fmt);
-    }
-    if (read_attr_double(c->file, "version", &version) != 0 || version != CKPT_VERSION) {
+    return rc;
+}
+
+/* Whether flag is set on any rank of a parallel checkpoint. */
+static int ck_any(const struct ckpt *c, int flag)
+{
+    if (!c->par)
+        return flag != 0;
+    int in = flag != 0, out = 0;
+    MPI_Allreduce(&in, &out, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
+    return out;
+}
+
+int ckpt_agree(const struct ckpt *c, int rc)
+{
+    if (ck_any(c, rc != 0) && !rc)
+        rc = err_set(c->e, ERR_RUNTIME, "%s: stopped: another MPI rank failed to %s the checkpoint",
+                     c->path, c->writing ? "write" : "read");
+    return rc;
+}
+
+int ckpt_open_parallel(struct ckpt *c, const char *path, int writing, const char *expect_key,
+                       long *step, struct err *e)
+{
+    memset(c, 0, sizeof *c);
+    c->e = e;
+    c->group = -1;
+    c->file = -1;
+    c->par = 1;
+    c->writing = writing;
+    snprintf(c->path, sizeof c->path, "%s", path);
+    H5Eset_auto2(H5E_DEFAULT, NULL, NULL);
+    int rc = 0;
+    if (writing && fault_write(ENOSPC) != 0)
+        rc = err_set(e, ERR_RUNTIME, "%s: cannot open checkpoint file: %s", path, strerror(errno));
+    if ((rc = ckpt_agree(c, rc)))
+        return rc;
+    hid_t fapl = H5Pcreate(H5P_FILE_ACCESS);
+    H5Pset_fapl_mpio(fapl, MPI_COMM_WORLD, MPI_INFO_NULL);
+    c->file = H5Fopen(path, writing ? H5F_ACC_RDWR : H5F_ACC_RDONLY, fapl);
+    H5Pclose(fapl);
+    if (c->file < 0)
+        rc = err_set(e, writing ? ERR_RUNTIME : ERR_INPUT,
+                     "%s: cannot open through MPI-IO (truncated or corrupt checkpoint?)", path);
+    c->group = c->file;
+    if (!rc && !writing)
+        rc = check_root(c, path, expect_key, step, e);
+    if ((rc = ckpt_agree(c, rc))) {
+        c->writing = 0;   /* nothing to flush */
         ckpt_close(c);
-        return err_set(e, ERR_INPUT,
-                       "%s: checkpoint format version %g, this solver reads version %d", path,
-                       version, CKPT_VERSION);
     }
-    if (read_attr_string(c->file, "case_key", key, sizeof key) != 0 ||
-        (expect_key && strcmp(key, expect_key) != 0)) {
-        ckpt_close(c);
-        return err_set(e, ERR_INPUT,
-                       "%s: checkpoint of another case (job key %s, this case has %s)", path, key,
-                       expect_key ? expect_key : "?");
-    }
-    if (read_attr_double(c->file, "step", &s) != 0 || s < 0) {
-        ckpt_close(c);
-        return err_set(e, ERR_INPUT, "%s: checkpoint has no step", path);
-    }
-    if (step)
-        *step = (long)s;
-    return 0;
+    return rc;
 }
 
 int ckpt_close(struct ckpt *c)
@@ -146,16 +200,22 @@ int ckpt_close(struct ckpt *c)
     c->group = -1;
     if (c->file >= 0) {
         errno = 0;
-        if (c->writing && (fault_write(ENOSPC) != 0 || H5Fflush(c->file, H5F_SCOPE_GLOBAL) < 0))
+        /* parallel: every rank flushes or none (H5Fflush is collective; the
+         * MPI-IO driver syncs the file there, so no descriptor to fsync) */
+        if (c->writing && (ck_any(c, fault_write(ENOSPC) != 0) ||
+                           ck_any(c, H5Fflush(c->file, H5F_SCOPE_GLOBAL) < 0)))
             rc = err_set(c->e, ERR_RUNTIME, "%s: cannot write checkpoint: %s", c->path,
                          errno ? strerror(errno) : "flushing the HDF5 file failed (disk full?)");
         void *handle = NULL;
-        if (c->writing && !rc && H5Fget_vfd_handle(c->file, H5P_DEFAULT, &handle) >= 0 &&
-            handle && (fault_write(EIO) != 0 || fsync(*(int *)handle) != 0))
+        if (c->writing && !c->par && !rc &&
+            H5Fget_vfd_handle(c->file, H5P_DEFAULT, &handle) >= 0 && handle &&
+            (fault_write(EIO) != 0 || fsync(*(int *)handle) != 0))
             rc = err_set(c->e, ERR_RUNTIME, "%s: cannot write checkpoint: fsync: %s", c->path,
                          strerror(errno));
         if (H5Fclose(c->file) < 0 && !rc)
             rc = err_set(c->e, ERR_RUNTIME, "%s: cannot close checkpoint (disk full?)", c->path);
+        if (c->par)
+            rc = ckpt_agree(c, rc);
     }
     c->file = -1;
     return rc;
@@ -168,7 +228,7 @@ int ckpt_enter(struct ckpt *c, const char *name)
     c->group = -1;
     snprintf(c->where, sizeof c->where, "%s", name);
     hid_t g;
-    if (c->writing) {
+    if (c->writing && !c->par) {   /* the parallel writer fills groups rank 0 made */
         hid_t lcpl = H5Pcreate(H5P_LINK_CREATE);
         H5Pset_create_intermediate_group(lcpl, 1);
         g = H5Gcreate2(c->file, name, lcpl, H5P_DEFAULT, H5P_DEFAULT);
@@ -182,7 +242,8 @@ int ckpt_enter(struct ckpt *c, const char *name)
     return 0;
 }
 
-/* Chunked with a Fletcher-32 checksum: a flipped bit is an error on read. */
+/* Chunked with a Fletcher-32 checksum: a flipped bit is an error on read.
+ * Also the serial phase of a parallel checkpoint (d NULL). */
 static int put_array(struct ckpt *c, const char *name, hid_t memtype, hid_t filetype,
                      const void *d, long n)
 {
@@ -198,7 +259,8 @@ static int put_array(struct ckpt *c, const char *name, hid_t memtype, hid_t file
     hid_t ds = injected ? -1
                         : H5Dcreate2(c->group, name, filetype, space, H5P_DEFAULT, dcpl, H5P_DEFAULT);
     int rc = 0;
-    if (ds < 0 || (n > 0 && H5Dwrite(ds, memtype, H5S_ALL, H5S_ALL, H5P_DEFAULT, d) < 0))
+    /* d NULL: the dataset only (ckpt_put_particles_layout; the ranks write it) */
+    if (ds < 0 || (n > 0 && d && H5Dwrite(ds, memtype, H5S_ALL, H5S_ALL, H5P_DEFAULT, d) < 0))
         rc = fail(c, injected ? "cannot write: No space left on device" : "cannot write (disk full?)",
                   name);
     if (ds >= 0)
@@ -355,10 +417,43 @@ static int cmp_i64(const void *a, const void *b)
     return (x > y) - (x < y);
 }
 
-int ckpt_put_particles(struct ckpt *c, const char *name, const struct particles *p)
+/* The per-particle datasets of a particle group, in the order they are
+ * written: name, memory and file types, values per particle, data. */
+struct pcol {
+    char name[64];
+    hid_t memtype, filetype;
+    int ncomp;
+    const void *data;
+};
+
+static int particle_columns(const struct particles *p, struct pcol *col)
+{
+    const struct pcol fixed[9] = {
+        {"x", H5T_NATIVE_DOUBLE, H5T_IEEE_F64LE, 3, p->x},
+        {"v", H5T_NATIVE_DOUBLE, H5T_IEEE_F64LE, 3, p->v},
+        {"f", H5T_NATIVE_DOUBLE, H5T_IEEE_F64LE, 3, p->f},
+        {"type", H5T_NATIVE_INT, H5T_STD_I32LE, 1, p->type},
+        {"id", H5T_NATIVE_INT64, H5T_STD_I64LE, 1, p->id},
+        {"mask", H5T_NATIVE_UINT32, H5T_STD_U32LE, 1, p->mask},
+        {"image", H5T_NATIVE_INT, H5T_STD_I32LE, 3, p->image},
+        {"pe", H5T_NATIVE_DOUBLE, H5T_IEEE_F64LE, 1, p->pe},
+        {"virial", H5T_NATIVE_DOUBLE, H5T_IEEE_F64LE, 6, p->virial},
+    };
+    memcpy(col, fixed, sizeof fixed);
+    for (int k = 0; k < p->nfields; k++) {
+        col[9 + k] = (struct pcol){"", H5T_NATIVE_DOUBLE, H5T_IEEE_F64LE, p->fields[k].ncomp,
+                                   p->fields[k].data};
+        snprintf(col[9 + k].name, sizeof col[9 + k].name, "field_%s", p->fields[k].name);
+    }
+    return 9 + p->nfields;
+}
+
+/* The group's count and type table; then every column with n rows, the
+ * data of p (with_data) or none (the parallel layout). */
+static int put_particle_group(struct ckpt *c, const char *name, const struct particles *p, long n,
+                              int with_data)
 {
     int rc = ckpt_enter(c, name);
-    long n = p->n_owned;
     double masses[PARTICLES_MAX_TYPES];
     for (int t = 0; t < p->ntypes; t++)
         masses[t] = p->mass[t];
@@ -375,20 +470,64 @@ int ckpt_put_particles(struct ckpt *c, const char *name, const struct particles 
         }
         h5out_attr_string(c->group, "type_names", names);
     }
-    if (!rc) rc = ckpt_put_doubles(c, "x", p->x, 3 * n);
-    if (!rc) rc = ckpt_put_doubles(c, "v", p->v, 3 * n);
-    if (!rc) rc = ckpt_put_doubles(c, "f", p->f, 3 * n);
-    if (!rc) rc = ckpt_put_ints(c, "type", p->type, n);
-    if (!rc) rc = ckpt_put_i64(c, "id", p->id, n);
-    if (!rc) rc = ckpt_put_u32(c, "mask", p->mask, n);
-    if (!rc) rc = ckpt_put_ints(c, "image", p->image, 3 * n);
-    if (!rc) rc = ckpt_put_doubles(c, "pe", p->pe, n);
-    if (!rc) rc = ckpt_put_doubles(c, "virial", p->virial, 6 * n);
-    for (int k = 0; !rc && k < p->nfields; k++) {
-        char fname[64];
-        snprintf(fname, sizeof fname, "field_%s", p->fields[k].name);
-        rc = ckpt_put_doubles(c, fname, p->fields[k].data, (long)p->fields[k].ncomp * n);
+    struct pcol col[9 + PARTICLES_MAX_FIELDS];
+    int ncol = particle_columns(p, col);
+    for (int q = 0; !rc && q < ncol; q++)
+        rc = put_array(c, col[q].name, col[q].memtype, col[q].filetype,
+                       with_data ? col[q].data : NULL, (long)col[q].ncomp * n);
+    return rc;
+}
+
+int ckpt_put_particles(struct ckpt *c, const char *name, const struct particles *p)
+{
+    return put_particle_group(c, name, p, p->n_owned, 1);
+}
+
+int ckpt_put_particles_layout(struct ckpt *c, const char *name, const struct particles *p,
+                              long n_total)
+{
+    return put_particle_group(c, name, p, n_total, 0);
+}
+
+/* Values [first, first + count) of a 1-D dataset from d, one collective
+ * transfer (a rank with count 0 selects nothing but takes part). */
+static int put_part(struct ckpt *c, const struct pcol *col, long first, long count)
+{
+    int injected = ck_any(c, fault_write(ENOSPC) != 0);
+    hid_t ds = injected ? -1 : H5Dopen2(c->group, col->name, H5P_DEFAULT);
+    if (ck_any(c, ds < 0)) {
+        if (ds >= 0)
+            H5Dclose(ds);
+        return fail(c, injected ? "cannot write: No space left on device" : "missing", col->name);
     }
+    hsize_t start[1] = {(hsize_t)first}, len[1] = {(hsize_t)(count > 0 ? count : 1)};
+    hid_t fs = H5Dget_space(ds), ms = H5Screate_simple(1, len, NULL);
+    int bad = fs < 0 || ms < 0;
+    if (!bad && count > 0)
+        bad = H5Sselect_hyperslab(fs, H5S_SELECT_SET, start, NULL, len, NULL) < 0;
+    else if (!bad)
+        bad = H5Sselect_none(fs) < 0 || H5Sselect_none(ms) < 0;
+    static const double nothing = 0;
+    hid_t dxpl = H5Pcreate(H5P_DATASET_XFER);
+    H5Pset_dxpl_mpio(dxpl, H5FD_MPIO_COLLECTIVE);   /* the Fletcher-32 filter needs it */
+    bad |= H5Dwrite(ds, col->memtype, ms, fs, dxpl, count > 0 ? col->data : &nothing) < 0;
+    H5Pclose(dxpl);
+    if (ms >= 0)
+        H5Sclose(ms);
+    if (fs >= 0)
+        H5Sclose(fs);
+    H5Dclose(ds);
+    return ck_any(c, bad) ? fail(c, "cannot write (disk full?)", col->name) : 0;
+}
+
+int ckpt_put_particles_part(struct ckpt *c, const char *name, const struct particles *p,
+                            long offset)
+{
+    int rc = ckpt_agree(c, ckpt_enter(c, name));
+    struct pcol col[9 + PARTICLES_MAX_FIELDS];
+    int ncol = particle_columns(p, col);
+    for (int q = 0; !rc && q < ncol; q++)
+        rc = put_part(c, &col[q], offset * col[q].ncomp, (long)p->n_owned * col[q].ncomp);
     return rc;
 }
 

@@ -36,6 +36,7 @@ struct ckpt {
     char path[4096];
     char where[128];      /* current group name, for messages */
     int writing;
+    int par;              /* open through MPI-IO on every rank (ckpt_open_parallel) */
     struct err *e;
 };
 
@@ -93,6 +94,37 @@ int ckpt_get_particles(struct ckpt *c, const char *name, struct particles *p);
  * ranks the caller checks). */
 int ckpt_get_particles_where(struct ckpt *c, const char *name, struct particles *p,
                              int (*keep)(const void *ctx, const double x[3]), const void *ctx);
+
+/* Collective checkpoints of a brick decomposition (docs/parallel.md,
+ * "Output"): rank 0 writes the file serially, a particle set with
+ * ckpt_put_particles_layout (its datasets sized for every rank's particles,
+ * no data), and closes it; then every rank opens it with
+ * ckpt_open_parallel and writes its own particles' rows with
+ * ckpt_put_particles_part at the offset of an MPI_Exscan of the counts, in
+ * collective transfers (H5FD_MPIO_COLLECTIVE).  The file is the one a
+ * serial writer makes from the same particles in rank order. */
+int ckpt_put_particles_layout(struct ckpt *c, const char *name, const struct particles *p,
+                              long n_total);
+/* Open `path` on every rank through MPI-IO (H5Pset_fapl_mpio), for
+ * writing the parts (writing 1) or for reading (writing 0: the checks of
+ * ckpt_open).  Collective over MPI_COMM_WORLD; a failure on any rank fails
+ * every rank. */
+int ckpt_open_parallel(struct ckpt *c, const char *path, int writing, const char *expect_key,
+                       long *step, struct err *e);
+/* This rank's owned particles as rows [offset, offset + n_owned) of the
+ * group laid out by ckpt_put_particles_layout.  Collective. */
+int ckpt_put_particles_part(struct ckpt *c, const char *name, const struct particles *p,
+                            long offset);
+/* The stored particles split evenly over the ranks in stored order: this
+ * rank reads rows [n rank / nranks, n (rank + 1) / nranks) in blocks, with
+ * collective transfers when the file was opened by ckpt_open_parallel
+ * (every rank calls it), checking them as ckpt_get_particles does (ids
+ * unique among this rank's rows; across ranks the caller checks).  The
+ * particles are not in their bricks: the caller migrates them. */
+int ckpt_get_particles_part(struct ckpt *c, const char *name, struct particles *p, int rank,
+                            int nranks);
+/* rc agreed over the ranks of a parallel checkpoint (rc itself otherwise). */
+int ckpt_agree(const struct ckpt *c, int rc);
 
 /* The box bounds and boundaries (free boundaries move with the particles). */
 int ckpt_put_box(struct ckpt *c, const char *name, const struct box *b);

@@ -3,6 +3,7 @@
 #include "output/checkpoint.h"
 
 #include <math.h>
+#include <mpi.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -35,14 +36,20 @@ static int cmp_i64(const void *a, const void *b)
     return (x > y) - (x < y);
 }
 
-/* rows [first, first + count) of a column into its buffer */
-static int read_block(struct ckpt *c, struct column *col, long first, long count)
+/* rows [first, first + count) of a column into its buffer; with dxpl
+ * collective every rank calls it (count 0: nothing selected) */
+static int read_block(struct ckpt *c, struct column *col, long first, long count, hid_t dxpl)
 {
-    hsize_t start[1] = {(hsize_t)(first * col->ncomp)}, len[1] = {(hsize_t)(count * col->ncomp)};
+    hsize_t start[1] = {(hsize_t)(first * col->ncomp)},
+            len[1] = {(hsize_t)((count > 0 ? count : 1) * col->ncomp)};
     hid_t fs = H5Dget_space(col->ds), ms = H5Screate_simple(1, len, NULL);
-    int rc = fs < 0 || ms < 0 ||
-             H5Sselect_hyperslab(fs, H5S_SELECT_SET, start, NULL, len, NULL) < 0 ||
-             H5Dread(col->ds, col->memtype, ms, fs, H5P_DEFAULT, col->buf) < 0;
+    int rc = fs < 0 || ms < 0;
+    if (!rc && count > 0)
+        rc = H5Sselect_hyperslab(fs, H5S_SELECT_SET, start, NULL, len, NULL) < 0;
+    else if (!rc)
+        rc = H5Sselect_none(fs) < 0 || H5Sselect_none(ms) < 0;
+    /* a rank whose selection failed still joins a collective transfer */
+    rc |= (rc && dxpl == H5P_DEFAULT) || H5Dread(col->ds, col->memtype, ms, fs, dxpl, col->buf) < 0;
     if (ms >= 0)
         H5Sclose(ms);
     if (fs >= 0)
@@ -85,8 +92,11 @@ static int check_particle(struct ckpt *c, const struct particles *p, const struc
     return 0;
 }
 
-int ckpt_get_particles_where(struct ckpt *c, const char *name, struct particles *p,
-                             int (*keep)(const void *ctx, const double x[3]), const void *ctx)
+/* The stored particles [lo, hi) (hi < 0: all) that keep selects, in
+ * blocks; collective transfers when the file is open on every rank. */
+static int get_rows(struct ckpt *c, const char *name, struct particles *p,
+                    int (*keep)(const void *ctx, const double x[3]), const void *ctx, int rank,
+                    int nranks)
 {
     int rc = ckpt_enter(c, name);
     long n = 0;
@@ -119,6 +129,8 @@ int ckpt_get_particles_where(struct ckpt *c, const char *name, struct particles 
                                      p->fields[k].ncomp, -1, NULL};
     for (int k = 0; k < p->nfields; k++)
         snprintf(col[9 + k].name, sizeof col[9 + k].name, "field_%s", p->fields[k].name);
+    long lo = nranks > 0 ? n * rank / nranks : 0;
+    long hi = nranks > 0 ? n * (rank + 1) / nranks : n;
     long block = n < CKPT_READ_BLOCK ? (n > 0 ? n : 1) : CKPT_READ_BLOCK;
     for (int q = 0; !rc && q < ncol; q++) {
         long have = ckpt_len(c, col[q].name);
@@ -137,10 +149,30 @@ int ckpt_get_particles_where(struct ckpt *c, const char *name, struct particles 
     }
     particles_clear_ghosts(p);
     p->n_owned = 0;
-    for (long first = 0; !rc && first < n; first += block) {
-        long count = n - first < block ? n - first : block;
-        for (int q = 0; !rc && q < ncol; q++)
-            rc = read_block(c, &col[q], first, count);
+    /* parallel: every rank takes part in as many transfers as the rank
+     * with the most blocks (the others select nothing) */
+    long nblocks = (hi - lo + block - 1) / block;
+    hid_t dxpl = H5P_DEFAULT;
+    if (c->par) {
+        int any = rc != 0, anyall = 0;
+        MPI_Allreduce(&any, &anyall, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
+        if (anyall && !rc)
+            rc = where_fail(c, "stopped: another MPI rank failed to read it", name, ERR_INPUT);
+        MPI_Allreduce(MPI_IN_PLACE, &nblocks, 1, MPI_LONG, MPI_MAX, MPI_COMM_WORLD);
+        if (anyall)   /* a set-up failed somewhere: no rank starts the transfers */
+            nblocks = 0;
+        dxpl = H5Pcreate(H5P_DATASET_XFER);
+        H5Pset_dxpl_mpio(dxpl, H5FD_MPIO_COLLECTIVE);
+    }
+    for (long b = 0; b < nblocks && (!rc || c->par); b++) {
+        long first = lo + b * block;
+        long count = first >= hi ? 0 : hi - first < block ? hi - first : block;
+        if (rc)   /* parallel: a rank that failed still joins the transfers */
+            count = 0;
+        for (int q = 0; q < ncol && (!rc || c->par); q++) {
+            int r = col[q].ds >= 0 ? read_block(c, &col[q], first, count, dxpl) : ERR_INPUT;
+            rc = rc ? rc : r;
+        }
         for (long k = 0; !rc && k < count; k++) {
             if ((rc = check_particle(c, p, col, k)))
                 break;
@@ -152,6 +184,8 @@ int ckpt_get_particles_where(struct ckpt *c, const char *name, struct particles 
             p->n_owned++;
         }
     }
+    if (dxpl != H5P_DEFAULT)
+        H5Pclose(dxpl);
     for (int q = 0; q < ncol; q++) {
         if (col[q].ds >= 0)
             H5Dclose(col[q].ds);
@@ -176,4 +210,16 @@ int ckpt_get_particles_where(struct ckpt *c, const char *name, struct particles 
     if (rc)
         p->n_owned = 0;
     return rc;
+}
+
+int ckpt_get_particles_where(struct ckpt *c, const char *name, struct particles *p,
+                             int (*keep)(const void *ctx, const double x[3]), const void *ctx)
+{
+    return get_rows(c, name, p, keep, ctx, 0, 0);
+}
+
+int ckpt_get_particles_part(struct ckpt *c, const char *name, struct particles *p, int rank,
+                            int nranks)
+{
+    return get_rows(c, name, p, NULL, NULL, rank, nranks);
 }

@@ -86,20 +86,23 @@ static const char *field_unit(const char *name)
     return "1";
 }
 
-int dpd_output_snapshot(struct dpd_output *o, struct run *run, struct dpd *d)
+static int snapshot_of(struct dpd_output *o, struct run *run, struct dpd *d)
 {
-    if (!run->h5_open)
-        return 0;
     struct particles *p = d->p;
     long n = p->n_owned;
     struct err e = {0};
+    int grow = 0;
     if (n > o->cap_atoms) {
         int64_t *ib = mem_realloc(o->ibuf, (size_t)(n ? n : 1) * sizeof *ib);
-        if (!ib)
-            return ERR_RUNTIME;
-        o->ibuf = ib;
-        o->cap_atoms = n;
+        if (ib) {
+            o->ibuf = ib;
+            o->cap_atoms = n;
+        }
+        grow = ib ? 0 : ERR_RUNTIME;
     }
+    /* collective (bricks): an allocation that failed on one rank stops all */
+    if (h5out_par_agree(&run->h5, grow, &e) != 0)
+        return ERR_RUNTIME;
     hid_t g = h5out_begin_snapshot(&run->h5, "particles", d->step, d->time, n, &e);
     if (g < 0)
         return ERR_RUNTIME;
@@ -113,6 +116,21 @@ int dpd_output_snapshot(struct dpd_output *o, struct run *run, struct dpd *d)
     return rc;
 }
 
+/* Bricks: every rank writes its own particles' rows into the one
+ * fields.h5, collectively (h5out_par_begin). */
+int dpd_output_snapshot(struct dpd_output *o, struct run *run, struct dpd *d)
+{
+    if (!d->p->halo)
+        return run->h5_open ? snapshot_of(o, run, d) : 0;
+    if (!run->out.hdf5)
+        return 0;
+    struct err e = {0};
+    int rc = run_h5_par_begin(run, d->p->n_owned, &e);
+    if (!rc)
+        rc = snapshot_of(o, run, d);
+    return run_h5_par_end(run, rc, &e) ? ERR_RUNTIME : 0;
+}
+
 int dpd_output_step(struct dpd_output *o, struct run *run, struct dpd *d, long total)
 {
     long s = d->step;
@@ -122,20 +140,18 @@ int dpd_output_step(struct dpd_output *o, struct run *run, struct dpd *d, long t
         rc = thermo_row(o, run, d);
     int snap = run_due(s, total, run->out.snapshot_every);
     int frame = run->out.xyz_every > 0 && s % run->out.xyz_every == 0;
-    /* bricks: every rank's particles gathered on rank 0 in id order and
+    if (!rc && snap)   /* bricks: collective, every rank */
+        rc = dpd_output_snapshot(o, run, d);
+    /* bricks: the XYZ frame's particles gathered on rank 0 in id order and
      * written there as a serial run writes its own (every rank gathers) */
     struct particles *all = NULL;
-    struct dpd view = *d;
-    if (!rc && d->p->halo && ((snap && run->out.hdf5) || frame)) {
+    if (!rc && d->p->halo && frame) {
         struct err e = {0};
         rc = halo_gather(d->p->halo, d->p, &all, &e);
-        view.p = all;
     }
-    int here = !d->p->halo || all;   /* the rank that holds what is written */
-    if (!rc && here && snap)
-        rc = dpd_output_snapshot(o, run, &view);
-    if (!rc && here && run->xyz && frame)
-        rc = xyz_write_frame(run->xyz, view.p, &d->box, s, d->time, NULL)
+    const struct particles *fp = d->p->halo ? all : d->p;   /* NULL: not this rank's */
+    if (!rc && fp && run->xyz && frame)
+        rc = xyz_write_frame(run->xyz, fp, &d->box, s, d->time, NULL)
                  ? ERR_RUNTIME
                  : run_xyz_frame_done(run, NULL);
     particles_destroy(&all);

@@ -2,6 +2,8 @@
 #include "output/h5out.h"
 
 #include <errno.h>
+#include <hdf5_hl.h>
+#include <mpi.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -13,19 +15,15 @@
 #include "util/mem.h"
 #include "util/wfile.h"
 
+/* H5LT makes the same scalar string attribute (C string, NUL-terminated,
+ * its length + 1) that h5out wrote by hand before. */
 void h5out_attr_string(hid_t obj, const char *name, const char *value)
 {
-    hid_t type = H5Tcopy(H5T_C_S1);
-    H5Tset_size(type, strlen(value) + 1);
-    H5Tset_strpad(type, H5T_STR_NULLTERM);
-    hid_t space = H5Screate(H5S_SCALAR);
-    hid_t attr = H5Acreate2(obj, name, type, space, H5P_DEFAULT, H5P_DEFAULT);
-    H5Awrite(attr, type, value);
-    H5Aclose(attr);
-    H5Sclose(space);
-    H5Tclose(type);
+    H5LTset_attribute_string(obj, ".", name, value);
 }
 
+/* Not H5LTset_attribute_double: that one makes a 1-element array, and the
+ * attributes of a snapshot (step, time) are scalars readers rely on. */
 void h5out_attr_double(hid_t obj, const char *name, double value)
 {
     hid_t space = H5Screate(H5S_SCALAR);
@@ -33,6 +31,99 @@ void h5out_attr_double(hid_t obj, const char *name, double value)
     H5Awrite(attr, H5T_NATIVE_DOUBLE, &value);
     H5Aclose(attr);
     H5Sclose(space);
+}
+
+/* Whether flag is set on any rank (inside a collective snapshot; the flag
+ * itself outside one). */
+static int par_any(const struct h5out *h, int flag)
+{
+    if (!h->par)
+        return flag != 0;
+    int in = flag != 0, out = 0;
+    MPI_Allreduce(&in, &out, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
+    return out;
+}
+
+int h5out_par_agree(const struct h5out *h, int rc, struct err *e)
+{
+    if (par_any(h, rc != 0) && !rc)
+        rc = err_set(e, ERR_RUNTIME, "cannot write %s: stopped: another MPI rank failed to write it",
+                     h->path);
+    return rc;
+}
+
+void h5out_par_attach(struct h5out *h, const char *path)
+{
+    memset(h, 0, sizeof *h);
+    h->file = H5I_INVALID_HID;
+    snprintf(h->time_unit, sizeof h->time_unit, "ps");
+    snprintf(h->path, sizeof h->path, "%s", path);
+    snprintf(h->tmp_path, sizeof h->tmp_path, "%s.tmp", path);
+    H5Eset_auto2(H5E_DEFAULT, NULL, NULL);   /* errors are reported by us */
+}
+
+int h5out_par_begin(struct h5out *h, long n_local, struct err *e)
+{
+    int rank = 0;
+    MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+    /* the attribute names of the snapshot times follow rank 0's units */
+    MPI_Bcast(h->time_unit, (int)sizeof h->time_unit, MPI_CHAR, 0, MPI_COMM_WORLD);
+    long off = 0, tot = 0;
+    MPI_Exscan(&n_local, &off, 1, MPI_LONG, MPI_SUM, MPI_COMM_WORLD);
+    MPI_Allreduce(&n_local, &tot, 1, MPI_LONG, MPI_SUM, MPI_COMM_WORLD);
+    h->par = 1;
+    h->par_rank = rank;
+    h->par_local = n_local;
+    h->par_offset = rank == 0 ? 0 : off;   /* MPI_Exscan leaves rank 0's undefined */
+    h->par_total = tot;
+    int rc = 0;
+    /* rank 0's serial handle closes (flushed) before the file opens again
+     * through MPI-IO on every rank */
+    if (rank == 0 && (h->file < 0 || H5Fclose(h->file) < 0))
+        rc = err_set(e, ERR_RUNTIME, "cannot write %s: closing the serial HDF5 handle failed",
+                     h->path);
+    h->file = H5I_INVALID_HID;
+    if (!rc && fault_write(ENOSPC) != 0)
+        rc = err_set(e, ERR_RUNTIME, "cannot write %s: %s", h->path, strerror(errno));
+    if (!(rc = h5out_par_agree(h, rc, e))) {
+        hid_t fapl = H5Pcreate(H5P_FILE_ACCESS);
+        H5Pset_fapl_mpio(fapl, MPI_COMM_WORLD, MPI_INFO_NULL);
+        h->file = H5Fopen(h->tmp_path, H5F_ACC_RDWR, fapl);
+        H5Pclose(fapl);
+        if (h->file < 0)
+            rc = err_set(e, ERR_RUNTIME, "cannot write %s: cannot open %s through MPI-IO",
+                         h->path, h->tmp_path);
+        rc = h5out_par_agree(h, rc, e);
+    }
+    if (rc)
+        h->failed = 1;
+    return rc;
+}
+
+int h5out_par_end(struct h5out *h, int rc, struct err *e)
+{
+    if (!h->par)
+        return rc;
+    if (h->file >= 0 && H5Fclose(h->file) < 0 && !rc)   /* collective */
+        rc = err_set(e, ERR_RUNTIME, "cannot write %s: closing the HDF5 file failed", h->path);
+    h->file = H5I_INVALID_HID;
+    rc = h5out_par_agree(h, rc, e);
+    h->par = 0;
+    if (rc)
+        h->failed = 1;   /* h5out_close / h5out_discard remove PATH.tmp */
+    if (h->par_rank != 0) {   /* the others keep no snapshot index */
+        free(h->snaps);
+        h->snaps = NULL;
+        h->nsnaps = h->cap_snaps = 0;
+    } else if (!h->failed) {
+        h->file = H5Fopen(h->tmp_path, H5F_ACC_RDWR, H5P_DEFAULT);
+        if (h->file < 0) {
+            h->failed = 1;
+            rc = err_set(e, ERR_RUNTIME, "cannot write %s: cannot open %s again", h->path,
+                         h->tmp_path);
+        }
+    }
+    return rc;
 }
 
 int h5out_create(struct h5out *h, const char *path, const json_t *case_doc, struct err *e)
@@ -83,23 +174,25 @@ int h5out_create(struct h5out *h, const char *path, const json_t *case_doc, stru
 hid_t h5out_begin_snapshot(struct h5out *h, const char *collection, long step, double time, long n,
                            struct err *e)
 {
+    int grow = 0;
     if (h->nsnaps >= h->cap_snaps) {
         int cap = h->cap_snaps ? 2 * h->cap_snaps : 16;
         struct h5out_snap *s = mem_realloc(h->snaps, (size_t)cap * sizeof *s);
-        if (!s) {
-            err_nomem(e, "snapshot index");
-            return H5I_INVALID_HID;
+        if (s) {
+            h->snaps = s;
+            h->cap_snaps = cap;
         }
-        h->snaps = s;
-        h->cap_snaps = cap;
+        grow = s ? 0 : err_nomem(e, "snapshot index");
     }
+    if (h5out_par_agree(h, grow, e) != 0)   /* collective: every rank stops here */
+        return H5I_INVALID_HID;
     struct h5out_snap *s = &h->snaps[h->nsnaps];
     memset(s, 0, sizeof *s);
     snprintf(s->collection, sizeof s->collection, "%s", collection);
     snprintf(s->group, sizeof s->group, "/%s/%08ld", collection, step);
     s->step = step;
     s->time = time;
-    s->n = n;
+    s->n = h->par ? h->par_total : n;   /* collective: the rows of every rank */
     char parent[64];
     snprintf(parent, sizeof parent, "/%s", collection);
     if (H5Lexists(h->file, parent, H5P_DEFAULT) <= 0) {
@@ -111,7 +204,9 @@ hid_t h5out_begin_snapshot(struct h5out *h, const char *collection, long step, d
         return H5I_INVALID_HID;
     }
     hid_t g = H5Gcreate2(h->file, s->group, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
-    if (g < 0) {
+    if (par_any(h, g < 0)) {
+        if (g >= 0)
+            H5Gclose(g);
         h->failed = 1;
         err_set(e, ERR_RUNTIME, "cannot write %s: cannot create group %s", h->path, s->group);
         return H5I_INVALID_HID;
@@ -158,39 +253,101 @@ struct shape {
     hsize_t dims[4];
 };
 
+/* The collective transfer of one dataset: a per-particle dataset (dist)
+ * takes this rank's rows at its offset, any other is written by rank 0
+ * (the others select nothing but take part). */
+static herr_t par_write(const struct h5out *h, hid_t ds, hid_t memtype, const struct shape *full,
+                        int dist, const void *data)
+{
+    hsize_t start[4] = {0, 0, 0, 0}, count[4], one[4] = {1, 1, 1, 1};
+    for (int k = 0; k < full->rank; k++)
+        count[k] = full->dims[k];
+    if (dist) {
+        start[0] = (hsize_t)h->par_offset;
+        count[0] = (hsize_t)h->par_local;
+    }
+    int mine = dist ? h->par_local > 0 : h->par_rank == 0;
+    static const double nothing = 0;   /* a buffer for a rank that writes no rows */
+    hid_t fs = H5Dget_space(ds);
+    hid_t ms = H5Screate_simple(full->rank, mine ? count : one, NULL);
+    herr_t st = fs < 0 || ms < 0 ? -1 : 0;
+    if (!st && mine)
+        st = H5Sselect_hyperslab(fs, H5S_SELECT_SET, start, NULL, count, NULL);
+    else if (!st)
+        st = H5Sselect_none(fs) < 0 || H5Sselect_none(ms) < 0 ? -1 : 0;
+    hid_t dxpl = H5Pcreate(H5P_DATASET_XFER);
+    H5Pset_dxpl_mpio(dxpl, H5FD_MPIO_COLLECTIVE);   /* filtered datasets need it */
+    /* every rank joins the transfer, also one whose selection failed */
+    herr_t wst = H5Dwrite(ds, memtype, ms, fs, dxpl, mine ? data : &nothing);
+    H5Pclose(dxpl);
+    if (ms >= 0)
+        H5Sclose(ms);
+    if (fs >= 0)
+        H5Sclose(fs);
+    return st < 0 || wst < 0 ? -1 : 0;
+}
+
 /* Writes one dataset with its unit (and, with 6 columns, the component
- * order); `record` lists it as a field of the open snapshot for the XDMF. */
+ * order); `record` lists it as a field of the open snapshot for the XDMF.
+ * Small datasets (no chunks) of a serial write go through H5LT; chunked
+ * ones and collective writes need the property lists of the low-level
+ * API.  In a collective snapshot (h->par) a recorded dataset is
+ * per-particle: n is this rank's rows, the dataset has par_total. */
 static int write_dataset_shaped(struct h5out *h, hid_t group, const char *name, hid_t memtype,
                                 const void *data, long n, int ncomp, const struct shape *sh,
                                 const char *unit, int is_int, int record, struct err *e)
 {
-    hid_t space = H5Screate_simple(sh->rank, sh->dims, NULL);
-    hid_t dcpl = H5Pcreate(H5P_DATASET_CREATE);
-    if (n > 4096) {   /* compress larger datasets */
-        hsize_t chunk[4];
-        for (int k = 0; k < sh->rank; k++)
-            chunk[k] = sh->dims[k];
-        /* about 64k elements per chunk along the slowest dimension */
-        hsize_t per = (hsize_t)n / sh->dims[0];
-        hsize_t rows = per > 0 ? 65536 / per : 1;
-        chunk[0] = rows < 1 ? 1 : rows > sh->dims[0] ? sh->dims[0] : rows;
-        H5Pset_chunk(dcpl, sh->rank, chunk);
-        H5Pset_shuffle(dcpl);
-        H5Pset_deflate(dcpl, 1);
+    int dist = h->par && record;
+    struct shape full = *sh;
+    if (dist) {
+        full.dims[0] = (hsize_t)h->par_total;
+        n = h->par_total;
     }
-    int injected = fault_write(ENOSPC) != 0;
-    hid_t ds = injected ? H5I_INVALID_HID
-                        : H5Dcreate2(group, name, memtype, space, H5P_DEFAULT, dcpl, H5P_DEFAULT);
-    herr_t st = ds >= 0 && n > 0 ? H5Dwrite(ds, memtype, H5S_ALL, H5S_ALL, H5P_DEFAULT, data) : 0;
-    if (ds >= 0)
-        h5out_attr_string(ds, "unit", unit);
-    if (ds >= 0 && ncomp == 6)
-        h5out_attr_string(ds, "components", "xx yy zz xy xz yz");
-    if (ds >= 0)
-        H5Dclose(ds);
-    H5Pclose(dcpl);
-    H5Sclose(space);
-    if (ds < 0 || st < 0) {
+    int chunked = n > 4096;
+    int injected = par_any(h, fault_write(ENOSPC) != 0);
+    herr_t st = 0;
+    hid_t ds = H5I_INVALID_HID;
+    if (injected) {
+        st = -1;
+    } else if (!chunked && !h->par) {
+        st = H5LTmake_dataset(group, name, full.rank, full.dims, memtype, n > 0 ? data : NULL);
+        if (st >= 0)
+            H5LTset_attribute_string(group, name, "unit", unit);
+        if (st >= 0 && ncomp == 6)
+            H5LTset_attribute_string(group, name, "components", "xx yy zz xy xz yz");
+    } else {
+        hid_t space = H5Screate_simple(full.rank, full.dims, NULL);
+        hid_t dcpl = H5Pcreate(H5P_DATASET_CREATE);
+        if (chunked) {   /* compress larger datasets */
+            hsize_t chunk[4];
+            for (int k = 0; k < full.rank; k++)
+                chunk[k] = full.dims[k];
+            /* about 64k elements per chunk along the slowest dimension */
+            hsize_t per = (hsize_t)n / full.dims[0];
+            hsize_t rows = per > 0 ? 65536 / per : 1;
+            chunk[0] = rows < 1 ? 1 : rows > full.dims[0] ? full.dims[0] : rows;
+            H5Pset_chunk(dcpl, full.rank, chunk);
+            H5Pset_shuffle(dcpl);
+            H5Pset_deflate(dcpl, 1);
+        }
+        ds = H5Dcreate2(group, name, memtype, space, H5P_DEFAULT, dcpl, H5P_DEFAULT);
+        H5Pclose(dcpl);
+        H5Sclose(space);
+        int created = !par_any(h, ds < 0);   /* on every rank, or it is not used */
+        if (!created)
+            st = -1;
+        else if (h->par)
+            st = n > 0 ? par_write(h, ds, memtype, &full, dist, data) : 0;
+        else
+            st = n > 0 ? H5Dwrite(ds, memtype, H5S_ALL, H5S_ALL, H5P_DEFAULT, data) : 0;
+        if (created)
+            h5out_attr_string(ds, "unit", unit);
+        if (created && ncomp == 6)
+            h5out_attr_string(ds, "components", "xx yy zz xy xz yz");
+        if (ds >= 0)
+            H5Dclose(ds);
+    }
+    if (par_any(h, st < 0)) {
         h->failed = 1;
         return err_set(e, ERR_RUNTIME, "cannot write %s: dataset %s%s", h->path, name,
                        injected ? ": No space left on device" : "");
@@ -252,7 +409,9 @@ int h5out_snapshot_cell(struct h5out *h, hid_t group, const double lo[3], const 
     static const double zero[3] = {0, 0, 0};
     const double *t = tilt ? tilt : zero;
     hid_t g = H5Gcreate2(group, "cell", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
-    if (g < 0) {
+    if (par_any(h, g < 0)) {
+        if (g >= 0)
+            H5Gclose(g);
         h->failed = 1;
         return err_set(e, ERR_RUNTIME, "cannot write %s: cannot create %s/cell", h->path,
                        s->group);

@@ -78,6 +78,12 @@ struct h5out {
     struct h5out_snap *snaps;
     int cap_snaps;
     char time_unit[16];    /* unit of snapshot times ("ps" unless set) */
+    /* A collective snapshot (h5out_par_begin .. h5out_par_end): every rank
+     * holds the file open through MPI-IO; per-particle datasets take this
+     * rank's rows [par_offset, par_offset + par_local) of par_total. */
+    int par;
+    int par_rank;
+    long par_local, par_offset, par_total;
 };
 
 /* Create PATH.tmp; h5out_close renames it over PATH (and writes the XDMF
@@ -124,6 +130,31 @@ int h5out_write_series(struct h5out *h, const char *name, const double *data, lo
                        const char *unit, struct err *e);
 /* Write the XDMF sidecar and close the file. */
 int h5out_close(struct h5out *h, struct err *e);
+
+/* A collective particle snapshot of a brick decomposition (docs/parallel.md,
+ * "Output").  Every rank calls h5out_par_begin with its count of owned
+ * particles (rank 0 with its open h5out, the others with an h5out that
+ * h5out_par_attach named), then the same sequence of
+ * h5out_begin_snapshot / h5out_snapshot_cell / h5out_write_* /
+ * h5out_end_snapshot with its own particles, then h5out_par_end.  Between
+ * the two, rank 0's serial handle is closed and every rank holds the file
+ * open through MPI-IO (H5Pset_fapl_mpio): each per-particle dataset has the
+ * total count of rows and each rank writes its rows at the offset of an
+ * MPI_Exscan of the counts, in one collective transfer (H5FD_MPIO_COLLECTIVE);
+ * the cell and other small datasets are written by rank 0.  The datasets
+ * have the serial file's type, shape, chunks and filters, in the order
+ * rank 0's particles, rank 1's, ... (each rank's in its own order).  Every
+ * failure (and every injected fault) is agreed over the ranks, so all
+ * ranks return the same error at the same call and none waits in a
+ * collective call another rank skipped.  Collective over MPI_COMM_WORLD. */
+void h5out_par_attach(struct h5out *h, const char *path);
+int h5out_par_begin(struct h5out *h, long n_local, struct err *e);
+/* rc: this rank's result since h5out_par_begin; returns it agreed over the
+ * ranks; rank 0 has its serial handle back. */
+int h5out_par_end(struct h5out *h, int rc, struct err *e);
+/* rc agreed over the ranks inside a collective snapshot (rc itself outside
+ * one): an error on any rank is an error on every rank. */
+int h5out_par_agree(const struct h5out *h, int rc, struct err *e);
 
 /* Attribute helpers. */
 void h5out_attr_string(hid_t obj, const char *name, const char *value);

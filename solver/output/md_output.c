@@ -88,24 +88,19 @@ static int grow_atoms(struct md_output *o, long n)
 
 static int snapshot_of(struct md_output *o, struct run *run, struct md *md);
 
-/* Bricks: the atoms of every rank gathered on rank 0 in id order, written
- * as a serial run writes its own (the same datasets). */
+/* Bricks: every rank writes its own atoms' rows of each dataset into the
+ * one fields.h5, collectively (h5out_par_begin); the same datasets as a
+ * serial run writes. */
 int md_output_snapshot(struct md_output *o, struct run *run, struct md *md)
 {
     if (!md->halo)
         return run->h5_open ? snapshot_of(o, run, md) : 0;
     if (!run->out.hdf5)
         return 0;
-    struct particles *all = NULL;
-    int rc = halo_gather(md->halo, md->p, &all, &o->err);
-    if (!rc && all && run->h5_open) {
-        struct md view = *md;
-        view.p = all;
-        view.halo = NULL;
-        rc = snapshot_of(o, run, &view);
-    }
-    particles_destroy(&all);
-    return rc;
+    int rc = run_h5_par_begin(run, md->p->n_owned, &o->err);
+    if (!rc)
+        rc = snapshot_of(o, run, md);
+    return run_h5_par_end(run, rc, &o->err);
 }
 
 static int snapshot_of(struct md_output *o, struct run *run, struct md *md)
@@ -113,7 +108,8 @@ static int snapshot_of(struct md_output *o, struct run *run, struct md *md)
     struct particles *p = md->p;
     long n = p->n_owned;
     struct err *ep = &o->err;
-    if (grow_atoms(o, n) != 0)
+    /* collective (bricks): an allocation that failed on one rank stops all */
+    if (h5out_par_agree(&run->h5, grow_atoms(o, n), ep) != 0)
         return ERR_RUNTIME;
     hid_t g = h5out_begin_snapshot(&run->h5, "particles", md->step, md->time, n, ep);
     if (g < 0)
@@ -204,6 +200,13 @@ static int xyz_gathered(struct md_output *o, struct run *run, struct md *md, lon
             rc = write_final(run, &view, &o->err);
     }
     particles_destroy(&all);
+    if (o->cap_atoms > md->p->n_owned) {   /* rank 0 keeps no scratch for all atoms */
+        free(o->stress);
+        free(o->ibuf);
+        o->stress = NULL;
+        o->ibuf = NULL;
+        o->cap_atoms = 0;
+    }
     return rc;
 }
 

@@ -224,6 +224,21 @@ int run_xyz_frame_done(struct run *r, struct err *e)
     return 0;
 }
 
+int run_h5_par_begin(struct run *r, long n_local, struct err *e)
+{
+    if (r->opt.rank != 0 && !r->h5.path[0]) {   /* the other ranks name the file once */
+        char path[4096];
+        run_path(r, "fields.h5", path, sizeof path);
+        h5out_par_attach(&r->h5, path);
+    }
+    return h5out_par_begin(&r->h5, n_local, e);
+}
+
+int run_h5_par_end(struct run *r, int rc, struct err *e)
+{
+    return h5out_par_end(&r->h5, rc, e);
+}
+
 int run_snapshot_cell(struct run *r, hid_t g, const struct box *b, struct err *e)
 {
     int pbc[3];

@@ -115,6 +115,13 @@ int run_xyz_frame_done(struct run *r, struct err *e);
  * scratch for n_owned integers. */
 int run_snapshot_particles(struct run *r, hid_t g, const struct particles *p,
                            const struct box *b, int64_t *ibuf, struct err *e);
+/* A collective particle snapshot of fields.h5 in a brick run (h5out.h,
+ * h5out_par_begin): every rank calls begin with its count of owned
+ * particles, then writes the snapshot with its own particles, then end
+ * with its result (returned agreed over the ranks). */
+int run_h5_par_begin(struct run *r, long n_local, struct err *e);
+int run_h5_par_end(struct run *r, int rc, struct err *e);
+
 /* The box as the cell of the open snapshot g (h5out_snapshot_cell): bounds,
  * tilt 0, periodicity and boundary kinds. */
 int run_snapshot_cell(struct run *r, hid_t g, const struct box *b, struct err *e);

@@ -261,7 +261,6 @@ static void dpd_case_destroy(void *state)
     struct dpd_case *c = state;
     if (!c)
         return;
-    particles_destroy(&c->model.gathered);
     dpd_free(&c->d);
     dpd_case_free_halo(c);
     free(c->plate);

@@ -346,7 +346,6 @@ static void md_case_destroy(void *state)
     struct md_case *c = state;
     if (!c)
         return;
-    particles_destroy(&c->model.gathered);
     md_free(&c->md);
     free(c->plate);
     free(c->restored_rows);
