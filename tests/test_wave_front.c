@@ -5,8 +5,9 @@
  *   - a pulse at c = 40 Å/ps whose amplitude falls to a third over the
  *     probes: every fraction gives c within 0.1 % (a fixed absolute
  *     threshold on the same data is off by more than 5 %, which is why the
- *     relative level exists), spread below 0.1 %, flag ok; the two-region
- *     arrival with relative thresholds gives c within 0.1 %;
+ *     relative level exists), spread below 0.1 %, flag ok; the rise and
+ *     pulse centroids give c within 0.1 %, the broadening is zero; the
+ *     two-region arrival with relative thresholds gives c within 0.1 %;
  *   - the leading pulse: a larger pulse behind it does not move the
  *     crossing (nor does it with the largest-value peak and a window that
  *     ends before it), round-off ahead of the wave is not a peak;
@@ -14,9 +15,15 @@
  *     the front (as in the impacts' difference signals): over 40 seeds
  *     the truth lies within two standard errors of the fit in at least 32
  *     (95 % expected), the standard error stays below 2 % of c;
- *   - a step front whose rise time grows along the bar (dispersion): f =
- *     0.5 still travels at c (exact within 0.1 %), f = 0.1 faster by the
- *     known amount, spread > 3 %: flagged, wave_speed NAN;
+ *   - a step front whose rise time grows along the bar (symmetric
+ *     broadening, as a weak linear wave in a discrete medium): f = 0.5
+ *     travels at c (within 0.1 %), f = 0.1 faster by the known amount
+ *     (5 %), but the rise's centres and its centroid all travel at c
+ *     (0.2 %): spread below 0.5 %, not flagged, and the broadening and
+ *     rise time are reported within 2 % of the known values;
+ *   - a front whose shape changes (a precursor of 20 % at 1.25 c ahead of
+ *     the body at c): spread > 3 %, flagged, wave_speed NAN; the rise
+ *     centroid gives the height-weighted mean within 1 %;
  *   - fewer than three probes reached: no fit, flagged.
  */
 #include <criterion/criterion.h>
@@ -74,6 +81,12 @@ Test(wave_front, decaying_pulse_exact_at_every_fraction)
     cr_expect(r.spread < 1e-3, "spread %g", r.spread);
     cr_expect(fabs(r.speed / C - 1) < 1e-3);
     cr_expect(r.stderr_ < 1e-3 * C, "stderr %g", r.stderr_);
+    /* the threshold-free centroids of a pulse that keeps its shape */
+    cr_expect(fabs(r.rise_centroid.speed / C - 1) < 1e-3, "rise centroid %g",
+              r.rise_centroid.speed);
+    cr_expect(fabs(r.pulse_centroid.speed / C - 1) < 1e-3, "pulse centroid %g",
+              r.pulse_centroid.speed);
+    cr_expect(fabs(r.broadening) < 1e-4, "broadening %g ps/Å", r.broadening);
     /* a fixed absolute level (0.3 of the first probe's peak) is met later
      * and later as the pulse weakens: the speed it gives is wrong */
     double th1 = NAN, th2 = NAN;
@@ -174,7 +187,7 @@ static double spreading_step(double x, double tt, void *ctx)
     return 0.5 * (1 + tanh((tt - x / C) / tau));
 }
 
-Test(wave_front, dispersing_front_is_flagged)
+Test(wave_front, broadening_front_travels_at_c_and_is_not_flagged)
 {
     double *t = malloc(NT * sizeof *t), *s = malloc(NT * NP * sizeof *s), x[NP];
     for (int k = 0; k < NP; k++)
@@ -184,13 +197,59 @@ Test(wave_front, dispersing_front_is_flagged)
     wave_front_measure(t, NT, s, NP, x, NULL, HW, &r);
     /* f = 0.5 is the middle of the tanh: exactly x / C */
     cr_expect(fabs(r.speed_fit / C - 1) < 1e-3, "f = 0.5: %g", r.speed_fit);
-    /* f = 0.1: t = x / C + tau(x) atanh(-0.8), so 1/v = 1/C - 0.004 atanh(0.8) */
+    /* f = 0.1: t = x / C + tau(x) atanh(-0.8), so 1/v = 1/C - 0.004 atanh(0.8):
+     * 5 % fast, which the spread over f = 0.1/0.2/0.5 used to flag */
     double v01 = 1.0 / (1.0 / C - 0.004 * atanh(0.8));
     cr_expect(fabs(r.fit[0].speed / v01 - 1) < 2e-3, "f = 0.1: %g against %g", r.fit[0].speed,
               v01);
+    /* the rise's centres and its centroid cancel the symmetric broadening */
+    for (int c = 0; c < WAVE_FRONT_NCENTRE; c++)
+        cr_expect(fabs(r.centre[c].speed / C - 1) < 2e-3, "centre %d: %g", c, r.centre[c].speed);
+    cr_expect(fabs(r.rise_centroid.speed / C - 1) < 2e-3, "rise centroid %g",
+              r.rise_centroid.speed);
+    cr_expect(r.spread < 0.005, "spread %g", r.spread);
+    cr_expect_eq(r.flag, WAVE_FRONT_OK);
+    cr_expect(fabs(r.speed / C - 1) < 1e-3);
+    /* the broadening is its own number: t_0.9 - t_0.1 = 2 atanh(0.8) tau(x) */
+    double b = 2 * atanh(0.8) * 0.004;
+    cr_expect(fabs(r.broadening / b - 1) < 0.02, "broadening %g ps/Å against %g", r.broadening,
+              b);
+    double xm = 0.5 * (x[0] + x[NP - 1]);
+    double rise = 2 * atanh(0.8) * (0.05 + 0.004 * (xm - 100.0));
+    cr_expect(fabs(r.rise_time / rise - 1) < 0.02, "rise time %g ps against %g", r.rise_time,
+              rise);
+    free(t);
+    free(s);
+}
+
+/* A front in two parts: 20 % arrives at 1.25 C (a precursor, as the
+ * longitudinal head of a pulse in a bar), 80 % at C (the body). */
+static double precursor_step(double x, double tt, void *ctx)
+{
+    (void)ctx;
+    return 0.2 * 0.5 * (1 + tanh((tt - x / (1.25 * C)) / 0.05)) +
+           0.8 * 0.5 * (1 + tanh((tt - x / C) / 0.05));
+}
+
+Test(wave_front, changing_rise_shape_is_flagged)
+{
+    double *t = malloc(NT * sizeof *t), *s = malloc(NT * NP * sizeof *s), x[NP];
+    for (int k = 0; k < NP; k++)
+        x[k] = probe_x(k);
+    fill(t, s, precursor_step, NULL);
+    struct wave_front_result r;
+    wave_front_measure(t, NT, s, NP, x, NULL, HW, &r);
+    /* f = 0.1 rides the precursor, f = 0.5 the body: the midpoint of (0.1,
+     * 0.9) runs ahead of f = 0.5 */
+    cr_expect(fabs(r.speed_fit / C - 1) < 0.01, "f = 0.5: %g", r.speed_fit);
     cr_expect(r.spread > 0.03, "spread %g", r.spread);
     cr_expect_eq(r.flag, WAVE_FRONT_SPREAD);
     cr_expect(isnan(r.speed));
+    /* the rise centroid weights the two parts by their heights once the
+     * two have separated: 1 / v = 0.2 / (1.25 C) + 0.8 / C */
+    double vc = 1.0 / (0.2 / (1.25 * C) + 0.8 / C);
+    cr_expect(fabs(r.rise_centroid.speed / vc - 1) < 0.01, "rise centroid %g against %g",
+              r.rise_centroid.speed, vc);
     free(t);
     free(s);
 }

@@ -80,6 +80,7 @@ int handshake_checkpoint_write(const struct handshake *hs, struct ckpt *ck, cons
     if (!rc) rc = ckpt_put_double(ck, "mpm_fext_scale", m->fext_scale);
     if (!rc && hs->thermal) rc = ckpt_put_double(ck, "bath_heat", hs->thermal->heat);
     if (!rc && hs->thermal) rc = ckpt_put_long(ck, "bath_step", hs->thermal->step);
+    if (!rc && hs->thermal) rc = ckpt_put_double(ck, "bath_heat_copies", hs->thermal->heat_copies);
     if (!rc) rc = put_points(ck, &m->pts);
     return rc;
 }
@@ -100,6 +101,7 @@ int handshake_checkpoint_read(struct handshake *hs, struct ckpt *ck, const char 
     if (!rc) rc = ckpt_get_double(ck, "mpm_fext_scale", &m->fext_scale);
     if (!rc && hs->thermal) rc = ckpt_get_double(ck, "bath_heat", &hs->thermal->heat);
     if (!rc && hs->thermal) rc = ckpt_get_long(ck, "bath_step", &hs->thermal->step);
+    if (!rc && hs->thermal) rc = ckpt_get_double(ck, "bath_heat_copies", &hs->thermal->heat_copies);
     if (!rc) rc = get_points(ck, &m->pts);
     return rc;
 }

@@ -179,8 +179,9 @@ int handshake_advance_mpm(struct handshake *hs, struct err *e)
         timer_start(m->timers, TIMER_COUPLING);
     if (md->nrebuilds != hs->seen_builds && (rc = reindex(hs, e)))
         return rc;
-    if (hs->thermal)   /* the bath closes the previous step (handshake_thermal.h) */
-        hs_thermal_bath(hs);
+    /* the bath closes the previous step (handshake_thermal.h) */
+    if (hs->thermal && (rc = hs_thermal_bath(hs, e)))
+        return rc;
     gather_region_I(hs);
     if (m->timers)
         timer_stop(m->timers, TIMER_COUPLING);

@@ -3,6 +3,7 @@
 #include "couple/handshake_thermal.h"
 
 #include <math.h>
+#include <stdlib.h>
 
 #include "core/rng.h"
 #include "core/units.h"
@@ -43,12 +44,113 @@ void hs_thermal_attach(struct handshake *hs, struct hs_thermal *t, double t_init
     }
 }
 
-void hs_thermal_bath(struct handshake *hs)
+/* One node of the coarse grid: mass and momentum. */
+struct coarse_node {
+    double m, p[3];
+};
+
+/* Cell and linear weights of x on the coarse grid (origin lo, cell H, n
+ * nodes per axis); positions beyond the grid are clamped to its edge. */
+static void coarse_stencil(const double lo[3], double H, const long n[3], const double x[3],
+                           long cell[3], double w[3])
+{
+    for (int d = 0; d < 3; d++) {
+        double s = (x[d] - lo[d]) / H;
+        long c = (long)floor(s);
+        if (c < 0)
+            c = 0;
+        if (c > n[d] - 2)
+            c = n[d] - 2;
+        w[d] = fmin(1.0, fmax(0.0, s - (double)c));
+        cell[d] = c;
+    }
+}
+
+static void coarse_deposit(struct coarse_node *g, const long n[3], const long cell[3],
+                           const double w[3], double m, const double v[3])
+{
+    for (int k = 0; k < 8; k++) {
+        double wk = 1;
+        long idx = 0;
+        for (int d = 2; d >= 0; d--) {
+            int o = (k >> d) & 1;
+            wk *= o ? w[d] : 1 - w[d];
+            idx = idx * n[d] + cell[d] + o;
+        }
+        struct coarse_node *nd = g + idx;
+        nd->m += wk * m;
+        for (int d = 0; d < 3; d++)
+            nd->p[d] += wk * m * v[d];
+    }
+}
+
+int hs_thermal_coarse_velocity(const struct handshake *hs, double H, double **out, struct err *e)
+{
+    const struct handshake_layout *L = &hs->lay;
+    const struct mpm_points *mp = &hs->mpm.pts;
+    const struct particles *p = hs->md->p;
+    long n[3];
+    size_t nn = 1;
+    for (int d = 0; d < 3; d++) {
+        n[d] = (long)ceil((L->dom_hi[d] - L->dom_lo[d]) / H - 1e-9) + 1;
+        if (n[d] < 2)
+            n[d] = 2;
+        nn *= (size_t)n[d];
+    }
+    struct coarse_node *g = calloc(nn, sizeof *g);
+    double *vs = malloc((size_t)(mp->n > 0 ? mp->n : 1) * 3 * sizeof *vs);
+    if (!g || !vs) {
+        free(g);
+        free(vs);
+        return err_nomem(e, "handshake bath: coarse grid");
+    }
+    long cell[3];
+    double w[3];
+    /* the projection: every material point and every region I atom (the
+     * MD side of the band, whose coarse motion the band continues) */
+    for (long q = 0; q < mp->n; q++) {
+        coarse_stencil(L->dom_lo, H, n, mp->x + 3 * q, cell, w);
+        coarse_deposit(g, n, cell, w, mp->mass[q], mp->v + 3 * q);
+    }
+    for (long k = 0; k < hs->nI; k++) {
+        int i = hs->idxI[k];
+        double x[3] = {p->x[3 * i], p->x[3 * i + 1], p->x[3 * i + 2]};
+        handshake_wrap(hs, x);
+        coarse_stencil(L->dom_lo, H, n, x, cell, w);
+        coarse_deposit(g, n, cell, w, p->mass[p->type[i]], p->v + 3 * i);
+    }
+    /* the coarse field at the band's points */
+    for (long q = 0; q < mp->n; q++) {
+        double *o = vs + 3 * q;
+        o[0] = o[1] = o[2] = 0;
+        if (!(mp->mask[q] & (HS_MASK_II | HS_MASK_III)))
+            continue;
+        coarse_stencil(L->dom_lo, H, n, mp->x + 3 * q, cell, w);
+        for (int k = 0; k < 8; k++) {
+            double wk = 1;
+            long idx = 0;
+            for (int d = 2; d >= 0; d--) {
+                int off = (k >> d) & 1;
+                wk *= off ? w[d] : 1 - w[d];
+                idx = idx * n[d] + cell[d] + off;
+            }
+            const struct coarse_node *nd = g + idx;
+            if (nd->m > 0)
+                for (int d = 0; d < 3; d++)
+                    o[d] += wk * nd->p[d] / nd->m;
+        }
+    }
+    free(g);
+    *out = vs;
+    return 0;
+}
+
+int hs_thermal_bath(struct handshake *hs, struct err *e)
 {
     struct hs_thermal *t = hs->thermal;
     t->step++;
     if (!(t->damping_time > 0))
-        return;
+        return 0;
     struct particles *p = hs->md->p;
     const struct mpm_points *pt = &hs->mpm.pts;
     const double c = exp(-hs->md->dt / t->damping_time);
@@ -71,25 +173,40 @@ void hs_thermal_bath(struct handshake *hs)
         }
         heat += 0.5 * m * UNITS_MVV2E * (before - after);
     }
-    /* the material points of regions II and III: friction alone.  The MPM
-     * carries the mean displacement field (its constants are those at T);
-     * region I's instantaneous thermal stress and momentum drive the grid
-     * at every step, and without a sink the grid's modes would heat
-     * without bound (measured: 634 K after 20 ps without the bath).  Noise
-     * on the points would not thermalise the grid either: a point keeps
-     * its own velocity between steps (FLIP), so noise there is energy the
-     * grid does not move with. */
+    t->heat_copies += heat;
+    /* the material points of regions II and III: friction on their motion
+     * relative to the coarse field (hs_thermal_coarse_velocity), not on
+     * the coarse waves themselves.  The MPM carries the mean displacement
+     * field (its constants are those at T); region I's instantaneous
+     * thermal stress and momentum drive the grid at every step, mostly at
+     * the shortest wavelengths the finest cells hold, and without a sink
+     * those grid modes would heat without bound (measured: 634 K after 20
+     * ps without the bath).  Noise on the points would not thermalise the
+     * grid either: a point keeps its own velocity between steps (FLIP), so
+     * noise there is energy the grid does not move with. */
     struct mpm_points *mp = &hs->mpm.pts;
+    double *vs = NULL;
+    if (t->coarse_cell > 0) {
+        int rc = hs_thermal_coarse_velocity(hs, t->coarse_cell * hs->lay.a, &vs, e);
+        if (rc)
+            return rc;
+    }
     for (long q = 0; q < mp->n; q++) {
         if (!(mp->mask[q] & (HS_MASK_II | HS_MASK_III)))
             continue;
         double *v = mp->v + 3 * q;
-        double before = v[0] * v[0] + v[1] * v[1] + v[2] * v[2];
-        for (int d = 0; d < 3; d++)
-            v[d] *= c;
-        heat += 0.5 * mp->mass[q] * UNITS_MVV2E * (1 - c * c) * before;
+        const double zero[3] = {0, 0, 0}, *ref = vs ? vs + 3 * q : zero;
+        double before = 0, after = 0;
+        for (int d = 0; d < 3; d++) {
+            before += v[d] * v[d];
+            v[d] = ref[d] + c * (v[d] - ref[d]);
+            after += v[d] * v[d];
+        }
+        heat += 0.5 * mp->mass[q] * UNITS_MVV2E * (before - after);
     }
+    free(vs);
     t->heat += heat;
+    return 0;
 }
 
 void hs_thermal_group(const struct handshake *hs, uint32_t all, uint32_t none, double *ke,

@@ -30,19 +30,35 @@
  *     and the short waves leave the MD into a bath instead of reflecting.
  *     Region III stays on its material points (it is region II's
  *     atmosphere; region I does not see it);
- *   - the material points of regions II and III feel friction alone,
- *     v_p <- c v_p: the MPM carries the mean field, and region I's
- *     instantaneous thermal stress drives the grid at every step, whose
- *     modes would otherwise heat without bound.  (It damps the coarse
- *     waves crossing the band as well: an impact's energy goes into the
- *     bath rather than into the MPM beyond; docs/handshake.md, Limits.)
+ *   - the material points of regions II and III feel friction alone, on
+ *     their velocity relative to the coarse field v_c (the bridging-scale
+ *     split of Wagner & Liu 2003, u = N u_nodes + u'): v_c = N_H (M_H^-1
+ *     N_H^T m v), the lumped projection of the points' and region I's
+ *     momenta on a grid of cell H = coarse_cell lattice constants with
+ *     linear shape functions, interpolated back to the point:
+ *         v_p <- v_c + c (v_p - v_c)
+ *     Region I's instantaneous thermal stress and momentum drive the grid
+ *     at every step; without a sink the band's motion would heat without
+ *     bound.  What the friction removes is the part of the points' motion
+ *     that a grid of cell H does not carry: at the default H = a (the
+ *     finest cell of the usual layouts) a wave of 2 a keeps 6 % of its
+ *     mean square in v_c and is damped almost in full, one of 8 a keeps
+ *     79 %, one of 40 a 99 % (tests/test_handshake_bath.c), so a wave the
+ *     MPM carries passes the band nearly undamped.  (By Jensen's
+ *     inequality the projection holds no more kinetic energy than the
+ *     points and atoms it is made of.)  coarse_cell = 0 is the friction of earlier
+ *     versions, on the points' whole velocity (v_c = 0): it damps the
+ *     coarse waves crossing the band as well, so an impact's energy goes
+ *     into the bath rather than into the MPM beyond (docs/handshake.md, At
+ *     a temperature, which gives both);
  *
  * tau = 0 switches the bath off (region II then moves by MD alone, tied to
  * the MPM only through its neighbours): the control the bath is measured
  * against (it heats without bound).  The random numbers are keyed on (seed, step, particle id), so
  * runs are independent of thread count and restart bitwise.
  *
- * Checkpoints (handshake_checkpoint_write) store the heat and the step.
+ * Checkpoints (handshake_checkpoint_write) store the heat, its part taken
+ * from region II's atoms and the step; v_c is recomputed at every step.
  *
  * Energy account: the bath's heat is the kinetic energy it takes out of
  * region II and the band's points, net of what its noise puts in, summed
@@ -54,19 +70,26 @@
 #include <stdint.h>
 
 #include "util/cfg.h"
+#include "util/err.h"
 
 struct handshake;
 
 struct hs_thermal {
     double temperature;    /* K */
     double damping_time;   /* ps; 0: no bath */
+    double coarse_cell;    /* lattice constants: the grid of the coarse field v_c the
+                              band's friction spares; 0: friction on the whole velocity */
     uint64_t seed;
     double heat;           /* eV: net energy the bath took out so far */
+    double heat_copies;    /* eV: the part of it taken from region II's atoms (the
+                              rest from the band's points) */
     long step;             /* bath steps taken (the key of the random stream) */
 };
 
-/* The default damping time (ps), measured in docs/handshake.md. */
+/* The default damping time (ps) and coarse cell (lattice constants),
+ * measured in docs/handshake.md. */
 #define HS_THERMAL_DAMPING_TIME 0.1
+#define HS_THERMAL_COARSE_CELL 1.0
 
 /* Tie the bath to a built and connected handshake: hs->thermal = t, the
  * copies of region II leave the MD's frozen set and take their points'
@@ -75,8 +98,15 @@ void hs_thermal_attach(struct handshake *hs, struct hs_thermal *t, double t_init
 
 /* The bath on region II and the band's points: one step of md->dt (above);
  * adds what it took out to t->heat.  Called by handshake_advance_mpm
- * before the MPM step, i.e. after the previous step's second kick. */
-void hs_thermal_bath(struct handshake *hs);
+ * before the MPM step, i.e. after the previous step's second kick.
+ * Fails only when out of memory. */
+int hs_thermal_bath(struct handshake *hs, struct err *e);
+
+/* The coarse velocity field v_c (above) at every material point of regions
+ * II and III (zero at the others): *out is a new array of 3 per point,
+ * which the caller frees.  H is the coarse cell in Å. */
+int hs_thermal_coarse_velocity(const struct handshake *hs, double H, double **out,
+                               struct err *e);
 
 /* Kinetic energy (eV) and temperature (K, 3 N degrees of freedom) of the
  * MD particles whose mask has all bits of `all` and none of `none`. */

@@ -120,6 +120,8 @@ int handshake_impact_read(struct cfg_obj *t, struct impact_boundary *b)
     if ((rc = cfg_section(&o, "thermal", &th)) ||
         (rc = cfg_real(&th, "damping_time", HS_THERMAL_DAMPING_TIME, CFG_GE(0),
                        &h->bath.damping_time)) ||
+        (rc = cfg_real(&th, "coarse_cell", HS_THERMAL_COARSE_CELL, CFG_GE(0),
+                       &h->bath.coarse_cell)) ||
         (rc = cfg_int(&th, "seed", 1, CFG_GE(0), &seed)) || (rc = cfg_close(&th)))
         return rc;
     h->bath.seed = (uint64_t)seed;
@@ -326,6 +328,7 @@ void handshake_impact_report(const struct impact_boundary *b, struct result *r)
                          NULL, &T, NULL);
         result_metric(r, "bath_heat", h->bath.heat, "eV");
         result_metric(r, "bath_damping_time", h->bath.damping_time, "ps");
+        result_metric(r, "bath_coarse_cell", h->bath.coarse_cell, "1");
         result_metric(r, "region_II_fine_energy", fine_II, "eV");
         result_metric(r, "target_temperature_final", T, "K");
     }

@@ -16,6 +16,9 @@
  *     temperature: 300        K
  *     lattice_constant: 0     Å, a(T) (required: lattice_constant of type: elastic)
  *     damping_time: 0.1       ps, the bath on region II (0: no bath)
+ *     coarse_cell: 2          lattice constants: the band's friction spares the
+ *                             points' velocity field on this grid (0: friction on
+ *                             their whole velocity, as before)
  *     equilibrate: 2          ps under a Langevin thermostat on all MD atoms
  *     equilibrate_damping: 0.1   ps, its damping time
  *     block: 1                ps, the temperature block averages
@@ -78,6 +81,8 @@ static int thermal_read(struct cfg_obj *root, const struct case_common *common, 
         !(rc = cfg_real(&o, "lattice_constant", 0, CFG_GE(0), &c->a_given)) &&
         !(rc = cfg_real(&o, "damping_time", HS_THERMAL_DAMPING_TIME, CFG_GE(0),
                         &w->bath.damping_time)) &&
+        !(rc = cfg_real(&o, "coarse_cell", HS_THERMAL_COARSE_CELL, CFG_GE(0),
+                        &w->bath.coarse_cell)) &&
         !(rc = cfg_real(&o, "equilibrate", 2, CFG_GE(0), &w->equilibrate)) &&
         !(rc = cfg_real(&o, "equilibrate_damping", 0.1, CFG_GT(0), &w->eq_damping)) &&
         !(rc = cfg_real(&o, "block", 1, CFG_GT(0), &w->block)))
@@ -242,6 +247,7 @@ static int thermal_report(void *state, struct sim *s, int run_rc, struct err *e)
     result_metric(res, "temperature", T0, "K");
     result_metric(res, "lattice_constant_T", c->a, "Å");
     result_metric(res, "damping_time", w->bath.damping_time, "ps");
+    result_metric(res, "bath_coarse_cell", w->bath.coarse_cell, "1");
     result_metric(res, "equilibrate", w->equilibrate, "ps");
     result_metric(res, "measured_time", window, "ps");
     result_metric(res, "temperature_blocks", (double)nb, "1");

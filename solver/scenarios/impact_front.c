@@ -177,6 +177,16 @@ void impact_front_report(const struct impact_front *f, struct result *res, doubl
     result_metric(res, "wave_speed_probes", (double)r.fit[WAVE_FRONT_PRIMARY].nprobes, "1");
     result_metric(res, "wave_speed_section", rs.speed_fit * ms, "m/s");
     result_metric(res, "wave_speed_section_spread", rs.spread, "1");
+    result_metric(res, "wave_speed_rise_centroid", r.rise_centroid.speed * ms, "m/s");
+    result_metric(res, "wave_front_broadening", r.broadening, "ps/Å");
+    result_metric(res, "wave_front_broadening_stderr", r.broadening_stderr, "ps/Å");
+    result_metric(res, "wave_front_rise_time", r.rise_time, "ps");
+    /* the pulse centroids: the speed of the pulse's dominant long
+     * wavelengths, the bar speed where the lateral surfaces are free */
+    result_metric(res, "wave_speed_pulse_centroid", rs.pulse_centroid.speed * ms, "m/s");
+    result_metric(res, "wave_speed_pulse_centroid_stderr", rs.pulse_centroid.stderr_ * ms,
+                  "m/s");
+    result_metric(res, "wave_speed_pulse_centroid_core", r.pulse_centroid.speed * ms, "m/s");
     result_metric(res, "wave_speed_peak", peak.speed * ms, "m/s");
     result_metric(res, "wave_speed_arrival", va * ms, "m/s");
     result_metric(res, "arrival_front_1", t1, "ps");

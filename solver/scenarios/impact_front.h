@@ -22,14 +22,22 @@
  * Report (metrics, all m/s unless said):
  *   wave_speed            core front fit at f = 0.5 of the leading pulse's peak
  *                         (analysis/wave_front.h, peak half-width 0.1 ps); null
- *                         when the spread over f = 0.1/0.2/0.5 exceeds 3 %
+ *                         when the spread over the rise's centres (f = 0.5,
+ *                         mid(0.2, 0.8), mid(0.1, 0.9)) exceeds 3 %
  *   wave_speed_fit        the same value whether flagged or not
  *   wave_speed_stderr     its standard error
- *   wave_speed_spread     (max - min) / wave_speed_fit over f = 0.1/0.2/0.5 (1)
+ *   wave_speed_spread     (max - min) / wave_speed_fit over those centres (1)
  *   wave_speed_flag       0 ok, 1 spread > 3 % (not a result), 2 no fit (1)
  *   wave_speed_probes     probes fitted at f = 0.5 (1)
  *   wave_speed_section    the section-mean front fit at f = 0.5
  *   wave_speed_section_spread  its spread (1)
+ *   wave_speed_rise_centroid   core fit of the rise centroids (the mean over all f)
+ *   wave_front_broadening(_stderr)  growth of the core's 10-90 % rise time (ps/Å)
+ *   wave_front_rise_time  that rise time at the probes' mean position (ps)
+ *   wave_speed_pulse_centroid(_stderr)  section-mean fit of the leading pulse's
+ *                         centroid: the pulse's long wavelengths, which travel at
+ *                         the bar speed where the lateral surfaces are free
+ *   wave_speed_pulse_centroid_core  the same for the core
  *   wave_speed_peak       fit of the times of the leading peaks (core)
  *   wave_speed_arrival    two regions, each at f = 0.5 of its own peak
  *   arrival_front_1/2     those arrival times (ps)
@@ -37,8 +45,7 @@
  *   bar_speed             sqrt(E100 / rho), E100 = (C11 - C12)(C11 + 2 C12) / (C11 + C12)
  * and series front_fractions, wave_speed_fractions (core fits per f),
  * wave_speed_fractions_stderr, wave_speed_section_fractions, front_probe_x
- * (Å from the face).  The bar speed of the long wavelengths is not
- * measured here (docs/dpd_mpm.md, "The wave speed").  Each probe's peak is taken before the first
+ * (Å from the face) with f = 0.1/0.2/0.5/0.8/0.9.  Each probe's peak is taken before the first
  * reflection from the far end can reach it: t <= (2 L - x) / (1.15 c_L)
  * (15 % above sqrt(C11/rho) for the nonlinear speed-up of a strong front).
  */
