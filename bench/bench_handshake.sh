@@ -9,6 +9,15 @@
 #   BENCH handshake_band_us_per_step  of which the band's transfers (region I
 #                                     to the points, the copies to the MD)
 #   BENCH handshake_mpm_share_pct     the MPM step's share of the coupled step
+#   BENCH handshake_region_I_us_per_step, handshake_region_II_us_per_step,
+#         handshake_region_III_us_per_step
+#                                     the MD forces of the atoms of region I
+#                                     (MD atoms that act as material points)
+#                                     and of the MD copies of the points of
+#                                     regions II and III: the MD force time
+#                                     apportioned by atom count (EAM costs
+#                                     the same per atom of a crystal); the
+#                                     band's transfers are the band line
 #   BENCH handshake_atoms_replaced    lattice sites of the MPM part: the atoms
 #                                     a full MD bar would need there
 #   BENCH handshake_mpm_points        the material points standing in for them
@@ -52,6 +61,15 @@ bench_line handshake_us_per_step "$(echo "$t * 1000000 / $steps" | bc -l | xargs
 bench_line handshake_md_us_per_step "$(echo "$f * 1000000 / $steps" | bc -l | xargs printf '%.0f')" us "MD forces, $(printf '%.0f' "$atoms") atoms"
 bench_line handshake_mpm_us_per_step "$(echo "$mpm * 1000000 / $steps" | bc -l | xargs printf '%.0f')" us "MPM step, $(printf '%.0f' "$points") points"
 bench_line handshake_band_us_per_step "$(echo "$band * 1000000 / $steps" | bc -l | xargs printf '%.0f')" us "region I to the points, copies to the MD"
+per_atom=$(echo "$f * 1000000 / $steps / $atoms" | bc -l)
+for region in I II III; do
+    case $region in
+    I) count=$(metric "$last" atoms_region_I) ;;
+    *) count=$(metric "$last" "points_region_$region") ;;
+    esac
+    bench_line "handshake_region_${region}_us_per_step" "$(echo "$per_atom * $count" | bc -l | xargs printf '%.0f')" us \
+        "MD forces of its $(printf '%.0f' "$count") atoms, apportioned by atom count"
+done
 bench_line handshake_mpm_share_pct "$(echo "100 * $mpm / $t" | bc -l | xargs printf '%.1f')" % "target < 15"
 bench_line handshake_atoms_replaced "$(printf '%.0f' "$replaced")" atoms "lattice sites the MPM part stands for"
 bench_line handshake_mpm_points "$(printf '%.0f' "$points")" points

@@ -15,6 +15,10 @@
 #                                    the model below
 #   BENCH mpm_roofline_pct           time that traffic takes at the measured
 #                                    stream bandwidth / the measured time
+#   BENCH mpm_step_min_ns            one step alone (bench/mpm_kernel_probe.c):
+#                                    the fastest of 100 steps in CPU time per
+#                                    point, 1 thread, during the impact -- the
+#                                    figure a shared machine moves least
 # Medians of REPEAT runs, 1- and 2-thread runs interleaved (the machine is
 # shared, load changes during the benchmark).  Idle OpenMP threads wait
 # passively (OMP_WAIT_POLICY=passive unless set): on a busy machine a
@@ -89,6 +93,17 @@ gbs=$(bench_stream_gbs)
 bench_line mpm_bytes_moved_per_point_step $moved B "model in bench_mpm.sh; at $gbs GB/s: $(echo "$moved / $gbs" | bc -l | xargs printf '%.1f') ns"
 bench_line mpm_roofline_pct "$(echo "100 * $moved / $gbs / $ns" | bc -l | xargs printf '%.0f')" % \
     "time the traffic takes at the stream bandwidth / measured time; 100 = bandwidth-bound"
+# one step alone, in CPU time (bench/mpm_kernel_probe.c against the release libraries)
+OBJ=$(cd "$BIN/../obj" && pwd)
+PKGS="hdf5-openmpi jansson yaml-0.1 gsl sqlite3 nettle"
+# shellcheck disable=SC2046  # pkg-config's flags are words
+mpicc -std=c11 -D_POSIX_C_SOURCE=200809L -D_DEFAULT_SOURCE -O2 -fopenmp -I"$ROOT" -I"$ROOT/solver" \
+    $(pkg-config --cflags $PKGS) -o "$WORK/mpm_kernel_probe" "$ROOT/bench/mpm_kernel_probe.c" \
+    "$OBJ/libcascade_solver.a" "$OBJ/libcascade_util.a" $(pkg-config --libs $PKGS) -lm
+probe=$(OMP_NUM_THREADS=1 "$WORK/mpm_kernel_probe" 100 130 1)
+field() { echo "$probe" | awk -v k="$1" '{for (i = 1; i < NF; i++) if ($i == k) print $(i + 1)}'; }
+bench_line mpm_step_min_ns "$(field step_min_ns)" ns \
+    "one step, fastest of 100 in CPU time, 1 thread (median $(field step_median_ns)); target 75; $(bench_load)"
 echo "mpm bench: loop seconds, 1 thread: $(tr '\n' ' ' < "$WORK/mpm1.t")| 2 threads: $(tr '\n' ' ' < "$WORK/mpm2.t")" >&2
 echo "mpm bench: $(bench_load)" >&2
 # the physics of the last 1-thread run, for the record

@@ -511,7 +511,7 @@ static void point_brick(const struct mpm_bricks *b, const struct mpm_grid *g, co
                         int c[3], long cell[3])
 {
     for (int d = 0; d < 3; d++) {
-        double u = floor((x[d] - g->origin[d]) * g->inv_h);
+        double u = floor((x[d] - g->origin[d]) * g->inv_hd[d]);
         long k = !(u >= 0) ? 0 : u >= (double)b->ncell[d] ? b->ncell[d] - 1 : (long)u;
         cell[d] = k;
         c[d] = cell_owner(b, d, k);
@@ -691,7 +691,7 @@ static int shift_cuts(struct mpm_bricks *b, const struct mpm *m, struct err *e)
         if (!hist)
             return err_nomem(e, "MPM balance");
         for (long i = 0; i < p->n; i++) {
-            double u = floor((p->x[3 * i + d] - m->grid.origin[d]) * m->grid.inv_h);
+            double u = floor((p->x[3 * i + d] - m->grid.origin[d]) * m->grid.inv_hd[d]);
             long k = !(u >= 0) ? 0 : u >= (double)nc ? nc - 1 : (long)u;
             hist[k]++;
         }

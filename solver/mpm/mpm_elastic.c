@@ -46,6 +46,7 @@ struct mpm_material *mpm_material_linear_elastic(const char *name, double densit
     el->c.mu = E / (2 * (1 + nu));
     el->c.lambda = E * nu / ((1 + nu) * (1 - 2 * nu));
     mpm_material_base_init(&el->base, name, density);
+    el->base.iso = &el->c;
     snprintf(el->base.description, sizeof el->base.description,
              "linear elastic E = %g eV/Å^3, nu = %g", E, nu);
     return &el->base;
@@ -64,6 +65,7 @@ int mpm_elastic_create(struct cfg_obj *o, const struct mpm_units *u, double dens
         return err_nomem(o->cfg->err, "material");
     el->base.ops = &elastic_ops;
     el->c = c;
+    el->base.iso = &el->c;
     snprintf(el->base.description, sizeof el->base.description,
              "linear elastic E = %g %s, nu = %g", E, u->stress_name, nu);
     (void)density;

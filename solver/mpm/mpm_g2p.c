@@ -19,6 +19,7 @@
 #include "mpm/mpm_linear.h"
 #include "mpm/mpm_p2g_lin.h"
 #include "mpm/mpm_stress.h"
+#include "mpm/mpm_stress_chunk.h"
 #include "mpm/mpm_view.h"
 
 static inline __attribute__((always_inline)) void
@@ -255,10 +256,14 @@ static inline long next_block(const struct mpm_grid *g, const double *x)
     return g->key_block[key];
 }
 
-static inline __attribute__((always_inline)) void
-update_point_linear(const struct mpm *m, long p, double dt, const double *vel,
-                    const struct mpm_node *node, const long s1, const long s2, const int musl,
-                    struct mpm_points *pts, int32_t *blk)
+/* s7-s8 and s12 of point p: its new position and block, and its velocity
+ * gradient L (row-major) from the nodal velocities; returns the point's
+ * material, or -1 for a point of a rigid body (moved at the body's
+ * velocity, no stress update). */
+static inline __attribute__((always_inline)) int
+kinematics_point_linear(const struct mpm *m, long p, double dt, const double *vel,
+                        const struct mpm_node *node, const long s1, const long s2, const int musl,
+                        struct mpm_points *pts, int32_t *blk, double L[9])
 {
     double *x = pts->x + 3 * p;
     const struct mpm_body *body = &m->body[pts->body[p]];
@@ -267,7 +272,7 @@ update_point_linear(const struct mpm *m, long p, double dt, const double *vel,
         x[1] += body->velocity[1] * dt;
         x[2] += body->velocity[2] * dt;
         blk[p] = (int32_t)next_block(&m->grid, x);
-        return;
+        return -1;
     }
     struct mpm_lin st;
     mpm_lin_eval(&m->grid, x, &st);
@@ -307,10 +312,98 @@ update_point_linear(const struct mpm *m, long p, double dt, const double *vel,
     memcpy(lc[0], &Lx, sizeof lc[0]);
     memcpy(lc[1], &Ly, sizeof lc[1]);
     memcpy(lc[2], &Lz, sizeof lc[2]);
-    double L[9] = {lc[0][o], lc[1][o], lc[2][o], lc[0][o + 1], lc[1][o + 1], lc[2][o + 1],
-                   lc[0][o + 2], lc[1][o + 2], lc[2][o + 2]};
-    mpm_point_stress(m->mat[body->material], L, dt, pts->stress + 6 * p, pts->F + 9 * p, pts->vol + p, pts->vol0[p], pts->eint + p,
+    L[0] = lc[0][o];
+    L[1] = lc[1][o];
+    L[2] = lc[2][o];
+    L[3] = lc[0][o + 1];
+    L[4] = lc[1][o + 1];
+    L[5] = lc[2][o + 1];
+    L[6] = lc[0][o + 2];
+    L[7] = lc[1][o + 2];
+    L[8] = lc[2][o + 2];
+    return body->material;
+}
+
+/* s13-s14 of point p of material `mat` from its velocity gradient L. */
+static inline __attribute__((always_inline)) void
+stress_point(const struct mpm *m, long p, int mat, const double L[9], double dt,
+             struct mpm_points *pts)
+{
+    mpm_point_stress(m->mat[mat], L, dt, pts->stress + 6 * p, pts->F + 9 * p, pts->vol + p,
+                     pts->vol0[p], pts->eint + p,
                      pts->nstate ? pts->state + (long)pts->nstate * p : NULL);
+}
+
+/* The chunk's results back to the points (point by point: the vectoriser
+ * would use scatter instructions, slower here than plain stores). */
+static __attribute__((noinline, optimize("no-tree-loop-vectorize"))) void
+chunk_scatter(struct mpm_points *pts, const struct mpm_chunk *ch, int nd)
+{
+    for (int j = 0; j < nd; j++) {
+        long p = ch->p[j];
+        for (int c = 0; c < 6; c++)
+            pts->stress[6 * p + c] = ch->s[c][j];
+        for (int c = 0; c < 9; c++)
+            pts->F[9 * p + c] = ch->F[c][j];
+        pts->vol[p] = ch->vol[j];
+        pts->eint[p] = ch->eint[j];
+    }
+}
+
+/* The points idx[0..n) (n <= MPM_CHUNK): s7-s8 and s12 of each, then
+ * s13-s14 of all -- for a chunk of one isotropic linear elastic material
+ * four points at a time (mpm_stress_chunk.h), else point by point. */
+static inline __attribute__((always_inline)) void
+update_chunk_linear(const struct mpm *m, const int32_t *idx, long n, double dt, const double *vel,
+                    const struct mpm_node *node, const long s1, const long s2, const int musl,
+                    struct mpm_points *pts, int32_t *blk, struct mpm_chunk *ch)
+{
+    int nd = 0, same = 1;
+    for (long k = 0; k < n; k++) {
+        long p = idx[k];
+        double L[9];
+        int mat = kinematics_point_linear(m, p, dt, vel, node, s1, s2, musl, pts, blk, L);
+        if (mat < 0)
+            continue;
+        for (int c = 0; c < 9; c++)
+            ch->L[c][nd] = L[c];
+        for (int c = 0; c < 6; c++)   /* the copies for the vector update */
+            ch->s[c][nd] = pts->stress[6 * p + c];
+        for (int c = 0; c < 9; c++)
+            ch->F[c][nd] = pts->F[9 * p + c];
+        ch->vol[nd] = pts->vol[p];
+        ch->vol0[nd] = pts->vol0[p];
+        ch->eint[nd] = pts->eint[p];
+        ch->p[nd] = (int32_t)p;
+        ch->mat[nd] = mat;
+        same &= mat == ch->mat[0];
+        nd++;
+    }
+    if (nd == 0)
+        return;
+    const struct mpm_material *mat0 = m->mat[ch->mat[0]];
+    if (!same || !mat0->iso) {
+        for (int j = 0; j < nd; j++) {
+            double L[9];
+            for (int c = 0; c < 9; c++)
+                L[c] = ch->L[c][j];
+            stress_point(m, ch->p[j], ch->mat[j], L, dt, pts);
+        }
+        return;
+    }
+    int n4 = (nd + 3) & ~3;
+    for (int j = nd; j < n4; j++) {   /* padding lanes: finite values, results unused */
+        for (int c = 0; c < 9; c++)
+            ch->L[c][j] = ch->F[c][j] = 0;
+        for (int c = 0; c < 6; c++)
+            ch->s[c][j] = 0;
+        ch->vol[j] = ch->vol0[j] = ch->eint[j] = 0;
+    }
+    if (mat0->jaumann)
+        mpm_stress_chunk_iso(mat0->iso, 1, dt, ch, n4);
+    else
+        mpm_stress_chunk_iso(mat0->iso, 0, dt, ch, n4);
+    chunk_scatter(pts, ch, nd);
 }
 
 static inline __attribute__((always_inline)) void
@@ -327,18 +420,20 @@ update_all(struct mpm *m, const struct mpm_view *views, int nv, double dt, const
     for (int s = 0; s < nv; s++) {
         const struct mpm_view *w = &views[s];
         long n = w->n;
-        if (kind == MPM_ST_LINEAR && s == 0 && vel) {
+        if (kind == MPM_ST_LINEAR && s == 0) {   /* chunks of consecutive points */
 #pragma omp parallel for schedule(static) num_threads(m->nthreads) reduction(+ : se)
-            for (long p = 0; p < n; p++) {
-                update_point_linear(m, p, dt, vel, node, s1, s2, 1, pts, blk);
-                se += pts->eint[p];
-            }
-            b0->blk_step = m->step + 1;
-        } else if (kind == MPM_ST_LINEAR && s == 0) {
-#pragma omp parallel for schedule(static) num_threads(m->nthreads) reduction(+ : se)
-            for (long p = 0; p < n; p++) {
-                update_point_linear(m, p, dt, vel, node, s1, s2, 0, pts, blk);
-                se += pts->eint[p];
+            for (long p0 = 0; p0 < n; p0 += MPM_CHUNK) {
+                struct mpm_chunk ch;
+                int32_t idx[MPM_CHUNK];
+                long c = n - p0 < MPM_CHUNK ? n - p0 : MPM_CHUNK;
+                for (long k = 0; k < c; k++)
+                    idx[k] = (int32_t)(p0 + k);
+                if (vel)
+                    update_chunk_linear(m, idx, c, dt, vel, node, s1, s2, 1, pts, blk, &ch);
+                else
+                    update_chunk_linear(m, idx, c, dt, vel, node, s1, s2, 0, pts, blk, &ch);
+                for (long k = 0; k < c; k++)
+                    se += pts->eint[p0 + k];
             }
             b0->blk_step = m->step + 1;
         } else if (s == 0) {
@@ -425,18 +520,18 @@ void mpm_update_particles_and_map(struct mpm *m, double dt)
             mpm_v4 A[8] = {{0}}, B[8] = {{0}};
             double aux[8] = {0};
             long cur = -1;
+            struct mpm_chunk ch;
             /* chunks of points: update them (s7-s14), then map them while
              * they are still in cache (s1-s3 of the next step); two light
              * loops instead of one whose registers spill */
-            for (long k0 = 0; k0 < count; k0 += 256) {
-                long k1 = k0 + 256 < count ? k0 + 256 : count;
-                if (vel) {
-                    for (long k = k0; k < k1; k++)
-                        update_point_linear(m, idx[k], dt, vel, node, s1, s2, 1, pts, blk);
-                } else {
-                    for (long k = k0; k < k1; k++)
-                        update_point_linear(m, idx[k], dt, vel, node, s1, s2, 0, pts, blk);
-                }
+            for (long k0 = 0; k0 < count; k0 += MPM_CHUNK) {
+                long k1 = k0 + MPM_CHUNK < count ? k0 + MPM_CHUNK : count;
+                if (vel)
+                    update_chunk_linear(m, idx + k0, k1 - k0, dt, vel, node, s1, s2, 1, pts, blk,
+                                        &ch);
+                else
+                    update_chunk_linear(m, idx + k0, k1 - k0, dt, vel, node, s1, s2, 0, pts, blk,
+                                        &ch);
                 double t0 = timed ? timers_now() : 0;
                 for (long k = k0; k < k1; k++) {
                     long p = idx[k];

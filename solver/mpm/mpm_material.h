@@ -27,6 +27,11 @@
 
 struct mpm_material;
 
+/* Isotropic moduli (Lamé), for laws and the kernels' inlined update. */
+struct mpm_iso {
+    double lambda, mu;   /* eV/Å^3 */
+};
+
 struct mpm_material_ops {
     const char *law;
     int nstate;   /* state variables per point */
@@ -46,6 +51,9 @@ struct mpm_material {
     char name[32];
     double density;   /* amu/Å^3 */
     int jaumann;      /* rotate the stress with the Jaumann rate */
+    const struct mpm_iso *iso;   /* linear_elastic: its moduli, so the point kernels
+                                    inline the increment instead of calling ops->update
+                                    (NULL for other laws) */
     char description[160];
 };
 
@@ -92,9 +100,6 @@ int mpm_key_error(struct cfg_obj *o, const char *key, const char *fmt, ...)
 void mpm_material_base_init(struct mpm_material *m, const char *name, double density);
 
 /* Helpers for laws: isotropic moduli and the elastic increment. */
-struct mpm_iso {
-    double lambda, mu;   /* eV/Å^3 */
-};
 int mpm_iso_read(struct cfg_obj *o, const struct mpm_units *u, struct mpm_iso *iso, double *E,
                  double *nu);
 static inline void mpm_iso_increment(const struct mpm_iso *c, double s[6], const double de[6])

@@ -126,9 +126,77 @@ static void permute_doubles(double *a, int nc, long n, const int32_t *perm, doub
     }
 }
 
+/* The cycles of perm, for a reorder that moves few points: list[] holds
+ * each cycle as -(k0 + 1), perm[k0], perm[perm[k0]], ... (up to, not
+ * including, k0 again); fixed points are not listed.  Returns the length. */
+static long perm_cycles(const int32_t *perm, long n, int32_t *list, uint8_t *seen)
+{
+    memset(seen, 0, (size_t)(n + 7) / 8);
+    long len = 0;
+    for (long k0 = 0; k0 < n; k0++) {
+        if (perm[k0] == k0 || (seen[k0 >> 3] >> (k0 & 7) & 1))
+            continue;
+        list[len++] = (int32_t)(-(k0 + 1));
+        seen[k0 >> 3] |= (uint8_t)(1u << (k0 & 7));
+        for (long k = perm[k0]; k != k0; k = perm[k]) {
+            list[len++] = (int32_t)k;
+            seen[k >> 3] |= (uint8_t)(1u << (k & 7));
+        }
+    }
+    return len;
+}
+
+/* a[k] <- a[perm[k]] for records of `rec` bytes, following the cycles:
+ * every moved record is read and written once, the others not touched. */
+static void permute_cycles(void *a, size_t rec, const int32_t *list, long len)
+{
+    if (!a || rec == 0 || len == 0)
+        return;
+    char *b = a, saved[16 * sizeof(double)];
+    long dst = -1;
+    for (long i = 0; i < len; i++) {
+        long k = list[i];
+        if (k < 0) {   /* a new cycle: close the last one */
+            if (dst >= 0)
+                memcpy(b + (size_t)dst * rec, saved, rec);
+            dst = -k - 1;
+            memcpy(saved, b + (size_t)dst * rec, rec);
+        } else {
+            memcpy(b + (size_t)dst * rec, b + (size_t)k * rec, rec);
+            dst = k;
+        }
+    }
+    memcpy(b + (size_t)dst * rec, saved, rec);
+}
+
 void mpm_points_permute(struct mpm_points *p, const int32_t *perm, double *tmp, int nthreads)
 {
     long n = p->n;
+    long moved = 0;
+    for (long k = 0; k < n; k++)
+        moved += perm[k] != k;
+    if (moved <= n / 4 && p->nstate <= 16) {
+        /* few points move (a periodic reorder): follow the cycles, whole
+         * records at a time, through the scratch as the cycle list (4n
+         * bytes) and a bitmap (n / 8 bytes) */
+        int32_t *list = (int32_t *)tmp;
+        long len = perm_cycles(perm, n, list, (uint8_t *)(list + n));
+        permute_cycles(p->x, 3 * sizeof(double), list, len);
+        permute_cycles(p->x0, 3 * sizeof(double), list, len);
+        permute_cycles(p->v, 3 * sizeof(double), list, len);
+        permute_cycles(p->mass, sizeof(double), list, len);
+        permute_cycles(p->vol0, sizeof(double), list, len);
+        permute_cycles(p->vol, sizeof(double), list, len);
+        permute_cycles(p->stress, 6 * sizeof(double), list, len);
+        permute_cycles(p->F, 9 * sizeof(double), list, len);
+        permute_cycles(p->eint, sizeof(double), list, len);
+        permute_cycles(p->state, (size_t)p->nstate * sizeof(double), list, len);
+        permute_cycles(p->fext, 3 * sizeof(double), list, len);
+        permute_cycles(p->id, sizeof *p->id, list, len);
+        permute_cycles(p->body, sizeof *p->body, list, len);
+        permute_cycles(p->mask, sizeof *p->mask, list, len);
+        return;
+    }
     permute_doubles(p->x, 3, n, perm, tmp, nthreads);
     permute_doubles(p->x0, 3, n, perm, tmp, nthreads);
     permute_doubles(p->v, 3, n, perm, tmp, nthreads);

@@ -58,7 +58,9 @@ int mpm_points_enable_fext(struct mpm_points *p, struct err *e);
 
 /* Reorder: new index k holds old index perm[k].  `tmp` is scratch of at
  * least n doubles (the reorder goes one component at a time so that its
- * memory overhead is one array, not a second copy of the set). */
+ * memory overhead is one array, not a second copy of the set; when at most
+ * a quarter of the points move, as in a periodic reorder, it follows the
+ * permutation's cycles instead and touches the moved points only). */
 void mpm_points_permute(struct mpm_points *p, const int32_t *perm, double *tmp, int nthreads);
 
 /* Logarithmic (Hencky) strain of point i, ln V with F = V R:

@@ -21,11 +21,11 @@
  */
 #include "mpm/mpm_shape.h"
 
-/* Candidates a + 3b + 9c in increasing order: the 8 corners (a, b, c in
- * {0, 2}) and the 19 others (some coordinate 1: a midpoint). */
+/* The 8 corners among the candidates a + 3b + 9c (a, b, c in {0, 2}), in
+ * increasing order; the 19 others have some coordinate 1 (a midpoint). */
 static const int hier_corner[8] = {0, 2, 6, 8, 18, 20, 24, 26};
-static const int hier_midpoint[19] = {1,  3,  4,  5,  7,  9,  10, 11, 12, 13,
-                                      14, 15, 16, 17, 19, 21, 22, 23, 25};
+/* 2^-k for cell sizes of 2^k finest cells (k <= MPM_MAX_LEVELS) */
+static const double inv_pow2[8] = {1.0, 0.5, 0.25, 0.125, 0.0625, 0.03125, 0.015625, 0.0078125};
 
 void mpm_stencil_hier(const struct mpm_grid *g, long c, const double *x, struct mpm_stencil *s)
 {
@@ -34,9 +34,11 @@ void mpm_stencil_hier(const struct mpm_grid *g, long c, const double *x, struct 
     int standard = hg->hanging == MPM_HANGING_STANDARD;
     double b[3][3], db[3][3];
     for (int d = 0; d < 3; d++) {
-        double size = (double)(1L << cl->lg[d]);
-        double inv = g->inv_hd[d] / size;   /* d t / d x */
-        double t = ((x[d] - g->origin[d]) * g->inv_hd[d] - (double)cl->lo[d]) / size;
+        /* 1 / size: sizes are powers of two, so the product is the quotient,
+         * bit for bit, without a division */
+        double isize = inv_pow2[cl->lg[d] & 7];
+        double inv = g->inv_hd[d] * isize;   /* d t / d x */
+        double t = ((x[d] - g->origin[d]) * g->inv_hd[d] - (double)cl->lo[d]) * isize;
         double xi = 2.0 * t - 1.0;
         b[d][0] = 1.0 - t;
         db[d][0] = -inv;
@@ -54,10 +56,10 @@ void mpm_stencil_hier(const struct mpm_grid *g, long c, const double *x, struct 
      * the trilinear products of the corners, which the general path below
      * leaves untouched (it only moves surplus weight from midpoint nodes).
      * Same products, same order of the nodes, so the same bits. */
-    int hanging = 0;
-    for (int k = 0; k < 19; k++)
-        hanging |= cl->node[hier_midpoint[k]] >= 0;
-    if (!hanging) {
+    int present = 0;   /* the 8 corners always are: more is a hanging node */
+    for (int q = 0; q < 27; q++)
+        present += cl->node[q] >= 0;
+    if (present == 8) {
         for (int k = 0; k < 8; k++) {
             int q = hier_corner[k];
             int a0 = q % 3, a1 = (q / 3) % 3, a2 = q / 9;

@@ -5,7 +5,9 @@
  * the material asks for it (incrementally objective, Hughes & Winget 1980),
  * the law's increment (s14), and the kinematic bookkeeping
  * (F <- (I + L dt) F, V = V0 det F, stress work).  The strain of a point is
- * derived from F when needed (mpm_points_strain).
+ * derived from F when needed (mpm_points_strain).  mpm_stress_chunk.h is
+ * the same update for chunks of isotropic linear elastic points in vector
+ * lanes: keep the two in step.
  */
 #ifndef CASCADE_MPM_STRESS_H
 #define CASCADE_MPM_STRESS_H
@@ -53,7 +55,10 @@ mpm_point_stress(const struct mpm_material *mat, const double L[9], double dt, d
         s[4] = R0[2];
         s[5] = R1[2];
     }
-    mat->ops->update(mat, s, de, state);   /* Eq. (s14) */
+    if (mat->iso)   /* Eq. (s14); linear elastic inlined */
+        mpm_iso_increment(mat->iso, s, de);
+    else
+        mat->ops->update(mat, s, de, state);
     /* stress work, midpoint rule: V (sigma_old + sigma_new) / 2 : de */
     double w = (s_old[0] + s[0]) * de[0] + (s_old[1] + s[1]) * de[1] + (s_old[2] + s[2]) * de[2] +
                2 * ((s_old[3] + s[3]) * de[3] + (s_old[4] + s[4]) * de[4] + (s_old[5] + s[5]) * de[5]);
