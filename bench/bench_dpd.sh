@@ -16,11 +16,13 @@
 # per particle (the flyer's own pairs are skipped by the sweep, its pairs
 # with the target are few until contact).
 # Traffic model, per particle per step: the half list (33.8 entries of 4 B
-# within cutoff + 1 Å skin) read by the density, force and sweep passes
-# (406 B), and the particle's own arrays -- x 24 read by 3 passes, v 24 + 24,
-# f 24 + 24, u 8 + 8, rho and F' 16 + 16, mask 4, origin 4, id 8, image 12,
-# type 4 -- (268 B): 674 B.  The j-side reads hit the caches (20 MiB in
-# all, sorted by cell); the sweep is serial and latency-bound.
+# within cutoff + 1 Å skin) read by the density and sweep passes (270 B),
+# the inner list (23.6 entries of 4 B within the cutoff, dpd_conservative_
+# fast.c) written by the density pass and read by the force pass (189 B),
+# and the particle's own arrays -- x 24 read by 3 passes, v 24 + 24, f 24 +
+# 24, u 8 + 8, rho and F' 16 + 16, mask 4, origin 4, id 8, image 12, type 4
+# -- (268 B): 727 B.  The j-side reads hit the caches (20 MiB in all, sorted
+# by cell); the sweep is serial and latency-bound.
 # Environment (from bench.sh): BIN, ROOT, WORK, REPEAT.
 set -eu
 : "${BIN:?}" "${ROOT:?}" "${WORK:?}" "${REPEAT:=3}"
@@ -46,10 +48,10 @@ loop=$(median < "$WORK/dpd.loop")
 sweep=$(median < "$WORK/dpd.sweep")
 bench_line dpd_share_sweep_pct "$(echo "100 * $sweep / $loop" | bc -l | xargs printf '%.1f')" % "of the loop"
 bench_line dpd_sweep_ns_per_pair "$(echo "$sweep * 1000000000 / ($pairs * $steps)" | bc -l | xargs printf '%.1f')" ns \
-    "$pairs pairs in the cutoff; serial, one exp, one inverse normal CDF each"
+    "$pairs pairs in the cutoff; serial, each waits on one division and two short polynomials"
 bench_line dpd_force_ns_per_pair "$(median < "$WORK/dpd.force" | awk -v p="$pairs" -v s=$((steps + 1)) '{printf "%.1f", $1 * 1e9 / (p * s)}')" ns \
     "conservative call per pair; see md_eam_ns_per_pair"
-moved=674   # the traffic model above
+moved=727   # the traffic model above
 gbs=$(bench_stream_gbs)
 bench_line dpd_bytes_moved_per_particle_step $moved B "model in bench_dpd.sh; at $gbs GB/s: $(echo "$moved / $gbs" | bc -l | xargs printf '%.1f') ns"
 bench_line dpd_roofline_pct "$(echo "100 * $moved / $gbs / ($us * 1000)" | bc -l | xargs printf '%.1f')" % \

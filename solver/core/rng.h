@@ -27,13 +27,22 @@ static inline uint64_t rng_mix64(uint64_t z)
     return z ^ (z >> 31);
 }
 
+/* The key in two parts: the (seed, site, step) prefix is the same for every
+ * draw of a step (a loop computes it once), the pair part (a, b) follows. */
+static inline uint64_t rng_key_prefix(uint64_t seed, uint64_t site, uint64_t step)
+{
+    return rng_mix64(rng_mix64(seed ^ (site << 56)) ^ step);
+}
+
+static inline uint64_t rng_key_from(uint64_t prefix, uint64_t a, uint64_t b)
+{
+    uint64_t h = rng_mix64(prefix ^ a);
+    return rng_mix64(h ^ (b * 0xd6e8feb86659fd93ull));
+}
+
 static inline uint64_t rng_key(uint64_t seed, uint64_t site, uint64_t step, uint64_t a, uint64_t b)
 {
-    uint64_t h = rng_mix64(seed ^ (site << 56));
-    h = rng_mix64(h ^ step);
-    h = rng_mix64(h ^ a);
-    h = rng_mix64(h ^ (b * 0xd6e8feb86659fd93ull));
-    return h;
+    return rng_key_from(rng_key_prefix(seed, site, step), a, b);
 }
 
 /* Uniform in (0, 1) from a key and a sub-index. */

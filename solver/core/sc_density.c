@@ -36,6 +36,13 @@ double sc_density_embed(const struct sc_params *sc, struct particles *p, const s
             r[i] += rhoi;
         }
     }
+    return sc_density_finish(sc, p, nl, acc, rho, fp, pe);
+}
+
+double sc_density_finish(const struct sc_params *sc, struct particles *p, const struct nlist *nl,
+                         struct thread_accum *acc, double *rho, double *fp, double *pe)
+{
+    const int ntot = p->n_owned + p->n_ghost;
     thread_accum_reduce(acc, rho, (size_t)ntot);
     ghost_reverse_add(p, rho, 1);
 

@@ -24,4 +24,11 @@ double sc_density_embed(const struct sc_params *sc, struct particles *p, const s
                         struct thread_accum *acc, int nthreads, double *rho, double *fp,
                         double *pe);
 
+/* The second half of sc_density_embed, for a caller with its own pair
+ * loop (dpd/dpd_conservative.c): the threads' partial densities in acc
+ * (targets of thread_accum_target over rho, zeroed before the loop) summed,
+ * ghost parts added to their owners, then F, F' and the energy as above. */
+double sc_density_finish(const struct sc_params *sc, struct particles *p, const struct nlist *nl,
+                         struct thread_accum *acc, double *rho, double *fp, double *pe);
+
 #endif

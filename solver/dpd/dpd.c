@@ -165,6 +165,9 @@ void dpd_free(struct dpd *d)
     free(d->fp_frozen);
     free(d->fp);
     free(d->pair_dr);
+    free(d->inner);
+    free(d->ninner);
+    free(d->r2buf);
     thread_accum_free(&d->acc_rho);
     thread_accum_free(&d->acc_f);
     thread_accum_free(&d->acc_pe);

@@ -133,6 +133,13 @@ struct dpd {
     int n_frozen;
     int cap;
     struct thread_accum acc_rho, acc_f, acc_pe, acc_vir;
+    /* the vector kernels' scratch (dpd_conservative_fast.c): per owned
+     * particle its neighbours inside the conservative cutoff, in list
+     * order, at its list offset */
+    int *inner, *ninner;
+    long inner_cap, r2buf_cap;
+    int ninner_cap;
+    double *r2buf;
 };
 
 /* Take ownership of p; set every particle's type mass to the parameter

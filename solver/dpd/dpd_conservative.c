@@ -41,6 +41,19 @@ static int reserve(struct dpd *d, int ntot, int nt, struct err *e)
     return rc;
 }
 
+/* On bricks, this brick's energy and virial -> the totals. */
+static int totals(struct dpd *d)
+{
+    if (d->p->halo) {
+        double ev[7] = {d->epot, d->virial[0], d->virial[1], d->virial[2],
+                        d->virial[3], d->virial[4], d->virial[5]};
+        halo_sum(d->p->halo, ev, 7);
+        d->epot = ev[0];
+        memcpy(d->virial, ev + 1, sizeof d->virial);
+    }
+    return 0;
+}
+
 int dpd_conservative(struct dpd *d, struct err *e)
 {
     struct particles *p = d->p;
@@ -57,6 +70,17 @@ int dpd_conservative(struct dpd *d, struct err *e)
     if (peratom) {
         memset(p->pe, 0, (size_t)ntot * sizeof(double));
         memset(p->virial, 0, (size_t)6 * ntot * sizeof(double));
+    }
+    if (dpd_conservative_fast_ok(d)) {
+        double embed = dpd_density_fast(d, nt, e, &rc), es, w[6];
+        if (rc)
+            return rc;
+        dpd_force_fast(d, nt, &es, w);
+        thread_accum_reduce(&d->acc_f, p->f, (size_t)3 * ntot);
+        ghost_reverse_add(p, p->f, 3);
+        d->epot = embed + es;
+        memcpy(d->virial, w, sizeof d->virial);
+        return totals(d);
     }
     /* pass 1 */
     double embed = sc_density_embed(sc, p, nl, &d->acc_rho, nt, d->rho, d->fp,
@@ -173,12 +197,5 @@ int dpd_conservative(struct dpd *d, struct err *e)
         for (int c = 0; c < 6; c++)
             d->virial[c] += wsum[t][c];
     }
-    if (p->halo) {   /* this brick's share -> totals */
-        double ev[7] = {d->epot, d->virial[0], d->virial[1], d->virial[2],
-                        d->virial[3], d->virial[4], d->virial[5]};
-        halo_sum(p->halo, ev, 7);
-        d->epot = ev[0];
-        memcpy(d->virial, ev + 1, sizeof d->virial);
-    }
-    return 0;
+    return totals(d);
 }

@@ -6,12 +6,12 @@
 #ifndef CASCADE_DPD_PAIR_H
 #define CASCADE_DPD_PAIR_H
 
-#include <gsl/gsl_cdf.h>
 #include <stdint.h>
 
 #include "core/rng.h"
 #include "core/units.h"
 #include "dpd/dpd.h"
+#include "dpd/dpd_normal.h"
 
 /* w^R(r) = 1 - r / r_d (Groot & Warren 1997); w^D = (w^R)^2. */
 static inline double dpd_wr(double r, double rd) { return r < rd ? 1.0 - r / rd : 0.0; }
@@ -28,9 +28,29 @@ static inline int dpd_body_of(const struct dpd *d, int i)
 }
 
 /* The pair's standard normal number: one uniform of the counter-based
- * stream through the inverse normal CDF (GSL's, Wichura's AS 241) --
- * cheaper than Box-Muller, which spends a log, a sqrt and a cos on it. */
-static inline double dpd_normal(uint64_t key) { return gsl_cdf_ugaussian_Pinv(rng_uniform(key, 0)); }
+ * stream through the inverse normal CDF (Wichura's AS 241, dpd_normal.h,
+ * the same numbers as GSL's) -- cheaper than Box-Muller, which spends a
+ * log, a sqrt and a cos on it. */
+static inline double dpd_normal(uint64_t key) { return dpd_normal_of_uniform(rng_uniform(key, 0)); }
+
+/* The (seed, site, step) part of every pair key of this step. */
+static inline uint64_t dpd_key_prefix(const struct dpd *d, int site)
+{
+    return rng_key_prefix(d->seed, (uint64_t)site, (uint64_t)d->step);
+}
+
+/* The pair part of the key: ids a, b and the periodic-copy counts s of
+ * b's copy seen from a's; both orientations give the same key (the lower
+ * id first, the counts negated with the swap), without a branch. */
+static inline uint64_t dpd_key_ids(uint64_t prefix, int64_t a, int64_t b, int s0, int s1, int s2)
+{
+    const int flip = a > b;
+    const int64_t lo = flip ? b : a, hi = flip ? a : b;
+    const int sg = flip ? -1 : 1;
+    uint64_t code = (uint64_t)((sg * s0 + 512) & 1023) << 20 |
+                    (uint64_t)((sg * s1 + 512) & 1023) << 10 | (uint64_t)((sg * s2 + 512) & 1023);
+    return rng_key_from(prefix, (uint64_t)lo, ((uint64_t)hi << 30) ^ code);
+}
 
 /* Key of the physical pair (owned i, neighbour j): the two ids in
  * increasing order and which periodic copy of the higher-id particle the
@@ -38,26 +58,18 @@ static inline double dpd_normal(uint64_t key) { return gsl_cdf_ugaussian_Pinv(rn
  * + (gshift_j - image_j + image_i) L.  The key does not change when a
  * particle is wrapped back into the box, both orientations of a pair share
  * it, and different images of one pair never do. */
-static inline uint64_t dpd_pair_key(const struct dpd *d, int site, int i, int j)
+static inline uint64_t dpd_pair_key_pre(const struct particles *p, uint64_t prefix, int i, int j)
 {
-    const struct particles *p = d->p;
     int oj = p->origin[j];
-    int64_t a = p->id[i], b = p->id[oj];
     int s[3];
     for (int k = 0; k < 3; k++)
         s[k] = p->gshift[3 * j + k] - p->image[3 * oj + k] + p->image[3 * i + k];
-    if (a > b) {
-        int64_t t = a;
-        a = b;
-        b = t;
-        for (int k = 0; k < 3; k++)
-            s[k] = -s[k];
-    }
-    uint64_t code = 0;
-    for (int k = 0; k < 3; k++)
-        code = (code << 10) | (uint64_t)((s[k] + 512) & 1023);
-    return rng_key(d->seed, (uint64_t)site, (uint64_t)d->step, (uint64_t)a,
-                   ((uint64_t)b << 30) ^ code);
+    return dpd_key_ids(prefix, p->id[i], p->id[oj], s[0], s[1], s[2]);
+}
+
+static inline uint64_t dpd_pair_key(const struct dpd *d, int site, int i, int j)
+{
+    return dpd_pair_key_pre(d->p, dpd_key_prefix(d, site), i, j);
 }
 
 /* The same key for a pair of any two local copies a and b (owned or
@@ -72,26 +84,18 @@ static inline int dpd_copy_shift(const struct particles *p, int i, int k)
     return i < p->n_owned ? 0 : p->gshift[3 * i + k];
 }
 
-static inline uint64_t dpd_pair_key_ab(const struct dpd *d, int site, int a, int b)
+static inline uint64_t dpd_pair_key_ab_pre(const struct particles *p, uint64_t prefix, int a, int b)
 {
-    const struct particles *p = d->p;
-    int64_t ia = p->id[a], ib = p->id[b];
     int s[3];
     for (int k = 0; k < 3; k++)
         s[k] = (dpd_copy_shift(p, b, k) - p->image[3 * b + k]) -
                (dpd_copy_shift(p, a, k) - p->image[3 * a + k]);
-    if (ia > ib) {
-        int64_t t = ia;
-        ia = ib;
-        ib = t;
-        for (int k = 0; k < 3; k++)
-            s[k] = -s[k];
-    }
-    uint64_t code = 0;
-    for (int k = 0; k < 3; k++)
-        code = (code << 10) | (uint64_t)((s[k] + 512) & 1023);
-    return rng_key(d->seed, (uint64_t)site, (uint64_t)d->step, (uint64_t)ia,
-                   ((uint64_t)ib << 30) ^ code);
+    return dpd_key_ids(prefix, p->id[a], p->id[b], s[0], s[1], s[2]);
+}
+
+static inline uint64_t dpd_pair_key_ab(const struct dpd *d, int site, int a, int b)
+{
+    return dpd_pair_key_ab_pre(d->p, dpd_key_prefix(d, site), a, b);
 }
 
 /* DPDE: 1 / Theta_ij = (1/theta_i + 1/theta_j) / 2, theta = u / (C_v kB). */
@@ -117,5 +121,14 @@ int dpd_sweep_cells(struct dpd *d, struct err *e);
  * (dpd_conservative.c): p->f, d->epot, d->virial, per-particle pe/virial
  * when d->peratom, ghost contributions added to their owners. */
 int dpd_conservative(struct dpd *d, struct err *e);
+
+/* The vector kernels of dpd_conservative_fast.c, for runs without passive
+ * partners or per-particle energies and with integer exponents
+ * (dpd_conservative_fast_ok): the density pass (returns the embedding
+ * energy, F' sent to the ghosts; *rc an error code) and the force pass
+ * (forces into the threads' targets of d->acc_f, not yet reduced). */
+int dpd_conservative_fast_ok(const struct dpd *d);
+double dpd_density_fast(struct dpd *d, int nt, struct err *e, int *rc);
+void dpd_force_fast(struct dpd *d, int nt, double *epot, double virial[6]);
 
 #endif

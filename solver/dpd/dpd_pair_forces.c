@@ -35,6 +35,7 @@ int dpd_pair_forces(struct dpd *d, double dt, double *fout, struct err *e)
     const double rd = d->set.cutoff, rd2 = rd * rd;
     const int dpde = d->set.variant == DPD_ENERGY;
     const int site = dpde ? RNG_SITE_DPDE_PAIR : RNG_SITE_DPD_PAIR;
+    const uint64_t prefix = dpd_key_prefix(d, site);
     const double *u = d->ufield >= 0 ? particles_field(p, d->ufield) : NULL;
     const uint32_t pm = d->passive_mask;
     double *buf = calloc((size_t)3 * (ntot ? ntot : 1), sizeof *buf);
@@ -93,7 +94,7 @@ int dpd_pair_forces(struct dpd *d, double dt, double *fout, struct err *e)
                 }
                 /* amu/ps, amu Å / ps^(3/2) */
                 double sigma = sqrt(2.0 * gij * UNITS_KB * theta * UNITS_FTM2V);
-                double xi = dpd_normal(dpd_pair_key(d, site, i, j));
+                double xi = dpd_normal(dpd_pair_key_pre(p, prefix, i, j));
                 double fmag = (-gij * wr * wr * urel + sigma * wr * xi / sqrt(dt)) * UNITS_MVV2E;
                 if (keep)
                     keep[k] = fmag;

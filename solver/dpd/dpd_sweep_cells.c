@@ -43,6 +43,7 @@
 
 #include "core/ghost.h"
 #include "core/halo.h"
+#include "dpd/dpd_ou.h"
 #include "dpd/dpd_pair.h"
 
 #define NCOLOURS 27
@@ -330,10 +331,12 @@ int dpd_sweep_cells(struct dpd *d, struct err *e)
                                      "3 r_d = %g Å long along %c (it is %g Å)",
                        3 * d->set.cutoff, "xyz"[bad], box_length(&d->box, bad));
     const int ntot = p->n_owned + p->n_ghost;
-    const double rd = d->set.cutoff, inv_rd = 1.0 / rd, dt = d->dt;
+    const double rd = d->set.cutoff, inv_rd = 1.0 / rd;
     const int dpde = d->set.variant == DPD_ENERGY;
     const int site = dpde ? RNG_SITE_DPDE_PAIR : RNG_SITE_DPD_PAIR;
-    const double kT0 = UNITS_KB * d->set.temperature * UNITS_FTM2V;
+    const uint64_t prefix = dpd_key_prefix(d, site);
+    struct dpd_ou ou;
+    dpd_ou_init(&ou, dpde, d->set.gamma, d->set.temperature, d->set.heat_capacity, d->dt);
     double *u = d->ufield >= 0 ? particles_field(p, d->ufield) : NULL;
     memset(d->body_impulse, 0, sizeof d->body_impulse);
 
@@ -376,36 +379,28 @@ int dpd_sweep_cells(struct dpd *d, struct err *e)
                    dz = p->x[3 * a + 2] - p->x[3 * b + 2];
             double r2 = dx * dx + dy * dy + dz * dz;
             double wa = 1.0 / p->mass[p->type[a]], wb = 1.0 / p->mass[p->type[b]];
-            double invmu = wa + wb;
+            double invmu = wa + wb, mu = 1.0 / invmu;
             double inv_r = 1.0 / sqrt(r2), r = r2 * inv_r;
             double ex = dx * inv_r, ey = dy * inv_r, ez = dz * inv_r;
+            struct dpd_ou_pair q;
+            dpd_ou_pair_set(&ou, &q, 1.0 - r * inv_rd, invmu,
+                            dpd_normal(dpd_pair_key_ab_pre(p, prefix, a, b)));
             double *va = p->v + 3 * a, *vb = p->v + 3 * b;
             double urel = ex * (va[0] - vb[0]) + ey * (va[1] - vb[1]) + ez * (va[2] - vb[2]);
-            double wr = 1.0 - r * inv_rd;
-            double kT, gij;
-            if (dpde) {
-                double theta = dpd_pair_temperature(d, u, a, b);
-                kT = UNITS_KB * theta * UNITS_FTM2V;
-                gij = theta > 0 ? d->set.gamma * kT0 / kT : kT0 > 0 ? INFINITY : 0.0;
-            } else {
-                kT = kT0;
-                gij = d->set.gamma;
-            }
-            double lam = gij * wr * wr * invmu;
-            double decay = isinf(lam) ? 0.0 : exp(-lam * dt);
-            double unew = urel * decay + sqrt(kT * invmu * (1.0 - decay * decay)) *
-                                             dpd_normal(dpd_pair_key_ab(d, site, a, b));
-            double J = (unew - urel) / invmu;
-            for (int c = 0; c < 3; c++) {
-                double Jc = J * (c == 0 ? ex : c == 1 ? ey : ez);
-                va[c] += Jc * wa;
-                vb[c] -= Jc * wb;
-            }
+            double unew = dpd_ou_unew(&ou, &q, urel, u ? u[a] : 0, u ? u[b] : 0);
+            double du = unew - urel;
+            double aa = du * (wa * mu), ab = du * (wb * mu);
+            va[0] = fma(aa, ex, va[0]);
+            va[1] = fma(aa, ey, va[1]);
+            va[2] = fma(aa, ez, va[2]);
+            vb[0] = fma(-ab, ex, vb[0]);
+            vb[1] = fma(-ab, ey, vb[1]);
+            vb[2] = fma(-ab, ez, vb[2]);
             touched[a] = touched[b] = 1;
             if (dpde) {
-                double dE = 0.5 * (unew * unew - urel * urel) / invmu * UNITS_MVV2E;
-                u[a] -= 0.5 * dE;
-                u[b] -= 0.5 * dE;
+                double dE4 = du * ((unew + urel) * (mu * (0.25 * UNITS_MVV2E)));   /* eV, per side */
+                u[a] -= dE4;
+                u[b] -= dE4;
                 if (!(u[a] > 0) || !(u[b] > 0))
                     rc = err_set(e, ERR_DIVERGED,
                                  "internal energy of particle %lld became %.3g eV at step %ld "
