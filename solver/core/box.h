@@ -46,9 +46,9 @@ double box_volume(const struct box *b);
 
 /* The edge vectors as columns: h[row][col], col 0 = a, 1 = b, 2 = c. */
 void box_cell_matrix(const struct box *b, double h[3][3]);
-/* The width of the cell between its two faces that the edge d crosses
- * (the faces spanned by the other two edges): lz for d = 2, ly lz / |b x c|
- * ... in general V / |a_e x a_f|.  Equal to box_length for an orthogonal box. */
+/* The width of the cell between the two faces that edge d crosses (the
+ * faces spanned by the other two edges e, f): V / |a_e x a_f|; lz for
+ * d = 2.  Equal to box_length for an orthogonal box. */
 double box_height(const struct box *b, int d);
 /* Fractional coordinates s of position x (s = H^-1 (x - lo)). */
 void box_to_fractional(const struct box *b, const double x[3], double s[3]);
