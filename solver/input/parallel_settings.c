@@ -44,3 +44,15 @@ int parallel_settings_read(struct cfg_obj *root, struct parallel_settings *ps)
     }
     return cfg_close(&o);
 }
+
+int parallel_settings_check_grid_ranks(struct cfg *c, const struct parallel_settings *ps,
+                                       int ranks)
+{
+    long prod = (long)ps->grid[0] * ps->grid[1] * ps->grid[2];
+    if (prod == ranks)
+        return 0;
+    return cfg_error_at(c, "parallel.grid",
+                        "a grid of %d x %d x %d = %ld bricks for %d MPI ranks: the "
+                        "product must equal the rank count",
+                        ps->grid[0], ps->grid[1], ps->grid[2], prod, ranks);
+}

@@ -36,4 +36,10 @@ struct parallel_settings {
 
 int parallel_settings_read(struct cfg_obj *root, struct parallel_settings *ps);
 
+/* A given `grid` must cut the box into exactly one brick per rank: 0, or
+ * the config error at `parallel.grid` (every decomposed model checks this
+ * first, before its own brick-width rule). */
+int parallel_settings_check_grid_ranks(struct cfg *c, const struct parallel_settings *ps,
+                                       int ranks);
+
 #endif

@@ -32,12 +32,9 @@ int md_bricks_plan(const struct parallel *par, const struct parallel_settings *p
     int grid[3] = {1, 1, 1};
     char why[512];
     if (ps->grid_given) {
-        long prod = (long)ps->grid[0] * ps->grid[1] * ps->grid[2];
-        if (prod != par->size)
-            return cfg_error_at(c, "parallel.grid",
-                                "a grid of %d x %d x %d = %ld bricks for %d MPI ranks: the "
-                                "product must equal the rank count",
-                                ps->grid[0], ps->grid[1], ps->grid[2], prod, par->size);
+        int grid_rc = parallel_settings_check_grid_ranks(c, ps, par->size);
+        if (grid_rc != 0)
+            return grid_rc;
         if (decomp_check_grid(ps->grid, b, range, why, sizeof why) != 0)
             return cfg_error_at(c, "parallel.grid", "%s", why);
         for (int d = 0; d < 3; d++)
