@@ -32,6 +32,7 @@
 #include "core/units.h"
 #include "couple/handshake.h"
 #include "helpers/th.h"
+#include "helpers/th_handshake.h"
 #include "input/case.h"
 #include "mpm/mpm_material.h"
 
@@ -201,60 +202,6 @@ static void bar_free(struct bar *b)
     md_free(&b->md);
 }
 
-static double md_fmax(const struct bar *b)
-{
-    const struct particles *p = b->md.p;
-    double fm = 0;
-    for (int i = 0; i < p->n_owned; i++) {
-        if (p->mask[i] & (HS_MASK_II | HS_MASK_III))
-            continue;
-        const double *f = p->f + 3 * i;
-        fm = fmax(fm, sqrt(f[0] * f[0] + f[1] * f[1] + f[2] * f[2]));
-    }
-    return fm;
-}
-
-/* Largest |f| over the nodes that move material points, as in
- * test_handshake_lattice.c (the bar's ends and the nodes deeper than one
- * cell inside the MD region left out, the normal component on a sliding
- * face the face's); the lateral edges (two sliding faces) in *fedge. */
-static double grid_fmax(const struct bar *b, long *nnodes, double *fedge)
-{
-    const struct handshake_layout *L = &b->hs.lay;
-    const struct mpm_grid *g = &b->hs.mpm.grid;
-    double lo[3], hi[3];
-    mpm_grid_bounds(g, lo, hi);
-    double fm = 0, fe = 0, tol = 1e-6;
-    long n = 0;
-    for (long i = 0; i < g->nnodes; i++) {
-        if (g->node[i].m <= 0)
-            continue;
-        double x[3];
-        mpm_grid_node_position(g, i, x);
-        if (fabs(x[0] - lo[0]) < tol || fabs(x[0] - hi[0]) < tol)
-            continue;
-        if (x[0] > L->md_lo[0] + L->h + tol && x[0] < L->md_hi[0] - L->h - tol)
-            continue;
-        double f[3] = {g->node[i].f[0], g->node[i].f[1], g->node[i].f[2]};
-        int faces = 0;
-        for (int d = 1; d < 3; d++)
-            if (fabs(x[d] - lo[d]) < tol || fabs(x[d] - hi[d]) < tol) {
-                f[d] = 0;
-                faces++;
-            }
-        double fn = sqrt(f[0] * f[0] + f[1] * f[1] + f[2] * f[2]);
-        if (faces == 2) {
-            fe = fmax(fe, fn);
-            continue;
-        }
-        n++;
-        fm = fmax(fm, fn);
-    }
-    *nnodes = n;
-    *fedge = fe;
-    return fm;
-}
-
 /* fcc along [110] puts two sites in each cell, at (1/4, 1/4, 1/4) and
  * (3/4, 3/4, 3/4) of its edges -- the pattern of bcc along [100], exact
  * but for the product term yz, which cancels around every node whose
@@ -270,7 +217,7 @@ static void check_uniform_strain(int levels, double edge_bound)
     cr_assert_eq(handshake_map_forces(&b.hs, &e), 0, "%s", e.msg);
     long nn;
     double fedge;
-    double fmd = md_fmax(&b), fg = grid_fmax(&b, &nn, &fedge);
+    double fmd = th_hs_md_fmax(b.md.p), fg = th_hs_grid_fmax(&b.hs, &nn, &fedge);
     cr_log_info("Cu [110], %d levels: %ld atoms, %ld points; max |f| MD %.3g eV/Å, grid %.3g eV/Å "
                 "over %ld nodes, lateral edges %.3g eV/Å",
                 levels, b.hs.natoms, b.hs.mpm.pts.n, fmd, fg, nn, fedge);
@@ -284,7 +231,7 @@ static void check_uniform_strain(int levels, double edge_bound)
         if (p->mask[i] & HS_MASK_II)
             p->x[3 * i] += p->x[3 * i] < b.hs.lay.md_lo[0] ? 0.01 : -0.01;
     cr_assert_eq(md_compute_forces(&b.md, &e), 0, "%s", e.msg);
-    double fmd2 = md_fmax(&b);
+    double fmd2 = th_hs_md_fmax(b.md.p);
     cr_expect_gt(fmd2, 1e-4, "MD with region II left behind: %g eV/Å", fmd2);
     bar_free(&b);
 }
@@ -313,7 +260,7 @@ Test(handshake_110, uniform_strain_needs_the_rotated_law, .timeout = 120)
     cr_assert_eq(handshake_apply_strain(&b.hs, eps, o, &e), 0, "%s", e.msg);
     cr_assert_eq(handshake_map_forces(&b.hs, &e), 0, "%s", e.msg);
     long nn;
-    double fedge, fg = grid_fmax(&b, &nn, &fedge);
+    double fedge, fg = th_hs_grid_fmax(&b.hs, &nn, &fedge);
     cr_log_info("Cu [110] with the unrotated cubic law: grid %.3g eV/Å", fg);
     cr_expect_gt(fg, 1e-4, "grid nodes %g eV/Å", fg);
     m->mat[0] = turned;

@@ -24,6 +24,7 @@
 
 #include "couple/handshake.h"
 #include "helpers/th.h"
+#include "helpers/th_handshake.h"
 
 #define POT_SW "style: sw\nfile: Si.sw\nelements: [Si]\n"
 #define POT_MEAMS "style: meam/spline\nfile: Si_1.meam.spline\nelements: [Si]\n"
@@ -99,63 +100,6 @@ static void bar_free(struct bar *b)
     md_free(&b->md);
 }
 
-/* Largest |f| of the MD atoms (core and region I). */
-static double md_fmax(const struct bar *b)
-{
-    const struct particles *p = b->md.p;
-    double fm = 0;
-    for (int i = 0; i < p->n_owned; i++) {
-        if (p->mask[i] & (HS_MASK_II | HS_MASK_III))
-            continue;
-        const double *f = p->f + 3 * i;
-        fm = fmax(fm, sqrt(f[0] * f[0] + f[1] * f[1] + f[2] * f[2]));
-    }
-    return fm;
-}
-
-/* Largest |f| over the nodes that move material points (as in
- * test_handshake.c): all nodes with mass except those on the bar's ends
- * and those deeper than one cell inside the MD region, which only region I
- * maps to; the components normal to a sliding face are the face's.  The
- * nodes on the four lateral edges of the bar (two sliding faces meet) are
- * kept apart in *fedge: see check_uniform_strain. */
-static double grid_fmax(const struct bar *b, long *nnodes, double *fedge)
-{
-    const struct handshake_layout *L = &b->hs.lay;
-    const struct mpm_grid *g = &b->hs.mpm.grid;
-    double lo[3], hi[3];
-    mpm_grid_bounds(g, lo, hi);
-    double fm = 0, fe = 0, tol = 1e-6;
-    long n = 0;
-    for (long i = 0; i < g->nnodes; i++) {
-        if (g->node[i].m <= 0)
-            continue;
-        double x[3];
-        mpm_grid_node_position(g, i, x);
-        if (fabs(x[0] - lo[0]) < tol || fabs(x[0] - hi[0]) < tol)
-            continue;
-        if (x[0] > L->md_lo[0] + L->h + tol && x[0] < L->md_hi[0] - L->h - tol)
-            continue;
-        double f[3] = {g->node[i].f[0], g->node[i].f[1], g->node[i].f[2]};
-        int faces = 0;
-        for (int d = 1; d < 3; d++)
-            if (fabs(x[d] - lo[d]) < tol || fabs(x[d] - hi[d]) < tol) {
-                f[d] = 0;
-                faces++;
-            }
-        double fn = sqrt(f[0] * f[0] + f[1] * f[1] + f[2] * f[2]);
-        if (faces == 2) {
-            fe = fmax(fe, fn);
-            continue;
-        }
-        n++;
-        fm = fmax(fm, fn);
-    }
-    *nnodes = n;
-    *fedge = fe;
-    return fm;
-}
-
 /* The strain is 0.5e-4 along x (and -0.3e-4, 0.15e-4 across): the MPM is
  * linear and the MD is not, so the stresses on the two sides of an
  * interface differ at second order (Fe at 1e-4: 1.4e-6 eV/Å on the
@@ -179,7 +123,7 @@ static void check_uniform_strain(const struct material *m, int levels, double ed
     cr_assert_eq(handshake_map_forces(&b.hs, &e), 0, "%s", e.msg);
     long nn;
     double fedge;
-    double fmd = md_fmax(&b), fg = grid_fmax(&b, &nn, &fedge);
+    double fmd = th_hs_md_fmax(b.md.p), fg = th_hs_grid_fmax(&b.hs, &nn, &fedge);
     cr_log_info("%s, %d levels: max |f| MD %.3g eV/Å, grid %.3g eV/Å over %ld nodes, lateral "
                 "edges %.3g eV/Å",
                 m->name, levels, fmd, fg, nn, fedge);
@@ -193,7 +137,7 @@ static void check_uniform_strain(const struct material *m, int levels, double ed
         if (p->mask[i] & HS_MASK_II)
             p->x[3 * i] += p->x[3 * i] < b.hs.lay.md_lo[0] ? 0.01 : -0.01;
     cr_assert_eq(md_compute_forces(&b.md, &e), 0, "%s", e.msg);
-    double fmd2 = md_fmax(&b);
+    double fmd2 = th_hs_md_fmax(b.md.p);
     cr_expect_gt(fmd2, 1e-4, "%s: MD with region II left behind: %g eV/Å", m->name, fmd2);
     bar_free(&b);
 }
