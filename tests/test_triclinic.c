@@ -374,6 +374,10 @@ Test(triclinic, read_data_refuses_bad_tilt_lines_at_their_line)
 {
     refused("word.data", "0 1.5x 0 xy xz yz", NULL,
             "xy xz yz: tilt factor xz must be a finite decimal number, found '1.5x'");
+    refused("nan.data", "nan 0 0 xy xz yz", NULL,
+            "xy xz yz: tilt factor xy must be a finite decimal number, found 'nan'");
+    refused("huge.data", "0 1e999 0 xy xz yz", NULL,
+            "xy xz yz: tilt factor xz must be a finite decimal number, found '1e999'");
     refused("xy.data", "5.5 0 0 xy xz yz", NULL, "xy xz yz: tilt xy = 5.5 is more than half the "
             "box length lx = 10");
     refused("yz.data", "0 0 -5.01 xy xz yz", NULL, "xy xz yz: tilt yz = -5.01 is more than half "

@@ -367,6 +367,25 @@ static int accept_tilt(struct textfile *t, int tilt_line, const char *field, con
 /* Header line "<count> words..." with the words given: 1 and the count, 0
  * when the words differ, -1 when they match but the count is not an
  * integer >= 0. */
+/* A header line ends with its keyword (LAMMPS data format); section
+ * keywords (Masses, Atoms, Velocities) are capitalised and stand alone. */
+static int ends_with_header_keyword(const char *s)
+{
+    static const char *const kw[] = {"atoms", "types", "xhi", "yhi", "zhi", "yz"};
+    size_t n = strlen(s);
+    while (n > 0 && isspace((unsigned char)s[n - 1]))
+        n--;
+    size_t b = n;
+    while (b > 0 && !isspace((unsigned char)s[b - 1]))
+        b--;
+    if (b == 0)
+        return 0;   /* one word: a section keyword */
+    for (size_t k = 0; k < sizeof kw / sizeof kw[0]; k++)
+        if (n - b == strlen(kw[k]) && strncmp(s + b, kw[k], n - b) == 0)
+            return 1;
+    return 0;
+}
+
 static int header_count(char **tok, int ntok, const char *w1, const char *w2, long *out)
 {
     int want = w2 ? 3 : 2;
@@ -409,8 +428,9 @@ int config_read_lammps_data(const char *path, const char *const *elements, int n
         const char *s = t.buf + strspn(t.buf, " \t\r");
         if (!*s)
             continue;
-        if (isalpha((unsigned char)*s))
-            break;   /* first section keyword */
+        if (isalpha((unsigned char)*s) && !ends_with_header_keyword(s))
+            break;   /* first section keyword (a header line whose number is a
+                      * word, "nan 0 0 xy xz yz", is refused as a header) */
         char line[256];
         snprintf(line, sizeof line, "%s", s);
         char *tok[8];
