@@ -27,6 +27,8 @@ struct sl_slot {
     char run_dir[4096];
     char id[32];             /* "ARRAY_TASK" once submitted */
     int cancel_req, cancel_sent, forget;
+    int launch_failed;       /* Slurm held it after a failed launch; we cancelled it */
+    char launch_node[64];    /* where that launch failed, for the message */
     int missing;             /* polls in a row it was not in squeue's answer */
     int seen_running;        /* RUNNING was recorded */
     int no_result;           /* polls it was COMPLETED without a result.json yet */
@@ -600,6 +602,21 @@ static void cancelled_outcome(struct outcome *o, const char *msg)
     snprintf(o->message, sizeof o->message, "%s", msg);
 }
 
+/* A task Slurm held after its batch launch failed, which the runner then
+ * cancelled: not the job's fault, so it runs again (with the runner's
+ * back-off for infrastructure failures, which stops a campaign whose
+ * nodes keep failing). */
+static void launch_failed_outcome(struct outcome *o, const struct sl_slot *sl)
+{
+    outcome_free(o);
+    outcome_start_failure(o, "");
+    snprintf(o->slurm_state, sizeof o->slurm_state, "CANCELLED");
+    snprintf(o->message, sizeof o->message,
+             "Slurm could not start it on %s and held it (launch failed requeued held); "
+             "cancelled: not the job's fault, it runs again",
+             sl->launch_node);
+}
+
 /* A task gone from the controller's memory before we saw it end: a pending
  * array task cancelled by its id leaves no record at all; otherwise the
  * runner was away longer than MinJobAge.  Its files say what they can. */
@@ -769,6 +786,21 @@ static int poll_queue(struct backend *b, backend_done_fn done, void *ctx)
             started[nstarted++] = hit->slot;
         }
         if (!slurm_state_final(t.state)) {
+            switch (slurm_queued_action(&t, sl->cancel_sent)) {
+            case SQ_CANCEL_AGAIN:
+                sl->cancel_sent = 0;   /* send_cancels sends it again */
+                break;
+            case SQ_LAUNCH_FAILED:
+                if (!sl->cancel_req) {
+                    sl->cancel_req = 1;
+                    sl->launch_failed = 1;
+                    snprintf(sl->launch_node, sizeof sl->launch_node, "%s",
+                             t.nodes[0] ? t.nodes : "its node");
+                }
+                break;
+            case SQ_WAIT:
+                break;
+            }
             /* submitted held by a runner that died before releasing it */
             if (strcmp(t.reason, "JobHeldUser") == 0 && strlen(held) + 40 < sizeof held) {
                 char arr[32];
@@ -814,6 +846,8 @@ static int poll_queue(struct backend *b, backend_done_fn done, void *ctx)
         }
         if (en[k].rss_mib > 0)
             o.peak_rss_mib = en[k].rss_mib;
+        if (sl->launch_failed)
+            launch_failed_outcome(&o, sl);
         reported += report(x, en[k].slot, &o, done, ctx);
     }
     free(started);

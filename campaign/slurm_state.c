@@ -108,6 +108,33 @@ int slurm_state_final(const char *state)
     return 0;
 }
 
+/* squeue prints reasons with spaces, scontrol with underscores */
+static int reason_is(const char *reason, const char *words)
+{
+    for (; *reason && *words; reason++, words++)
+        if (*reason != *words && !(*reason == '_' && *words == ' '))
+            return 0;
+    return *reason == '\0' && *words == '\0';
+}
+
+enum slurm_queued_action slurm_queued_action(const struct slurm_task *t, int cancel_sent)
+{
+    int pending = strcmp(t->state, "PENDING") == 0 || strcmp(t->state, "REQUEUED") == 0 ||
+                  strcmp(t->state, "REQUEUE_HOLD") == 0;
+    /* A task whose batch launch fails while our scancel is on its way comes
+     * back pending (requeued and held): the first cancel found nothing to
+     * kill, so the runner would wait for it for ever.  A running task is
+     * left alone: it is ending, and a second scancel adds nothing. */
+    if (cancel_sent)
+        return pending ? SQ_CANCEL_AGAIN : SQ_WAIT;
+    /* Slurm holds a task whose batch script could not be started on its
+     * node (slurmd did not confirm the launch) until an administrator
+     * releases it; a campaign cannot wait for that. */
+    if (pending && reason_is(t->reason, "launch failed requeued held"))
+        return SQ_LAUNCH_FAILED;
+    return SQ_WAIT;
+}
+
 void slurm_outcome(struct outcome *o, const struct slurm_task *t, const char *run_dir,
                    int by_runner, const char *limit)
 {

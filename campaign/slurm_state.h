@@ -10,6 +10,11 @@
  *                                            failure_class infrastructure, runs again
  *   CANCELLED                                cancelled (by the runner, cascade
  *                                            cancel or scancel)
+ *   PENDING, "launch failed requeued held"   Slurm could not start the batch
+ *                                            script on its node and holds the
+ *                                            task for an administrator: the
+ *                                            runner cancels it; infrastructure,
+ *                                            runs again
  */
 #ifndef CASCADE_CAMPAIGN_SLURM_STATE_H
 #define CASCADE_CAMPAIGN_SLURM_STATE_H
@@ -35,6 +40,16 @@ int slurm_parse_task(const char *line, struct slurm_task *t);
 
 /* Whether a state is final. */
 int slurm_state_final(const char *state);
+
+/* What the runner does about a task that is still in the queue. */
+enum slurm_queued_action {
+    SQ_WAIT,           /* queued or running: look again at the next poll */
+    SQ_CANCEL_AGAIN,   /* the runner cancelled it and it is pending again */
+    SQ_LAUNCH_FAILED,  /* held by Slurm after its batch launch failed */
+};
+
+/* cancel_sent: the runner has sent scancel for this task. */
+enum slurm_queued_action slurm_queued_action(const struct slurm_task *t, int cancel_sent);
 
 /* The outcome of an attempt that ended in Slurm: classified from the state
  * and exit status, result.json and the files read from run_dir.

@@ -174,6 +174,38 @@ Test(campaign_slurm, squeue_lines_and_states)
     ct_rmrf(dir);
 }
 
+/* The lines are what squeue printed for tasks of a 1000-job sweep cancelled
+ * while their batch scripts were being launched (make bench, 2026-11-27):
+ * the launch failed after the cancel, Slurm requeued and held them, and the
+ * runner waited for them for ever. */
+Test(campaign_slurm, held_and_recancelled_tasks)
+{
+    struct slurm_task t;
+    cr_assert_eq(slurm_parse_task("105_176|PENDING|0|0:00|N/A|N/A|launch failed requeued held|", &t),
+                 0);
+    cr_assert_str_eq(t.reason, "launch failed requeued held");
+    /* not cancelled by us: Slurm's hold is an infrastructure failure */
+    cr_assert_eq(slurm_queued_action(&t, 0), SQ_LAUNCH_FAILED);
+    /* cancelled by us and pending again: cancel it again */
+    cr_assert_eq(slurm_queued_action(&t, 1), SQ_CANCEL_AGAIN);
+    /* scontrol's spelling of the same reason */
+    snprintf(t.reason, sizeof t.reason, "launch_failed_requeued_held");
+    cr_assert_eq(slurm_queued_action(&t, 0), SQ_LAUNCH_FAILED);
+    /* an ordinary pending task, one an administrator holds, a running one */
+    const char *wait_reasons[] = {"Resources", "Priority", "JobArrayTaskLimit", "JobHeldAdmin",
+                                  "JobHeldUser", "launch failed requeued", ""};
+    for (size_t i = 0; i < sizeof wait_reasons / sizeof wait_reasons[0]; i++) {
+        snprintf(t.reason, sizeof t.reason, "%s", wait_reasons[i]);
+        cr_assert_eq(slurm_queued_action(&t, 0), SQ_WAIT, "reason '%s'", wait_reasons[i]);
+    }
+    snprintf(t.state, sizeof t.state, "RUNNING");
+    snprintf(t.reason, sizeof t.reason, "None");
+    cr_assert_eq(slurm_queued_action(&t, 0), SQ_WAIT);
+    cr_assert_eq(slurm_queued_action(&t, 1), SQ_WAIT);   /* ending: no second scancel */
+    snprintf(t.state, sizeof t.state, "REQUEUE_HOLD");
+    cr_assert_eq(slurm_queued_action(&t, 1), SQ_CANCEL_AGAIN);
+}
+
 Test(campaign_slurm, extra_options)
 {
     char why[512];
