@@ -172,8 +172,31 @@ struct handshake_crystal {
     double mass;          /* atomic mass */
     int type;             /* particle type of the atoms */
     double pe_ref;        /* per-atom energy of the perfect crystal (-E_coh) */
-    double c11, c12, c44; /* of the MPM material */
+    double c11, c12, c44; /* of the MPM material; C44 the relaxed one (diamond:
+                             the sublattice shift free, as in the MD) */
+    double c44_unrelaxed; /* diamond with both sublattices affine (else = c44) */
+    double zeta;          /* Kleinman's internal-strain parameter of diamond (else 0):
+                             region II and III copies take the shift of their
+                             point's strain (hs_internal_shift) */
 };
+
+/* Diamond's internal strain in the handshake.  The MPM field is the
+ * displacement of the sublattices' mean; under a shear in the cube axes
+ * the second fcc sublattice (at (1/4, 1/4, 1/4) a from the first) shifts
+ * against the first by u = -zeta (a/4) (gamma_yz, gamma_xz, gamma_xy)
+ * (Kleinman 1962; md/crystal.h).  A site of the first sublattice sits at
+ * -u/2 from its point's position, one of the second at +u/2, so the copies
+ * of regions II and III meet region I's atoms as the relaxed crystal does.
+ *
+ * hs_sublattice: -1 (first) or +1 (second) for a diamond site with
+ * reference position x0 (the layout's lat_origin a site of the first), 0
+ * for other lattices and for points off the sites.
+ * hs_internal_shift: the site's displacement from its point (Å, box frame)
+ * under the deformation gradient F (row-major, box frame), from the small
+ * strain sym(F) - I turned to the cube axes. */
+int hs_sublattice(const struct handshake_layout *L, const double x0[3]);
+void hs_internal_shift(const struct handshake_layout *L, double zeta, int sublattice,
+                       const double F[9], double dx[3]);
 
 struct hs_thermal;
 
@@ -291,8 +314,9 @@ static inline void handshake_atom_stress(const struct handshake *hs, int i, doub
 
 /* Impose the homogeneous strain x = X + diag(eps) (X - origin) on every
  * atom and material point (MD box lengths of periodic axes included), with
- * F, volume and stress of the points from their material law, then
- * recompute the MD forces.  For tests of the coupling's consistency. */
+ * F, volume and stress of the points from their material law, and
+ * diamond's sublattices (atoms and copies) shifted by hs_internal_shift,
+ * then recompute the MD forces.  For tests of the coupling's consistency. */
 int handshake_apply_strain(struct handshake *hs, const double eps[3], const double origin[3],
                            struct err *e);
 

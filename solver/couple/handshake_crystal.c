@@ -111,6 +111,59 @@ void hs_oriented_moduli(enum hs_orientation o, double c11, double c12, double c4
     *cxy = *cxz = c12;
 }
 
+int hs_sublattice(const struct handshake_layout *L, const double x0[3])
+{
+    if (L->lattice != HS_LATTICE_DIAMOND)
+        return 0;
+    double R[3][3], r[3];
+    hs_orientation_axes(L->orient, R);
+    for (int d = 0; d < 3; d++)
+        r[d] = x0[d] - L->lat_origin[d];
+    /* 4/a times the cube coordinates: even on the first sublattice, odd
+     * (summing to 3 mod 4, i.e. at +(1, 1, 1) a/4 from it) on the second */
+    long n[3], sum = 0;
+    int odd = 0;
+    for (int k = 0; k < 3; k++) {
+        double c = 4 * (R[0][k] * r[0] + R[1][k] * r[1] + R[2][k] * r[2]) / L->a;
+        n[k] = lround(c);
+        if (fabs(c - (double)n[k]) > 1e-6)
+            return 0;
+        odd += (int)(n[k] & 1);
+        sum += n[k];
+    }
+    if (odd == 0)
+        return -1;
+    return odd == 3 && ((sum % 4) + 4) % 4 == 3 ? 1 : 0;
+}
+
+void hs_internal_shift(const struct handshake_layout *L, double zeta, int sublattice,
+                       const double F[9], double dx[3])
+{
+    dx[0] = dx[1] = dx[2] = 0;
+    if (!sublattice || zeta == 0)
+        return;
+    /* small strain in the box, then in the cube axes: eps_c = R^T eps R */
+    double R[3][3], eps[3][3], ec[3][3];
+    hs_orientation_axes(L->orient, R);
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++)
+            eps[i][j] = 0.5 * (F[3 * i + j] + F[3 * j + i]) - (i == j);
+    for (int a = 0; a < 3; a++)
+        for (int b = 0; b < 3; b++) {
+            double s = 0;
+            for (int i = 0; i < 3; i++)
+                for (int j = 0; j < 3; j++)
+                    s += R[i][a] * eps[i][j] * R[j][b];
+            ec[a][b] = s;
+        }
+    /* u = -zeta (a/4) (gamma_yz, gamma_xz, gamma_xy), gamma = 2 eps; this
+     * site moves by +-u/2 */
+    const double f = -zeta * L->a / 4 * 2 * 0.5 * sublattice;
+    double uc[3] = {f * ec[1][2], f * ec[0][2], f * ec[0][1]};
+    for (int i = 0; i < 3; i++)
+        dx[i] = R[i][0] * uc[0] + R[i][1] * uc[1] + R[i][2] * uc[2];
+}
+
 static enum lattice_style lattice_style_of(enum hs_lattice l)
 {
     return l == HS_LATTICE_BCC ? LATTICE_BCC : l == HS_LATTICE_DIAMOND ? LATTICE_DIAMOND
@@ -130,14 +183,21 @@ int handshake_crystal_of_lattice(struct potential *pot, enum hs_lattice lattice,
         cr->mass = element_mass(element);
     if (!(cr->mass > 0))
         return err_set(e, ERR_INPUT, "no mass for element '%s'", element);
-    /* C11 and C12 come from strains along the cube axes, which move no
-     * site of these lattices off its symmetric position; C44 of diamond is
-     * the unrelaxed one (crystal.h), which the [100] cases do not use */
+    /* C44 of diamond is the relaxed one, the MD's own response to a shear
+     * (md/crystal.h); zeta places the copies of regions II and III */
     struct crystal_spec spec = {lattice_style_of(lattice), cr->element, cr->mass, 3};
     double ecoh;
+    struct crystal_elastic ce;
     int rc = crystal_equilibrium(pot, &spec, a_min, a_max, a0, &ecoh, e);
     if (!rc)
-        rc = crystal_elastic_cubic(pot, &spec, *a0, &cr->c11, &cr->c12, &cr->c44, e);
+        rc = crystal_elastic_constants(pot, &spec, *a0, &ce, e);
+    if (!rc) {
+        cr->c11 = ce.c11;
+        cr->c12 = ce.c12;
+        cr->c44 = ce.c44;
+        cr->c44_unrelaxed = ce.c44_unrelaxed;
+        cr->zeta = ce.zeta;
+    }
     cr->pe_ref = -ecoh;
     return rc;
 }

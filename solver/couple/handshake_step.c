@@ -140,6 +140,13 @@ static void sync_copies(struct handshake *hs)
         if (hs->thermal && (p->mask[i] & HS_MASK_II))
             continue;   /* at T region II moves by MD under the bath */
         double x[3] = {pt->x[3 * q], pt->x[3 * q + 1], pt->x[3 * q + 2]};
+        if (hs->cr.zeta != 0) {   /* diamond: the sublattice's internal shift */
+            double dx[3];
+            hs_internal_shift(&hs->lay, hs->cr.zeta, hs_sublattice(&hs->lay, pt->x0 + 3 * q),
+                              pt->F + 9 * q, dx);
+            for (int d = 0; d < 3; d++)
+                x[d] += dx[d];
+        }
         handshake_wrap(hs, x);
         for (int d = 0; d < 3; d++) {
             p->x[3 * i + d] = x[d];
@@ -250,9 +257,15 @@ int handshake_apply_strain(struct handshake *hs, const double eps[3], const doub
     struct md *md = hs->md;
     struct particles *p = md->p;
     const double *x0 = p->fields[hs->f_x0].data;
-    for (int i = 0; i < p->n_owned; i++)
+    /* diamond: each sublattice at its relaxed place (hs_internal_shift),
+     * the atoms as the copies */
+    const double Fd[9] = {1 + eps[0], 0, 0, 0, 1 + eps[1], 0, 0, 0, 1 + eps[2]};
+    for (int i = 0; i < p->n_owned; i++) {
+        double dx[3];
+        hs_internal_shift(&hs->lay, hs->cr.zeta, hs_sublattice(&hs->lay, x0 + 3 * i), Fd, dx);
         for (int d = 0; d < 3; d++)
-            p->x[3 * i + d] = origin[d] + (1 + eps[d]) * (x0[3 * i + d] - origin[d]);
+            p->x[3 * i + d] = origin[d] + (1 + eps[d]) * (x0[3 * i + d] - origin[d]) + dx[d];
+    }
     for (int d = 0; d < 3; d++)
         if (md->box.bc[d] == BOUNDARY_PERIODIC) {
             md->box.lo[d] = origin[d] + (1 + eps[d]) * (md->box.lo[d] - origin[d]);

@@ -80,13 +80,15 @@ static int crystal_read(struct cfg_obj *root, const struct case_common *common, 
 static int crystal_run(void *state, struct run *run, struct err *e)
 {
     struct crystal_case *c = state;
-    double a0, ec, c11, c12, c44;
+    double a0, ec;
     int rc = crystal_equilibrium(c->pot, &c->spec, c->a_min, c->a_max, &a0, &ec, e);
     if (rc)
         return rc;
-    rc = crystal_elastic_cubic(c->pot, &c->spec, a0, &c11, &c12, &c44, e);
+    struct crystal_elastic ce;
+    rc = crystal_elastic_constants(c->pot, &c->spec, a0, &ce, e);
     if (rc)
         return rc;
+    const double c11 = ce.c11, c12 = ce.c12, c44 = ce.c44;
     const double g = UNITS_EVA3_TO_GPA;
     struct result *r = &run->result;
     result_metric(r, "lattice_constant", a0, "Å");
@@ -94,6 +96,10 @@ static int crystal_run(void *state, struct run *run, struct err *e)
     result_metric(r, "c11", c11 * g, "GPa");
     result_metric(r, "c12", c12 * g, "GPa");
     result_metric(r, "c44", c44 * g, "GPa");
+    if (c->spec.style == LATTICE_DIAMOND) {   /* internal relaxation (md/crystal.h) */
+        result_metric(r, "c44_unrelaxed", ce.c44_unrelaxed * g, "GPa");
+        result_metric(r, "kleinman_zeta", ce.zeta, "1");
+    }
     result_metric(r, "bulk_modulus", (c11 + 2 * c12) / 3 * g, "GPa");
     run_log(run, "a0 = %.6f Å, Ec = %.6f eV/atom, C11 = %.2f, C12 = %.2f, C44 = %.2f GPa", a0, ec,
             c11 * g, c12 * g, c44 * g);

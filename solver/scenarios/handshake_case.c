@@ -574,6 +574,10 @@ int hs_case_output_end(struct hs_case *c, struct run *run, struct err *e)
     result_metric(res, "c11_md", c->md_cr.c11 * G, "GPa");
     result_metric(res, "c12_md", c->md_cr.c12 * G, "GPa");
     result_metric(res, "c44_md", c->md_cr.c44 * G, "GPa");
+    /* diamond: C44 with the sublattices held, and the internal shift's
+     * parameter that places regions II and III (handshake.h) */
+    result_metric(res, "c44_unrelaxed_md", c->md_cr.c44_unrelaxed * G, "GPa");
+    result_metric(res, "kleinman_zeta", c->md_cr.zeta, "1");
     result_metric(res, "c11_mpm", hs->cr.c11 * G, "GPa");
     result_metric(res, "c12_mpm", hs->cr.c12 * G, "GPa");
     result_metric(res, "c44_mpm", hs->cr.c44 * G, "GPa");
