@@ -2,7 +2,7 @@
 # Campaign runner speed (run by bench/bench.sh with BIN, ROOT, WORK, REPEAT):
 #   campaign_dispatch_ms        the runner's time per job with a no-op job (the
 #                               stand-in, action ok), 400 jobs one at a time:
-#                               claim, directory, fork/exec, reading and
+#                               claim, directory, process start, reading and
 #                               recording the result (as the runner reports it)
 #   campaign_metric_rows_per_s  metric rows recorded per second (20 jobs of
 #                               5,000 metrics each)
@@ -40,7 +40,7 @@ values() { # values N -> [1, 2, ..., N]
 
 # --- dispatch --------------------------------------------------------------
 # The runner reports the time it spends per job between the jobs' own work
-# (claim in the database, run directory and case.yaml, fork/exec, reading
+# (claim in the database, run directory and case.yaml, process start, reading
 # result.json and hashing the files, recording): that is the overhead.  For
 # scale, the wall-clock cost of one more job (slope from 100 to 400 jobs, one
 # at a time) and of the no-op run alone are printed too.

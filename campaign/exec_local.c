@@ -5,7 +5,8 @@
  * every process the job started, and the terminal's Ctrl-C reaches only the
  * runner), dies with the runner (PR_SET_PDEATHSIG), runs in the study's
  * directory with stdout and stderr in files of its run directory, and gets
- * the environment without the runner's MPI variables (childenv.h).
+ * the environment without the runner's MPI variables (childenv.h).  It is
+ * started without fork's copy of the runner's page tables (spawn.h).
  */
 #include "backend.h"
 
@@ -15,7 +16,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/prctl.h>
 #include <sys/resource.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
@@ -23,6 +23,7 @@
 #include <unistd.h>
 
 #include "childenv.h"
+#include "spawn.h"
 #include "sysinfo.h"
 #include "util/fault.h"
 #include "util/mem.h"
@@ -45,6 +46,7 @@ struct exec_local {
     int nslots;
     struct exec_slot *slots;
     char **env;
+    struct spawn_stack stack;
     char host[256];
 };
 
@@ -73,7 +75,8 @@ struct exec_local *exec_local_create(int nslots)
     x->slots = mem_calloc((size_t)x->nslots, sizeof *x->slots);
     x->env = childenv_create();
     sys_hostname(x->host, sizeof x->host);
-    if (!x->slots || !x->env) {
+    struct err e = {0};
+    if (!x->slots || !x->env || spawn_stack_init(&x->stack, &e) != 0) {
         exec_local_destroy(&x);
         return NULL;
     }
@@ -90,6 +93,7 @@ void exec_local_destroy(struct exec_local **px)
             kill(-x->slots[i].pid, SIGKILL);
             waitpid(x->slots[i].pid, NULL, 0);
         }
+    spawn_stack_fini(&x->stack);
     free(x->slots);
     free(x->env);
     free(x);
@@ -122,13 +126,6 @@ static void find_program(const char *name, char *out, size_t len)
     snprintf(out, len, "%s", name);
 }
 
-static void child_fail(const char *what)
-{
-    /* stderr is already the job's stderr file */
-    dprintf(2, "cascade: cannot start the job: %s: %s\n", what, strerror(errno));
-    _exit(127);
-}
-
 int exec_local_start(struct exec_local *x, int slot, const struct launch_spec *L, struct err *e)
 {
     struct exec_slot *s = &x->slots[slot];
@@ -152,39 +149,22 @@ int exec_local_start(struct exec_local *x, int slot, const struct launch_spec *L
         if (fds[k] < 0)
             rc = err_set(e, ERR_RUNTIME, "cannot create %s: %s", paths[k], strerror(errno));
     }
-    pid_t parent = getpid();
-    pid_t pid = rc ? 0 : fork();
-    if (!rc && pid < 0)
-        rc = err_set(e, ERR_RUNTIME, "fork: %s", strerror(errno));
+    struct spawn_request req = {prog, L->argv, x->env, L->cwd, {fds[0], fds[1], fds[2]},
+                                getpid(), 0, NULL};
+    pid_t pid = 0;
+    if (!rc)
+        rc = spawn_start(&req, &x->stack, &pid, e);
     if (rc) {
         for (int k = 0; k < 3; k++)
             if (fds[k] >= 0)
                 close(fds[k]);
         return rc;
     }
-    if (pid == 0) {
-        setpgid(0, 0);
-        prctl(PR_SET_PDEATHSIG, SIGKILL);
-        if (getppid() != parent)
-            _exit(127);
-        sigset_t none;
-        sigemptyset(&none);
-        for (size_t i = 0; i < sizeof handled_signals / sizeof handled_signals[0]; i++)
-            signal(handled_signals[i], SIG_DFL);
-        signal(SIGPIPE, SIG_DFL);
-        sigprocmask(SIG_SETMASK, &none, NULL);
-        /* dup2 clears close-on-exec on the copies and the originals close at
-         * exec -- unless one already is its target (the runner started with
-         * that descriptor closed): then dup2 does nothing, so clear it here */
-        for (int k = 0; k < 3; k++) {
-            if (fds[k] == k ? fcntl(k, F_SETFD, 0) < 0 : dup2(fds[k], k) < 0)
-                _exit(127);
-        }
-        if (chdir(L->cwd) != 0)
-            child_fail(L->cwd);
-        execve(prog, L->argv, x->env);
-        child_fail(prog);
-    }
+    /* the child exited 127 without starting the program: say why where a
+     * job says it, its stderr file (outcome.c quotes the last line) */
+    if (req.failed_errno)
+        dprintf(fds[2], "cascade: cannot start the job: %s: %s\n", req.failed_step,
+                strerror(req.failed_errno));
     for (int k = 0; k < 3; k++)
         close(fds[k]);
     setpgid(pid, pid);   /* also here, so a kill(-pid) right away reaches it */

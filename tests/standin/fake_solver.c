@@ -9,6 +9,7 @@
  *   type: fake   seed: 1   title: ""
  *   fake:
  *     action: ok | sleep | crash | hang | exit | diverge | fail_once | env | slow_once | steps
+ *             | probe
  *     seconds: 0        # sleep first (every action)
  *     code: 3           # exit code for 'exit'
  *     message: ""       # exit: a line for stderr before exiting
@@ -37,6 +38,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/prctl.h>
 #include <sys/stat.h>
 #include <time.h>
 #include <unistd.h>
@@ -49,8 +51,11 @@ extern char **environ;
 
 static const char *const actions[] = {"ok",      "sleep",     "crash", "hang",      "exit",
                                       "diverge", "fail_once", "env",   "slow_once", "steps",
-                                      NULL};
-enum { A_OK, A_SLEEP, A_CRASH, A_HANG, A_EXIT, A_DIVERGE, A_FAIL_ONCE, A_ENV, A_SLOW_ONCE, A_STEPS };
+                                      "probe",   NULL};
+enum {
+    A_OK, A_SLEEP, A_CRASH, A_HANG, A_EXIT, A_DIVERGE, A_FAIL_ONCE, A_ENV, A_SLOW_ONCE, A_STEPS,
+    A_PROBE
+};
 
 struct fake_case {
     long seed;
@@ -134,6 +139,53 @@ static const char *version(void)
     return v && v[0] ? v : "fake-1.0";
 }
 
+/* The "NAME:\t<hex>" mask of /proc/self/status (SigBlk, SigIgn), or -1. */
+static double status_mask(const char *name)
+{
+    FILE *f = fopen("/proc/self/status", "r");
+    char line[256];
+    double v = -1;
+    size_t n = strlen(name);
+    while (f && fgets(line, sizeof line, f))
+        if (strncmp(line, name, n) == 0 && line[n] == ':')
+            v = (double)strtoull(line + n + 1, NULL, 16);
+    if (f)
+        fclose(f);
+    return v;
+}
+
+static void put(json_t *metrics, const char *name, double value)
+{
+    json_object_set_new(metrics, name, json_pack("{s:f, s:s}", "value", value, "unit", "1"));
+}
+
+/* action probe: how the runner set this process up -- signal mask and
+ * ignored signals (the masks as numbers; bit s-1 is signal s), whether it
+ * leads its own process group, its parent-death signal, descriptors open
+ * beyond 0-2, and CASCADE_FAULT_* variables in its environment. */
+static void probe_process(json_t *metrics)
+{
+    put(metrics, "sig_blocked", status_mask("SigBlk"));
+    put(metrics, "sig_ignored", status_mask("SigIgn"));
+    put(metrics, "own_group", getpgrp() == getpid());
+    int pdeath = -1;
+    prctl(PR_GET_PDEATHSIG, &pdeath);
+    put(metrics, "pdeathsig", pdeath);
+    long extra = 0;
+    DIR *d = opendir("/proc/self/fd");
+    struct dirent *de;
+    while (d && (de = readdir(d)))
+        if (de->d_name[0] != '.' && atoi(de->d_name) > 2 && atoi(de->d_name) != dirfd(d))
+            extra++;
+    if (d)
+        closedir(d);
+    put(metrics, "extra_fds", d ? (double)extra : -1);
+    int faults = 0;
+    for (char **e = environ; *e; e++)
+        faults += strncmp(*e, "CASCADE_FAULT_", 14) == 0;
+    put(metrics, "fault_env", faults);
+}
+
 static int write_result(const char *dir, json_t *doc, const char *status, const char *message,
                         const struct fake_case *fc, long restarted_from)
 {
@@ -154,6 +206,8 @@ static int write_result(const char *dir, json_t *doc, const char *status, const 
                 n++;
         json_object_set_new(metrics, "mpi_env", json_pack("{s:f, s:s}", "value", (double)n, "unit", "1"));
     }
+    if (fc->action == A_PROBE)
+        probe_process(metrics);
     if (fc->read[0]) {
         struct stat sb;
         if (stat(fc->read, &sb) == 0)
