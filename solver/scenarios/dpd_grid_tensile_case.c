@@ -66,7 +66,9 @@ static int gt_read(struct cfg_obj *root, const struct case_common *common, void 
     struct grid_tensile_case *c = calloc(1, sizeof *c);
     if (!c)
         return err_nomem(root->cfg->err, "tensile case");
-    int rc = dpd_tensile_read(root, common, &c->d, &c->t);
+    int rc = dpd_mpm_parallel_check(root->cfg, common, "dpd_grid_tensile");
+    if (!rc)
+        rc = dpd_tensile_read(root, common, &c->d, &c->t);
     c->has_d = !rc && !root->cfg->shallow;
     struct dpd_mpm_grid_keys gk;
     if (!rc)

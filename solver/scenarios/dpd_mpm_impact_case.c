@@ -399,7 +399,10 @@ static int impact_read(struct cfg_obj *root, const struct case_common *common, v
     if (!c)
         return err_nomem(root->cfg->err, "impact case");
     c->concurrent = concurrent;
-    int rc = md_system_read(root, common->seed, &p, &box, &info);
+    int rc = dpd_mpm_parallel_check(root->cfg, common,
+                                    concurrent ? "dpd_mpm_impact" : "dpd_grid_impact");
+    if (!rc)
+        rc = md_system_read(root, common->seed, &p, &box, &info);
     if (!rc)
         rc = dpd_section_read(root, DPD_ENERGY, &in);
     if (!rc)

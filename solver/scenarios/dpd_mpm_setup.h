@@ -21,6 +21,7 @@
 #define CASCADE_DPD_MPM_SETUP_H
 
 #include "couple/dpd_mpm.h"
+#include "scenarios/case_type.h"
 #include "util/cfg.h"
 
 struct dpd_mpm_grid_keys {
@@ -36,5 +37,16 @@ int dpd_mpm_grid_read(struct cfg_obj *root, double cutoff, struct dpd_mpm_grid_k
 void dpd_mpm_grid_place(const struct particles *p, uint32_t exclude, const double lo[3],
                         const double hi[3], const struct dpd_mpm_grid_keys *k,
                         struct dpd_mpm_grid *g);
+
+/* The `parallel` section under mpirun (docs/parallel.md, docs/dpd_mpm.md
+ * "Under MPI").  The coupled models are not decomposed into bricks yet:
+ * the grid carries the DPD particles, the material points' partners are
+ * DPD copies of points, and the rigid flyer or grips are bodies of the
+ * DPD model, none of which is split over ranks.  A case that asks for
+ * bricks (decomposition: bricks, or a grid) is refused naming that key
+ * (ERR_INPUT through cfg_error_at); auto and replicated pass, and each
+ * rank then runs the whole case (main.c notes it under auto).  `type`
+ * names the case type in the message.  No-op without mpirun. */
+int dpd_mpm_parallel_check(struct cfg *c, const struct case_common *common, const char *type);
 
 #endif
