@@ -164,17 +164,7 @@ int md_analysis_run(struct md_analysis *a, struct particles *p, const struct box
         for (int i = 0; i < n; i++)
             f[i] = a->floor_atom[i];
     }
-    if (a->nrows >= a->caprows) {
-        long cap = a->caprows ? 2 * a->caprows : 128;
-        double *r = realloc(a->rows, (size_t)cap * a->ncols * sizeof *r);
-        if (!r) {
-            rc = err_nomem(e, "analysis series");
-            goto out;
-        }
-        a->rows = r;
-        a->caprows = cap;
-    }
-    double *row = a->rows + a->nrows * a->ncols;
+    double row[MDA_MAXCOLS];
     int k = 0;
     row[k++] = time;
     for (int c = 0; c < STRUCT_NCLASSES; c++)
@@ -202,11 +192,42 @@ int md_analysis_run(struct md_analysis *a, struct particles *p, const struct box
         row[k++] = ds->extent_110;
         row[k++] = ds->extent_ratio;
     }
-    a->nrows++;
+    rc = md_analysis_push_row(a, row, e);
 out:
     if (timers)
         timer_stop(timers, TIMER_ANALYSIS);
     return rc;
+}
+
+int md_analysis_push_row(struct md_analysis *a, const double *row, struct err *e)
+{
+    if (a->nrows >= a->caprows) {
+        long cap = a->caprows ? 2 * a->caprows : 128;
+        double *r = realloc(a->rows, (size_t)cap * a->ncols * sizeof *r);
+        if (!r)
+            return err_nomem(e, "analysis series");
+        a->rows = r;
+        a->caprows = cap;
+    }
+    memcpy(a->rows + a->nrows * a->ncols, row, (size_t)a->ncols * sizeof *row);
+    a->nrows++;
+    return 0;
+}
+
+void md_analysis_release(struct md_analysis *a)
+{
+    frame_free(&a->fr);
+    free(a->cls);
+    free(a->sel);
+    free(a->sput);
+    free(a->floor_atom);
+    free(a->damaged);
+    free(a->mass);
+    free(a->shape_scratch);
+    a->cls = NULL;
+    a->sel = a->sput = a->floor_atom = a->damaged = NULL;
+    a->mass = a->shape_scratch = NULL;
+    a->cap = 0;
 }
 
 int md_analysis_finish(struct md_analysis *a, struct run *run, struct err *e)
@@ -230,14 +251,7 @@ int md_analysis_finish(struct md_analysis *a, struct run *run, struct err *e)
 
 void md_analysis_free(struct md_analysis *a)
 {
-    frame_free(&a->fr);
-    free(a->cls);
-    free(a->sel);
-    free(a->sput);
-    free(a->floor_atom);
-    free(a->damaged);
-    free(a->mass);
-    free(a->shape_scratch);
+    md_analysis_release(a);
     free(a->rows);
     memset(a, 0, sizeof *a);
 }

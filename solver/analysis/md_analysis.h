@@ -100,6 +100,13 @@ int md_analysis_due(const struct md_analysis *a, const struct run *run, long s, 
 int md_analysis_run(struct md_analysis *a, struct particles *p, const struct box *box, double time,
                     struct timers *timers, struct err *e);
 
+/* Append one row of a->ncols values (a row another rank computed). */
+int md_analysis_push_row(struct md_analysis *a, const double *row, struct err *e);
+
+/* Free the per-particle scratch and the frame (rebuilt by the next run):
+ * a rank that analysed every atom of a brick run gives the memory back. */
+void md_analysis_release(struct md_analysis *a);
+
 /* Series into result.json and fields.h5. */
 int md_analysis_finish(struct md_analysis *a, struct run *run, struct err *e);
 

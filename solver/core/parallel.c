@@ -234,3 +234,49 @@ int parallel_gather_bytes(const struct parallel *par, const void *sbuf, size_t s
     free(displs);
     return 0;
 }
+
+int parallel_bcast_bytes(const struct parallel *par, void *buf, size_t n, struct err *e)
+{
+    if (!par || par->size <= 1 || n == 0)
+        return 0;
+    if (n > INT_MAX)
+        return err_set(e, ERR_RUNTIME, "broadcast of %zu bytes is beyond MPI's int count", n);
+    MPI_Bcast(buf, (int)n, MPI_BYTE, 0, MPI_COMM_WORLD);
+    return 0;
+}
+
+int parallel_scatter_bytes(const struct parallel *par, const void *sbuf, const long *bytes,
+                           void *rbuf, struct err *e)
+{
+    int size = par ? par->size : 1, rank = par ? par->rank : 0;
+    if (size <= 1) {
+        if (bytes[0] > 0)
+            memcpy(rbuf, sbuf, (size_t)bytes[0]);
+        return 0;
+    }
+    /* every rank checks the same counts: all refuse together */
+    long total = 0;
+    for (int r = 0; r < size; r++)
+        total += bytes[r];
+    if (total > INT_MAX)
+        return err_set(e, ERR_RUNTIME, "scatter of %ld bytes is beyond MPI's int count", total);
+    int *counts = malloc((size_t)size * sizeof *counts);
+    int *displs = malloc((size_t)size * sizeof *displs);
+    int bad = parallel_any(par, !counts || !displs);
+    if (bad) {
+        free(counts);
+        free(displs);
+        return err_nomem(e, "scatter counts");
+    }
+    long at = 0;
+    for (int r = 0; r < size; r++) {
+        counts[r] = (int)bytes[r];
+        displs[r] = (int)at;
+        at += bytes[r];
+    }
+    MPI_Scatterv(rank == 0 ? sbuf : NULL, counts, displs, MPI_BYTE, rbuf, counts[rank], MPI_BYTE,
+                 0, MPI_COMM_WORLD);
+    free(counts);
+    free(displs);
+    return 0;
+}

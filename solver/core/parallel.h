@@ -70,4 +70,13 @@ void parallel_allgather_long(const struct parallel *par, long v, long *out);
 int parallel_gather_bytes(const struct parallel *par, const void *sbuf, size_t sbytes,
                           void **rbuf, size_t *rbytes, struct err *e);
 
+/* The n bytes of rank 0's buf into buf on every rank. */
+int parallel_bcast_bytes(const struct parallel *par, void *buf, size_t n, struct err *e);
+
+/* The reverse of parallel_gather_bytes: rank 0's sbuf holds the blocks of
+ * every rank concatenated in rank order, rank r's block bytes[r] long
+ * (bytes given on every rank); each rank receives its own into rbuf. */
+int parallel_scatter_bytes(const struct parallel *par, const void *sbuf, const long *bytes,
+                           void *rbuf, struct err *e);
+
 #endif

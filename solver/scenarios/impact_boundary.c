@@ -3,6 +3,7 @@
 
 #include <string.h>
 
+#include "core/halo.h"
 #include "scenarios/handshake_impact.h"
 
 static int fixed_damped_read(struct cfg_obj *t, struct impact_boundary *b)
@@ -15,7 +16,9 @@ static int fixed_damped_read(struct cfg_obj *t, struct impact_boundary *b)
     return 0;
 }
 
-/* Distance of a point from the nearest of the five non-top faces. */
+/* Distance of a point from the nearest of the five non-top faces.  A
+ * layer is a property of the position at set-up, so on bricks each rank
+ * marks its own atoms and an atom keeps its marks when it migrates. */
 static double face_distance(const double x[3], const double lo[3], const double hi[3])
 {
     double d = x[2] - lo[2];
@@ -44,6 +47,12 @@ static int fixed_damped_setup(struct impact_boundary *b, struct md *md, const do
             p->mask[i] |= IMPACT_GROUP_DAMPED;
             b->ndamped++;
         }
+    }
+    if (md->halo) {   /* bricks: every rank marked its own atoms */
+        double n[2] = {(double)b->nfixed, (double)b->ndamped};
+        halo_sum(md->halo, n, 2);
+        b->nfixed = (long)n[0];
+        b->ndamped = (long)n[1];
     }
     md->frozen_mask = IMPACT_GROUP_FIXED;
     if (b->damped_thickness > 0) {

@@ -42,12 +42,24 @@
  * the peak, final), sputtered atoms and groups, crater depth, volume,
  * top-view widths along [100] and [110] and their ratio, rim height, and the
  * energy the boundary absorbed.  Series: md_analysis.h.
+ *
+ * Under mpirun (`parallel` section, docs/parallel.md) a fixed_damped target
+ * runs on the MD bricks: each rank builds its brick's target sites and
+ * cluster atoms with the ids of a serial build, marks the layers on its
+ * own atoms, and the analyses run on rank 0 over the gathered atoms at
+ * analysis steps (analysis/md_analysis_bricks.h).  The handshake boundary
+ * is not decomposed: refused on `decomposition: bricks`, whole on every
+ * rank (with a note) under auto; `replicated` runs replicated data.
  */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include <stdio.h>
+
 #include "core/elements.h"
+#include "core/halo.h"
+#include "core/parallel.h"
 #include "core/units.h"
 #include "core/velocity.h"
 #include "engine/models.h"
@@ -56,6 +68,8 @@
 #include "scenarios/cluster_build.h"
 #include "scenarios/impact_boundary.h"
 #include "analysis/md_analysis.h"
+#include "analysis/md_analysis_bricks.h"
+#include "md/md_bricks.h"
 #include "analysis/stacking_faults.h"
 #include "output/md_output.h"
 #include "input/md_system.h"
@@ -164,12 +178,66 @@ static double nn_distance(enum lattice_style st, double a)
     return lattice_nn_distance(&l);
 }
 
-/* Build target + cluster; refuse what cannot work. */
+/* The target's extent and site count from a pass over every site of the
+ * lattice that stores none (lattice_fill_where): a rank of a brick run
+ * needs the whole target's extent (the box, the layers, the surface)
+ * before it builds its own brick, and the pass costs no memory. */
+struct target_extent {
+    double *lo, *hi;
+};
+
+static int extent_of_site(const void *ctx, const double x[3])
+{
+    const struct target_extent *t = ctx;
+    for (int d = 0; d < 3; d++) {
+        t->lo[d] = fmin(t->lo[d], x[d]);
+        t->hi[d] = fmax(t->hi[d], x[d]);
+    }
+    return 0;
+}
+
+/* decomp_owns as a lattice_fill_where predicate */
+static int in_brick(const void *ctx, const double x[3])
+{
+    return decomp_owns(ctx, x);
+}
+
+/* Whether the run is split into bricks (*halo, new) or not (NULL); the
+ * handshake boundary is not decomposed: refused when bricks are asked for,
+ * a note under auto (every rank runs the whole case). */
+static int plan_bricks(const struct impact_boundary *b, const struct case_common *common,
+                       const struct box *box, double range, struct cfg *cfg, struct halo **halo)
+{
+    const struct parallel *par = common->par;
+    const struct parallel_settings *ps = &common->parallel;
+    *halo = NULL;
+    if (!par || !par->mpi)
+        return 0;
+    if (b->ops->prepare) {
+        if (ps->decomposition == DECOMP_BRICKS || ps->grid_given)
+            return cfg_error_at(cfg, ps->grid_given ? "parallel.grid" : "parallel.decomposition",
+                                "target.boundary: %s is not decomposed into bricks (the MPM "
+                                "layers and the handshake band across brick faces); use "
+                                "decomposition: replicated (or auto), or boundary: fixed_damped",
+                                b->ops->name);
+        if (par->size > 1 && ps->decomposition == DECOMP_AUTO && par->rank == 0)
+            fprintf(stderr, "note: target.boundary: %s is not decomposed into bricks: each of "
+                            "the %d ranks runs the whole case and rank 0 writes (no speed-up; "
+                            "docs/parallel.md)\n", b->ops->name, par->size);
+        return 0;
+    }
+    return md_bricks_plan(par, ps, box, range, cfg, halo);
+}
+
+/* Build target + cluster; refuse what cannot work.  Under mpirun with
+ * bricks each rank builds its own brick's target sites and cluster atoms,
+ * with the ids of a serial build (target sites first, then the cluster). */
 static int build(struct impact *c, const struct impact_spec *s, struct potential **potp,
-                 struct cfg *cfg, uint64_t seed, int nthreads)
+                 struct cfg *cfg, const struct case_common *common)
 {
     struct potential *pot = *potp;
     struct err *e = cfg->err;
+    uint64_t seed = common->seed;
     struct particles *p = particles_create(1024);
     if (!p)
         return err_nomem(e, "particles");
@@ -179,20 +247,16 @@ static int build(struct impact *c, const struct impact_spec *s, struct potential
     int tt = particles_type_index(p, s->telement, element_mass(s->telement));
     int ct = particles_type_index(p, s->celement, element_mass(s->celement));
     int64_t next_id = 1;
-    if (lattice_fill(&tl, s->cells, NULL, p, tt, &next_id, e) < 0) {
-        particles_destroy(&p);
-        return ERR_RUNTIME;
-    }
-    c->ntarget = p->n_owned;
     for (int d = 0; d < 3; d++) {
         c->lo[d] = INFINITY;
         c->hi[d] = -INFINITY;
     }
-    for (int i = 0; i < p->n_owned; i++)
-        for (int d = 0; d < 3; d++) {
-            c->lo[d] = fmin(c->lo[d], p->x[3 * i + d]);
-            c->hi[d] = fmax(c->hi[d], p->x[3 * i + d]);
-        }
+    struct target_extent ext = {c->lo, c->hi};
+    c->ntarget = lattice_fill_where(&tl, s->cells, NULL, extent_of_site, &ext, p, tt, &next_id, e);
+    if (c->ntarget < 0) {
+        particles_destroy(&p);
+        return ERR_RUNTIME;
+    }
     c->surface = c->hi[2];
     c->a = s->ta;
     /* the boundary needs a free interior, and a fixed layer a cutoff thick */
@@ -243,38 +307,70 @@ static int build(struct impact *c, const struct impact_spec *s, struct potential
     double cz = c->surface + gap - zlow;
     c->speed = s->speed * 10.0;   /* km/s -> Å/ps */
     double vel[3] = {0, 0, -c->speed};
-    if (s->temperature > 0) {
-        if ((rc = potential_bind(pot, p, e)) || (rc = velocity_maxwell(p, s->temperature, seed, 1u, e))) {
-            cluster_cut_free(&cut);
-            particles_destroy(&p);
-            return rc;
-        }
-    }
-    for (long k = 0; k < cut.n; k++) {
-        double x[3] = {cx + cut.pos[k][0], cy + cut.pos[k][1], cz + cut.pos[k][2]};
-        int i = particles_add(p, x, vel, ct, next_id++);
-        if (i < 0) {
-            cluster_cut_free(&cut);
-            particles_destroy(&p);
-            return err_nomem(e, "cluster");
-        }
-        p->mask[i] |= IMPACT_GROUP_CLUSTER;
-    }
-    cluster_cut_free(&cut);
     struct box box = {0};
     for (int d = 0; d < 3; d++) {
         box.lo[d] = c->lo[d];
         box.hi[d] = d == 2 ? cz + 2 * c->cluster_radius : c->hi[d];
         box.bc[d] = BOUNDARY_FREE;
     }
-    /* the boundary's own particles (the handshake: copies of regions II
-     * and III) and the room they need */
-    if (b->ops->prepare && (rc = b->ops->prepare(b, p, &box, pot, nthreads, cfg))) {
+    /* bricks or not: each rank builds only its brick's atoms from here */
+    struct halo *halo = NULL;
+    double range = pot->cutoff + s->skin;
+    if ((rc = plan_bricks(b, common, &box, range, cfg, &halo))) {
+        cluster_cut_free(&cut);
         particles_destroy(&p);
         return rc;
     }
+    next_id = 1;
+    rc = lattice_fill_where(&tl, s->cells, NULL, halo ? in_brick : NULL, halo ? &halo->dc : NULL,
+                            p, tt, &next_id, e) < 0
+             ? ERR_RUNTIME
+             : 0;
+    if (halo)
+        rc = halo_adopt(halo, p, rc, e);
+    /* the target's velocities, before the cluster joins (velocity_maxwell_split:
+     * the serial draws by id on every rank count) */
+    if (!rc && s->temperature > 0 && !(rc = potential_bind(pot, p, e)))
+        rc = halo ? velocity_maxwell_split(p, s->temperature, seed, 1u, halo, e)
+                  : velocity_maxwell(p, s->temperature, seed, 1u, e);
+    for (long k = 0; !rc && k < cut.n; k++) {
+        double x[3] = {cx + cut.pos[k][0], cy + cut.pos[k][1], cz + cut.pos[k][2]};
+        if (halo && !decomp_owns(&halo->dc, x))
+            continue;
+        int i = particles_add(p, x, vel, ct, next_id + k);
+        if (i < 0)
+            rc = err_nomem(e, "cluster");
+        else
+            p->mask[i] |= IMPACT_GROUP_CLUSTER;
+    }
+    cluster_cut_free(&cut);
+    if (halo)   /* counts the cluster atoms too; collective */
+        rc = halo_adopt(halo, p, rc, e);
+    /* the boundary's own particles (the handshake: copies of regions II
+     * and III) and the room they need; never on bricks (plan_bricks) */
+    if (!rc && b->ops->prepare)
+        rc = b->ops->prepare(b, p, &box, pot, common->nthreads, cfg);
+    if (!rc && halo) {
+        md_adopt(&c->md, p, halo);   /* the md owns the halo from here */
+        /* the impact puts the atoms unevenly: move the cuts when asked */
+        if (common->parallel.balance == BALANCE_SHIFT)
+            rc = halo_balance(halo, &box, p, range, e);
+    } else if (!rc && common->par && common->par->mpi && common->par->size > 1 &&
+               !b->ops->prepare) {
+        p->par = common->par;   /* replicated data: each rank a slice of the forces */
+    }
+    if (rc) {
+        particles_destroy(&p);
+        if (c->md.halo)
+            md_free(&c->md);
+        else if (halo) {
+            halo_free(halo);
+            free(halo);
+        }
+        return rc;
+    }
     *potp = NULL;   /* the md owns particles and potential from here on */
-    rc = md_init(&c->md, p, &box, pot, s->dt, s->skin, nthreads, e);
+    rc = md_init(&c->md, p, &box, pot, s->dt, s->skin, common->nthreads, e);
     if (rc) {
         md_free(&c->md);
         return rc;
@@ -331,7 +427,7 @@ static int impact_read(struct cfg_obj *root, const struct case_common *common, v
     }
     c->bnd = bnd;
     c->steps = s.steps;
-    rc = build(c, &s, &pot, root->cfg, common->seed, common->nthreads);
+    rc = build(c, &s, &pot, root->cfg, common);
     if (!rc) {
         double q = 0.25 * s.ta;   /* crater grid a quarter cell off the lattice planes */
         struct md_analysis_opts o = {
@@ -347,7 +443,7 @@ static int impact_read(struct cfg_obj *root, const struct case_common *common, v
     }
     if (rc) {
         /* build() hands the potential to the md (and NULLs pot) at md_init */
-        if (c->md.p)
+        if (c->md.p || c->md.halo)
             md_free(&c->md);
         potential_destroy(&pot);
         impact_boundary_free(&c->bnd);
@@ -360,6 +456,16 @@ static int impact_read(struct cfg_obj *root, const struct case_common *common, v
 }
 
 /* --- the run on the engine (engine/sim.h) --------------------------------- */
+
+/* The analysis of the current configuration: on bricks over the atoms of
+ * every rank (md_analysis_bricks.h; the serial analysis on rank 0). */
+static int analyse(struct impact *c, struct err *e)
+{
+    struct md *md = &c->md;
+    return md->halo ? md_analysis_run_bricks(&c->an, md->halo, md->p, &md->box, md->time,
+                                             md->timers, e)
+                    : md_analysis_run(&c->an, md->p, &md->box, md->time, md->timers, e);
+}
 
 static int impact_begin(void *state, struct sim *s, struct err *e)
 {
@@ -380,7 +486,7 @@ static int impact_begin(void *state, struct sim *s, struct err *e)
                  "%.2f keV at %.2f km/s",
             c->ntarget, c->bnd.nfixed, c->bnd.ndamped, c->ncluster, c->cluster_radius,
             c->impact_energy * 1e-3, c->speed / 10.0);
-    rc = md_analysis_run(&c->an, md->p, &md->box, md->time, md->timers, e);
+    rc = analyse(c, e);
     c->peak = c->an.displaced;
     c->peak_t = md->time;
     return rc;
@@ -391,7 +497,7 @@ static int impact_after_step(void *state, struct sim *s, struct err *e)
     struct impact *c = state;
     if (!md_analysis_due(&c->an, s->run, s->step, c->steps))
         return 0;
-    int rc = md_analysis_run(&c->an, c->md.p, &c->md.box, c->md.time, c->md.timers, e);
+    int rc = analyse(c, e);
     if (!rc && c->an.displaced > c->peak) {
         c->peak = c->an.displaced;
         c->peak_t = c->md.time;
@@ -472,7 +578,7 @@ static int impact_report(void *state, struct sim *s, int run_rc, struct err *e)
     double e0 = s->e0[c->md_index].total;
     struct result *r = &run->result;
     double etot = md->last.energy + md_kinetic_energy(md);
-    result_metric(r, "atoms", (double)md->p->n_owned, "1");
+    result_metric(r, "atoms", (double)md_natoms(md), "1");
     result_metric(r, "target_atoms", (double)c->ntarget, "1");
     result_metric(r, "cluster_atoms", (double)c->ncluster, "1");
     result_metric(r, "cluster_radius", c->cluster_radius, "Å");
@@ -508,9 +614,13 @@ static int impact_report(void *state, struct sim *s, int run_rc, struct err *e)
                  "groups; crater %.1f Å deep, %.1f x %.1f Å ([100] x [110])",
             peak, peak_t, c->an.displaced, c->an.sputter.atoms, c->an.sputter.clusters, cs->depth,
             w100, w110);
+    if (md->halo)
+        md_output_decomposition(run, md);
     int rc2 = md_analysis_finish(&c->an, run, e);
     int rc3 = md_output_end(&c->out, run, e);
-    return rc2 ? rc2 : rc3;
+    rc2 = rc2 ? rc2 : rc3;
+    /* bricks: rank 0 wrote; every rank returns its verdict */
+    return md->halo ? halo_agree(md->halo, rc2, e) : rc2;
 }
 
 /* The analysis' latest results and series, the peak, the thermo rows. */
@@ -598,11 +708,12 @@ static void impact_destroy(void *state)
 static long impact_particles(const void *state)
 {
     const struct impact *c = state;
-    return c && c->md.p ? c->md.p->n_owned : 0;
+    return c && c->md.p ? md_natoms(&c->md) : 0;
 }
 
 const struct case_type impact_case_type = {
     "cluster_impact", "a cluster hitting a crystal surface: damage, sputtering, crater",
     impact_read, impact_run, impact_destroy, impact_particles, NULL,
     .checkpoints = 1,
+    .decomposes = 1,
 };

@@ -1,0 +1,282 @@
+/*
+ * The cluster impact on bricks (docs/parallel.md, docs/impact.md "The
+ * paper's scale"): `mpirun -np N cascade-solver run` of a `type:
+ * cluster_impact` case with `boundary: fixed_damped` builds each rank's
+ * brick of the target and of the cluster (the ids of a serial build),
+ * marks the fixed and damped layers on each rank's own atoms, and runs the
+ * MD on the bricks; the analyses (structure, displaced, sputtered, crater,
+ * damage shape) run on rank 0 over the atoms of every rank, gathered at
+ * the analysis steps only (solver/analysis/md_analysis_bricks.h).
+ *
+ * A Cu14 cluster at 20 km/s into a 300 K, 3200-site Cu(001) target (the
+ * Maxwell velocities and the damped layer's Langevin forces keyed on the
+ * global id), 100 steps: the thermo series and the final metrics agree
+ * with the serial run to REL relative on 1, 2, 4 and 8 ranks (the force
+ * and energy sums run in another order, so not bitwise; over 0.1 ps of
+ * collision cascade the round-off does not grow past 1e-12), the counts
+ * of the analysis (structure classes, displaced, sputtered, damage atoms)
+ * and the per-atom analysis fields of the last snapshot are equal, and
+ * the crater and damage-shape columns agree to REL.
+ */
+#include <criterion/criterion.h>
+#include <hdf5.h>
+#include <jansson.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "helpers/th.h"
+#include "helpers/th_bricks.h"
+
+#define REL 1e-10
+
+/* 10 x 10 x 8 cells (3200 sites; fixed 6 Å, damped 4 Å), the cluster 2 Å
+ * above the surface at 20 km/s (0.2 Å per 1 fs step): it lands within 20
+ * steps and the cascade runs for the other 80.  Brick faces of 2, 4 and 8
+ * ranks cut the impact point (x, y) and the target (z). */
+static const char *const impact_yaml =
+    "title: Cu14 on bricks\n"
+    "seed: 7\n"
+    "type: cluster_impact\n"
+    "target: {lattice: fcc, element: Cu, a: 3.615, cells: [10, 10, 8], temperature: 300,\n"
+    "         damped_thickness: 4}\n"
+    "cluster: {atoms: 14, speed: 20, gap: 2}\n"
+    "potential: {style: eam/alloy, file: Cu_mishin1.eam.alloy}\n"
+    "md: {timestep: 0.001, steps: 100}\n"
+    "analysis: {every: 20, structure: {method: fixed}}\n"
+    "output: {thermo_every: 10, snapshot_every: 50}\n"
+    "parallel: {decomposition: bricks}\n";
+
+static const char *const thermo_cols[] = {"pe_eV",   "ke_eV",   "etotal_eV", "temp_K",
+                                          "press_GPa", "pxx_GPa", "pyy_GPa",   "pzz_GPa",
+                                          NULL};
+
+/* Analysis columns that count atoms: equal. */
+static const char *const count_cols[] = {
+    "n_other12", "n_fcc", "n_hcp", "n_bcc", "n_ico", "n_not12", "n_surface",
+    "displaced", "sputtered_atoms", "sputtered_clusters", "damage_atoms", NULL};
+
+/* Analysis columns that are lengths, areas, volumes and ratios: to REL of
+ * the column's largest magnitude; NaN (fewer than three damaged atoms) in
+ * both or neither. */
+static const char *const length_cols[] = {
+    "analysis_time_ps",   "crater_depth_A",     "crater_volume_A3",    "crater_extent_100_A",
+    "crater_extent_110_A", "rim_height_A",      "damage_lmax_A2",      "damage_lmin_A2",
+    "damage_eig_ratio",   "damage_axis_deg",    "damage_extent_100_A", "damage_extent_110_A",
+    "damage_extent_ratio", NULL};
+
+static const char *const metrics_rel[] = {
+    "atoms",          "target_atoms",      "cluster_atoms",         "fixed_atoms",
+    "damped_atoms",   "impact_energy",     "time",                  "displaced_peak",
+    "displaced_peak_time", "displaced_final", "hcp_final",           "sputtered_atoms",
+    "sputtered_clusters", "crater_depth",  "crater_volume",         "crater_extent_100",
+    "crater_extent_110", "rim_height",     "temperature",           "crater_volume_peak",
+    NULL};
+
+static void compare_columns(const char *a, const char *b, const char *const *cols, int exact,
+                            const char *tag)
+{
+    for (int c = 0; cols[c]; c++) {
+        char name[96];
+        snprintf(name, sizeof name, "/series/%s", cols[c]);
+        long na, nb;
+        double *x = thb_read_h5(a, name, H5T_NATIVE_DOUBLE, sizeof(double), &na);
+        double *y = thb_read_h5(b, name, H5T_NATIVE_DOUBLE, sizeof(double), &nb);
+        cr_assert_eq(na, nb, "%s %s: %ld vs %ld rows", tag, name, na, nb);
+        double scale = 0;
+        for (long i = 0; i < na; i++)
+            if (isfinite(x[i]))
+                scale = fmax(scale, fabs(x[i]));
+        for (long i = 0; i < na; i++) {
+            cr_assert_eq(isnan(x[i]), isnan(y[i]), "%s %s row %ld: %g vs %g", tag, name, i, x[i],
+                         y[i]);
+            if (isnan(x[i]))
+                continue;
+            if (exact)
+                cr_assert_eq(x[i], y[i], "%s %s row %ld: %.17g vs %.17g", tag, name, i, x[i],
+                             y[i]);
+            else
+                cr_assert_leq(fabs(x[i] - y[i]), REL * scale, "%s %s row %ld: %.17g vs %.17g",
+                              tag, name, i, x[i], y[i]);
+        }
+        free(x);
+        free(y);
+    }
+}
+
+/* The analysis fields of a snapshot, atom by atom (matched by id): equal. */
+static void compare_fields(const char *a, const char *b, const char *group, const char *tag)
+{
+    long na, nb;
+    struct thb_by_id *oa = thb_order_by_id(a, group, &na), *ob = thb_order_by_id(b, group, &nb);
+    cr_assert_eq(na, nb, "%s %s: %ld vs %ld atoms", tag, group, na, nb);
+    static const char *const fields[] = {"structure", "displaced", "sputtered", "crater", NULL};
+    for (int k = 0; fields[k]; k++) {
+        char name[160];
+        snprintf(name, sizeof name, "%s/%s", group, fields[k]);
+        long n1, n2;
+        double *x = thb_read_h5(a, name, H5T_NATIVE_DOUBLE, sizeof(double), &n1);
+        double *y = thb_read_h5(b, name, H5T_NATIVE_DOUBLE, sizeof(double), &n2);
+        cr_assert_eq(n1, na);
+        cr_assert_eq(n2, nb);
+        for (long i = 0; i < na; i++) {
+            cr_assert_eq(oa[i].id, ob[i].id, "%s: atom %ld ids differ", tag, i);
+            cr_assert_eq(x[oa[i].i], y[ob[i].i], "%s %s: atom %lld %g vs %g", tag, name,
+                         (long long)oa[i].id, x[oa[i].i], y[ob[i].i]);
+        }
+        free(x);
+        free(y);
+    }
+    free(oa);
+    free(ob);
+}
+
+static void compare_impact(const char *a, const char *b, const char *tag)
+{
+    thb_compare_series(a, b, thermo_cols, REL, tag);
+    compare_columns(a, b, count_cols, 1, tag);
+    compare_columns(a, b, length_cols, 0, tag);
+    thb_compare_metrics(a, b, metrics_rel, REL, tag);
+    /* what the damped layer took out: a difference of two total energies
+     * of about -1e4 eV, to REL of them */
+    json_t *ra = thb_result(a), *rb = thb_result(b);
+    double ea = thb_metric(ra, "energy_absorbed"), eb = thb_metric(rb, "energy_absorbed");
+    cr_assert_leq(fabs(ea - eb), REL * 1.2e4, "%s energy_absorbed %.17g vs %.17g", tag, ea, eb);
+    json_decref(ra);
+    json_decref(rb);
+    static const char *const sets[] = {"position", "velocity", NULL};
+    static const int ncomp[] = {3, 3};
+    thb_compare_snapshot(a, b, "/particles/00000100", sets, ncomp, REL, tag);
+    compare_fields(a, b, "/particles/00000100", tag);
+}
+
+static const char *write_case(const char *name, const char *yaml)
+{
+    return th_write_temp(0, name, yaml);
+}
+
+/* The serial run, then 1 (bricks asked for), 2, 4 and 8 ranks; each run's
+ * parallel record counts every atom once. */
+Test(bricks_impact, cu14_matches_serial_on_1_2_4_8_ranks, .timeout = 900)
+{
+    const char *path = write_case("impact.yaml", impact_yaml);
+    char d0[600], dk[600];
+    snprintf(d0, sizeof d0, "%s/impact-serial", th_temp_dir());
+    thb_must_run(path, 0, d0, NULL);
+    /* the comparison is of an impact: damage, hot atoms and a crater */
+    json_t *r = thb_result(d0);
+    cr_assert_gt(thb_metric(r, "displaced_peak"), 50, "displaced peak %g",
+                 thb_metric(r, "displaced_peak"));
+    cr_assert_gt(thb_metric(r, "crater_depth"), 0, "no crater");
+    cr_assert_gt(thb_metric(r, "energy_absorbed"), 1, "the damped layer took %g eV",
+                 thb_metric(r, "energy_absorbed"));
+    long natoms = (long)thb_metric(r, "atoms");
+    cr_assert_eq(natoms, 3200 + 14);
+    json_decref(r);
+    static const int nps[] = {1, 2, 4, 8};
+    for (int k = 0; k < 4; k++) {
+        snprintf(dk, sizeof dk, "%s/impact-%d", th_temp_dir(), nps[k]);
+        thb_must_run(path, nps[k], dk, NULL);
+        char tag[64];
+        snprintf(tag, sizeof tag, "impact on %d ranks", nps[k]);
+        compare_impact(d0, dk, tag);
+        thb_check_parallel_record(dk, nps[k], natoms);
+    }
+}
+
+/* decomposition: replicated on 2 ranks: every rank holds every atom and
+ * computes a slice of the forces; the trajectory is the serial one. */
+Test(bricks_impact, replicated_data_matches_serial, .timeout = 600)
+{
+    char yaml[4096];
+    snprintf(yaml, sizeof yaml, "%s", impact_yaml);
+    char *p = strstr(yaml, "decomposition: bricks");
+    cr_assert(p);
+    memcpy(p, "decomposition: replicated}\n", 28);
+    const char *path = write_case("repl.yaml", yaml);
+    char d0[600], d2[600];
+    snprintf(d0, sizeof d0, "%s/repl-serial", th_temp_dir());
+    snprintf(d2, sizeof d2, "%s/repl-2", th_temp_dir());
+    thb_must_run(path, 0, d0, NULL);
+    thb_must_run(path, 2, d2, NULL);
+    compare_impact(d0, d2, "replicated on 2 ranks");
+}
+
+/* A checkpoint written on 2 ranks at step 50 restarts serially and on 4
+ * ranks (and one of 1 rank on 2): the restarted runs end where the
+ * uninterrupted serial run does, series and analysis included. */
+Test(bricks_impact, checkpoint_moves_between_rank_counts, .timeout = 900)
+{
+    char yaml[4096];
+    snprintf(yaml, sizeof yaml, "%s", impact_yaml);
+    char *o = strstr(yaml, "output: {");
+    cr_assert(o);
+    snprintf(o, sizeof yaml - (size_t)(o - yaml),
+             "output: {thermo_every: 10, snapshot_every: 50, checkpoint_every: 50}\n"
+             "parallel: {decomposition: bricks}\n");
+    const char *path = write_case("ck.yaml", yaml);
+    char s1[600], m2[600];
+    snprintf(s1, sizeof s1, "%s/ck-serial", th_temp_dir());
+    snprintf(m2, sizeof m2, "%s/ck-2", th_temp_dir());
+    thb_must_run(path, 0, s1, NULL);
+    thb_must_run(path, 2, m2, NULL);
+    compare_impact(s1, m2, "uninterrupted 2 ranks");
+    struct {
+        const char *from;
+        int np;
+        const char *tag;
+    } cases[] = {{m2, 0, "2 to 1"}, {m2, 4, "2 to 4"}, {s1, 2, "1 to 2"}};
+    for (int k = 0; k < 3; k++) {
+        char dir[700], ck[800], from[800];
+        snprintf(dir, sizeof dir, "%s/ck-restart-%d", th_temp_dir(), k);
+        snprintf(ck, sizeof ck, "%s/checkpoint-0000000050.h5", dir);
+        snprintf(from, sizeof from, "%s/checkpoint-0000000050.h5", cases[k].from);
+        cr_assert_eq(thb_mkdir_copy(from, dir, ck), 0, "%s", from);
+        const char *extra[] = {"--restart", NULL};
+        thb_must_run(path, cases[k].np, dir, extra);
+        compare_impact(s1, dir, cases[k].tag);
+    }
+}
+
+/* The handshake boundary is not decomposed: asked for bricks it is refused
+ * naming the case file, line and key; under `auto` every rank runs the
+ * whole case, with a note. */
+Test(bricks_impact, handshake_boundary_is_refused_on_bricks, .timeout = 300)
+{
+    static char out[16384];
+    const char *hs =
+        "type: cluster_impact\n"
+        "seed: 1\n"
+        "target:\n"
+        "  lattice: fcc\n"
+        "  element: Cu\n"
+        "  a: 3.615\n"
+        "  cells: [6, 6, 5]\n"
+        "  boundary: handshake\n"
+        "  handshake: {mpm: 6, fine: 4, levels: 1, layer: 4}\n"
+        "cluster: {atoms: 14, speed: 2}\n"
+        "potential: {style: eam/alloy, file: Cu_mishin1.eam.alloy}\n"
+        "md: {timestep: 0.002, steps: 2}\n"
+        "analysis: {every: 1, structure: {method: fixed}}\n"
+        "output: {thermo_every: 1, snapshot_every: 0, hdf5: false}\n"
+        "parallel:\n"
+        "  decomposition: bricks\n";
+    const char *path = write_case("hs.yaml", hs);
+    char dir[600];
+    snprintf(dir, sizeof dir, "%s/hs-2", th_temp_dir());
+    cr_assert_eq(thb_run(path, 2, dir, NULL, out, sizeof out), 2, "%s", out);
+    cr_assert(strstr(out, "hs.yaml:16:") && strstr(out, "parallel.decomposition") &&
+                  strstr(out, "target.boundary: handshake is not decomposed into bricks"),
+              "%s", out);
+    char autoy[2048];
+    snprintf(autoy, sizeof autoy, "%s", hs);
+    char *p = strstr(autoy, "decomposition: bricks");
+    cr_assert(p);
+    memcpy(p, "decomposition: auto  ", 21);
+    path = write_case("hs_auto.yaml", autoy);
+    snprintf(dir, sizeof dir, "%s/hs-auto-2", th_temp_dir());
+    cr_assert_eq(thb_run(path, 2, dir, NULL, out, sizeof out), 0, "%s", out);
+    cr_assert(strstr(out, "note: target.boundary: handshake is not decomposed into bricks"), "%s",
+              out);
+}
