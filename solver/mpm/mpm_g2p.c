@@ -76,14 +76,18 @@ static void g2p_linear_block(const struct mpm *m, const struct mpm_view *w, cons
     const struct mpm_grid *g = &m->grid;
     mpm_v4 R[8] = {{0}};
     long cur = -1;
+    const long ahead = 2 * off[2] + off[4];   /* mpm_lin_prefetch */
     for (long k = 0; k < count; k++) {
         long p = idx[k];
         struct mpm_lin st;
         mpm_lin_eval(g, w->x + 3 * p, &st);
-        if (musl && st.base != cur) {   /* a new cell: flush the run's remap */
-            if (cur >= 0)
+        if (st.base != cur) {   /* a new cell: flush the run's remap */
+            if (musl && cur >= 0)
                 g2p_flush(r, cur, off, R);
             cur = st.base;
+            mpm_lin_prefetch(node, sizeof *node, cur, ahead);
+            if (musl)
+                mpm_lin_prefetch(r, 4 * sizeof *r, cur, ahead);
 #pragma GCC unroll 8
             for (int q = 0; q < 8; q++)
                 R[q] = (mpm_v4){0, 0, 0, 0};
@@ -263,7 +267,7 @@ static inline long next_block(const struct mpm_grid *g, const double *x)
 static inline __attribute__((always_inline)) int
 kinematics_point_linear(const struct mpm *m, long p, double dt, const double *vel,
                         const struct mpm_node *node, const long s1, const long s2, const int musl,
-                        struct mpm_points *pts, int32_t *blk, double L[9])
+                        struct mpm_points *pts, int32_t *blk, double L[9], long *pf)
 {
     double *x = pts->x + 3 * p;
     const struct mpm_body *body = &m->body[pts->body[p]];
@@ -276,6 +280,12 @@ kinematics_point_linear(const struct mpm *m, long p, double dt, const double *ve
     }
     struct mpm_lin st;
     mpm_lin_eval(&m->grid, x, &st);
+    if (st.base != *pf) {
+        *pf = st.base;
+        mpm_lin_prefetch(node, sizeof *node, st.base, 2 * s1 + s2);
+        if (musl)
+            mpm_lin_prefetch(vel, 4 * sizeof *vel, st.base, 2 * s1 + s2);
+    }
     const struct mpm_node *nb = node + st.base;
     const double *vb4 = musl ? vel + 4 * st.base : NULL;
     const double *ih = m->grid.inv_hd;
@@ -359,10 +369,11 @@ update_chunk_linear(const struct mpm *m, const int32_t *idx, long n, double dt, 
                     struct mpm_points *pts, int32_t *blk, struct mpm_chunk *ch)
 {
     int nd = 0, same = 1;
+    long pf = -1;   /* the cell whose next nodes were prefetched */
     for (long k = 0; k < n; k++) {
         long p = idx[k];
         double L[9];
-        int mat = kinematics_point_linear(m, p, dt, vel, node, s1, s2, musl, pts, blk, L);
+        int mat = kinematics_point_linear(m, p, dt, vel, node, s1, s2, musl, pts, blk, L, &pf);
         if (mat < 0)
             continue;
         for (int c = 0; c < 9; c++)
@@ -550,6 +561,7 @@ void mpm_update_particles_and_map(struct mpm *m, double dt)
                         if (cur >= 0)
                             p2g_flush(next, cur, off, A, B, aux);
                         cur = st.base;
+                        mpm_lin_prefetch(next, sizeof *next, cur, 2 * s1 + s2);
 #pragma GCC unroll 8
                         for (int q = 0; q < 8; q++) {
                             A[q] = (mpm_v4){0, 0, 0, 0};

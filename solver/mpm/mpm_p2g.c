@@ -87,6 +87,7 @@ static void p2g_linear_block(const struct mpm *m, const struct mpm_view *w, cons
             if (cur >= 0)
                 p2g_flush(node, cur, off, A, B, aux);
             cur = st.base;
+            mpm_lin_prefetch(node, sizeof *node, cur, 2 * off[2] + off[4]);
 #pragma GCC unroll 8
             for (int q = 0; q < 8; q++) {
                 A[q] = (mpm_v4){0, 0, 0, 0};
