@@ -257,13 +257,8 @@ Test(bricks, checkpoint_moves_between_rank_counts, .timeout = 600)
     } cases[] = {{m2, 0, "2 to 1"}, {s1, 2, "1 to 2"}, {m2, 2, "2 to 2"}, {m2, 4, "2 to 4"},
                  {m4, 2, "4 to 2"}, {m4, 1, "4 to 1 (mpirun -np 1)"}};
     for (int k = 0; k < 6; k++) {
-        char dir[700], ck[700], cmd_from[700];
-        snprintf(dir, sizeof dir, "%s/ck-restart-%d", th_temp_dir(), k);
-        snprintf(ck, sizeof ck, "%s/checkpoint-0000000050.h5", dir);
-        snprintf(cmd_from, sizeof cmd_from, "%s/checkpoint-0000000050.h5", cases[k].from);
-        cr_assert_eq(thb_mkdir_copy(cmd_from, dir, ck), 0);
-        const char *extra[] = {"--restart", NULL};
-        thb_must_run(path, cases[k].np, dir, extra);
+        char dir[700];
+        thb_restart_at(path, cases[k].from, 50, cases[k].np, k, dir, sizeof dir);
         compare_series(s1, dir, cases[k].tag);
         compare_metrics(s1, dir, cases[k].tag);
         compare_snapshot(s1, dir, 100, cases[k].tag);

@@ -173,13 +173,8 @@ Test(bricks_dpd_mpm, checkpoint_moves_between_rank_counts, .timeout = 600)
         const char *tag;
     } cases[] = {{m2, 0, "2 to 1"}, {m2, 4, "2 to 4"}, {s1, 2, "1 to 2"}};
     for (int k = 0; k < 3; k++) {
-        char dir[700], ck[800], from[800];
-        snprintf(dir, sizeof dir, "%s/ck-restart-%d", th_temp_dir(), k);
-        snprintf(ck, sizeof ck, "%s/checkpoint-0000000050.h5", dir);
-        snprintf(from, sizeof from, "%s/checkpoint-0000000050.h5", cases[k].from);
-        cr_assert_eq(thb_mkdir_copy(from, dir, ck), 0, "%s", from);
-        const char *extra[] = {"--restart", NULL};
-        thb_must_run(path, cases[k].np, dir, extra);
+        char dir[700];
+        thb_restart_at(path, cases[k].from, 50, cases[k].np, k, dir, sizeof dir);
         json_t *r = thb_result(dir);
         cr_assert_eq(json_integer_value(json_object_get(r, "restarted_from_step")), 50,
                      "%s: not restarted from step 50", cases[k].tag);

@@ -259,13 +259,8 @@ Test(bricks_mpm, checkpoint_moves_between_rank_counts, .timeout = 900)
         const char *tag;
     } cases[] = {{m2, 0, "2 to 1"}, {s1, 2, "1 to 2"}, {m2, 4, "2 to 4"}, {m2, 2, "2 to 2"}};
     for (int k = 0; k < 4; k++) {
-        char dir[700], ck[800], from[800];
-        snprintf(dir, sizeof dir, "%s/ck-restart-%d", th_temp_dir(), k);
-        snprintf(ck, sizeof ck, "%s/checkpoint-0000000050.h5", dir);
-        snprintf(from, sizeof from, "%s/checkpoint-0000000050.h5", cases[k].from);
-        cr_assert_eq(thb_mkdir_copy(from, dir, ck), 0, "%s", from);
-        const char *extra[] = {"--restart", NULL};
-        thb_must_run(path, cases[k].np, dir, extra);
+        char dir[700];
+        thb_restart_at(path, cases[k].from, 50, cases[k].np, k, dir, sizeof dir);
         compare_impact(s1, dir, cases[k].tag);
         if (k == 3) {
             static char t1[65536], t2[65536];

@@ -221,6 +221,18 @@ int thb_mkdir_copy(const char *from, const char *dir, const char *to)
     return rc;
 }
 
+void thb_restart_at(const char *path, const char *from_dir, long step, int np, int k, char *dir,
+                    size_t len)
+{
+    char ck[800], from[800];
+    snprintf(dir, len, "%s/ck-restart-%d", th_temp_dir(), k);
+    snprintf(ck, sizeof ck, "%s/checkpoint-%010ld.h5", dir, step);
+    snprintf(from, sizeof from, "%s/checkpoint-%010ld.h5", from_dir, step);
+    cr_assert_eq(thb_mkdir_copy(from, dir, ck), 0, "%s", from);
+    const char *extra[] = {"--restart", NULL};
+    thb_must_run(path, np, dir, extra);
+}
+
 void thb_read_text(const char *dir, const char *name, char *buf, size_t len)
 {
     char path[700];

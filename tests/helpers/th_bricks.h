@@ -54,6 +54,11 @@ struct thb_by_id *thb_order_by_id(const char *dir, const char *group, long *n);
 
 /* mkdir dir, then copy the file from to the file to (0, or -1). */
 int thb_mkdir_copy(const char *from, const char *dir, const char *to);
+/* Restart the case at path on np ranks (0: without mpirun) from the
+ * checkpoint of step `step` in from_dir, in a new directory
+ * TEMP/ck-restart-K whose name goes to dir; asserts that it ran. */
+void thb_restart_at(const char *path, const char *from_dir, long step, int np, int k, char *dir,
+                    size_t len);
 /* dir/name as text into buf (at most len - 1 bytes; asserts it opens). */
 void thb_read_text(const char *dir, const char *name, char *buf, size_t len);
 
