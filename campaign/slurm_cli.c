@@ -1,5 +1,5 @@
 /* slurm_cli: fork+exec of Slurm's client programs, output captured. */
-#define _GNU_SOURCE   /* pipe2 */
+#define _GNU_SOURCE   /* pipe2, close_range */
 #include "slurm_cli.h"
 
 #include <errno.h>
@@ -11,6 +11,10 @@
 #include <string.h>
 #include <sys/wait.h>
 #include <unistd.h>
+
+#ifndef CLOSE_RANGE_CLOEXEC
+#define CLOSE_RANGE_CLOEXEC (1U << 2)
+#endif
 
 #include "childenv.h"
 #include "sysinfo.h"
@@ -125,8 +129,11 @@ int slurm_cli_run(struct slurm_cli *c, enum slurm_prog prog, const char *const *
         sigemptyset(&none);
         signal(SIGPIPE, SIG_DFL);
         sigprocmask(SIG_SETMASK, &none, NULL);
-        int devnull = open("/dev/null", O_RDONLY);
-        if (devnull < 0 || dup2(devnull, 0) < 0 || dup2(po[1], 1) < 0 || dup2(pe[1], 2) < 0)
+        /* 0-2 and nothing else: what the runner inherited without
+         * close-on-exec is marked so here (dup2 clears it on the copies) */
+        int devnull = open("/dev/null", O_RDONLY | O_CLOEXEC);
+        if (devnull < 0 || dup2(devnull, 0) < 0 || dup2(po[1], 1) < 0 || dup2(pe[1], 2) < 0 ||
+            close_range(3, ~0U, CLOSE_RANGE_CLOEXEC) != 0)
             _exit(127);
         execve(path, (char *const *)argv, c->env);
         dprintf(2, "cannot run %s: %s\n", path, strerror(errno));

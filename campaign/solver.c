@@ -1,4 +1,5 @@
 /* solver: finding cascade-solver, `info`, and `resolve --batch`. */
+#define _GNU_SOURCE   /* pipe2, close_range */
 #include "solver.h"
 
 #include <errno.h>
@@ -11,6 +12,10 @@
 #include <unistd.h>
 
 #include "childenv.h"
+
+#ifndef CLOSE_RANGE_CLOEXEC
+#define CLOSE_RANGE_CLOEXEC (1U << 2)
+#endif
 
 static int executable(const char *p)
 {
@@ -51,36 +56,53 @@ static int locate(char *out, size_t len, const char *given)
     return -1;
 }
 
-/* Start `argv` with stdin from in_fd (or /dev/null) and stdout to a pipe. */
+/* Start `argv` with stdin from in_fd (or /dev/null) and stdout to a pipe.
+ * The child gets descriptors 0-2 and nothing else: the pipe and /dev/null
+ * are opened close-on-exec, and whatever the runner itself inherited
+ * without close-on-exec (a careless shell's or make's descriptors) is
+ * marked so in the child before execve, as spawn.c does for jobs.  Only
+ * `info` and `resolve` start this way, once per command, so fork's cost
+ * does not matter here. */
 static pid_t start(char *const *argv, int in_fd, int *out_fd, struct err *e)
 {
     int p[2];
-    if (pipe(p) != 0)
+    if (pipe2(p, O_CLOEXEC) != 0)
         return err_set(e, ERR_RUNTIME, "pipe: %s", strerror(errno)), -1;
+    int nul = in_fd >= 0 ? -1 : open("/dev/null", O_RDONLY | O_CLOEXEC);
     char **env = childenv_create();
-    if (!env) {
-        close(p[0]);
-        close(p[1]);
-        return err_nomem(e, "environment"), -1;
-    }
-    pid_t pid = fork();
-    if (pid < 0) {
+    if (!env || (in_fd < 0 && nul < 0)) {
+        int open_errno = errno;
         free(env);
         close(p[0]);
         close(p[1]);
-        return err_set(e, ERR_RUNTIME, "fork: %s", strerror(errno)), -1;
+        if (nul >= 0)
+            close(nul);
+        if (!env)
+            return err_nomem(e, "environment"), -1;
+        return err_set(e, ERR_RUNTIME, "/dev/null: %s", strerror(open_errno)), -1;
     }
-    if (pid == 0) {
-        int nul = open("/dev/null", O_RDONLY);
-        dup2(in_fd >= 0 ? in_fd : nul, 0);
-        dup2(p[1], 1);
+    pid_t pid = fork();
+    if (pid < 0) {
+        int fork_errno = errno;
+        free(env);
         close(p[0]);
         close(p[1]);
+        if (nul >= 0)
+            close(nul);
+        return err_set(e, ERR_RUNTIME, "fork: %s", strerror(fork_errno)), -1;
+    }
+    if (pid == 0) {
+        /* dup2 clears close-on-exec on the copies */
+        if (dup2(in_fd >= 0 ? in_fd : nul, 0) < 0 || dup2(p[1], 1) < 0 ||
+            close_range(3, ~0U, CLOSE_RANGE_CLOEXEC) != 0)
+            _exit(127);
         execve(argv[0], argv, env);
         _exit(127);
     }
     free(env);
     close(p[1]);
+    if (nul >= 0)
+        close(nul);
     *out_fd = p[0];
     return pid;
 }

@@ -7,7 +7,9 @@
  * report their own state (action probe): empty signal mask, SIGPIPE and
  * SIGINT back to default while SIGUSR1 stays ignored (as exec leaves it),
  * a process group of their own, SIGKILL as parent-death signal, no
- * descriptor beyond 0-2 and no CASCADE_FAULT_* variable.  A program that
+ * descriptor beyond 0-2 and no CASCADE_FAULT_* variable; the solver's
+ * `info` and `resolve --batch`, started before the jobs, hold no
+ * descriptor beyond 0-2 either (the stand-in fails when they do).  A program that
  * cannot be started, or a directory that cannot be entered, leaves its
  * reason in the job's stderr file and ends with 127 (an infrastructure
  * failure, not the job's).
@@ -42,6 +44,7 @@ static int run_carelessly(const char *dir, char *out, size_t len)
             _exit(126);
         putenv("CASCADE_FAULT_IO=0");
         putenv("CASCADE_FAULT_WRITE=0");
+        putenv("CASCADE_FAKE_STRICT_FDS=1");   /* `info` and `resolve` too */
         signal(SIGPIPE, SIG_IGN);
         signal(SIGINT, SIG_IGN);
         signal(SIGUSR1, SIG_IGN);

@@ -31,6 +31,9 @@
  *                       # with --resume DIR it continues from DIR's newest one and
  *                       # result.json says restarted_from_step (as the solver does)
  * CASCADE_FAKE_VERSION overrides the version `info` reports.
+ * CASCADE_FAKE_STRICT_FDS=1 makes `info` and `resolve --batch` fail (exit 3,
+ * the descriptors named on stderr) when they inherited a descriptor beyond
+ * 0-2, so a test can see the runner start them clean.
  */
 #include <dirent.h>
 #include <errno.h>
@@ -131,6 +134,29 @@ static int cmd_resolve(void)
     }
     free(line);
     return 0;
+}
+
+/* CASCADE_FAKE_STRICT_FDS: 0 when nothing beyond 0-2 is open, else 3 with
+ * the descriptors named on stderr */
+static int strict_fds(const char *cmd)
+{
+    const char *on = getenv("CASCADE_FAKE_STRICT_FDS");
+    if (!on || strcmp(on, "1") != 0)
+        return 0;
+    DIR *d = opendir("/proc/self/fd");
+    if (!d) {
+        fprintf(stderr, "fake-solver %s: /proc/self/fd: %s\n", cmd, strerror(errno));
+        return 3;
+    }
+    int rc = 0;
+    struct dirent *de;
+    while ((de = readdir(d)))
+        if (de->d_name[0] != '.' && atoi(de->d_name) > 2 && atoi(de->d_name) != dirfd(d)) {
+            fprintf(stderr, "fake-solver %s: inherited descriptor %s\n", cmd, de->d_name);
+            rc = 3;
+        }
+    closedir(d);
+    return rc;
 }
 
 static const char *version(void)
@@ -434,13 +460,15 @@ static int cmd_run(int argc, char **argv)
 int main(int argc, char **argv)
 {
     if (argc >= 2 && strcmp(argv[1], "info") == 0) {
+        if (strict_fds("info"))
+            return 3;
         printf("{\"version\": \"%s\", \"git_hash\": \"standin\", \"case_types\": {\"fake\": "
                "\"stand-in for tests\"}}\n",
                version());
         return 0;
     }
     if (argc >= 3 && strcmp(argv[1], "resolve") == 0 && strcmp(argv[2], "--batch") == 0)
-        return cmd_resolve();
+        return strict_fds("resolve") ? 3 : cmd_resolve();
     if (argc >= 2 && strcmp(argv[1], "run") == 0)
         return cmd_run(argc - 2, argv + 2);
     fprintf(stderr, "usage: fake-solver info | resolve --batch | run CASE.yaml --out DIR\n");
