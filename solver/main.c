@@ -306,6 +306,40 @@ static int keep_previous_outputs(const char *out, const char *ckpt, struct err *
     return 0;
 }
 
+/* Under mpirun every rank reads the same case and usually fails the same
+ * way: say it once.  Every rank calls this at the same point with its own
+ * rc; the lowest rank that failed prints its message (naming itself when it
+ * is not rank 0: a file only some nodes see), the others stay quiet, and
+ * every rank returns non-zero when any failed, so none goes on to wait for
+ * the others in an exchange. */
+static int report_first_failure(const struct parallel *par, int rc, const struct err *e)
+{
+    if (par->size <= 1) {
+        if (rc)
+            fprintf(stderr, "error: %s\n", e->msg);
+        return rc;
+    }
+    long *failed = calloc((size_t)par->size, sizeof *failed);
+    if (!failed) {   /* cannot agree: each says its own */
+        if (rc)
+            fprintf(stderr, "error: rank %d: %s\n", par->rank, e->msg);
+        return rc;
+    }
+    parallel_allgather_long(par, rc != 0, failed);
+    int first = -1;
+    for (int r = 0; r < par->size && first < 0; r++)
+        if (failed[r])
+            first = r;
+    free(failed);
+    if (first == 0 && par->rank == 0)
+        fprintf(stderr, "error: %s\n", e->msg);
+    else if (first == par->rank)
+        fprintf(stderr, "error: rank %d: %s\n", first, e->msg);
+    if (first >= 0 && !rc)
+        return ERR_RUNTIME;
+    return rc;
+}
+
 /* MPI (when launched by mpirun) brackets the whole run. */
 static int cmd_run(int *argc, char ***argv)
 {
@@ -347,7 +381,9 @@ static int cmd_run_inner(int argc, char **argv, const struct parallel *par)
                 restart = argv[++i];
         } else if (strcmp(argv[i], "--threads") == 0 && i + 1 < argc) {
             if (parse_int(argv[++i], 1, 1024, &threads) != 0) {
-                fprintf(stderr, "error: --threads needs an integer 1..1024, got '%s'\n", argv[i]);
+                if (par->rank == 0)   /* every rank has the same arguments */
+                    fprintf(stderr, "error: --threads needs an integer 1..1024, got '%s'\n",
+                            argv[i]);
                 return 2;
             }
         } else if (strcmp(argv[i], "--quiet") == 0) {
@@ -357,12 +393,15 @@ static int cmd_run_inner(int argc, char **argv, const struct parallel *par)
         } else if (!file && argv[i][0] != '-') {
             file = argv[i];
         } else {
-            fprintf(stderr, "error: unknown option or missing value '%s'\n%s", argv[i], usage_run);
+            if (par->rank == 0)
+                fprintf(stderr, "error: unknown option or missing value '%s'\n%s", argv[i],
+                        usage_run);
             return 2;
         }
     }
     if (!file) {
-        fputs(usage_run, stderr);
+        if (par->rank == 0)
+            fputs(usage_run, stderr);
         return 2;
     }
     if (threads == 0) {
@@ -387,10 +426,15 @@ static int cmd_run_inner(int argc, char **argv, const struct parallel *par)
     struct case_resolved cr;
     int rc = case_load_file(&cd, file, &e);
     double t0 = timers_now();
-    if (!rc)
+    int resolved = 0;
+    if (!rc) {
         rc = case_resolve(&cd, 0, (int)threads, par, &cr, &e);
+        resolved = rc == 0;
+    }
+    rc = report_first_failure(par, rc, &e);
     if (rc) {
-        fprintf(stderr, "error: %s\n", e.msg);
+        if (resolved)
+            case_resolved_free(&cr);
         case_doc_free(&cd);
         return exit_code(rc);
     }
@@ -439,10 +483,8 @@ static int cmd_run_inner(int argc, char **argv, const struct parallel *par)
                                      sizeof ckpt_path, &e);
         if (!rc && par->rank == 0)
             rc = keep_previous_outputs(out, ckpt_path, &e);
-        if (par->size > 1 && parallel_any(par, rc != 0) && !rc)
-            rc = err_set(&e, ERR_RUNTIME, "stopped: another MPI rank could not restart");
+        rc = report_first_failure(par, rc, &e);
         if (rc) {
-            fprintf(stderr, "error: %s\n", e.msg);
             case_resolved_free(&cr);
             case_doc_free(&cd);
             return exit_code(rc);
@@ -460,12 +502,11 @@ static int cmd_run_inner(int argc, char **argv, const struct parallel *par)
     rc = run_open(&run, &opt, &cr.output, cd.doc, cr.common.seed, cr.common.title, &e);
     /* rank 0 alone creates the output: when it cannot, the other ranks
      * stop too instead of waiting for it in the run's first exchange */
-    if (par->size > 1 && parallel_any(par, rc != 0) && !rc) {
+    int opened = rc == 0;
+    rc = report_first_failure(par, rc, &e);
+    if (rc && opened)
         run_discard(&run);
-        rc = err_set(&e, ERR_RUNTIME, "stopped: rank 0 could not open the output");
-    }
     if (rc) {
-        fprintf(stderr, "error: %s\n", e.msg);
         case_resolved_free(&cr);
         case_doc_free(&cd);
         return exit_code(rc);

@@ -76,3 +76,29 @@ Test(parallel, two_ranks_match_serial_silicon, .timeout = 300)
                             "parallel: {decomposition: replicated}\n"
                             "output: {thermo_every: 10, hdf5: false}\n");
 }
+
+/* A case error under mpirun: every rank reads the case and fails the same
+ * way, the message (file, line, field) is printed once, by rank 0, and
+ * mpirun exits non-zero.  Three ranks, so a message from each rank would
+ * show. */
+Test(parallel, case_error_is_reported_once, .timeout = 300)
+{
+    setenv("OMPI_ALLOW_RUN_AS_ROOT", "1", 1);
+    setenv("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1", 1);
+    setenv("OMP_NUM_THREADS", "1", 1);
+    setenv("ASAN_OPTIONS", "detect_leaks=0", 1);   /* Open MPI's components, as above */
+    const char *path = th_write_temp(7, "bad.yaml",
+                                     "system:\n  lattice: {style: fcc, a: 3.615, cells: [3, 3, 3]}\n"
+                                     "  element: Cu\npotential: {style: eam/alloy, file: "
+                                     "Cu_mishin1.eam.alloy}\nmd: {steps: 10, temprature: 300}\n");
+    char d[512], out[8192];
+    snprintf(d, sizeof d, "%s/bad-mpi", th_temp_dir());
+    const char *a[] = {"/usr/bin/mpirun", "-np", "3", "--oversubscribe", th_solver(), "run", path,
+                       "--out", d, "--quiet", NULL};
+    cr_assert_neq(th_run(a, out, sizeof out), 0, "%s", out);
+    int lines = 0;
+    for (const char *p = out; (p = strstr(p, "error: ")) != NULL; p += 7)
+        lines++;
+    cr_assert_eq(lines, 1, "want the error once, got %d times:\n%s", lines, out);
+    cr_assert(strstr(out, "bad.yaml:5:") && strstr(out, "temprature"), "%s", out);
+}
