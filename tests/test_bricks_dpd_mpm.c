@@ -127,6 +127,19 @@ static void assert_same_run(const char *a, const char *b, const char *tag)
     th_restart_assert_same_snapshot(rel(a), rel(b), "points", point_sets);
 }
 
+/* a run restarted from step 50 against the uninterrupted one a */
+static void assert_same_restarted(const char *a, const char *b, const char *tag)
+{
+    json_t *r = thb_result(b);
+    cr_assert_eq(json_integer_value(json_object_get(r, "restarted_from_step")), 50,
+                 "%s: not restarted from step 50", tag);
+    json_decref(r);
+    assert_same_result(a, b, tag);
+    assert_same_text(a, b, "final.data", tag);
+    assert_same_text(a, b, "thermo.csv", tag);
+    th_restart_assert_same_snapshot(rel(a), rel(b), "points", point_sets);
+}
+
 /* Under `auto` on 2 and 4 ranks: the note, and the serial run bitwise. */
 Test(bricks_dpd_mpm, concurrent_impact_on_2_and_4_ranks_is_the_serial_run, .timeout = 600)
 {
@@ -167,23 +180,9 @@ Test(bricks_dpd_mpm, checkpoint_moves_between_rank_counts, .timeout = 600)
     thb_must_run(path, 0, s1, NULL);
     thb_must_run(path, 2, m2, NULL);
     assert_measured(s1);
-    struct {
-        const char *from;
-        int np;
-        const char *tag;
-    } cases[] = {{m2, 0, "2 to 1"}, {m2, 4, "2 to 4"}, {s1, 2, "1 to 2"}};
-    for (int k = 0; k < 3; k++) {
-        char dir[700];
-        thb_restart_at(path, cases[k].from, 50, cases[k].np, k, dir, sizeof dir);
-        json_t *r = thb_result(dir);
-        cr_assert_eq(json_integer_value(json_object_get(r, "restarted_from_step")), 50,
-                     "%s: not restarted from step 50", cases[k].tag);
-        json_decref(r);
-        assert_same_result(s1, dir, cases[k].tag);
-        assert_same_text(s1, dir, "final.data", cases[k].tag);
-        assert_same_text(s1, dir, "thermo.csv", cases[k].tag);
-        th_restart_assert_same_snapshot(rel(s1), rel(dir), "points", point_sets);
-    }
+    const struct thb_restart cases[] = {
+        {m2, 0, "2 to 1", NULL}, {m2, 4, "2 to 4", NULL}, {s1, 2, "1 to 2", NULL}};
+    thb_restarts_match(path, 50, cases, 3, s1, assert_same_restarted);
 }
 
 /* 1-based line and column of the first occurrence of `what` in text. */

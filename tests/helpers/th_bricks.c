@@ -233,6 +233,24 @@ void thb_restart_at(const char *path, const char *from_dir, long step, int np, i
     thb_must_run(path, np, dir, extra);
 }
 
+void thb_restarts_match(const char *path, long step, const struct thb_restart *r, int n,
+                        const char *ref, thb_check_fn check)
+{
+    for (int k = 0; k < n; k++) {
+        char dir[700];
+        thb_restart_at(path, r[k].from, step, r[k].np, k, dir, sizeof dir);
+        check(ref, dir, r[k].tag);
+        if (!r[k].bitwise_with)
+            continue;
+        static char t1[65536], t2[65536];
+        thb_read_text(r[k].bitwise_with, "thermo.csv", t1, sizeof t1);
+        thb_read_text(dir, "thermo.csv", t2, sizeof t2);
+        const char *b1 = strchr(t1, '\n'), *b2 = strchr(t2, '\n');
+        cr_assert(b1 && b2);
+        cr_assert_str_eq(b1, b2, "%s restart is not bitwise", r[k].tag);
+    }
+}
+
 void thb_read_text(const char *dir, const char *name, char *buf, size_t len)
 {
     char path[700];

@@ -59,6 +59,23 @@ int thb_mkdir_copy(const char *from, const char *dir, const char *to);
  * TEMP/ck-restart-K whose name goes to dir; asserts that it ran. */
 void thb_restart_at(const char *path, const char *from_dir, long step, int np, int k, char *dir,
                     size_t len);
+/* One restart of the checkpoint tests: from the run in `from`, on np ranks
+ * (0: without mpirun); when bitwise_with is given, the restarted run's
+ * thermo.csv must be that run's text after the header (the same rank
+ * count: the same arithmetic). */
+struct thb_restart {
+    const char *from;
+    int np;
+    const char *tag;
+    const char *bitwise_with;
+};
+/* What a suite checks of a restarted run in dir against the reference. */
+typedef void (*thb_check_fn)(const char *ref, const char *dir, const char *tag);
+/* Each of the n restarts of the case at path from the checkpoint of step
+ * `step` (thb_restart_at, in TEMP/ck-restart-K), checked against ref. */
+void thb_restarts_match(const char *path, long step, const struct thb_restart *r, int n,
+                        const char *ref, thb_check_fn check);
+
 /* dir/name as text into buf (at most len - 1 bytes; asserts it opens). */
 void thb_read_text(const char *dir, const char *name, char *buf, size_t len);
 
