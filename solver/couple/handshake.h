@@ -199,6 +199,7 @@ void hs_internal_shift(const struct handshake_layout *L, double zeta, int sublat
                        const double F[9], double dx[3]);
 
 struct hs_thermal;
+struct hs_bricks;
 
 struct handshake {
     struct handshake_layout lay;
@@ -220,6 +221,8 @@ struct handshake {
     int *link_md;
     long *link_pt;
     long seen_builds;          /* md->nrebuilds when the index lists were made */
+    struct hs_bricks *bricks;  /* MD on bricks: region I of all ranks (handshake_bricks.h);
+                                  NULL otherwise */
     long natoms;               /* MD atoms (core, I and fixed) */
     long counts[6];            /* per enum hs_region: atoms (0, 1, 5) or points */
     long ncopies;              /* MD copies of the lattice-site points of II, III */
@@ -242,6 +245,20 @@ struct handshake {
 int handshake_create(struct handshake *hs, const struct handshake_layout *L,
                      const struct handshake_crystal *cr, struct particles **p, int nthreads,
                      struct err *e);
+
+/* handshake_create in two halves, for a case on MPI bricks (core/halo.h)
+ * that builds the MPM before it knows its brick and its atoms after:
+ * handshake_build_mpm is the MPM side (grid, material, every point: the
+ * MPM is whole on every rank), handshake_add_particles the MD side over
+ * the case's own atoms in *p.  With a halo, *p holds the rank's atoms,
+ * only the copies whose point lies in the rank's brick are appended (ids
+ * as in a serial build), and the counts of atoms and copies are the sums
+ * over the ranks.  Collective when halo is given. */
+struct halo;
+int handshake_build_mpm(struct handshake *hs, const struct handshake_layout *L,
+                        const struct handshake_crystal *cr, int nthreads, struct err *e);
+int handshake_add_particles(struct handshake *hs, struct particles **p, const struct halo *halo,
+                            struct err *e);
 
 /* Everything in one call for cases that own the MD: handshake_create with
  * a new particle set, md_init over it (md takes ownership of pot; the box

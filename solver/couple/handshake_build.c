@@ -29,6 +29,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/halo.h"
 #include "couple/handshake.h"
 #include "mpm/mpm_hgrid.h"
 
@@ -281,11 +282,17 @@ static int site_atom(void *ctx, const double x[3])
     return set_region(c->hs, c->p, i, r);
 }
 
-static int add_md_particles(struct handshake *hs, struct particles **pp, struct err *e)
+/* The atoms of B get their regions and the copies of regions II and III
+ * join them.  On bricks (halo) p holds this rank's atoms: the copies whose
+ * point lies in the rank's brick join (ids id_base + point index, as in a
+ * serial build, id_base one past the largest id of all ranks), and the
+ * counts of atoms and copies are summed over the ranks. */
+static int add_md_particles(struct handshake *hs, struct particles **pp, const struct halo *halo,
+                            struct err *e)
 {
     const struct handshake_layout *L = &hs->lay;
     struct particles *p = *pp ? *pp : particles_create(1024);
-    int fresh = p && p->n_owned == 0;
+    int fresh = p && p->n_owned == 0 && !halo;
     if (!p)
         return err_nomem(e, "handshake particles");
     *pp = p;
@@ -302,8 +309,8 @@ static int add_md_particles(struct handshake *hs, struct particles **pp, struct 
         next_id = c.next_id;
     } else {
         /* the case's own atoms: their regions from where they sit now */
-        int n = p->n_owned;
-        for (int i = 0; i < n; i++) {
+        int n = p->n_owned, rc = 0;
+        for (int i = 0; i < n && !rc; i++) {
             if (p->id[i] >= next_id)
                 next_id = p->id[i] + 1;
             const double *x = p->x + 3 * i;
@@ -314,12 +321,22 @@ static int add_md_particles(struct handshake *hs, struct particles **pp, struct 
              * are plain MD atoms */
             enum hs_region r = in_material ? handshake_classify(L, x) : HS_CORE;
             if (r != HS_CORE && r != HS_I)
-                return err_set(e, ERR_INPUT,
-                               "atom %lld at (%g, %g, %g) Å lies outside the MD region of the "
-                               "handshake",
-                               (long long)p->id[i], p->x[3 * i], p->x[3 * i + 1], p->x[3 * i + 2]);
-            set_region(hs, p, i, r);
+                rc = err_set(e, ERR_INPUT,
+                             "atom %lld at (%g, %g, %g) Å lies outside the MD region of the "
+                             "handshake",
+                             (long long)p->id[i], p->x[3 * i], p->x[3 * i + 1], p->x[3 * i + 2]);
+            else
+                set_region(hs, p, i, r);
         }
+        if (halo)   /* every rank stops together before the sums below */
+            rc = halo_agree(halo, rc, e);
+        if (rc)
+            return rc;
+    }
+    if (halo) {   /* ids below 2^53 are exact as doubles */
+        double top = (double)next_id;
+        halo_max(halo, &top, 1);
+        next_id = (int64_t)top;
     }
     hs->natoms = p->n_owned;
     /* copies of regions II and III: ids id_base + point index */
@@ -329,21 +346,36 @@ static int add_md_particles(struct handshake *hs, struct particles **pp, struct 
         uint32_t m = pt->mask[q] & (HS_MASK_II | HS_MASK_III);
         if (!m || !(pt->mask[q] & HS_MASK_SITE))
             continue;
+        if (halo && !decomp_owns(&halo->dc, pt->x + 3 * q))
+            continue;
         hs->ncopies++;
         int i = particles_add(p, pt->x + 3 * q, NULL, hs->cr.type, hs->id_base + q);
-        if (i < 0)
-            return err_nomem(e, "handshake particles");
+        if (i < 0) {
+            int rc = err_nomem(e, "handshake particles");
+            return halo ? halo_agree(halo, rc, e) : rc;
+        }
         p->mask[i] = m;   /* not in group "all": thermostats and velocities skip them */
         p->fields[hs->f_region].data[i] = m == HS_MASK_II ? HS_II : HS_III;
         for (int d = 0; d < 3; d++)
             p->fields[hs->f_x0].data[3 * i + d] = p->x[3 * i + d];
     }
+    if (halo && halo_agree(halo, 0, e))
+        return ERR_RUNTIME;
+    if (halo) {   /* the atoms' counts over the ranks (the points' are global already) */
+        double n[5] = {(double)hs->counts[HS_CORE], (double)hs->counts[HS_I],
+                       (double)hs->counts[HS_FIXED], (double)hs->natoms, (double)hs->ncopies};
+        halo_sum(halo, n, 5);
+        hs->counts[HS_CORE] = (long)n[0];
+        hs->counts[HS_I] = (long)n[1];
+        hs->counts[HS_FIXED] = (long)n[2];
+        hs->natoms = (long)n[3];
+        hs->ncopies = (long)n[4];
+    }
     return 0;
 }
 
-int handshake_create(struct handshake *hs, const struct handshake_layout *L,
-                     const struct handshake_crystal *cr, struct particles **p, int nthreads,
-                     struct err *e)
+int handshake_build_mpm(struct handshake *hs, const struct handshake_layout *L,
+                        const struct handshake_crystal *cr, int nthreads, struct err *e)
 {
     memset(hs, 0, sizeof *hs);
     hs->lay = *L;
@@ -390,7 +422,21 @@ int handshake_create(struct handshake *hs, const struct handshake_layout *L,
         uint32_t mk = m->pts.mask[q];
         hs->counts[mk & HS_MASK_II ? HS_II : mk & HS_MASK_III ? HS_III : HS_MPM]++;
     }
-    return add_md_particles(hs, p, e);
+    return 0;
+}
+
+int handshake_add_particles(struct handshake *hs, struct particles **p, const struct halo *halo,
+                            struct err *e)
+{
+    return add_md_particles(hs, p, halo, e);
+}
+
+int handshake_create(struct handshake *hs, const struct handshake_layout *L,
+                     const struct handshake_crystal *cr, struct particles **p, int nthreads,
+                     struct err *e)
+{
+    int rc = handshake_build_mpm(hs, L, cr, nthreads, e);
+    return rc ? rc : add_md_particles(hs, p, NULL, e);
 }
 
 int handshake_setup(struct handshake *hs, struct md *md, const struct handshake_layout *L,

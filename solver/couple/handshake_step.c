@@ -8,8 +8,10 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/halo.h"
 #include "core/units.h"
 #include "couple/handshake.h"
+#include "couple/handshake_bricks.h"
 #include "couple/handshake_thermal.h"
 
 void handshake_wrap(const struct handshake *hs, double x[3])
@@ -26,7 +28,7 @@ void handshake_wrap(const struct handshake *hs, double x[3])
 }
 
 /* Index lists of region I and of the copies, after any reordering. */
-static int reindex(struct handshake *hs, struct err *e)
+static int reindex_local(struct handshake *hs, struct err *e)
 {
     struct particles *p = hs->md->p;
     long nI = 0, nl = 0;
@@ -98,35 +100,50 @@ static int reindex(struct handshake *hs, struct err *e)
     return 0;
 }
 
+/* The lists of this rank; on bricks (collective) the extra set becomes
+ * region I of every rank (handshake_bricks.h). */
+static int reindex(struct handshake *hs, struct err *e)
+{
+    int rc = reindex_local(hs, e);
+    if (hs->md->halo && !(rc = halo_agree(hs->md->halo, rc, e)))
+        rc = hs_bricks_index(hs, e);
+    return rc;
+}
+
 /* Region I at the current time as material points: positions (inside the
  * grid: wrapped along periodic axes), velocities, and the potential part of
  * the virial stress over the atomic volume, so that V sigma = -W_i is the
  * atom's own virial (Chen 2014 Eq. (s3a) with the atom as the point).  The
  * kinetic part m v v is left out: the atoms' momentum reaches the nodes
  * through the mapping of their velocities (s2) already. */
-static void gather_region_I(struct handshake *hs)
+void handshake_region_I_row(const struct handshake *hs, int i, double x[3], double v[3],
+                            double s[6])
 {
     const struct particles *p = hs->md->p;
-    for (long k = 0; k < hs->nI; k++) {
-        int i = hs->idxI[k];
-        double *x = hs->xI + 3 * k;
-        for (int d = 0; d < 3; d++) {
-            x[d] = p->x[3 * i + d];
-            hs->vI[3 * k + d] = p->v[3 * i + d];
-        }
-        handshake_wrap(hs, x);
-        handshake_atom_stress(hs, i, hs->sI + 6 * k);
-        if (hs->thermal) {   /* at T: the thermal pressure too (handshake_thermal.h) */
-            const double *v = p->v + 3 * i;
-            double mv = p->mass[p->type[i]] * UNITS_MVV2E / hs->omega0, *s = hs->sI + 6 * k;
-            s[0] -= mv * v[0] * v[0];
-            s[1] -= mv * v[1] * v[1];
-            s[2] -= mv * v[2] * v[2];
-            s[3] -= mv * v[0] * v[1];
-            s[4] -= mv * v[0] * v[2];
-            s[5] -= mv * v[1] * v[2];
-        }
+    for (int d = 0; d < 3; d++) {
+        x[d] = p->x[3 * i + d];
+        v[d] = p->v[3 * i + d];
     }
+    handshake_wrap(hs, x);
+    handshake_atom_stress(hs, i, s);
+    if (hs->thermal) {   /* at T: the thermal pressure too (handshake_thermal.h) */
+        double mv = p->mass[p->type[i]] * UNITS_MVV2E / hs->omega0;
+        s[0] -= mv * v[0] * v[0];
+        s[1] -= mv * v[1] * v[1];
+        s[2] -= mv * v[2] * v[2];
+        s[3] -= mv * v[0] * v[1];
+        s[4] -= mv * v[0] * v[2];
+        s[5] -= mv * v[1] * v[2];
+    }
+}
+
+static int gather_region_I(struct handshake *hs, struct err *e)
+{
+    if (hs->md->halo)   /* bricks: the rows of every rank, in id order */
+        return hs_bricks_gather(hs, e);
+    for (long k = 0; k < hs->nI; k++)
+        handshake_region_I_row(hs, hs->idxI[k], hs->xI + 3 * k, hs->vI + 3 * k, hs->sI + 6 * k);
+    return 0;
 }
 
 /* Regions II and III to the MD: positions and (for output) velocities. */
@@ -170,7 +187,8 @@ int handshake_connect(struct handshake *hs, struct md *md, struct err *e)
         return rc;
     if ((rc = mpm_attach(&hs->mpm, &hs->extra, e)))
         return rc;
-    gather_region_I(hs);
+    if ((rc = gather_region_I(hs, e)))
+        return rc;
     sync_copies(hs);
     return mpm_prepare(&hs->mpm, e);
 }
@@ -189,9 +207,11 @@ int handshake_advance_mpm(struct handshake *hs, struct err *e)
     /* the bath closes the previous step (handshake_thermal.h) */
     if (hs->thermal && (rc = hs_thermal_bath(hs, e)))
         return rc;
-    gather_region_I(hs);
+    rc = gather_region_I(hs, e);
     if (m->timers)
         timer_stop(m->timers, TIMER_COUPLING);
+    if (rc)
+        return rc;
     double dt = md->dt;
     m->fext_scale = hs->ramp > 0 ? fmin(1.0, (m->time + dt) / hs->ramp) : 1.0;
     if ((rc = mpm_step(m, dt, e)))
@@ -241,6 +261,12 @@ void handshake_energy(const struct handshake *hs, struct handshake_energy *out)
         const double *v = p->v + 3 * i;
         ke += p->mass[p->type[i]] * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
         pe += p->pe[i] - hs->cr.pe_ref;
+    }
+    if (hs->md->halo) {   /* bricks: each rank's atoms (the MPM is whole on every rank) */
+        double s[2] = {ke, pe};
+        halo_sum(hs->md->halo, s, 2);
+        ke = s[0];
+        pe = s[1];
     }
     struct mpm_totals t;
     mpm_totals(&hs->mpm, &t);
@@ -301,7 +327,8 @@ int handshake_map_forces(struct handshake *hs, struct err *e)
     int rc;
     if (hs->md->nrebuilds != hs->seen_builds && (rc = reindex(hs, e)))
         return rc;
-    gather_region_I(hs);
+    if ((rc = gather_region_I(hs, e)))
+        return rc;
     struct mpm *m = &hs->mpm;
     if ((rc = mpm_locate_particles(m, e)))
         return rc;
@@ -312,6 +339,7 @@ int handshake_map_forces(struct handshake *hs, struct err *e)
 
 void handshake_free(struct handshake *hs)
 {
+    hs_bricks_free(hs);
     mpm_free(&hs->mpm);
     free(hs->idxI);
     free(hs->xI);

@@ -113,6 +113,9 @@ int handshake_impact_read(struct cfg_obj *t, struct impact_boundary *b)
     /* finite temperature: the bath on region II and the MPM's constants at T */
     h->thermal = thermal;
     h->bath.temperature = temp;
+    if (thermal)   /* the bath's sums and draws over region II are serial code */
+        b->no_bricks = "target.handshake.thermal (the Langevin bath on region II) is not "
+                       "decomposed into bricks";
     struct cfg_obj th, el;
     long seed = 1;
     /* read also when absent (its defaults are listed); given, it switches
@@ -150,26 +153,17 @@ static const char *const key_path[HS_KEY_COUNT] = {
     "target.handshake.levels",  "target.handshake.layer", "target.handshake.mpm",
     "target.cells"};
 
-int handshake_impact_prepare(struct impact_boundary *b, struct particles *p, struct box *box,
+/* The target is [lo, hi] (its atoms' positions, from the case's pass over
+ * every site: the same on every rank of a brick run), of atom type `type`
+ * in p's type table.  Builds the whole MPM side; the MD copies join in
+ * handshake_impact_add_particles. */
+int handshake_impact_prepare(struct impact_boundary *b, const double lo[3], const double hi[3],
+                             const struct particles *p, int type, struct box *box,
                              struct potential *pot, int nthreads, struct cfg *cfg)
 {
     struct hs_impact *h = b->data;
     struct err *e = cfg->err;
-    /* the target: the atoms that are not the cluster (lattice_fill puts a
-     * site at its lower corner) */
-    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
-    int type = -1;
-    for (int i = 0; i < p->n_owned; i++) {
-        if (p->mask[i] & IMPACT_GROUP_CLUSTER)
-            continue;
-        if (type < 0)
-            type = p->type[i];
-        for (int d = 0; d < 3; d++) {
-            lo[d] = fmin(lo[d], p->x[3 * i + d]);
-            hi[d] = fmax(hi[d], p->x[3 * i + d]);
-        }
-    }
-    if (type < 0)
+    if (type < 0 || !(lo[0] <= hi[0]))
         return cfg_error_at(cfg, "target.cells", "boundary 'handshake': the target has no atoms");
     struct handshake_crystal cr;
     double a0, a = h->a;
@@ -232,7 +226,7 @@ int handshake_impact_prepare(struct impact_boundary *b, struct particles *p, str
     char why[512];
     if (handshake_layout_check(&L, pot->cutoff, &key, why, sizeof why))
         return cfg_error_at(cfg, key_path[key], "%s", why);
-    rc = handshake_create(&h->hs, &L, &cr, &p, nthreads, e);
+    rc = handshake_build_mpm(&h->hs, &L, &cr, nthreads, e);
     h->built = 1;   /* handshake_free also undoes a partial build */
     if (rc)
         return rc;
@@ -244,6 +238,13 @@ int handshake_impact_prepare(struct impact_boundary *b, struct particles *p, str
             box->hi[d] = fmax(box->hi[d], L.md_hi[d] + shell);
     }
     return 0;
+}
+
+int handshake_impact_add_particles(struct impact_boundary *b, struct particles **p,
+                                   const struct halo *halo, struct err *e)
+{
+    struct hs_impact *h = b->data;
+    return handshake_add_particles(&h->hs, p, halo, e);
 }
 
 int handshake_impact_setup(struct impact_boundary *b, struct md *md, const double lo[3],

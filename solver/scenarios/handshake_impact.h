@@ -32,8 +32,11 @@
 #include "scenarios/impact_boundary.h"
 
 int handshake_impact_read(struct cfg_obj *target, struct impact_boundary *b);
-int handshake_impact_prepare(struct impact_boundary *b, struct particles *p, struct box *box,
+int handshake_impact_prepare(struct impact_boundary *b, const double lo[3], const double hi[3],
+                             const struct particles *p, int type, struct box *box,
                              struct potential *pot, int nthreads, struct cfg *cfg);
+int handshake_impact_add_particles(struct impact_boundary *b, struct particles **p,
+                                   const struct halo *halo, struct err *e);
 int handshake_impact_setup(struct impact_boundary *b, struct md *md, const double lo[3],
                            const double hi[3], struct err *e);
 int handshake_impact_pre_step(struct impact_boundary *b, struct md *md, struct err *e);

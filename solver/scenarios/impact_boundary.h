@@ -17,11 +17,22 @@
  *   read(target, b)        its keys in the `target` section (state it
  *                          allocates goes to b->data: destroy frees it,
  *                          also when reading or building fails);
- *   prepare(b, p, box, pot, nthreads, cfg)
- *                          before md_init, with the target and cluster
- *                          built: may append particles (the handshake: the
- *                          MD copies of the material points of regions II
- *                          and III) and widen the box for them (optional);
+ *   prepare(b, lo, hi, p, type, box, pot, nthreads, cfg)
+ *                          once the target's extent [lo, hi] (atom
+ *                          positions) and atom type are known, before the
+ *                          atoms are built and the box is cut into bricks:
+ *                          builds what the treatment owns (the handshake:
+ *                          the whole MPM side) and widens the box for the
+ *                          particles it will add (optional);
+ *   add_particles(b, &p, halo)
+ *                          with the target and cluster built (on bricks:
+ *                          the rank's atoms): appends the treatment's own
+ *                          particles (the handshake: the MD copies of the
+ *                          material points of regions II and III; on
+ *                          bricks those in the rank's brick) (optional,
+ *                          with prepare);
+ *   no_bricks              set by read when the case cannot run on MPI
+ *                          bricks (why, for the refusal);
  *   setup(b, md, lo, hi)   after md_init: mark groups in p->mask, set
  *                          md->frozen_mask and the thermostat, and tie
  *                          whatever it owns to the md;
@@ -64,11 +75,13 @@ struct impact_boundary {
     double temperature;       /* K */
     long nfixed, ndamped;
     int peratom;              /* per-atom virials every step (not just at snapshots) */
+    const char *no_bricks;    /* why this treatment cannot run on MPI bricks (NULL: it can) */
     void *data;               /* the treatment's own state */
 };
 
 struct result;
 struct ckpt;
+struct halo;
 
 struct impact_boundary_ops {
     const char *name;
@@ -78,8 +91,9 @@ struct impact_boundary_ops {
     int (*step)(struct impact_boundary *b, struct md *md, struct err *e);
     uint32_t (*exclude_mask)(const struct impact_boundary *b);
     void (*destroy)(struct impact_boundary *b);
-    int (*prepare)(struct impact_boundary *b, struct particles *p, struct box *box,
-                   struct potential *pot, int nthreads, struct cfg *cfg);
+    int (*prepare)(struct impact_boundary *b, const double lo[3], const double hi[3],
+                   const struct particles *p, int type, struct box *box, struct potential *pot,
+                   int nthreads, struct cfg *cfg);
     int (*pre_step)(struct impact_boundary *b, struct md *md, struct err *e);
     void (*report)(const struct impact_boundary *b, struct result *r);
     /* 1: all the treatment's state is rebuilt from the case (a checkpoint
@@ -90,6 +104,8 @@ struct impact_boundary_ops {
     int (*checkpoint_write)(const struct impact_boundary *b, struct ckpt *ck, const char *group);
     int (*checkpoint_read)(struct impact_boundary *b, struct ckpt *ck, const char *group);
     void (*checkpoint_sync)(struct impact_boundary *b);
+    int (*add_particles)(struct impact_boundary *b, struct particles **p, const struct halo *halo,
+                         struct err *e);
 };
 
 extern const struct impact_boundary_ops impact_boundaries[];   /* NULL-name terminated */

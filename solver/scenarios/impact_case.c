@@ -47,9 +47,13 @@
  * runs on the MD bricks: each rank builds its brick's target sites and
  * cluster atoms with the ids of a serial build, marks the layers on its
  * own atoms, and the analyses run on rank 0 over the gathered atoms at
- * analysis steps (analysis/md_analysis_bricks.h).  The handshake boundary
- * is not decomposed: refused on `decomposition: bricks`, whole on every
- * rank (with a note) under auto; `replicated` runs replicated data.
+ * analysis steps (analysis/md_analysis_bricks.h).  A handshake target
+ * runs on the same bricks: its MPM side is built whole on every rank
+ * before the bricks are cut (the box grows by the copies' shell), each
+ * rank keeps the copies of regions II and III in its brick, and region I
+ * reaches the MPM of every rank through couple/handshake_bricks.h; with
+ * target.handshake.thermal it is not decomposed (refused on `decomposition:
+ * bricks`, whole on every rank with a note under auto).
  */
 #include <math.h>
 #include <stdlib.h>
@@ -202,9 +206,10 @@ static int in_brick(const void *ctx, const double x[3])
     return decomp_owns(ctx, x);
 }
 
-/* Whether the run is split into bricks (*halo, new) or not (NULL); the
- * handshake boundary is not decomposed: refused when bricks are asked for,
- * a note under auto (every rank runs the whole case). */
+/* Whether the run is split into bricks (*halo, new) or not (NULL).  A
+ * boundary that cannot run on bricks (b->no_bricks: the handshake with its
+ * thermal bath) is refused when bricks are asked for, and runs whole on
+ * every rank with a note under auto. */
 static int plan_bricks(const struct impact_boundary *b, const struct case_common *common,
                        const struct box *box, double range, struct cfg *cfg, struct halo **halo)
 {
@@ -213,17 +218,14 @@ static int plan_bricks(const struct impact_boundary *b, const struct case_common
     *halo = NULL;
     if (!par || !par->mpi)
         return 0;
-    if (b->ops->prepare) {
+    if (b->no_bricks) {
         if (ps->decomposition == DECOMP_BRICKS || ps->grid_given)
             return cfg_error_at(cfg, ps->grid_given ? "parallel.grid" : "parallel.decomposition",
-                                "target.boundary: %s is not decomposed into bricks (the MPM "
-                                "layers and the handshake band across brick faces); use "
-                                "decomposition: replicated (or auto), or boundary: fixed_damped",
-                                b->ops->name);
+                                "%s; use decomposition: replicated (or auto), or the handshake "
+                                "without target.handshake.thermal", b->no_bricks);
         if (par->size > 1 && ps->decomposition == DECOMP_AUTO && par->rank == 0)
-            fprintf(stderr, "note: target.boundary: %s is not decomposed into bricks: each of "
-                            "the %d ranks runs the whole case and rank 0 writes (no speed-up; "
-                            "docs/parallel.md)\n", b->ops->name, par->size);
+            fprintf(stderr, "note: %s: each of the %d ranks runs the whole case and rank 0 "
+                            "writes (no speed-up; docs/parallel.md)\n", b->no_bricks, par->size);
         return 0;
     }
     return md_bricks_plan(par, ps, box, range, cfg, halo);
@@ -313,10 +315,14 @@ static int build(struct impact *c, const struct impact_spec *s, struct potential
         box.hi[d] = d == 2 ? cz + 2 * c->cluster_radius : c->hi[d];
         box.bc[d] = BOUNDARY_FREE;
     }
+    /* what the boundary owns (the handshake: its whole MPM side) and the
+     * room its particles need, before the box is cut into bricks */
+    if (b->ops->prepare)
+        rc = b->ops->prepare(b, c->lo, c->hi, p, tt, &box, pot, common->nthreads, cfg);
     /* bricks or not: each rank builds only its brick's atoms from here */
     struct halo *halo = NULL;
     double range = pot->cutoff + s->skin;
-    if ((rc = plan_bricks(b, common, &box, range, cfg, &halo))) {
+    if (rc || (rc = plan_bricks(b, common, &box, range, cfg, &halo))) {
         cluster_cut_free(&cut);
         particles_destroy(&p);
         return rc;
@@ -346,10 +352,13 @@ static int build(struct impact *c, const struct impact_spec *s, struct potential
     cluster_cut_free(&cut);
     if (halo)   /* counts the cluster atoms too; collective */
         rc = halo_adopt(halo, p, rc, e);
-    /* the boundary's own particles (the handshake: copies of regions II
-     * and III) and the room they need; never on bricks (plan_bricks) */
-    if (!rc && b->ops->prepare)
-        rc = b->ops->prepare(b, p, &box, pot, common->nthreads, cfg);
+    /* the boundary's own particles (the handshake: the copies of regions
+     * II and III; on bricks those in the rank's brick), counted too */
+    if (!rc && b->ops->add_particles) {
+        rc = b->ops->add_particles(b, &p, halo, e);
+        if (halo)
+            rc = halo_adopt(halo, p, rc, e);
+    }
     if (!rc && halo) {
         md_adopt(&c->md, p, halo);   /* the md owns the halo from here */
         /* the impact puts the atoms unevenly: move the cuts when asked */
