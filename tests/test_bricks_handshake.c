@@ -124,16 +124,9 @@ Test(bricks_handshake, checkpoint_moves_between_rank_counts, .timeout = 900)
     thb_must_run(path, 0, s1, NULL);
     thb_must_run(path, 2, m2, NULL);
     compare_hs(s1, m2, "uninterrupted 2 ranks");
-    struct {
-        const char *from;
-        int np;
-        const char *tag;
-    } cases[] = {{m2, 0, "2 to 1"}, {m2, 4, "2 to 4"}, {s1, 2, "1 to 2"}};
-    for (int k = 0; k < 3; k++) {
-        char dir[700];
-        thb_restart_at(path, cases[k].from, 50, cases[k].np, 10 + k, dir, sizeof dir);
-        compare_hs(s1, dir, cases[k].tag);
-    }
+    const struct thb_restart cases[] = {
+        {m2, 0, "2 to 1", NULL}, {m2, 4, "2 to 4", NULL}, {s1, 2, "1 to 2", NULL}};
+    thb_restarts_match(path, 50, cases, 3, s1, compare_hs);
 }
 
 /* The thermal handshake (a Langevin bath on region II) is not decomposed:
