@@ -306,7 +306,8 @@ static void check_internal_strain_controls(const struct bar_material *bm)
     for (int i = 0; i < p->n_owned; i++)
         if (p->mask[i] & (HS_MASK_II | HS_MASK_III)) {
             double dx[3];
-            hs_internal_shift(&b.hs.lay, cr->zeta, hs_sublattice(&b.hs.lay, x0 + 3 * i), F, dx);
+            hs_internal_shift(&b.hs.lay, b.hs.axes, cr->zeta,
+                              hs_sublattice(&b.hs.lay, b.hs.axes, x0 + 3 * i), F, dx);
             for (int d = 0; d < 3; d++)
                 p->x[3 * i + d] -= dx[d];
         }
@@ -638,8 +639,16 @@ Test(handshake_110_cases, bad_orientation_layouts_refused, .timeout = 60)
     expect_refusal("type: handshake_wave\n" CU110
                    "handshake: {regions: [2.5, 2.25, 2.5], fine: 5}\n" BAR110,
                    "handshake.regions", "multiples of 0.5 cell edges");
+    /* the thermal bar along [110] (test_handshake_thermal_lattices.c runs
+     * it): the same layout rules, e.g. [100]'s default regions refused */
+    cr_expect_eq(check_text("type: handshake_thermal\n" CU110
+                            "elastic: {c11: 164.2, c12: 119.25, c44: 68.27}\n"
+                            "thermal: {temperature: 300, lattice_constant: 3.63176}\n"
+                            "handshake: {regions: [2.5, 2.5, 2.5], fine: 5}\n",
+                            msg, sizeof msg),
+                 0, "%s", msg);
     expect_refusal("type: handshake_thermal\n" CU110
                    "elastic: {c11: 164.2, c12: 119.25, c44: 68.27}\n"
                    "thermal: {temperature: 300, lattice_constant: 3.63176}\n",
-                   "crystal.orientation", "handshake_thermal runs along [100] only");
+                   "handshake.regions", "(2 cell edges) wide, narrower than the potential cutoff");
 }

@@ -193,10 +193,13 @@ struct handshake_crystal {
  * for other lattices and for points off the sites.
  * hs_internal_shift: the site's displacement from its point (Å, box frame)
  * under the deformation gradient F (row-major, box frame), from the small
- * strain sym(F) - I turned to the cube axes. */
-int hs_sublattice(const struct handshake_layout *L, const double x0[3]);
-void hs_internal_shift(const struct handshake_layout *L, double zeta, int sublattice,
-                       const double F[9], double dx[3]);
+ * strain sym(F) - I turned to the cube axes.
+ * Both take the crystal axes hs_orientation_axes(L->orient) as `axes`,
+ * computed once (struct handshake's axes), not per site and step. */
+int hs_sublattice(const struct handshake_layout *L, const double axes[3][3],
+                  const double x0[3]);
+void hs_internal_shift(const struct handshake_layout *L, const double axes[3][3], double zeta,
+                       int sublattice, const double F[9], double dx[3]);
 
 struct hs_thermal;
 struct hs_bricks;
@@ -204,6 +207,8 @@ struct hs_bricks;
 struct handshake {
     struct handshake_layout lay;
     struct handshake_crystal cr;
+    double axes[3][3];         /* hs_orientation_axes(lay.orient), set once by
+                                  handshake_create (hs_internal_shift) */
     struct md *md;             /* borrowed (see handshake_create) */
     struct mpm mpm;
     double omega0;             /* atomic volume a^3 / (sites per cubic cell) */
@@ -275,6 +280,13 @@ int handshake_setup(struct handshake *hs, struct md *md, const struct handshake_
 int handshake_crystal_of_lattice(struct potential *pot, enum hs_lattice lattice,
                                  const char *element, double a_min, double a_max,
                                  struct handshake_crystal *cr, double *a0, struct err *e);
+/* Diamond's zeta (*zeta; 0 for other lattices) of the potential's crystal
+ * cr at the lattice constant a, e.g. a(T) of an MD region at T: the
+ * relaxed sublattice shift of the static crystal at that a (the MPM's C44
+ * at T, from MD averages, is the relaxed one by construction). */
+int handshake_crystal_zeta_at(struct potential *pot, enum hs_lattice lattice,
+                              const struct handshake_crystal *cr, double a, double *zeta,
+                              struct err *e);
 int handshake_crystal_from_potential(struct potential *pot, const char *element, double a_min,
                                      double a_max, struct handshake_crystal *cr, double *a0,
                                      struct err *e);

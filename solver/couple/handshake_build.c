@@ -380,6 +380,7 @@ int handshake_build_mpm(struct handshake *hs, const struct handshake_layout *L,
     memset(hs, 0, sizeof *hs);
     hs->lay = *L;
     hs->cr = *cr;
+    hs_orientation_axes(L->orient, hs->axes);
     double basis[8][3], P[3];
     const int nb = hs_cell_basis(L->lattice, L->orient, basis, P);
     handshake_layout_period(L, P);

@@ -111,12 +111,13 @@ void hs_oriented_moduli(enum hs_orientation o, double c11, double c12, double c4
     *cxy = *cxz = c12;
 }
 
-int hs_sublattice(const struct handshake_layout *L, const double x0[3])
+int hs_sublattice(const struct handshake_layout *L, const double axes[3][3],
+                  const double x0[3])
 {
     if (L->lattice != HS_LATTICE_DIAMOND)
         return 0;
-    double R[3][3], r[3];
-    hs_orientation_axes(L->orient, R);
+    const double(*R)[3] = axes;
+    double r[3];
     for (int d = 0; d < 3; d++)
         r[d] = x0[d] - L->lat_origin[d];
     /* 4/a times the cube coordinates: even on the first sublattice, odd
@@ -136,15 +137,15 @@ int hs_sublattice(const struct handshake_layout *L, const double x0[3])
     return odd == 3 && ((sum % 4) + 4) % 4 == 3 ? 1 : 0;
 }
 
-void hs_internal_shift(const struct handshake_layout *L, double zeta, int sublattice,
-                       const double F[9], double dx[3])
+void hs_internal_shift(const struct handshake_layout *L, const double axes[3][3], double zeta,
+                       int sublattice, const double F[9], double dx[3])
 {
     dx[0] = dx[1] = dx[2] = 0;
     if (!sublattice || zeta == 0)
         return;
     /* small strain in the box, then in the cube axes: eps_c = R^T eps R */
-    double R[3][3], eps[3][3], ec[3][3];
-    hs_orientation_axes(L->orient, R);
+    const double(*R)[3] = axes;
+    double eps[3][3], ec[3][3];
     for (int i = 0; i < 3; i++)
         for (int j = 0; j < 3; j++)
             eps[i][j] = 0.5 * (F[3 * i + j] + F[3 * j + i]) - (i == j);
@@ -199,6 +200,24 @@ int handshake_crystal_of_lattice(struct potential *pot, enum hs_lattice lattice,
         cr->zeta = ce.zeta;
     }
     cr->pe_ref = -ecoh;
+    return rc;
+}
+
+int handshake_crystal_zeta_at(struct potential *pot, enum hs_lattice lattice,
+                              const struct handshake_crystal *cr, double a, double *zeta,
+                              struct err *e)
+{
+    *zeta = 0;
+    if (lattice != HS_LATTICE_DIAMOND)
+        return 0;
+    /* the static relaxation at the expanded lattice: the thermal mean of
+     * the sublattice shift under a shear is this to first order in the
+     * anharmonicity (quasi-harmonic), as a(T) is the thermal part */
+    struct crystal_spec spec = {lattice_style_of(lattice), cr->element, cr->mass, 3};
+    struct crystal_elastic ce;
+    int rc = crystal_elastic_constants(pot, &spec, a, &ce, e);
+    if (!rc)
+        *zeta = ce.zeta;
     return rc;
 }
 

@@ -159,8 +159,9 @@ static void sync_copies(struct handshake *hs)
         double x[3] = {pt->x[3 * q], pt->x[3 * q + 1], pt->x[3 * q + 2]};
         if (hs->cr.zeta != 0) {   /* diamond: the sublattice's internal shift */
             double dx[3];
-            hs_internal_shift(&hs->lay, hs->cr.zeta, hs_sublattice(&hs->lay, pt->x0 + 3 * q),
-                              pt->F + 9 * q, dx);
+            hs_internal_shift(&hs->lay, hs->axes, hs->cr.zeta,
+                              hs_sublattice(&hs->lay, hs->axes, pt->x0 + 3 * q), pt->F + 9 * q,
+                              dx);
             for (int d = 0; d < 3; d++)
                 x[d] += dx[d];
         }
@@ -288,7 +289,8 @@ int handshake_apply_strain(struct handshake *hs, const double eps[3], const doub
     const double Fd[9] = {1 + eps[0], 0, 0, 0, 1 + eps[1], 0, 0, 0, 1 + eps[2]};
     for (int i = 0; i < p->n_owned; i++) {
         double dx[3];
-        hs_internal_shift(&hs->lay, hs->cr.zeta, hs_sublattice(&hs->lay, x0 + 3 * i), Fd, dx);
+        hs_internal_shift(&hs->lay, hs->axes, hs->cr.zeta,
+                          hs_sublattice(&hs->lay, hs->axes, x0 + 3 * i), Fd, dx);
         for (int d = 0; d < 3; d++)
             p->x[3 * i + d] = origin[d] + (1 + eps[d]) * (x0[3 * i + d] - origin[d]) + dx[d];
     }

@@ -109,6 +109,11 @@ int hs_case_build(struct hs_case *c, enum mpm_face_bc x_hi_face, int end_margin,
         a = c->a_given;
     c->a = a;
     struct handshake_crystal cr = c->md_cr;
+    /* at a given a (an MD region at T): diamond's copies of region III
+     * take the internal shift of the crystal at that a */
+    if (c->a_given > 0 &&
+        (rc = handshake_crystal_zeta_at(c->pot, c->lattice, &c->md_cr, a, &cr.zeta, e)))
+        return cfg_error_at(cfg, "crystal", "%s", e->msg);
     if (c->c_user[0] > 0) {
         cr.c11 = c->c_user[0] / UNITS_EVA3_TO_GPA;
         cr.c12 = c->c_user[1] / UNITS_EVA3_TO_GPA;
@@ -578,6 +583,7 @@ int hs_case_output_end(struct hs_case *c, struct run *run, struct err *e)
      * parameter that places regions II and III (handshake.h) */
     result_metric(res, "c44_unrelaxed_md", c->md_cr.c44_unrelaxed * G, "GPa");
     result_metric(res, "kleinman_zeta", c->md_cr.zeta, "1");
+    result_metric(res, "kleinman_zeta_mpm", hs->cr.zeta, "1");   /* at a(T) when given */
     result_metric(res, "c11_mpm", hs->cr.c11 * G, "GPa");
     result_metric(res, "c12_mpm", hs->cr.c12 * G, "GPa");
     result_metric(res, "c44_mpm", hs->cr.c44 * G, "GPa");

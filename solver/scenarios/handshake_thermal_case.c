@@ -90,10 +90,6 @@ static int thermal_read(struct cfg_obj *root, const struct case_common *common, 
     /* the MPM at T: its lattice and its constants are those of T, not 0 K
      * (checked in deep reads: check, run; a listing of the keys is shallow) */
     int deep = !root->cfg->shallow;
-    if (!rc && c->orient != HS_ORIENT_100)
-        rc = cfg_error_at(root->cfg, "crystal.orientation",
-                          "handshake_thermal runs along [100] only (orientation 110 is built "
-                          "for handshake_wave, handshake_static and handshake_packet)");
     if (!rc && deep && !(c->a_given > 0))
         rc = cfg_error_at(root->cfg, "thermal.lattice_constant",
                           "give the lattice constant at %g K (the metric lattice_constant of "
