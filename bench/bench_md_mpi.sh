@@ -12,6 +12,10 @@
 #   BENCH md_eam_256k_peak_rss_mib_1_rank        peak resident memory of the serial run
 #   BENCH md_eam_256k_peak_rss_mib_per_rank_2_ranks   largest peak over the 2 ranks
 #   BENCH md_eam_256k_rss_per_rank_2_over_1      the two above, divided
+#   BENCH md_eam_256k_rss_per_rank_2_over_1_mpirun  the same over a 1-rank run
+#                                                under mpirun (`mpirun -np 1`, once):
+#                                                the MPI runtime's own memory (about
+#                                                7 MiB a process) on both sides
 #   BENCH md_eam_256k_comm_ms_per_step_2_ranks   rank 0's `comm` timer per step on 2
 #                                                ranks (ghost builds, position, force and
 #                                                virial passes; docs/parallel.md)
@@ -52,6 +56,12 @@ while [ "$i" -lt "$REPEAT" ]; do
         --threads 1 --quiet --no-progress
     loop_seconds "$out" >> "$WORK/mdmpi.s1"
     echo "$(cat "$WORK/mdmpi.rss") / 1024" | bc -l >> "$WORK/mdmpi.r1"
+    if [ "$i" = 1 ]; then   # memory only: once
+        out="$WORK/mdmpi1m-$i"
+        mpirun -np 1 "$BIN/cascade-solver" run "$CASE" --out "$out" --threads 1 --quiet --no-progress
+        tr -d ' \n' < "$out/result.json" | grep -o '"peak_rss_mib":[0-9.]*' | head -n1 \
+            | cut -d: -f2 > "$WORK/mdmpi.r1m"
+    fi
     out="$WORK/mdmpi2-$i"
     $MPIRUN "$BIN/cascade-solver" run "$CASE" --out "$out" --threads 1 --quiet --no-progress
     loop_seconds "$out" >> "$WORK/mdmpi.s2"
@@ -80,6 +90,9 @@ bench_line md_eam_256k_peak_rss_mib_1_rank "$(printf '%.1f' "$r1")" MiB "serial"
 bench_line md_eam_256k_peak_rss_mib_per_rank_2_ranks "$(printf '%.1f' "$r2")" MiB "largest rank"
 bench_line md_eam_256k_rss_per_rank_2_over_1 "$(echo "$r2 / $r1" | bc -l | xargs printf '%.3f')" x \
     "target 0.6"
+r1m=$(cat "$WORK/mdmpi.r1m")
+bench_line md_eam_256k_rss_per_rank_2_over_1_mpirun "$(echo "$r2 / $r1m" | bc -l | xargs printf '%.3f')" x \
+    "1 rank under mpirun: $(printf '%.1f' "$r1m") MiB"
 c2=$(median < "$WORK/mdmpi.c2")
 bench_line md_eam_256k_comm_ms_per_step_2_ranks "$(echo "$c2 * 1000 / $steps" | bc -l | xargs printf '%.3f')" ms \
     "rank 0, exchange of the 1 x 1 x 2 grid"

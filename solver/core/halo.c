@@ -1,6 +1,7 @@
 /* halo: ghosts, migration and gathers of a brick decomposition (halo.h). */
 #include "core/halo.h"
 
+#include <limits.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -230,10 +231,84 @@ static int push_send(struct halo_swap *sw, int i, struct err *e)
     return 0;
 }
 
-int halo_build(struct halo *h, struct particles *p, double range, struct err *e)
+/* Ghost records travel in pieces of at most this many (the build's
+ * buffers stay a few hundred kB whatever the face's atom count: memory per
+ * rank is what a decomposition is for). */
+enum { HALO_CHUNK = 4096 };
+
+/* The widest row a forward or reverse pass moves: the per-atom virial (6)
+ * or an extra field. */
+static size_t widest_row(const struct particles *p)
+{
+    int nc = 6;
+    for (int k = 0; k < p->nfields; k++)
+        if (p->fields[k].ncomp > nc)
+            nc = p->fields[k].ncomp;
+    return (size_t)nc * sizeof(double);
+}
+
+/* The particles of sw->send[0, nsend) to sw->dest as ghost records,
+ * shifted by sw->shift along d; what sw->src sends is appended as ghosts.
+ * The counts go first, then the records in pieces of HALO_CHUNK. */
+static int swap_ghosts(struct halo *h, struct particles *p, struct halo_swap *sw, int d,
+                       struct err *e)
 {
     const struct decomp *dc = &h->dc;
     size_t rec = halo_ghost_record_size(p);
+    long nout = sw->dest >= 0 ? sw->nsend : 0, nin = 0;
+    int rc = collective_rc(h, parallel_sendrecv_known(dc->par, sw->dest, &nout, sizeof nout,
+                                                      sw->src, &nin, sizeof nin, e), e);
+    if (rc)
+        return rc;
+    if (sw->src < 0)
+        nin = 0;
+    int at = p->n_owned + p->n_ghost;
+    rc = nin < 0 || nin > INT_MAX - at
+             ? err_set(e, ERR_RUNTIME, "halo swap: %ld ghosts announced", nin)
+             : particles_reserve(p, at + (int)nin, e);
+    if (!rc)
+        rc = grow(&h->sbuf, &h->scap, rec * HALO_CHUNK, e);
+    if (!rc)
+        rc = grow(&h->rbuf, &h->rcap, rec * HALO_CHUNK, e);
+    if ((rc = collective_rc(h, rc, e)))
+        return rc;
+    /* the number of pieces differs between ranks: no collective call in
+     * the loop (a failure is agreed on after it; a local one -- none is
+     * expected with pieces this small -- leaves the records unsent) */
+    for (long done_out = 0, done_in = 0; !rc && (done_out < nout || done_in < nin);) {
+        long kout = nout - done_out < HALO_CHUNK ? nout - done_out : HALO_CHUNK;
+        long kin = nin - done_in < HALO_CHUNK ? nin - done_in : HALO_CHUNK;
+        for (long k = 0; k < kout; k++)
+            halo_pack_ghost(p, sw->send[done_out + k], d, sw->shift,
+                            (unsigned char *)h->sbuf + rec * (size_t)k);
+        /* a side that is done takes no part (MPI_PROC_NULL): between two
+         * ranks as many pieces travel as the sender has, however many
+         * the ranks on either side exchange with their other neighbours */
+        /* one neighbour on both sides (a periodic axis of one or two
+         * bricks): the counts are symmetric, every piece is a pair */
+        int self = sw->dest == sw->src;
+        rc = parallel_sendrecv_known(dc->par, kout || self ? sw->dest : -1, h->sbuf,
+                                     rec * (size_t)kout, kin || self ? sw->src : -1, h->rbuf,
+                                     rec * (size_t)kin, e);
+        if (rc)
+            break;
+        for (long k = 0; k < kin; k++)
+            halo_unpack_ghost(p, at + (int)(done_in + k),
+                              (const unsigned char *)h->rbuf + rec * (size_t)k);
+        done_out += kout;
+        done_in += kin;
+    }
+    if ((rc = collective_rc(h, rc, e)))
+        return rc;
+    sw->first = at;
+    sw->nrecv = (int)nin;
+    p->n_ghost += (int)nin;
+    return 0;
+}
+
+int halo_build(struct halo *h, struct particles *p, double range, struct err *e)
+{
+    const struct decomp *dc = &h->dc;
     int rc = 0;
     p->n_ghost = 0;
     h->nswap = 0;
@@ -246,12 +321,15 @@ int halo_build(struct halo *h, struct particles *p, double range, struct err *e)
                            "the bricks along %c are %g Å thick, thinner than the interaction "
                            "range %g Å (the box shrank): run on fewer ranks along %c",
                            "xyz"[d], decomp_min_width(dc, d), range, "xyz"[d]);
+    long widest = 1;   /* the most particles one swap sends or receives */
     for (int d = 0; d < 3 && !rc; d++) {
         if (dc->grid[d] == 1 && !dc->periodic[d])
             continue;
         int nbefore = p->n_owned + p->n_ghost;
         double L = dc->bhi[d] - dc->blo[d];
         for (int dir = 0; dir < 2 && !rc; dir++) {
+            if (h->half_shell && d == 2 && dir == 1)
+                continue;   /* the ghosts below the lower z face: half_shell in halo.h */
             struct halo_swap *sw = &h->swap[h->nswap++];
             sw->dim = d;
             sw->dest = dc->nbr[d][dir];
@@ -268,46 +346,35 @@ int halo_build(struct halo *h, struct particles *p, double range, struct err *e)
                     if (dir == 0 ? x < dc->lo[d] + range : x >= dc->hi[d] - range)
                         rc = push_send(sw, i, e);
                 }
-            if (!rc)
-                rc = grow(&h->sbuf, &h->scap, rec * (size_t)sw->nsend, e);
-            if (!rc)   /* the reverse sums receive as much as was sent */
-                rc = grow(&h->rbuf, &h->rcap, rec * (size_t)sw->nsend, e);
-            for (int k = 0; !rc && k < sw->nsend; k++)
-                halo_pack_ghost(p, sw->send[k], d, sw->shift, (unsigned char *)h->sbuf + rec * (size_t)k);
-            size_t got = 0;
             rc = collective_rc(h, rc, e);
             if (!rc)
-                rc = collective_rc(h, parallel_sendrecv(dc->par, sw->dest, h->sbuf,
-                                                        rec * (size_t)sw->nsend, sw->src, &h->rbuf,
-                                                        &h->rcap, &got, e), e);
-            if (rc)
-                break;
-            int nin = (int)(got / rec), at = p->n_owned + p->n_ghost;
-            rc = collective_rc(h, particles_reserve(p, at + nin, e), e);
-            if (!rc)   /* the reverse sums send as much as was received */
-                rc = collective_rc(h, grow(&h->sbuf, &h->scap, rec * (size_t)nin, e), e);
-            if (rc)
-                break;
-            for (int k = 0; k < nin; k++)
-                halo_unpack_ghost(p, at + k, (const unsigned char *)h->rbuf + rec * (size_t)k);
-            sw->first = at;
-            sw->nrecv = nin;
-            p->n_ghost += nin;
+                rc = swap_ghosts(h, p, sw, d, e);
+            if (!rc) {
+                if (sw->nsend > widest) widest = sw->nsend;
+                if (sw->nrecv > widest) widest = sw->nrecv;
+            }
         }
     }
+    /* the forward and reverse passes share sbuf: a forward pass packs the
+     * sent rows into it and receives into the array, a reverse pass sends
+     * from the array and receives the rows into it */
+    if (!rc)
+        rc = collective_rc(h, grow(&h->sbuf, &h->scap, widest_row(p) * (size_t)widest, e), e);
     return rc;
 }
 
 /* One forward pass: values of the sent particles to the received ghosts,
  * coordinate `dim` shifted (with_shift).  Sizes are known from the build
- * (one message per swap), and the buffers were sized there for whole
- * ghost records (at least a row of the virial or of any field: the widest
- * arrays passed here), so this cannot run out of memory. */
+ * (one message per swap), and sbuf was sized there for the widest row
+ * passed here (the virial or an extra field) of the largest swap, so this
+ * does not allocate (a wider row than that grows it). */
 static int forward(struct halo *h, double *arr, int ncomp, int with_shift, struct err *e)
 {
     size_t row = (size_t)ncomp * sizeof(double);
     for (int s = 0; s < h->nswap; s++) {
         struct halo_swap *sw = &h->swap[s];
+        if (row * (size_t)sw->nsend > h->scap && grow(&h->sbuf, &h->scap, row * (size_t)sw->nsend, e))
+            return ERR_RUNTIME;
         double *sb = h->sbuf;
         for (int k = 0; k < sw->nsend; k++) {
             memcpy(sb + (size_t)ncomp * k, arr + (size_t)ncomp * sw->send[k], row);
@@ -347,12 +414,15 @@ int halo_reverse_add(struct halo *h, const struct particles *p, double *arr, int
     size_t row = (size_t)ncomp * sizeof(double);
     for (int s = h->nswap - 1; s >= 0; s--) {
         struct halo_swap *sw = &h->swap[s];
+        if (row * (size_t)sw->nsend > h->scap &&
+            grow(&h->sbuf, &h->scap, row * (size_t)sw->nsend, &e))
+            return ERR_RUNTIME;
         int rc = parallel_sendrecv_known(h->dc.par, sw->src, arr + (size_t)ncomp * sw->first,
-                                         row * (size_t)sw->nrecv, sw->dest, h->rbuf,
+                                         row * (size_t)sw->nrecv, sw->dest, h->sbuf,
                                          row * (size_t)sw->nsend, &e);
         if (rc)
             return rc;
-        const double *rb = h->rbuf;
+        const double *rb = h->sbuf;
         for (int k = 0; k < sw->nsend; k++)
             for (int c = 0; c < ncomp; c++)
                 arr[(size_t)ncomp * sw->send[k] + c] += rb[(size_t)ncomp * k + c];
@@ -395,14 +465,18 @@ int halo_gather(struct halo *h, const struct particles *p, struct particles **ou
 {
     *out = NULL;
     size_t rec = halo_record_size(p);
-    int rc = grow(&h->sbuf, &h->scap, rec * (size_t)p->n_owned, e);
+    /* a buffer of its own: the brick's every atom, given back at once
+     * (sbuf stays the size of a swap) */
+    unsigned char *mine = malloc(rec * (size_t)(p->n_owned ? p->n_owned : 1));
+    int rc = mine ? 0 : err_nomem(e, "gather buffer");
     for (int i = 0; !rc && i < p->n_owned; i++)
-        halo_pack(p, i, -1, 0.0, (unsigned char *)h->sbuf + rec * (size_t)i);
+        halo_pack(p, i, -1, 0.0, mine + rec * (size_t)i);
     rc = collective_rc(h, rc, e);
     void *all = NULL;
     size_t bytes = 0;
     if (!rc)
-        rc = parallel_gather_bytes(h->dc.par, h->sbuf, rec * (size_t)p->n_owned, &all, &bytes, e);
+        rc = parallel_gather_bytes(h->dc.par, mine, rec * (size_t)p->n_owned, &all, &bytes, e);
+    free(mine);
     if (rc || !all)
         return rc;
     int n = (int)(bytes / rec);

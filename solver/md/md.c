@@ -138,6 +138,8 @@ int md_init(struct md *md, struct particles *p, const struct box *box, struct po
     md->thermo.style = THERMOSTAT_NONE;
     md->thermo.group_mask = 1u;
     md->nl = nlist_create(pot->list_kind, pot->cutoff, skin);
+    if (md->halo)   /* a half list never holds a ghost below the brick (core/halo.h) */
+        md->halo->half_shell = pot->list_kind == NLIST_HALF;
     if (!md->nl)
         return err_nomem(e, "neighbor list");
     for (int d = 0; d < 3; d++)
