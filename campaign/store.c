@@ -534,6 +534,11 @@ int store_claim(struct store *st, long long job_id, const char *job_dir, enum cl
                 long long *run_id, int *attempt, char *run_dir, size_t run_dir_len,
                 struct err *e)
 {
+    /* a failed statement in between (a heartbeat's I/O error) may have
+     * rolled the pending outcome's transaction back: a savepoint would then
+     * open a transaction of its own, and the claim commit without it */
+    if (st->pending && sqlite3_get_autocommit(st->db))
+        return store_flush(st, e);   /* fails: pending_lost */
     int nested = st->pending;
     int rc = nested ? db_exec(st->db, "SAVEPOINT claim", e) : db_begin(st->db, e);
     if (rc) {
