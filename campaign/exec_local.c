@@ -12,6 +12,7 @@
 
 #include <errno.h>
 #include <fcntl.h>
+#include <malloc.h>
 #include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -72,6 +73,15 @@ struct exec_local *exec_local_create(int nslots)
     if (!x)
         return NULL;
     x->nslots = nslots < 1 ? 1 : nslots;
+    /* A job's set-up runs on the runner's memory (spawn.h), often on the
+     * other core; every page the runner later gives back to the kernel then
+     * costs a TLB shoot-down there (an interrupt, a VM exit under a
+     * hypervisor).  glibc gave back the top of the heap after nearly every
+     * SQLite statement with a trigger (its statement journal and trigger
+     * frames, freed at the statement's end) and faulted it in again on the
+     * next: 10-15 % of the runner's CPU time per job (docs/bench.md).  The
+     * runner's heap stays at its high-water mark instead (a few MiB). */
+    mallopt(M_TRIM_THRESHOLD, 64 << 20);
     x->slots = mem_calloc((size_t)x->nslots, sizeof *x->slots);
     x->env = childenv_create();
     sys_hostname(x->host, sizeof x->host);

@@ -3,6 +3,7 @@
 
 #include <dirent.h>
 #include <errno.h>
+#include <fcntl.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -175,11 +176,17 @@ int launch_from_json(struct launch_spec *L, const json_t *j, struct err *e)
 }
 
 /* mkdir that accepts an existing directory, and only a directory; returns
- * 0 or the errno (EEXIST for a file in the way), with e set. */
-static int mkdir_one(const char *path, struct err *e)
+ * 0 or the errno (EEXIST for a file in the way), with e set.  *created (if
+ * not NULL) says whether this call made it. */
+static int mkdir_one(const char *path, int *created, struct err *e)
 {
-    if (wfile_mkdir(path, 0777) == 0)
+    if (created)
+        *created = 0;
+    if (wfile_mkdir(path, 0777) == 0) {
+        if (created)
+            *created = 1;
         return 0;
+    }
     int err = errno;
     struct stat sb;
     if (err == EEXIST && stat(path, &sb) == 0 && S_ISDIR(sb.st_mode))
@@ -197,21 +204,22 @@ static int mkdir_one(const char *path, struct err *e)
  * on ENOENT (or ENOTDIR) its parent, recursively.  Existing ancestors are
  * never touched: a mkdir that fails with EEXIST still takes the parent
  * directory's lock, which in a busy /tmp costs milliseconds per call.  A file
- * in the way is found where its child fails, so the message names it. */
-static int mkdirs_up(char *buf, struct err *e)
+ * in the way is found where its child fails, so the message names it.
+ * *created (if not NULL): whether the leaf was made by this call. */
+static int mkdirs_up(char *buf, int *created, struct err *e)
 {
-    int err = mkdir_one(buf, e);
+    int err = mkdir_one(buf, created, e);
     if (err == 0 || (err != ENOENT && err != ENOTDIR))
         return err;
     char *slash = strrchr(buf, '/');
     if (!slash || slash == buf)
         return err;   /* the root or a relative first component: nothing above */
     *slash = '\0';
-    int perr = mkdirs_up(buf, e);
+    int perr = mkdirs_up(buf, NULL, e);
     *slash = '/';
     if (perr)
         return perr;
-    return mkdir_one(buf, e);
+    return mkdir_one(buf, created, e);
 }
 
 int launch_mkdirs(const char *path, struct err *e)
@@ -222,7 +230,7 @@ int launch_mkdirs(const char *path, struct err *e)
     /* trailing slashes would make an empty last component */
     for (size_t n = strlen(buf); n > 1 && buf[n - 1] == '/'; n--)
         buf[n - 1] = '\0';
-    return mkdirs_up(buf, e) ? ERR_RUNTIME : 0;
+    return mkdirs_up(buf, NULL, e) ? ERR_RUNTIME : 0;
 }
 
 void launch_attempt_dir(const char *job_dir, int attempt, char *out, size_t len)
@@ -230,11 +238,70 @@ void launch_attempt_dir(const char *job_dir, int attempt, char *out, size_t len)
     snprintf(out, len, "%s/attempt-%d", job_dir, attempt);
 }
 
+/* Create an attempt directory; *fresh = 1 when this call created it (so it
+ * is empty), 0 when it was there already.  A first attempt's job directory
+ * is new in nearly every case, so it is made first rather than after the
+ * attempt's mkdir failed for want of it (one path walk and one failed call
+ * less per job); a later attempt's exists, so its directory is made leaf
+ * up as launch_mkdirs does. */
+static int mkdir_attempt(const char *run_dir, int *fresh, struct err *e)
+{
+    char buf[4096];
+    *fresh = 0;
+    if (snprintf(buf, sizeof buf, "%s", run_dir) >= (int)sizeof buf)
+        return err_set(e, ERR_RUNTIME, "cannot create directory %.64s...: path too long",
+                       run_dir);
+    char *slash = strrchr(buf, '/');
+    if (slash && slash != buf && strcmp(slash + 1, "attempt-1") == 0) {
+        *slash = '\0';
+        int err = mkdirs_up(buf, NULL, e);
+        *slash = '/';
+        if (err)
+            return ERR_RUNTIME;
+    }
+    return mkdirs_up(buf, fresh, e) ? ERR_RUNTIME : 0;
+}
+
+/* case.yaml into a directory this runner has just created: nobody else
+ * knows the directory yet, so the file is written in place (no temporary
+ * file and rename); the job starts only after it is complete. */
+static int write_new_file(const char *path, const char *text, struct err *e)
+{
+    int fd = fault_write(ENOSPC) != 0 ? -1
+                                       : open(path, O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+    if (fd < 0)
+        return err_set(e, ERR_RUNTIME, "cannot write %s: %s", path, strerror(errno));
+    size_t n = strlen(text), done = 0;
+    while (done < n) {
+        ssize_t w = fault_write(ENOSPC) != 0 ? -1 : write(fd, text + done, n - done);
+        if (w < 0 && errno == EINTR)
+            continue;
+        if (w <= 0) {
+            int err = w < 0 ? errno : EIO;
+            close(fd);
+            unlink(path);
+            return err_set(e, ERR_RUNTIME, "cannot write %s: %s", path, strerror(err));
+        }
+        done += (size_t)w;
+    }
+    if (close(fd) != 0) {
+        int err = errno;
+        unlink(path);
+        return err_set(e, ERR_RUNTIME, "cannot write %s: %s", path, strerror(err));
+    }
+    return 0;
+}
+
 int launch_setup_dir(const struct launch_spec *L, struct err *e)
 {
-    int rc = launch_mkdirs(L->run_dir, e);
+    int fresh = 0;
+    int rc = mkdir_attempt(L->run_dir, &fresh, e);
     if (rc)
         return rc;
+    char path[4096 + 16];
+    snprintf(path, sizeof path, "%s/case.yaml", L->run_dir);
+    if (fresh)
+        return write_new_file(path, L->case_yaml, e);
     /* attempt numbers are unique in a database, but runs/ may have served
      * another database (or one deleted since): start from an empty directory */
     DIR *d = opendir(L->run_dir);
@@ -244,15 +311,13 @@ int launch_setup_dir(const struct launch_spec *L, struct err *e)
     while ((de = readdir(d))) {
         if (strcmp(de->d_name, ".") == 0 || strcmp(de->d_name, "..") == 0)
             continue;
-        char path[4096 + 256];
-        snprintf(path, sizeof path, "%s/%s", L->run_dir, de->d_name);
+        char entry[4096 + 256];
+        snprintf(entry, sizeof entry, "%s/%s", L->run_dir, de->d_name);
         struct stat sb;
-        if (lstat(path, &sb) == 0 && !S_ISDIR(sb.st_mode))
-            unlink(path);
+        if (lstat(entry, &sb) == 0 && !S_ISDIR(sb.st_mode))
+            unlink(entry);
     }
     closedir(d);
-    char path[4096 + 16];
-    snprintf(path, sizeof path, "%s/case.yaml", L->run_dir);
     return wfile_write_text(path, L->case_yaml, 0, e);
 }
 
@@ -265,9 +330,17 @@ int launch_point_current(const char *run_dir, struct err *e)
         return 0;
     char link[4096 + 64], tmp[4096 + 96];
     snprintf(link, sizeof link, "%.*s/current", (int)(base - run_dir), run_dir);
+    /* relative, so the runs directory can be moved or mounted elsewhere */
+    if (fault_write(ENOSPC) != 0)
+        return err_set(e, ERR_RUNTIME, "cannot create %s: %s", link, strerror(errno));
+    /* the job's first link is created in place (symlink is atomic); an
+     * existing one is replaced by renaming a new link over it */
+    if (symlink(base + 1, link) == 0)
+        return 0;
+    if (errno != EEXIST)
+        return err_set(e, ERR_RUNTIME, "cannot create %s: %s", link, strerror(errno));
     snprintf(tmp, sizeof tmp, "%s.%d", link, (int)getpid());
     unlink(tmp);
-    /* relative, so the runs directory can be moved or mounted elsewhere */
     if (fault_write(ENOSPC) != 0 || symlink(base + 1, tmp) != 0)
         return err_set(e, ERR_RUNTIME, "cannot create %s: %s", tmp, strerror(errno));
     if (wfile_rename(tmp, link) != 0) {

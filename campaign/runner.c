@@ -51,6 +51,9 @@ struct run_state {
     int infra_streak;    /* infrastructure failures in a row */
     int infra_stop;      /* stopped for them (e says why) */
     double pause_until;  /* monotonic: start nothing before (backoff) */
+    long pend_j;         /* the job whose outcome waits for its commit (store.pending) */
+    long pend_rows;      /* its metric rows */
+    int pend_attempt;
 };
 
 static int push(struct run_state *r, long j, double at)
@@ -115,6 +118,39 @@ static void final_failure(struct run_state *r, long j, const char *why)
     r->sum->failed++;
     r->view.failed++;
     progress_view_job(&r->view, "failed", r->p->jobs[j].key, lab, 0, why);
+}
+
+/* The commit of a deferred outcome failed (store.pending_lost): the job
+ * counted as done is not recorded, so it is not done; the runner stops (the
+ * caller set fatal with the database's message), the next one runs it. */
+static void pending_check(struct run_state *r)
+{
+    if (!r->store.pending_lost)
+        return;
+    r->store.pending_lost = 0;
+    long j = r->pend_j;
+    r->fatal = 1;
+    if (r->mem[j] == M_DONE) {
+        r->sum->done--;
+        r->view.done--;
+        r->sum->metric_rows -= r->pend_rows;
+        r->mem[j] = M_QUEUED;
+    }
+    char lab[512];
+    label(r, j, lab, sizeof lab);
+    progress_view_note(&r->view, "%s (%s), attempt %d: done, but the outcome could not be "
+                                 "recorded; the job will run again",
+                       r->p->jobs[j].key, lab, r->pend_attempt);
+}
+
+/* Commit a deferred outcome (before the runner waits for anything). */
+static void pending_flush(struct run_state *r)
+{
+    if (!r->store.pending)
+        return;
+    if (store_flush(&r->store, r->e) != 0)
+        r->fatal = 1;
+    pending_check(r);
 }
 
 /* ${prep:KEY} of job j: the directory of the preparation job's recorded
@@ -200,11 +236,15 @@ static int try_start(struct run_state *r, long k, int slot)
     enum claim_result res;
     long long run_id = 0;
     int attempt = 0;
-    if (store_claim(&r->store, r->job_ids[j], job_dir, &res, &run_id, &attempt, run_dir,
-                    sizeof run_dir, r->e) != 0) {
+    /* a job's outcome recorded just before (on_done) is committed with
+     * this claim: one transaction per job (store.h) */
+    int claimed = store_claim(&r->store, r->job_ids[j], job_dir, &res, &run_id, &attempt,
+                              run_dir, sizeof run_dir, r->e);
+    if (claimed != 0)
         r->fatal = 1;
+    pending_check(r);
+    if (claimed != 0)
         return 0;
-    }
     switch (res) {
     case CLAIM_DONE:
         qe->j = -1;
@@ -258,7 +298,10 @@ static int try_start(struct run_state *r, long k, int slot)
         err_clear(r->e);
         int lost;
         qe->j = -1;
-        if (store_finish(&r->store, r->job_ids[j], run_id, run_dir, &o, &lost, r->e) != 0) {
+        int unrecorded = store_finish(&r->store, r->job_ids[j], run_id, run_dir, &o, &lost, 0,
+                                      r->e) != 0;
+        pending_check(r);
+        if (unrecorded) {
             r->fatal = 1;
         } else if (lost) {
             r->mem[j] = M_ELSEWHERE;
@@ -339,10 +382,14 @@ static void on_done(void *ctx, int slot, struct outcome *o)
     long j = sl->j;
     int lost = 0;
     double t0 = sys_mono();
+    /* a job that succeeded is committed with the next claim (or the flush
+     * before the runner waits): one transaction per job instead of two */
+    int defer = o->status == RS_DONE && o->failure == FC_NONE;
     int unrecorded = store_finish(&r->store, r->job_ids[j], sl->run_id, sl->run_dir, o, &lost,
-                                  r->e) != 0;
+                                  defer, r->e) != 0;
     if (unrecorded)
         r->fatal = 1;
+    pending_check(r);   /* an earlier deferred outcome, committed first */
     if (r->store.note[0])
         progress_view_note(&r->view, "%s: %s", r->p->jobs[j].key, r->store.note);
     r->sum->record_s += sys_mono() - t0 + o->collect_s;
@@ -377,6 +424,11 @@ static void on_done(void *ctx, int slot, struct outcome *o)
         r->mem[j] = M_DONE;
         r->sum->done++;
         r->view.done++;
+        if (r->store.pending) {
+            r->pend_j = j;
+            r->pend_rows = r->store.last_metric_rows;
+            r->pend_attempt = sl->attempt;
+        }
         progress_view_job(&r->view, status, r->p->jobs[j].key, lab, o->wall_s, NULL);
     } else if (o->status == RS_CANCELLED) {
         r->mem[j] = M_CANCELLED;
@@ -614,6 +666,7 @@ int runner_run(const struct study *s, const struct plan *p, const struct solver 
     double next_beat = sys_mono() + o->lease_s / 3.0;
     for (;;) {
         fill_slots(&r);
+        pending_flush(&r);
         if (r.fatal && r.running == 0)
             break;
         if (r.running == 0 && (r.stopping || queue_empty(&r)))
@@ -648,6 +701,7 @@ int runner_run(const struct study *s, const struct plan *p, const struct solver 
         }
         progress_view_tick(&r.view, 0);
     }
+    pending_flush(&r);
     progress_view_finish(&r.view);
     if (sum->started)
         progress_view_note(&r.view,

@@ -119,6 +119,29 @@ static sqlite3_stmt *q(struct store *st, int which)
     return s;
 }
 
+int store_flush(struct store *st, struct err *e)
+{
+    if (!st->pending)
+        return 0;
+    st->pending = 0;
+    int rc = sqlite3_get_autocommit(st->db)
+                 ? db_err(st->db, e, ERR_RUNTIME, "recording the run: the transaction was "
+                                                  "rolled back (%s)", sqlite3_errmsg(st->db))
+                 : db_commit(st->db, e);
+    if (rc) {
+        db_rollback(st->db);
+        st->pending_lost = 1;
+    }
+    return rc;
+}
+
+/* A write transaction of its own: a pending outcome is committed first. */
+static int begin_own(struct store *st, struct err *e)
+{
+    int rc = store_flush(st, e);
+    return rc ? rc : db_begin(st->db, e);
+}
+
 static void bind_text(sqlite3_stmt *s, int i, const char *t)
 {
     sqlite3_bind_text(s, i, t, -1, SQLITE_STATIC);
@@ -205,7 +228,7 @@ int store_register(struct store *st, const struct study *s, const struct plan *p
                    long long *study_id, long long *job_ids, struct err *e)
 {
     sqlite3 *db = st->db;
-    int rc = db_begin(db, e);
+    int rc = begin_own(st, e);
     if (rc)
         return rc;
     rc = register_study(st, s, study_id, e);
@@ -406,14 +429,14 @@ static int drop_lease(sqlite3 *db, long long job_id, struct err *e)
     return db_exec(db, sql, e);
 }
 
-int store_claim(struct store *st, long long job_id, const char *job_dir, enum claim_result *res,
-                long long *run_id, int *attempt, char *run_dir, size_t run_dir_len,
-                struct err *e)
+/* The claim itself, in an open transaction; the caller commits or undoes
+ * it (claim_end). */
+static int claim_body(struct store *st, long long job_id, const char *job_dir,
+                      enum claim_result *res, long long *run_id, int *attempt, char *run_dir,
+                      size_t run_dir_len, struct err *e)
 {
     sqlite3 *db = st->db;
-    int rc = db_begin(db, e);
-    if (rc)
-        return rc;
+    int rc;
     /* a lease: live (someone else runs it) or stale (reap it here) */
     sqlite3_stmt *s = q(st, Q_LEASE_GET);
     sqlite3_bind_int64(s, 1, job_id);
@@ -428,24 +451,16 @@ int store_claim(struct store *st, long long job_id, const char *job_dir, enum cl
          * the study adopts it (store_adopt); running it again here would run
          * the job twice */
         if (in_slurm || !lease_stale(runner, expires, why, sizeof why)) {
-            *res = CLAIM_LEASED;
-            db_rollback(db);
+            *res = CLAIM_LEASED;   /* nothing written */
             return 0;
         }
-        if ((rc = cancel_run(db, old_run, why, e)) || (rc = drop_lease(db, job_id, e))) {
-            db_rollback(db);
+        if ((rc = cancel_run(db, old_run, why, e)) || (rc = drop_lease(db, job_id, e)))
             return rc;
-        }
     }
     sqlite3_reset(s);
     rc = store_job_verdict(st, job_id, res, e);
-    if (rc || *res != CLAIM_OK) {
-        if (rc)
-            db_rollback(db);
-        else
-            rc = db_commit(db, e);   /* keeps a reaped lease reaped */
-        return rc;
-    }
+    if (rc || *res != CLAIM_OK)
+        return rc;   /* committed all the same: keeps a reaped lease reaped */
     s = q(st, Q_NEXT_ATTEMPT);
     sqlite3_bind_int64(s, 1, job_id);
     sqlite3_step(s);
@@ -468,7 +483,6 @@ int store_claim(struct store *st, long long job_id, const char *job_dir, enum cl
     if (sqlite3_step(s) != SQLITE_DONE) {
         rc = db_fail(db, e, "recording a new run");
         sqlite3_reset(s);
-        db_rollback(db);
         return rc;
     }
     sqlite3_reset(s);
@@ -483,11 +497,57 @@ int store_claim(struct store *st, long long job_id, const char *job_dir, enum cl
     if (sqlite3_step(s) != SQLITE_DONE) {
         rc = db_fail(db, e, "taking the lease");
         sqlite3_reset(s);
-        db_rollback(db);
         return rc;
     }
     sqlite3_reset(s);
-    return db_commit(db, e);
+    return 0;
+}
+
+/* Commit a claim's transaction, or undo it when rc says the claim failed.
+ * Nested in a pending outcome's transaction (a savepoint), a failed claim
+ * undoes only itself and the outcome is committed alone. */
+static int claim_end(struct store *st, int nested, int rc, struct err *e)
+{
+    sqlite3 *db = st->db;
+    if (!nested) {
+        if (!rc)
+            rc = db_commit(db, e);
+        if (rc)
+            db_rollback(db);
+        return rc;
+    }
+    if (!rc)
+        rc = db_exec(db, "RELEASE claim", e);
+    if (rc) {
+        /* an I/O error may have rolled back the whole transaction already:
+         * store_flush then finds none and says the outcome is lost */
+        if (!sqlite3_get_autocommit(db))
+            sqlite3_exec(db, "ROLLBACK TO claim; RELEASE claim", NULL, NULL, NULL);
+        struct err fe = {0};
+        store_flush(st, &fe);
+        return rc;
+    }
+    return store_flush(st, e);
+}
+
+int store_claim(struct store *st, long long job_id, const char *job_dir, enum claim_result *res,
+                long long *run_id, int *attempt, char *run_dir, size_t run_dir_len,
+                struct err *e)
+{
+    /* a failed statement in between (a heartbeat's I/O error) may have
+     * rolled the pending outcome's transaction back: a savepoint would then
+     * open a transaction of its own, and the claim commit without it */
+    if (st->pending && sqlite3_get_autocommit(st->db))
+        return store_flush(st, e);   /* fails: pending_lost */
+    int nested = st->pending;
+    int rc = nested ? db_exec(st->db, "SAVEPOINT claim", e) : db_begin(st->db, e);
+    if (rc) {
+        struct err fe = {0};
+        store_flush(st, &fe);
+        return rc;
+    }
+    rc = claim_body(st, job_id, job_dir, res, run_id, attempt, run_dir, run_dir_len, e);
+    return claim_end(st, nested, rc, e);
 }
 
 /* --- recording -------------------------------------------------------------- */
@@ -578,13 +638,13 @@ static int record_series(struct store *st, long long run_id, json_t *series, str
 }
 
 int store_finish(struct store *st, long long job_id, long long run_id, const char *run_dir,
-                 struct outcome *o, int *lost, struct err *e)
+                 struct outcome *o, int *lost, int defer, struct err *e)
 {
     sqlite3 *db = st->db;
     *lost = 0;
     st->last_metric_rows = 0;
     st->note[0] = '\0';
-    int rc = db_begin(db, e);
+    int rc = begin_own(st, e);
     if (rc)
         return rc;
     sqlite3_stmt *s = q(st, Q_LEASE_GET);
@@ -713,6 +773,10 @@ int store_finish(struct store *st, long long job_id, long long run_id, const cha
     struct err le = {0};
     if (!rc && run_dir && launch_point_current(run_dir, &le) != 0)
         snprintf(st->note, sizeof st->note, "%s", le.msg);
+    if (!rc && defer) {
+        st->pending = 1;
+        return 0;
+    }
     if (!rc)
         rc = db_commit(db, e);
     if (rc)
@@ -768,7 +832,7 @@ int store_reap(struct store *st, int *n, struct err *e)
 {
     sqlite3 *db = st->db;
     *n = 0;
-    int rc = db_begin(db, e);
+    int rc = begin_own(st, e);
     if (rc)
         return rc;
     sqlite3_stmt *s;
@@ -825,7 +889,7 @@ int store_record_slurm_ids(struct store *st, int n, const long long *run_ids,
                            const char *const *slurm_ids, const char *state, struct err *e)
 {
     sqlite3 *db = st->db;
-    int rc = db_begin(db, e);
+    int rc = begin_own(st, e);
     if (rc)
         return rc;
     sqlite3_stmt *s;
@@ -857,7 +921,7 @@ int store_adopt(struct store *st, long long study_id, struct store_adopted **out
     sqlite3 *db = st->db;
     *out = NULL;
     *n = 0;
-    int rc = db_begin(db, e);
+    int rc = begin_own(st, e);
     if (rc)
         return rc;
     sqlite3_stmt *s, *take;

@@ -37,6 +37,10 @@ struct store {
     long last_metric_rows;        /* metric rows the last store_finish wrote */
     char note[1024];              /* what the last store_finish could not do besides
                                      recording (the `current` link), or "" */
+    int pending;                  /* an outcome store_finish recorded with defer set
+                                     waits for its commit (the transaction is open) */
+    int pending_lost;             /* that commit failed: the outcome is not recorded
+                                     (set until the caller clears it) */
 };
 
 int store_init(struct store *st, sqlite3 *db, const struct study *s, const struct solver *sv,
@@ -58,7 +62,10 @@ enum claim_result {
 };
 
 /* On CLAIM_OK: the new run's id, attempt number and directory (job_dir is
- * runs/<study>/<key>; the attempt's is job_dir/attempt-N). */
+ * runs/<study>/<key>; the attempt's is job_dir/attempt-N).  With an outcome
+ * pending (store_finish with defer), the claim runs in its transaction (a
+ * savepoint, so a claim that fails undoes only itself) and its commit
+ * records both; pending_lost says when that commit failed. */
 int store_claim(struct store *st, long long job_id, const char *job_dir, enum claim_result *res,
                 long long *run_id, int *attempt, char *run_dir, size_t run_dir_len,
                 struct err *e);
@@ -71,7 +78,17 @@ int store_claim(struct store *st, long long job_id, const char *job_dir, enum cl
  * deterministic here (o->failure, o->message), as only the database knows
  * the earlier runs. */
 int store_finish(struct store *st, long long job_id, long long run_id, const char *run_dir,
-                 struct outcome *o, int *lost, struct err *e);
+                 struct outcome *o, int *lost, int defer, struct err *e);
+
+/* defer: the transaction is left open (st->pending) for the next claim to
+ * commit with its own, one commit per job instead of two.  Until then
+ * nothing of the outcome is in the database: a runner killed meanwhile
+ * leaves the run 'running' under its lease, reaped and run again like any
+ * run whose recording failed.  store_flush commits it (0 when nothing is
+ * pending; on failure pending_lost is set and the outcome is rolled back).
+ * Every other function of this file that writes flushes first, so the
+ * caller need only flush before it waits for anything. */
+int store_flush(struct store *st, struct err *e);
 
 /* Extend this runner's leases. */
 int store_heartbeat(struct store *st, struct err *e);
