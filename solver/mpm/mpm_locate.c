@@ -77,7 +77,7 @@ static inline long particle_block(const struct mpm *m, const struct mpm_view *w,
                 key[d] = (long)u;
         }
     }
-    return g->key_block[key[g->slab_axis]];   /* slabs: one block across the other axes */
+    return mpm_grid_key_block(g, key);
 }
 
 static int locate_set(struct mpm *m, struct mpm_view *w, int kind, long *bad, struct err *e)
@@ -155,6 +155,10 @@ int mpm_locate_particles(struct mpm *m, struct err *e)
                            x[0], x[1], x[2]);
         }
     }
+    const long *starts[1 + MPM_MAX_EXTRA];
+    for (int s = 0; s < nv; s++)
+        starts[s] = views[s].bins->start;
+    mpm_grid_order_blocks(&m->grid, starts, nv);   /* largest blocks first */
     /* reorder the material points into block order now and then */
     struct mpm_bins *b = &m->bins[0];
     long moved = 0;
