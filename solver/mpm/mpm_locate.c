@@ -161,11 +161,13 @@ int mpm_locate_particles(struct mpm *m, struct err *e)
     mpm_grid_order_blocks(&m->grid, starts, nv);   /* largest blocks first */
     /* reorder the material points into block order now and then */
     struct mpm_bins *b = &m->bins[0];
+    if (!(m->sort_every > 0 && m->step % m->sort_every == 0 && m->pts.n > 1 &&
+          m->scratch_cap >= m->pts.n))
+        return 0;   /* no reorder due: no serial scan of the order either */
     long moved = 0;
     for (long k = 0; k < m->pts.n && !moved; k++)
         moved = b->order[k] != k;
-    if (moved && m->sort_every > 0 && m->step % m->sort_every == 0 && m->pts.n > 1 &&
-        m->scratch_cap >= m->pts.n) {
+    if (moved) {
         mpm_points_permute(&m->pts, b->order, m->scratch, m->nthreads);
         if (kind == MPM_ST_HIER) {
             int32_t *t32 = (int32_t *)m->scratch;
