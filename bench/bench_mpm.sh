@@ -19,6 +19,10 @@
 #                                    the fastest of 100 steps in CPU time per
 #                                    point, 1 thread, during the impact -- the
 #                                    figure a shared machine moves least
+#   BENCH mpm_balance_2_threads      how evenly two threads split the coloured
+#                                    passes (points per block, blocks taken
+#                                    one by one): bounds mpm_speedup_2_threads
+#                                    at 2 x this on free cores
 # Medians of REPEAT runs, 1- and 2-thread runs interleaved (the machine is
 # shared, load changes during the benchmark).  Idle OpenMP threads wait
 # passively (OMP_WAIT_POLICY=passive unless set): on a busy machine a
@@ -104,6 +108,8 @@ probe=$(OMP_NUM_THREADS=1 "$WORK/mpm_kernel_probe" 100 130 1)
 field() { echo "$probe" | awk -v k="$1" '{for (i = 1; i < NF; i++) if ($i == k) print $(i + 1)}'; }
 bench_line mpm_step_min_ns "$(field step_min_ns)" ns \
     "one step, fastest of 100 in CPU time, 1 thread (median $(field step_median_ns)); target 75; $(bench_load)"
+bench_line mpm_balance_2_threads "$(field balance2_blocks)" x \
+    "2 threads over the colouring blocks, from points per block; 1 = even (slabs: $(field balance2_slabs))"
 echo "mpm bench: loop seconds, 1 thread: $(tr '\n' ' ' < "$WORK/mpm1.t")| 2 threads: $(tr '\n' ' ' < "$WORK/mpm2.t")" >&2
 echo "mpm bench: $(bench_load)" >&2
 # the physics of the last 1-thread run, for the record

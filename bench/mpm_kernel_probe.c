@@ -12,7 +12,16 @@
  * pass did not do; mpm_step_update: s4-s14 and the next step's s1-s3).
  *
  *   mpm_kernel_probe [STEPS [WARM [THREADS [COARSEN]]]]
- *   -> "points P step_min_ns S step_median_ns D map_min_ns M update_min_ns U ke K"
+ *   -> "points P step_min_ns S step_median_ns D map_min_ns M update_min_ns U
+ *       wall_min_ns W wall_median_ns V balance2_blocks B balance2_slabs L ke K"
+ *
+ * step_*, map_*, update_*: CPU time of the process (all threads) per
+ * point; wall_*: the same steps in wall-clock time (with THREADS 2 on a
+ * loaded machine the fastest wall step is the one that found both cores).
+ * balance2_*: how close two threads taking the blocks of each colour one
+ * by one come to half the work (1 = perfectly), counted in points per
+ * block at the end -- for this grid's blocks and for the slabs of 3 cells
+ * across x that the colouring used before (docs/bench.md).
  *
  * COARSEN > 1 makes the cells (and the points' spacing) that many times
  * larger: the same cubes with COARSEN^3 times fewer points, whose arrays
@@ -33,6 +42,77 @@ static double cpu_seconds(void)
     struct timespec t;
     clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
     return t.tv_sec + 1e-9 * t.tv_nsec;
+}
+
+static double wall_seconds(void)
+{
+    struct timespec t;
+    clock_gettime(CLOCK_MONOTONIC, &t);
+    return t.tv_sec + 1e-9 * t.tv_nsec;
+}
+
+/* The share of ideal T-thread speed the coloured passes can reach with the
+ * points per block `w(b)`: threads take a colour's blocks in list order,
+ * each the next one when it is free (schedule(dynamic, 1)), work counted in
+ * points; returns total work / (T x the sum over colours of the last
+ * thread's finish).  1 = perfect balance. */
+static double balance(int T, int ncol, const long *ncb, const int32_t *const *list,
+                      const long *start)
+{
+    double work = 0, span = 0;
+    for (int c = 0; c < ncol; c++) {
+        double fin[64] = {0};
+        for (long i = 0; i < ncb[c]; i++) {
+            long b = list[c][i];
+            int t0 = 0;
+            for (int t = 1; t < T; t++)
+                if (fin[t] < fin[t0])
+                    t0 = t;
+            fin[t0] += (double)(start[b + 1] - start[b]);
+            work += (double)(start[b + 1] - start[b]);
+        }
+        double mx = 0;
+        for (int t = 0; t < T; t++)
+            mx = fin[t] > mx ? fin[t] : mx;
+        span += mx;
+    }
+    return span > 0 ? work / (T * span) : 1;
+}
+
+/* The same for this grid's blocks and for the slabs of 3 cells across x
+ * (two colours) that the colouring used before the blocks, from where the
+ * points are now. */
+static void balances(const struct mpm *m, int T, double *blocks, double *slabs)
+{
+    const struct mpm_grid *g = &m->grid;
+    const int32_t *list[MPM_COLOURS];
+    for (int c = 0; c < MPM_COLOURS; c++)
+        list[c] = g->colour_block[c];
+    *blocks = balance(T, MPM_COLOURS, g->ncolour, list, m->bins[0].start);
+    long ns = (g->ncell[0] + 2) / 3;
+    long *start = calloc((size_t)ns + 1, sizeof *start);
+    int32_t *sl = malloc((size_t)ns * sizeof *sl);
+    if (!start || !sl) {
+        *slabs = 0;
+        free(start);
+        free(sl);
+        return;
+    }
+    for (long p = 0; p < m->pts.n; p++) {
+        long key = (long)((m->pts.x[3 * p] - g->origin[0]) * g->inv_hd[0]);
+        start[key / 3 + 1]++;
+    }
+    for (long k = 0; k < ns; k++)
+        start[k + 1] += start[k];
+    long nsc[2] = {0, 0};
+    for (long k = 0; k < ns; k += 2)
+        sl[nsc[0]++] = (int32_t)k;
+    for (long k = 1; k < ns; k += 2)
+        sl[nsc[0] + nsc[1]++] = (int32_t)k;
+    const int32_t *slist[2] = {sl, sl + nsc[0]};
+    *slabs = balance(T, 2, nsc, slist, start);
+    free(start);
+    free(sl);
 }
 
 static int cmp_double(const void *a, const void *b)
@@ -108,12 +188,13 @@ int main(int argc, char **argv)
     struct err e = {0};
     if (build(&m, nthreads, coarsen, &e))
         return fail(&e);
-    double *t = malloc(3 * (size_t)steps * sizeof *t);
+    double *t = malloc(4 * (size_t)steps * sizeof *t);
     if (!t)
         return 1;
-    double *tmap = t + steps, *tupd = t + 2 * steps;
+    double *tmap = t + steps, *tupd = t + 2 * steps, *twall = t + 3 * steps;
     for (int s = 0; s < warm + steps; s++) {
         double dt = 0.5 * mpm_stable_dt(&m);
+        double w0 = wall_seconds();
         double t0 = cpu_seconds();
         if (mpm_step_map(&m, &e))
             return fail(&e);
@@ -121,6 +202,8 @@ int main(int argc, char **argv)
         if (mpm_step_update(&m, dt, &e))
             return fail(&e);
         double t2 = cpu_seconds();
+        if (s >= warm)
+            twall[s - warm] = wall_seconds() - w0;
         if (s >= warm) {
             t[s - warm] = t2 - t0;
             tmap[s - warm] = t1 - t0;
@@ -132,10 +215,15 @@ int main(int argc, char **argv)
     qsort(tmap, (size_t)steps, sizeof *t, cmp_double);
     qsort(tupd, (size_t)steps, sizeof *t, cmp_double);
     qsort(t, (size_t)steps, sizeof *t, cmp_double);
+    qsort(twall, (size_t)steps, sizeof *t, cmp_double);
     med = t[steps / 2];
+    double bal_blocks, bal_slabs;
+    balances(&m, 2, &bal_blocks, &bal_slabs);
     printf("points %ld step_min_ns %.1f step_median_ns %.1f map_min_ns %.1f update_min_ns %.1f "
+           "wall_min_ns %.1f wall_median_ns %.1f balance2_blocks %.3f balance2_slabs %.3f "
            "ke %.12e\n",
-           m.pts.n, t[0] * scale, med * scale, tmap[0] * scale, tupd[0] * scale, m.ke);
+           m.pts.n, t[0] * scale, med * scale, tmap[0] * scale, tupd[0] * scale,
+           twall[0] * scale, twall[steps / 2] * scale, bal_blocks, bal_slabs, m.ke);
     free(t);
     mpm_free(&m);
     return 0;

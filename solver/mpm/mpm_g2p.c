@@ -249,15 +249,14 @@ update_particle(const struct mpm *m, const struct mpm_view *w, long p, const int
 /* Block of the point's new position for the next step (s9), -1 outside. */
 static inline long next_block(const struct mpm_grid *g, const double *x)
 {
-    long key = 0;
+    long key[3];
     for (int d = 0; d < 3; d++) {
         double u = (x[d] - g->origin[d]) * g->inv_hd[d] - (double)g->lo[d];
         if (!(u >= 0) || u >= (double)(g->nn[d] - 1))
             return -1;
-        if (d == g->slab_axis)
-            key = (long)u;
+        key[d] = (long)u;
     }
-    return g->key_block[key];
+    return mpm_grid_key_block(g, key);
 }
 
 /* s7-s8 and s12 of point p: its new position and block, and its velocity
@@ -479,12 +478,36 @@ void mpm_update_particles(struct mpm *m, double dt)
     }
 }
 
+/* Keys [kmin, kmax] per direction that the points of block b may map to
+ * in the fused pass: the block's own and one either side. */
+static void block_key_range(const struct mpm_grid *g, long b, long kmin[3], long kmax[3])
+{
+    for (int d = 0; d < 3; d++) {
+        long bc = b % g->nb[d];
+        b /= g->nb[d];
+        kmin[d] = bc * g->bw[d] - 1;
+        kmax[d] = (bc + 1) * g->bw[d];
+    }
+}
+
+/* Whether the cell of x (inside the grid) has keys within [kmin, kmax]. */
+static inline int near_block(const struct mpm_grid *g, const double *x, const long kmin[3],
+                             const long kmax[3])
+{
+    int ok = 1;
+    for (int d = 0; d < 3; d++) {
+        long key = (long)((x[d] - g->origin[d]) * g->inv_hd[d] - (double)g->lo[d]);
+        ok &= key >= kmin[d] && key <= kmax[d];
+    }
+    return ok;
+}
+
 /* The fused pass: s7-s14 of this step for every material point and,
  * straight after, its s1-s3 contribution for the next step at its new
  * position into the grid's second buffer.  It saves a pass over the points.
- * Threads take slabs of one colour at a time as in mpm_p2g.c: slabs are 4
- * cells wide and a point moves less than a cell per step (the CFL limit),
- * so slabs of one colour still share no node. */
+ * Threads take blocks of one colour at a time as in mpm_p2g.c: blocks are
+ * at least 3 cells wide across every cut and a point moves less than a cell
+ * per step (the CFL limit), so blocks of one colour still share no node. */
 void mpm_update_particles_and_map(struct mpm *m, double dt)
 {
     struct mpm_grid *g = &m->grid;
@@ -514,8 +537,6 @@ void mpm_update_particles_and_map(struct mpm *m, double dt)
     m->strain_before = m->strain;
     double se = 0;
     int far = 0;   /* a point moved too far for the colouring: map afresh next step */
-    const int ax = g->slab_axis;
-    const long width = g->bw[ax];
     double t_scatter = 0;   /* summed over threads */
 #pragma omp parallel num_threads(m->nthreads) reduction(+ : se, t_scatter) reduction(| : far)
     for (int c = 0; c < MPM_COLOURS; c++) {
@@ -524,8 +545,9 @@ void mpm_update_particles_and_map(struct mpm *m, double dt)
 #pragma omp for schedule(dynamic, 1)
         for (long bi = 0; bi < g->ncolour[c]; bi++) {
             long b = g->colour_block[c][bi];
-            /* keys this slab may map to: its own and one cell either side */
-            long kmin = b * width - 1, kmax = (b + 1) * width;
+            /* keys this block may map to: its own and one cell either side */
+            long kmin[3], kmax[3];
+            block_key_range(g, b, kmin, kmax);
             const int32_t *idx = b0->order + b0->start[b];
             long count = b0->start[b + 1] - b0->start[b];
             mpm_v4 A[8] = {{0}}, B[8] = {{0}};
@@ -549,9 +571,7 @@ void mpm_update_particles_and_map(struct mpm *m, double dt)
                     se += pts->eint[p];
                     if (blk[p] < 0)
                         continue;   /* left the grid: the next step reports it */
-                    long key =
-                        (long)((pts->x[3 * p + ax] - g->origin[ax]) * g->inv_hd[ax] - g->lo[ax]);
-                    if (key < kmin || key > kmax) {
+                    if (!near_block(g, pts->x + 3 * p, kmin, kmax)) {
                         far = 1;
                         continue;
                     }

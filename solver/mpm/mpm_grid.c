@@ -19,32 +19,54 @@ static int alloc_nodes(struct mpm_grid *g, struct err *e)
     return 0;
 }
 
-/* Colouring blocks: slabs of `width` keys across the axis with the most
- * keys (one block across the others).  A slab touches nodes of its keys only
- * up to `span` keys beyond, so with width >= span slabs two apart never
- * share a node: even slabs run in parallel, then odd ones -- two barriers
- * per particle-to-grid pass. */
+/* Colouring blocks: bricks of bw[d] keys.  The nodes a block touches
+ * reach so little beyond its keys (the callers' `width`, below) that with
+ * bw[d] >= width blocks two apart along any axis never share a node, and
+ * the blocks of one colour --
+ * the parities of their three block coordinates -- can be summed into the
+ * grid in parallel, in any order, with no atomics.
+ *
+ * The cuts go across y and z, `width` keys apart: a block is then a bundle
+ * of whole rows of cells along x, the direction nodes are contiguous in
+ * memory, so the points of a block (kept in cell-row order) stream through
+ * the node arrays along pages, and the many small blocks balance between
+ * threads (the earlier slabs across one axis gave two threads at most 9 / 5
+ * of one thread's speed on the reference problem, docs/bench.md).  Only a
+ * grid too thin across y and z for MIN_BLOCKS blocks is cut along x too. */
+enum { MIN_BLOCKS = 64 };
+
 static int make_blocks(struct mpm_grid *g, const long nkeys[3], long width, struct err *e)
 {
-    int axis = 0;
-    for (int d = 1; d < 3; d++)
-        if (nkeys[d] > nkeys[axis])
-            axis = d;
-    g->slab_axis = axis;
-    g->key_block = malloc((size_t)nkeys[axis] * sizeof *g->key_block);
-    if (!g->key_block)
-        return err_nomem(e, "grid colouring");
-    for (long k = 0; k < nkeys[axis]; k++)
-        g->key_block[k] = (int32_t)(k / width);
-    g->nblocks = 1;
     for (int d = 0; d < 3; d++) {
-        g->bw[d] = d == axis ? width : nkeys[d];
+        g->nkeys[d] = nkeys[d];
+        g->bw[d] = d == 0 ? nkeys[0] : width;
         g->nb[d] = (nkeys[d] + g->bw[d] - 1) / g->bw[d];
-        g->nblocks *= g->nb[d];
     }
+    long nyz = g->nb[1] * g->nb[2];
+    if (nyz < MIN_BLOCKS) {
+        long nx = (MIN_BLOCKS + nyz - 1) / nyz;
+        long bw0 = (nkeys[0] + nx - 1) / nx;
+        g->bw[0] = bw0 > width ? bw0 : width;
+        g->nb[0] = (nkeys[0] + g->bw[0] - 1) / g->bw[0];
+    }
+    g->nblocks = g->nb[0] * g->nb[1] * g->nb[2];
+    if (g->nblocks > INT32_MAX)
+        return err_set(e, ERR_INPUT, "grid colouring: %ld blocks", g->nblocks);
+    long bstride = 1;
+    for (int d = 0; d < 3; d++) {
+        g->key_block[d] = malloc((size_t)nkeys[d] * sizeof *g->key_block[d]);
+        if (!g->key_block[d])
+            return err_nomem(e, "grid colouring");
+        for (long k = 0; k < nkeys[d]; k++)
+            g->key_block[d][k] = (int32_t)(k / g->bw[d] * bstride);
+        bstride *= g->nb[d];
+    }
+    long most = ((g->nb[0] + 1) / 2) * ((g->nb[1] + 1) / 2) * ((g->nb[2] + 1) / 2);
+    g->colour_key = malloc((size_t)most * sizeof *g->colour_key);
+    if (!g->colour_key)
+        return err_nomem(e, "grid colouring");
     for (int c = 0; c < MPM_COLOURS; c++) {
         g->ncolour[c] = 0;
-        long most = ((g->nb[0] + 1) / 2) * ((g->nb[1] + 1) / 2) * ((g->nb[2] + 1) / 2);
         g->colour_block[c] = malloc((size_t)most * sizeof(int32_t));
         if (!g->colour_block[c])
             return err_nomem(e, "grid colouring");
@@ -57,6 +79,29 @@ static int make_blocks(struct mpm_grid *g, const long nkeys[3], long width, stru
                 g->colour_block[c][g->ncolour[c]++] = (int32_t)b;
             }
     return 0;
+}
+
+static int key_descending(const void *a, const void *b)
+{
+    int64_t x = *(const int64_t *)a, y = *(const int64_t *)b;
+    return (x < y) - (x > y);
+}
+
+void mpm_grid_order_blocks(struct mpm_grid *g, const long *const *start, int nsets)
+{
+    for (int c = 0; c < MPM_COLOURS; c++) {
+        long n = g->ncolour[c];
+        int32_t *blk = g->colour_block[c];
+        for (long i = 0; i < n; i++) {
+            int64_t b = blk[i], w = 0;
+            for (int s = 0; s < nsets; s++)
+                w += start[s][b + 1] - start[s][b];
+            g->colour_key[i] = (w << 31) | (INT32_MAX - b);   /* count, then lower index */
+        }
+        qsort(g->colour_key, (size_t)n, sizeof *g->colour_key, key_descending);
+        for (long i = 0; i < n; i++)
+            blk[i] = (int32_t)(INT32_MAX - (g->colour_key[i] & INT32_MAX));
+    }
 }
 
 /* Edges per axis; h and inv_h are those along x. */
@@ -108,8 +153,8 @@ int mpm_grid_init_uniform3(struct mpm_grid *g, const double origin[3], const dou
     for (int d = 0; d < 3; d++)
         nkeys[d] = shape == MPM_SHAPE_GIMP ? ncell[d] + 1 : ncell[d];
     /* keys: linear, the cell (nodes key..key+1); GIMP, base node + 1 (nodes
-     * key-1..key+1).  Linear slabs are 3 cells wide so that a point may move
-     * by less than a cell within a step and still map into nodes no slab of
+     * key-1..key+1).  Linear blocks are 3 cells wide so that a point may move
+     * by less than a cell within a step and still map into nodes no block of
      * its colour touches (the fused update-and-map pass, mpm_step) */
     return make_blocks(g, nkeys, shape == MPM_SHAPE_LINEAR ? 3 : 2, e);
 }
@@ -144,9 +189,11 @@ void mpm_grid_free(struct mpm_grid *g)
     free(g->r);
     free(g->bc_node);
     free(g->bc_bits);
-    free(g->key_block);
+    for (int d = 0; d < 3; d++)
+        free(g->key_block[d]);
     for (int c = 0; c < MPM_COLOURS; c++)
         free(g->colour_block[c]);
+    free(g->colour_key);
     mpm_hgrid_destroy(&g->hg);
     memset(g, 0, sizeof *g);
 }

@@ -75,15 +75,27 @@ struct mpm_grid {
     int32_t *bc_node;
     uint8_t *bc_bits;
 
-    /* colouring: key (integer cell coordinate) -> block (slabs, mpm_grid.c) */
-    long bw[3];                  /* block width in keys                    */
-    int slab_axis;               /* blocks are slabs across this axis      */
-    int32_t *key_block;          /* block of each key along slab_axis      */
+    /* colouring: key (integer cell coordinate) -> block (mpm_grid.c): blocks
+     * are bricks of bw[d] keys, cut across y and z (and x on grids too
+     * narrow for enough blocks); block (bx, by, bz) has colour
+     * (bx & 1) | (by & 1) << 1 | (bz & 1) << 2 */
+    long bw[3];                  /* block width in keys per direction      */
     long nb[3];                  /* blocks per direction                   */
+    long nkeys[3];               /* keys per direction                     */
+    int32_t *key_block[3];       /* per direction: block coordinate of each key times
+                                    the block stride (1, nb0, nb0 nb1): a block is the
+                                    sum over d, no division per point */
     long nblocks;
     long ncolour[MPM_COLOURS];   /* blocks of each colour                  */
     int32_t *colour_block[MPM_COLOURS];
+    int64_t *colour_key;         /* scratch of mpm_grid_order_blocks       */
 };
+
+/* Block of the keys key[0..2] (each in [0, nkeys[d])). */
+static inline long mpm_grid_key_block(const struct mpm_grid *g, const long key[3])
+{
+    return (long)g->key_block[0][key[0]] + g->key_block[1][key[1]] + g->key_block[2][key[2]];
+}
 
 /* A uniform grid of ncell cells of edge h (Å) with its low corner at origin. */
 int mpm_grid_init_uniform(struct mpm_grid *g, const double origin[3], double h,
@@ -115,6 +127,13 @@ void mpm_grid_bounds(const struct mpm_grid *g, double lo[3], double hi[3]);
 void mpm_grid_clear(struct mpm_grid *g, int nthreads);
 /* Zero n nodes (the grid's or its second buffer), threads sharing the work. */
 void mpm_grid_clear_nodes(struct mpm_node *nd, long n, int nthreads);
+
+/* Order the blocks of each colour by decreasing number of particles (ties
+ * by block index): the nsets bins start[s][0..nblocks] (particles of block
+ * b: start[s][b + 1] - start[s][b]).  Threads that take the blocks of a
+ * colour one by one then finish together (largest first), and as blocks of
+ * a colour share no node the order changes no sum at a node. */
+void mpm_grid_order_blocks(struct mpm_grid *g, const long *const *start, int nsets);
 
 /* Bytes held by the grid. */
 double mpm_grid_bytes(const struct mpm_grid *g);

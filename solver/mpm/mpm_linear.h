@@ -54,8 +54,8 @@ static inline void mpm_lin_offsets(const struct mpm_grid *g, long off[8])
 }
 
 /* Software prefetch of the nodes a run of points along x will need next.
- * Points of a slab come cell row after cell row (x fastest inside the
- * slab, then y, then z), so the nodes of a cell new to the cache are those
+ * Points of a block come cell row after cell row (x fastest inside the
+ * block, then y, then z), so the nodes of a cell new to the cache are those
  * of the row y+1, z+1; one row of nodes is one page (64 nodes of 64 bytes
  * on the reference grid), which the hardware prefetchers do not cross, and
  * every new row cost a miss to memory on every node array (perf: a fifth of

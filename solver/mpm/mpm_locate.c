@@ -77,7 +77,7 @@ static inline long particle_block(const struct mpm *m, const struct mpm_view *w,
                 key[d] = (long)u;
         }
     }
-    return g->key_block[key[g->slab_axis]];   /* slabs: one block across the other axes */
+    return mpm_grid_key_block(g, key);
 }
 
 static int locate_set(struct mpm *m, struct mpm_view *w, int kind, long *bad, struct err *e)
@@ -155,13 +155,19 @@ int mpm_locate_particles(struct mpm *m, struct err *e)
                            x[0], x[1], x[2]);
         }
     }
+    const long *starts[1 + MPM_MAX_EXTRA];
+    for (int s = 0; s < nv; s++)
+        starts[s] = views[s].bins->start;
+    mpm_grid_order_blocks(&m->grid, starts, nv);   /* largest blocks first */
     /* reorder the material points into block order now and then */
     struct mpm_bins *b = &m->bins[0];
+    if (!(m->sort_every > 0 && m->step % m->sort_every == 0 && m->pts.n > 1 &&
+          m->scratch_cap >= m->pts.n))
+        return 0;   /* no reorder due: no serial scan of the order either */
     long moved = 0;
     for (long k = 0; k < m->pts.n && !moved; k++)
         moved = b->order[k] != k;
-    if (moved && m->sort_every > 0 && m->step % m->sort_every == 0 && m->pts.n > 1 &&
-        m->scratch_cap >= m->pts.n) {
+    if (moved) {
         mpm_points_permute(&m->pts, b->order, m->scratch, m->nthreads);
         if (kind == MPM_ST_HIER) {
             int32_t *t32 = (int32_t *)m->scratch;
