@@ -102,3 +102,28 @@ Test(parallel, case_error_is_reported_once, .timeout = 300)
     cr_assert_eq(lines, 1, "want the error once, got %d times:\n%s", lines, out);
     cr_assert(strstr(out, "bad.yaml:5:") && strstr(out, "temprature"), "%s", out);
 }
+
+/* Progress under mpirun: every rank runs the loop, rank 0 alone reports it
+ * (one "step 50/100" line on 2 ranks, not one per rank). */
+Test(parallel, progress_is_reported_once, .timeout = 300)
+{
+    setenv("OMPI_ALLOW_RUN_AS_ROOT", "1", 1);
+    setenv("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1", 1);
+    setenv("OMP_NUM_THREADS", "1", 1);
+    setenv("ASAN_OPTIONS", "detect_leaks=0", 1);   /* Open MPI's components, as above */
+    const char *path = th_write_temp(7, "progress.yaml",
+                                     "system:\n  lattice: {style: fcc, a: 3.615, cells: [6, 6, 6]}\n"
+                                     "  element: Cu\npotential: {style: eam/alloy, file: "
+                                     "Cu_mishin1.eam.alloy}\nmd: {steps: 100}\n"
+                                     "output: {thermo_every: 50, hdf5: false}\n");
+    char d[512];
+    static char out[65536];
+    snprintf(d, sizeof d, "%s/progress-mpi", th_temp_dir());
+    const char *a[] = {"/usr/bin/mpirun", "-np", "2", "--oversubscribe", th_solver(), "run", path,
+                       "--out", d, NULL};
+    cr_assert_eq(th_run(a, out, sizeof out), 0, "%s", out);
+    int lines = 0;
+    for (const char *p = out; (p = strstr(p, "step 50/100")) != NULL; p++)
+        lines++;
+    cr_assert_eq(lines, 1, "want the progress line once, got %d times:\n%s", lines, out);
+}

@@ -458,7 +458,8 @@ int sim_run(struct sim *s, const char *restart, struct err *e)
     rc = agree(s, rc, "its output files", e);   /* rank 0 opened them */
     if (!rc && s->restarted_from < 0)
         rc = output(s, due_bits(s), e);
-    int show = r && !s->subrun && r->opt.progress && !r->opt.quiet;
+    /* under mpirun every rank runs the loop; rank 0 alone shows it */
+    int show = r && !s->subrun && r->opt.progress && !r->opt.quiet && r->opt.rank == 0;
     struct progress quiet_progress;
     struct progress *pr = r && !s->subrun ? &r->progress : &quiet_progress;
     progress_start_at(pr, stderr, s->steps, s->step, s->dt, show);
