@@ -40,6 +40,7 @@
 #include "core/units.h"
 #include "couple/handshake.h"
 #include "helpers/th.h"
+#include "helpers/th_case.h"
 #include "helpers/th_handshake.h"
 #include "input/case.h"
 #include "mpm/mpm_material.h"
@@ -380,29 +381,7 @@ Test(handshake_110, uniform_strain_needs_the_rotated_law, .timeout = 120)
     "crystal: {element: Cu, a_min: 3.5, a_max: 3.7, orientation: 110}\n"                         \
     "potential: {style: eam/alloy, file: Cu_mishin1.eam.alloy}\n"
 
-static double metric(json_t *m, const char *name)
-{
-    json_t *v = json_object_get(json_object_get(m, name), "value");
-    cr_assert(json_is_number(v), "metric %s missing", name);
-    return json_number_value(v);
-}
-
 /* Run the case text and return its result.json (caller decrefs). */
-static json_t *run_case(int slot, const char *name, const char *text)
-{
-    const char *path = th_write_temp(slot, name, text);
-    char dir[1200];
-    snprintf(dir, sizeof dir, "%s/%s-out", th_temp_dir(), name);
-    const char *argv[] = {th_solver(), "run", path, "--out", dir, "--quiet", NULL};
-    static char out[8192];
-    cr_assert_eq(th_run(argv, out, sizeof out), 0, "%s", out);
-    char p[1400];
-    snprintf(p, sizeof p, "%s/result.json", dir);
-    json_t *r = json_load_file(p, 0, NULL);
-    cr_assert_not_null(r);
-    return r;
-}
-
 struct mat110 {
     const char *tag, *crystal, *potential, *handshake, *bar;
     double traction, dt;   /* GPa, ps */
@@ -457,36 +436,36 @@ static void step_wave(const struct mat110 *m)
              "output: {thermo_every: 500, snapshot_every: 0, hdf5: false}\n",
              m->crystal, m->potential, m->handshake, m->bar, m->traction, m->dt, m->steps);
     snprintf(name, sizeof name, "wave_%s110.yaml", m->tag);
-    json_t *r = run_case(0, name, text);
+    json_t *r = th_run_case(0, name, text);
     json_t *mt = json_object_get(r, "metrics");
     const double G = UNITS_EVA3_TO_GPA;
-    double c11 = metric(mt, "c11_md") / G, c12 = metric(mt, "c12_md") / G;
-    double c44 = metric(mt, "c44_md") / G;
-    double v = metric(mt, "front_speed_md"), c = metric(mt, "wave_speed_analytic");
-    double cl = metric(mt, "cl_mpm") / G;
+    double c11 = th_metric_value(mt, "c11_md") / G, c12 = th_metric_value(mt, "c12_md") / G;
+    double c44 = th_metric_value(mt, "c44_md") / G;
+    double v = th_metric_value(mt, "front_speed_md"), c = th_metric_value(mt, "wave_speed_analytic");
+    double cl = th_metric_value(mt, "cl_mpm") / G;
     /* the analytical speed is that of C_L = (C11 + C12 + 2 C44) / 2 */
     cr_expect_float_eq(cl, 0.5 * (c11 + c12 + 2 * c44), 1e-9 * cl);
-    double a = metric(mt, "lattice_constant"), rho = m->sites * m->mass / (a * a * a);
+    double a = th_metric_value(mt, "lattice_constant"), rho = m->sites * m->mass / (a * a * a);
     double c_want = sqrt(cl / rho * UNITS_FTM2V) * UNITS_APS_TO_MS;
     cr_expect_lt(fabs(c / c_want - 1), 1e-3, "analytical %g m/s, sqrt(C_L/rho) %g m/s", c, c_want);
     double c100 = c * sqrt(c11 / cl);
-    double szz_md = metric(mt, "szz_md_right"), szz_mpm = metric(mt, "szz_mpm_right");
-    double szz_p = metric(mt, "szz_mpm_predicted");
+    double szz_md = th_metric_value(mt, "szz_md_right"), szz_mpm = th_metric_value(mt, "szz_mpm_right");
+    double szz_p = th_metric_value(mt, "szz_mpm_predicted");
     cr_log_info("%s [110] step wave: front %.1f m/s, sqrt(C_L/rho) %.1f m/s (%+.2f %%; [100]: "
                 "%.1f m/s), front fit %.1f m/s; sigma_xx jump %.4g GPa (MD noise %.4g); sigma_zz "
                 "MD %.4g / MPM %.4g GPa (predicted %.4g, C12/C_L)",
-                m->tag, v, c, 100 * (v / c - 1), c100, metric(mt, "wave_speed_fit"),
-                metric(mt, "sxx_jump"), metric(mt, "sxx_noise_md"), szz_md, szz_mpm, szz_p);
-    cr_expect_float_eq(metric(mt, "orientation"), 110, 0);
+                m->tag, v, c, 100 * (v / c - 1), c100, th_metric_value(mt, "wave_speed_fit"),
+                th_metric_value(mt, "sxx_jump"), th_metric_value(mt, "sxx_noise_md"), szz_md, szz_mpm, szz_p);
+    cr_expect_float_eq(th_metric_value(mt, "orientation"), 110, 0);
     cr_expect_lt(fabs(v / c - 1), 0.03, "%s: front %g m/s against %g m/s", m->tag, v, c);
     cr_expect_gt(v / c100 - 1, m->above_100, "%s: the front runs at the [110] speed, not [100]'s",
                  m->tag);
     /* diamond: at the relaxed C44's speed, well below the unrelaxed one's */
-    double c44u = metric(mt, "c44_unrelaxed_md") / G;
+    double c44u = th_metric_value(mt, "c44_unrelaxed_md") / G;
     double c_unrelaxed = c * sqrt(0.5 * (c11 + c12 + 2 * c44u) / cl);
     cr_log_info("%s: C44 %.2f GPa (unrelaxed %.2f, zeta %.4f); with the unrelaxed C44 the "
                 "front would run at %.1f m/s",
-                m->tag, c44 * G, c44u * G, metric(mt, "kleinman_zeta"), c_unrelaxed);
+                m->tag, c44 * G, c44u * G, th_metric_value(mt, "kleinman_zeta"), c_unrelaxed);
     if (c44u > 1.01 * c44)
         cr_expect_lt(v / c_unrelaxed, 0.95, "%s: front %g m/s, unrelaxed speed %g m/s", m->tag,
                      v, c_unrelaxed);
@@ -538,13 +517,13 @@ static void static_bar(const char *tag, const char *crystal_potential, const cha
              "output: {thermo_every: 1000, snapshot_every: 0, hdf5: false}\n",
              crystal_potential, regions, width, damping);
     snprintf(name, sizeof name, "static_%s110.yaml", tag);
-    json_t *r = run_case(1, name, text);
+    json_t *r = th_run_case(1, name, text);
     json_t *mt = json_object_get(r, "metrics");
-    double dmd = metric(mt, "stress_deviation_md"), dmpm = metric(mt, "stress_deviation_mpm");
+    double dmd = th_metric_value(mt, "stress_deviation_md"), dmpm = th_metric_value(mt, "stress_deviation_mpm");
     cr_log_info("%s [110] static bar: deviation MD %.3f %%, MPM %.3f %%; mean sigma_xx MD %.6g, "
                 "MPM %.6g GPa; kinetic residual %.2g eV",
-                tag, 100 * dmd, 100 * dmpm, metric(mt, "sxx_md_mean"), metric(mt, "sxx_mpm_mean"),
-                metric(mt, "kinetic_residual"));
+                tag, 100 * dmd, 100 * dmpm, th_metric_value(mt, "sxx_md_mean"), th_metric_value(mt, "sxx_mpm_mean"),
+                th_metric_value(mt, "kinetic_residual"));
     cr_expect_lt(dmd, 0.01, "%s: MD deviation %g", tag, dmd);
     cr_expect_lt(dmpm, 0.01, "%s: MPM deviation %g", tag, dmpm);
     json_decref(r);
@@ -569,7 +548,7 @@ Test(handshake_110_cases, static_bar_si_sw, .timeout = 300)
  * edge, as the oriented lattice needs. */
 Test(handshake_110_cases, packets_cu_sigma_1a, .timeout = 600)
 {
-    json_t *r = run_case(2, "packet_cu110.yaml",
+    json_t *r = th_run_case(2, "packet_cu110.yaml",
                          "type: handshake_packet\n" CU110
                          "handshake: {regions: [2.5, 2.5, 2.5], cell: 1, levels: 0}\n"
                          "bar: {mpm: [20, 0], md: 74, width: 4}\n"
@@ -577,11 +556,11 @@ Test(handshake_110_cases, packets_cu_sigma_1a, .timeout = 600)
                          "md: {timestep: 0.001}\nprofile: {every: 1000}\n"
                          "output: {thermo_every: 50, snapshot_every: 0, hdf5: false}\n");
     json_t *mt = json_object_get(r, "metrics");
-    double tf = metric(mt, "transmitted_fraction"), rf = metric(mt, "reflected_fraction");
-    double ref = metric(mt, "reference_fraction_of_packet");
+    double tf = th_metric_value(mt, "transmitted_fraction"), rf = th_metric_value(mt, "reflected_fraction");
+    double ref = th_metric_value(mt, "reference_fraction_of_packet");
     cr_log_info("Cu [110] packets, sigma = 1 a: transmitted %.3f, reflected %.3f, lost %.3f "
                 "(reference half %.3f)",
-                tf, rf, metric(mt, "lost_fraction"), ref);
+                tf, rf, th_metric_value(mt, "lost_fraction"), ref);
     cr_expect_lt(fabs(ref - 0.5), 0.02, "reference packet holds %g", ref);
     cr_expect(tf > 0.5 && tf < 1.05, "transmitted fraction %g", tf);
     cr_expect(rf > 0 && tf + rf < 1.0, "reflected %g", rf);

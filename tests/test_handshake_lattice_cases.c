@@ -25,6 +25,7 @@
 #include <string.h>
 
 #include "helpers/th.h"
+#include "helpers/th_case.h"
 
 struct mat {
     const char *tag, *crystal, *potential, *regions;
@@ -46,29 +47,7 @@ static const struct mat ar = {
     "{style: lj, elements: [Ar], epsilon: 0.0104, sigma: 3.405, cutoff: 8.5125}", "[2, 2, 2]",
     0.01, 0.004};
 
-static double metric(json_t *m, const char *name)
-{
-    json_t *v = json_object_get(json_object_get(m, name), "value");
-    cr_assert(json_is_number(v), "metric %s missing", name);
-    return json_number_value(v);
-}
-
 /* Run the case text and return its result.json (caller decrefs). */
-static json_t *run_case(int slot, const char *name, const char *text)
-{
-    const char *path = th_write_temp(slot, name, text);
-    char dir[1200];
-    snprintf(dir, sizeof dir, "%s/%s-out", th_temp_dir(), name);
-    const char *argv[] = {th_solver(), "run", path, "--out", dir, "--quiet", NULL};
-    static char out[8192];
-    cr_assert_eq(th_run(argv, out, sizeof out), 0, "%s", out);
-    char p[1400];
-    snprintf(p, sizeof p, "%s/result.json", dir);
-    json_t *r = json_load_file(p, 0, NULL);
-    cr_assert_not_null(r);
-    return r;
-}
-
 static void step_wave(const struct mat *m, const char *bar, long steps)
 {
     char text[2048], name[64];
@@ -80,14 +59,14 @@ static void step_wave(const struct mat *m, const char *bar, long steps)
              "output: {thermo_every: 500, snapshot_every: 0, hdf5: false}\n",
              m->crystal, m->potential, m->regions, bar, m->traction, m->dt, steps);
     snprintf(name, sizeof name, "wave_%s.yaml", m->tag);
-    json_t *r = run_case(0, name, text);
+    json_t *r = th_run_case(0, name, text);
     json_t *mt = json_object_get(r, "metrics");
-    double v = metric(mt, "front_speed_md"), c = metric(mt, "wave_speed_analytic");
-    double c11 = metric(mt, "c11_md"), c11m = metric(mt, "c11_mpm");
+    double v = th_metric_value(mt, "front_speed_md"), c = th_metric_value(mt, "wave_speed_analytic");
+    double c11 = th_metric_value(mt, "c11_md"), c11m = th_metric_value(mt, "c11_mpm");
     cr_log_info("%s step wave: front %.1f m/s, sqrt(C11/rho) %.1f m/s (%+.2f %%), C11 %.2f GPa, "
                 "sigma_xx jump %.4f GPa (MD noise %.4f)",
-                m->tag, v, c, 100 * (v / c - 1), c11, metric(mt, "sxx_jump"),
-                metric(mt, "sxx_noise_md"));
+                m->tag, v, c, 100 * (v / c - 1), c11, th_metric_value(mt, "sxx_jump"),
+                th_metric_value(mt, "sxx_noise_md"));
     cr_expect_eq(c11, c11m, "the MPM takes the potential's C11");
     cr_expect_lt(fabs(v / c - 1), 0.03, "%s: front %g m/s against %g m/s", m->tag, v, c);
     json_decref(r);
@@ -126,13 +105,13 @@ static void static_bar(const struct mat *m, double damping, double dt, long step
              "output: {thermo_every: 1000, snapshot_every: 0, hdf5: false}\n",
              m->crystal, m->potential, m->regions, m->traction, ramp, damping, dt, steps, steps);
     snprintf(name, sizeof name, "static_%s.yaml", m->tag);
-    json_t *r = run_case(1, name, text);
+    json_t *r = th_run_case(1, name, text);
     json_t *mt = json_object_get(r, "metrics");
-    double dmd = metric(mt, "stress_deviation_md"), dmpm = metric(mt, "stress_deviation_mpm");
+    double dmd = th_metric_value(mt, "stress_deviation_md"), dmpm = th_metric_value(mt, "stress_deviation_mpm");
     cr_log_info("%s static bar: deviation MD %.3f %%, MPM %.3f %%; mean sigma_xx MD %.6g, MPM "
                 "%.6g GPa; kinetic residual %.2g eV",
-                m->tag, 100 * dmd, 100 * dmpm, metric(mt, "sxx_md_mean"),
-                metric(mt, "sxx_mpm_mean"), metric(mt, "kinetic_residual"));
+                m->tag, 100 * dmd, 100 * dmpm, th_metric_value(mt, "sxx_md_mean"),
+                th_metric_value(mt, "sxx_mpm_mean"), th_metric_value(mt, "kinetic_residual"));
     cr_expect_lt(dmd, 0.01, "%s: MD deviation %g", m->tag, dmd);
     cr_expect_lt(dmpm, 0.01, "%s: MPM deviation %g", m->tag, dmpm);
     json_decref(r);
@@ -166,13 +145,13 @@ static double packet_run(const struct mat *m, double sigma, double dt, int width
              "output: {thermo_every: 50, snapshot_every: 0, hdf5: false}\n",
              m->crystal, m->potential, m->regions, width, sigma, dt);
     snprintf(name, sizeof name, "packet_%s_%g.yaml", m->tag, sigma);
-    json_t *r = run_case(2, name, text);
+    json_t *r = th_run_case(2, name, text);
     json_t *mt = json_object_get(r, "metrics");
-    double tf = metric(mt, "transmitted_fraction"), rf = metric(mt, "reflected_fraction");
-    double ref = metric(mt, "reference_fraction_of_packet");
+    double tf = th_metric_value(mt, "transmitted_fraction"), rf = th_metric_value(mt, "reflected_fraction");
+    double ref = th_metric_value(mt, "reference_fraction_of_packet");
     cr_log_info("%s packets, sigma = %g a, cell 1 a: transmitted %.3f, reflected %.3f, lost %.3f "
                 "(reference half %.3f)",
-                m->tag, sigma, tf, rf, metric(mt, "lost_fraction"), ref);
+                m->tag, sigma, tf, rf, th_metric_value(mt, "lost_fraction"), ref);
     cr_expect_lt(fabs(ref - 0.5), 0.02, "%s: reference packet holds %g", m->tag, ref);
     json_decref(r);
     return tf;
@@ -214,12 +193,12 @@ Test(handshake_lattice_cases, packets_ar_lj_half_cells, .timeout = 600)
              "profile: {every: 1000}\n"
              "output: {thermo_every: 50, snapshot_every: 0, hdf5: false}\n",
              m->crystal, m->potential, m->regions);
-    json_t *r = run_case(2, "packet_ar_half.yaml", text);
+    json_t *r = th_run_case(2, "packet_ar_half.yaml", text);
     json_t *mt = json_object_get(r, "metrics");
-    double tf = metric(mt, "transmitted_fraction"), ref = metric(mt, "reference_fraction_of_packet");
+    double tf = th_metric_value(mt, "transmitted_fraction"), ref = th_metric_value(mt, "reference_fraction_of_packet");
     cr_log_info("ar packets, sigma = 1 a, cell 0.5 a: transmitted %.3f, reflected %.3f, lost %.3f "
                 "(reference half %.3f)",
-                tf, metric(mt, "reflected_fraction"), metric(mt, "lost_fraction"), ref);
+                tf, th_metric_value(mt, "reflected_fraction"), th_metric_value(mt, "lost_fraction"), ref);
     cr_expect(tf > 0.5 && tf < 1.05, "transmitted fraction %g", tf);
     cr_expect_lt(fabs(ref - 0.5), 0.02, "reference packet holds %g", ref);
     json_decref(r);
@@ -250,17 +229,17 @@ static const char *si_impact_text(double speed)
  * changes by 2 % of the impact energy. */
 Test(handshake_lattice_cases, si_impact_energy_passes_into_the_mpm, .timeout = 300)
 {
-    json_t *r1 = run_case(3, "si_impact.yaml", si_impact_text(4.0));
-    json_t *r0 = run_case(4, "si_impact_rest.yaml", si_impact_text(0.0));
+    json_t *r1 = th_run_case(3, "si_impact.yaml", si_impact_text(4.0));
+    json_t *r0 = th_run_case(4, "si_impact_rest.yaml", si_impact_text(0.0));
     json_t *m1 = json_object_get(r1, "metrics"), *m0 = json_object_get(r0, "metrics");
     /* 8 sites per cell: 1440 atoms, all but the 96 of the core in region I */
-    cr_expect_eq(metric(m1, "target_atoms"), 1440);
-    cr_expect_eq(metric(m1, "atoms_region_I"), 1344);
-    cr_expect_eq(metric(m1, "copies_region_II_III"), 4160);
-    double eimp = metric(m1, "impact_energy") * 1e3;   /* keV -> eV */
-    double mpm = metric(m1, "mpm_energy"), mpm0 = metric(m0, "mpm_energy");
-    double d1 = metric(m1, "coupled_energy_final") - metric(m1, "coupled_energy_initial");
-    double d0 = metric(m0, "coupled_energy_final") - metric(m0, "coupled_energy_initial");
+    cr_expect_eq(th_metric_value(m1, "target_atoms"), 1440);
+    cr_expect_eq(th_metric_value(m1, "atoms_region_I"), 1344);
+    cr_expect_eq(th_metric_value(m1, "copies_region_II_III"), 4160);
+    double eimp = th_metric_value(m1, "impact_energy") * 1e3;   /* keV -> eV */
+    double mpm = th_metric_value(m1, "mpm_energy"), mpm0 = th_metric_value(m0, "mpm_energy");
+    double d1 = th_metric_value(m1, "coupled_energy_final") - th_metric_value(m1, "coupled_energy_initial");
+    double d0 = th_metric_value(m0, "coupled_energy_final") - th_metric_value(m0, "coupled_energy_initial");
     cr_log_info("Si impact %.3f eV: MPM %.4f eV (%.2f %%), control %.2g eV; coupled energy change "
                 "%.4f eV (%.2f %%), control %.2g eV",
                 eimp, mpm, 100 * mpm / eimp, mpm0, d1, 100 * d1 / eimp, d0);
@@ -268,7 +247,7 @@ Test(handshake_lattice_cases, si_impact_energy_passes_into_the_mpm, .timeout = 3
     cr_expect_gt(mpm / eimp, 0.03, "MPM got %g of the impact energy", mpm / eimp);
     cr_expect_lt(mpm0, 1e-3, "control MPM energy %g eV", mpm0);
     cr_expect_lt(fabs(d1 - d0) / eimp, 0.10, "coupled energy changed by %g", (d1 - d0) / eimp);
-    cr_expect_gt(metric(m1, "displaced_peak"), 0);
+    cr_expect_gt(th_metric_value(m1, "displaced_peak"), 0);
     json_decref(r1);
     json_decref(r0);
 }

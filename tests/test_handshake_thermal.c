@@ -31,6 +31,7 @@
 #include <string.h>
 
 #include "helpers/th.h"
+#include "helpers/th_case.h"
 
 static const char *bar_text(const char *thermal, const char *elastic)
 {
@@ -52,49 +53,27 @@ static const char *bar_text(const char *thermal, const char *elastic)
 
 static const char *const elastic_300K = "elastic: {c11: 164.20, c12: 119.25, c44: 68.27}\n";
 
-static double metric(json_t *m, const char *name)
-{
-    json_t *v = json_object_get(json_object_get(m, name), "value");
-    cr_assert(json_is_number(v), "metric %s missing", name);
-    return json_number_value(v);
-}
-
-static json_t *run_case(int slot, const char *name, const char *text)
-{
-    char dir[1200];
-    const char *path = th_write_temp(slot, name, text);
-    snprintf(dir, sizeof dir, "%s/%s-out", th_temp_dir(), name);
-    const char *argv[] = {th_solver(), "run", path, "--out", dir, "--quiet", NULL};
-    char out[8192];
-    cr_assert_eq(th_run(argv, out, sizeof out), 0, "%s", out);
-    char p[1400];
-    snprintf(p, sizeof p, "%s/result.json", dir);
-    json_t *r = json_load_file(p, 0, NULL);
-    cr_assert_not_null(r);
-    return r;
-}
-
 Test(handshake_thermal, md_region_keeps_its_temperature, .timeout = 180)
 {
-    json_t *r = run_case(1, "thermal_bar.yaml",
+    json_t *r = th_run_case(1, "thermal_bar.yaml",
                          bar_text("{temperature: 300, lattice_constant: 3.63176, damping_time: "
                                   "0.1, equilibrate: 1, block: 0.5}",
                                   elastic_300K));
     json_t *m = json_object_get(r, "metrics");
-    cr_expect_eq(metric(m, "atoms"), 768);
-    cr_expect_eq(metric(m, "temperature_blocks"), 4);
-    double mean = metric(m, "temperature_md_mean");
-    double dev = metric(m, "temperature_max_deviation");
-    double t2 = metric(m, "temperature_region_II_mean");
+    cr_expect_eq(th_metric_value(m, "atoms"), 768);
+    cr_expect_eq(th_metric_value(m, "temperature_blocks"), 4);
+    double mean = th_metric_value(m, "temperature_md_mean");
+    double dev = th_metric_value(m, "temperature_max_deviation");
+    double t2 = th_metric_value(m, "temperature_region_II_mean");
     cr_log_info("300 K bar: MD mean %.1f K, largest block deviation %.3f, region II %.1f K, "
                 "bath heat %.3f eV",
-                mean, dev, t2, metric(m, "bath_heat"));
+                mean, dev, t2, th_metric_value(m, "bath_heat"));
     cr_expect_lt(fabs(mean / 300 - 1), 0.03, "MD region at %g K", mean);
     cr_expect_lt(dev, 0.06, "a block deviates by %g", dev);
     cr_expect_lt(fabs(t2 / 300 - 1), 0.05, "region II at %g K", t2);
     /* the MPM stands on the lattice at a(T) with the constants at T */
-    cr_expect_float_eq(metric(m, "lattice_constant"), 3.63176, 1e-9);
-    cr_expect_float_eq(metric(m, "c11_mpm"), 164.20, 1e-6);
+    cr_expect_float_eq(th_metric_value(m, "lattice_constant"), 3.63176, 1e-9);
+    cr_expect_float_eq(th_metric_value(m, "c11_mpm"), 164.20, 1e-6);
     json_decref(r);
 }
 
@@ -123,21 +102,21 @@ static const char *impact_text(const char *handshake, double speed)
 Test(handshake_thermal, bath_reduces_the_impact_loss, .timeout = 240)
 {
     const char *bath = ", thermal: {damping_time: 0.1}";
-    json_t *r1 = run_case(2, "thermal_imp.yaml", impact_text(bath, 2.0));
-    json_t *r0 = run_case(3, "thermal_ctl.yaml", impact_text(bath, 0.0));
+    json_t *r1 = th_run_case(2, "thermal_imp.yaml", impact_text(bath, 2.0));
+    json_t *r0 = th_run_case(3, "thermal_ctl.yaml", impact_text(bath, 0.0));
     json_t *m1 = json_object_get(r1, "metrics"), *m0 = json_object_get(r0, "metrics");
-    double eimp = metric(m1, "impact_energy") * 1e3;   /* keV -> eV */
-    double d1 = metric(m1, "energy_account_final") - metric(m1, "energy_account_initial");
-    double d0 = metric(m0, "energy_account_final") - metric(m0, "energy_account_initial");
+    double eimp = th_metric_value(m1, "impact_energy") * 1e3;   /* keV -> eV */
+    double d1 = th_metric_value(m1, "energy_account_final") - th_metric_value(m1, "energy_account_initial");
+    double d0 = th_metric_value(m0, "energy_account_final") - th_metric_value(m0, "energy_account_initial");
     double loss = -(d1 - d0) / eimp;
     cr_log_info("impact %.3f eV: account change %.3f eV, control %.3f eV: loss %.2f %%, bath "
                 "heat %.3f eV",
-                eimp, d1, d0, 100 * loss, metric(m1, "bath_heat"));
+                eimp, d1, d0, 100 * loss, th_metric_value(m1, "bath_heat"));
     cr_expect_gt(eimp, 10);
     cr_expect_lt(fabs(loss), 0.04, "the account lost %g of the impact energy", loss);
-    cr_expect_gt(metric(m1, "bath_heat") - metric(m0, "bath_heat"), 0.02 * eimp,
-                 "the bath took %g eV", metric(m1, "bath_heat"));
-    double mpm = (metric(m1, "mpm_energy") - metric(m0, "mpm_energy")) / eimp;
+    cr_expect_gt(th_metric_value(m1, "bath_heat") - th_metric_value(m0, "bath_heat"), 0.02 * eimp,
+                 "the bath took %g eV", th_metric_value(m1, "bath_heat"));
+    double mpm = (th_metric_value(m1, "mpm_energy") - th_metric_value(m0, "mpm_energy")) / eimp;
     cr_log_info("MPM beyond the control: %.2f %% of the impact", 100 * mpm);
     cr_expect_gt(mpm, 0.045, "the MPM received %g of the impact energy", mpm);
     json_decref(r1);

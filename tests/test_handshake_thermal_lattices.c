@@ -39,44 +39,23 @@
 #include <string.h>
 
 #include "helpers/th.h"
+#include "helpers/th_case.h"
 
 #define KB 8.617333262e-5   /* eV/K */
-
-static double metric(json_t *m, const char *name)
-{
-    json_t *v = json_object_get(json_object_get(m, name), "value");
-    cr_assert(json_is_number(v), "metric %s missing", name);
-    return json_number_value(v);
-}
-
-static json_t *run_case(int slot, const char *name, const char *text)
-{
-    char dir[1200];
-    const char *path = th_write_temp(slot, name, text);
-    snprintf(dir, sizeof dir, "%s/%s-out", th_temp_dir(), name);
-    const char *argv[] = {th_solver(), "run", path, "--out", dir, "--quiet", NULL};
-    char out[8192];
-    cr_assert_eq(th_run(argv, out, sizeof out), 0, "%s", out);
-    char p[1400];
-    snprintf(p, sizeof p, "%s/result.json", dir);
-    json_t *r = json_load_file(p, 0, NULL);
-    cr_assert_not_null(r);
-    return r;
-}
 
 /* The checks of the header on a finished run. */
 static void expect_keeps_temperature(const char *what, json_t *m, double atoms)
 {
     const double T = 300;
-    cr_expect_eq(metric(m, "atoms"), atoms, "%s: %g atoms", what, metric(m, "atoms"));
-    cr_expect_eq(metric(m, "temperature_blocks"), 3);
-    double mean = metric(m, "temperature_md_mean");
-    double dev = metric(m, "temperature_max_deviation");
-    double t2 = metric(m, "temperature_region_II_mean");
-    double trend = metric(m, "temperature_trend");
-    double heat = metric(m, "bath_heat");
-    double mpm_ke = metric(m, "mpm_ke");
-    double npts = metric(m, "points");
+    cr_expect_eq(th_metric_value(m, "atoms"), atoms, "%s: %g atoms", what, th_metric_value(m, "atoms"));
+    cr_expect_eq(th_metric_value(m, "temperature_blocks"), 3);
+    double mean = th_metric_value(m, "temperature_md_mean");
+    double dev = th_metric_value(m, "temperature_max_deviation");
+    double t2 = th_metric_value(m, "temperature_region_II_mean");
+    double trend = th_metric_value(m, "temperature_trend");
+    double heat = th_metric_value(m, "bath_heat");
+    double mpm_ke = th_metric_value(m, "mpm_ke");
+    double npts = th_metric_value(m, "points");
     cr_log_info("%s: MD mean %.1f K, largest block deviation %.3f, region II %.1f K, trend "
                 "%+.3f, bath heat %.3f eV, MPM kinetic %.3f eV (%g points)",
                 what, mean, dev, t2, trend, heat, mpm_ke, npts);
@@ -108,15 +87,15 @@ static const char *si_text(const char *orientation, const char *bar)
 
 Test(handshake_thermal_lattices, si_sw_100_keeps_its_temperature, .timeout = 240)
 {
-    json_t *r = run_case(1, "thermal_si100.yaml", si_text("100", "{mpm: [4, 4], md: 8, width: 3}"));
+    json_t *r = th_run_case(1, "thermal_si100.yaml", si_text("100", "{mpm: [4, 4], md: 8, width: 3}"));
     json_t *m = json_object_get(r, "metrics");
     expect_keeps_temperature("Si sw [100]", m, 8 * 3 * 3 * 8);
     /* the MPM on the lattice at a(T) with the constants at T */
-    cr_expect_float_eq(metric(m, "lattice_constant"), 5.43725, 1e-9);
-    cr_expect_float_eq(metric(m, "c44_mpm"), 55.07, 1e-6);
+    cr_expect_float_eq(th_metric_value(m, "lattice_constant"), 5.43725, 1e-9);
+    cr_expect_float_eq(th_metric_value(m, "c44_mpm"), 55.07, 1e-6);
     /* zeta of the crystal at a(T): SW's 0 K value is 0.63; the longer bonds
      * at a(T) (+0.12 %) shift it by a few 1e-3, not more */
-    double z0 = metric(m, "kleinman_zeta"), zt = metric(m, "kleinman_zeta_mpm");
+    double z0 = th_metric_value(m, "kleinman_zeta"), zt = th_metric_value(m, "kleinman_zeta_mpm");
     cr_log_info("Si sw: zeta %.5f at 0 K, %.5f at a(300 K)", z0, zt);
     cr_expect_gt(z0, 0.55);
     cr_expect_lt(z0, 0.7);
@@ -129,18 +108,18 @@ Test(handshake_thermal_lattices, si_sw_110_keeps_its_temperature, .timeout = 240
 {
     /* lengths in edges of the oriented cell: a/sqrt2 along x and y, four
      * sites per cell */
-    json_t *r = run_case(2, "thermal_si110.yaml", si_text("110", "{mpm: [6, 6], md: 8, width: 4}"));
+    json_t *r = th_run_case(2, "thermal_si110.yaml", si_text("110", "{mpm: [6, 6], md: 8, width: 4}"));
     json_t *m = json_object_get(r, "metrics");
     expect_keeps_temperature("Si sw [110]", m, 8 * 4 * 4 * 4);
-    cr_expect_eq(metric(m, "orientation"), 110);
+    cr_expect_eq(th_metric_value(m, "orientation"), 110);
     /* the MPM's longitudinal modulus along [110]: (C11 + C12 + 2 C44) / 2 */
-    cr_expect_float_eq(metric(m, "cl_mpm"), 0.5 * (149.11 + 76.42 + 2 * 55.07), 1e-6);
+    cr_expect_float_eq(th_metric_value(m, "cl_mpm"), 0.5 * (149.11 + 76.42 + 2 * 55.07), 1e-6);
     json_decref(r);
 }
 
 Test(handshake_thermal_lattices, fe_eam_100_keeps_its_temperature, .timeout = 240)
 {
-    json_t *r = run_case(3, "thermal_fe100.yaml",
+    json_t *r = th_run_case(3, "thermal_fe100.yaml",
                          "type: handshake_thermal\n"
                          "seed: 3\n"
                          "crystal: {lattice: bcc, element: Fe, a_min: 2.7, a_max: 3.0}\n"
@@ -154,7 +133,7 @@ Test(handshake_thermal_lattices, fe_eam_100_keeps_its_temperature, .timeout = 24
                          "output: {thermo_every: 100, snapshot_every: 0, hdf5: false}\n");
     json_t *m = json_object_get(r, "metrics");
     expect_keeps_temperature("Fe eam [100]", m, 12 * 5 * 5 * 2);
-    cr_expect_float_eq(metric(m, "lattice_constant"), 2.85906, 1e-9);
-    cr_expect_eq(metric(m, "kleinman_zeta_mpm"), 0);
+    cr_expect_float_eq(th_metric_value(m, "lattice_constant"), 2.85906, 1e-9);
+    cr_expect_eq(th_metric_value(m, "kleinman_zeta_mpm"), 0);
     json_decref(r);
 }
