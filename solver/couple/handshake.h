@@ -203,6 +203,11 @@ void hs_internal_shift(const struct handshake_layout *L, const double axes[3][3]
 
 struct hs_thermal;
 struct hs_bricks;
+struct handshake;
+
+/* Point the MPM's extra set at the n region I rows of xI, vI, mI, sI and
+ * volI (serial: this rank's atoms; on bricks: every rank's, in id order). */
+void hs_extra_region_i(struct handshake *hs, long n);
 
 struct handshake {
     struct handshake_layout lay;

@@ -114,12 +114,7 @@ int hs_bricks_index(struct handshake *hs, struct err *e)
     for (long k = 0; k < nall; k++)
         hs->volI[k] = hs->omega0;
     b->nall = nall;
-    hs->extra.n = nall;
-    hs->extra.x = hs->xI;
-    hs->extra.v = hs->vI;
-    hs->extra.mass = hs->mI;
-    hs->extra.stress = hs->sI;
-    hs->extra.volume = hs->volI;
+    hs_extra_region_i(hs, nall);
     return 0;
 }
 

@@ -91,13 +91,18 @@ static int reindex_local(struct handshake *hs, struct err *e)
         }
     }
     hs->seen_builds = hs->md->nrebuilds;
-    hs->extra.n = hs->nI;
+    hs_extra_region_i(hs, hs->nI);
+    return 0;
+}
+
+void hs_extra_region_i(struct handshake *hs, long n)
+{
+    hs->extra.n = n;
     hs->extra.x = hs->xI;
     hs->extra.v = hs->vI;
     hs->extra.mass = hs->mI;
     hs->extra.stress = hs->sI;
     hs->extra.volume = hs->volI;
-    return 0;
 }
 
 /* The lists of this rank; on bricks (collective) the extra set becomes
