@@ -16,7 +16,7 @@
  *     temperature: 300        K
  *     lattice_constant: 0     Å, a(T) (required: lattice_constant of type: elastic)
  *     damping_time: 0.1       ps, the bath on region II (0: no bath)
- *     coarse_cell: 2          lattice constants: the band's friction spares the
+ *     coarse_cell: 1          lattice constants: the band's friction spares the
  *                             points' velocity field on this grid (0: friction on
  *                             their whole velocity, as before)
  *     equilibrate: 2          ps under a Langevin thermostat on all MD atoms
