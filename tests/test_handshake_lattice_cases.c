@@ -251,3 +251,35 @@ Test(handshake_lattice_cases, si_impact_energy_passes_into_the_mpm, .timeout = 3
     json_decref(r1);
     json_decref(r0);
 }
+
+/* A hot Si(001) target through the handshake: target.a is a(300 K) of SW
+ * (5.43725 Å, docs/handshake.md) and the copies of region III take
+ * diamond's internal shift of the crystal at that a, not at 0 K, as
+ * handshake_thermal does: zeta a few 1e-3 below the 0 K value (longer
+ * bonds), and 0 K's zeta reported beside it.  Ten steps: the set-up is
+ * what is checked. */
+Test(handshake_lattice_cases, si_impact_at_300_K_takes_zeta_at_a_of_T, .timeout = 300)
+{
+    json_t *r = th_run_case(
+        5, "si_impact_300K.yaml",
+        "type: cluster_impact\nseed: 1\n"
+        "target:\n  lattice: diamond\n  element: Si\n  a: 5.43725\n  cells: [6, 6, 5]\n"
+        "  temperature: 300\n  boundary: handshake\n"
+        "  handshake: {mpm: 4, regions: [2, 1, 1], fine: 2, levels: 1, layer: 2,\n"
+        "              elastic: {c11: 149.11, c12: 76.42, c44: 55.07},\n"
+        "              thermal: {damping_time: 0.1}}\n"
+        "cluster: {atoms: 10, speed: 4}\n"
+        "potential: {style: sw, file: Si.sw, elements: [Si]}\n"
+        "md: {timestep: 0.001, steps: 10}\n"
+        "analysis: {every: 10, structure: {method: fixed}}\n"
+        "output: {thermo_every: 10, snapshot_every: 0, hdf5: false}\n");
+    json_t *m = json_object_get(r, "metrics");
+    double z0 = th_metric_value(m, "kleinman_zeta"), zt = th_metric_value(m, "kleinman_zeta_mpm");
+    cr_log_info("Si sw impact target: zeta %.5f at 0 K, %.5f at a(300 K)", z0, zt);
+    cr_expect_gt(z0, 0.55);
+    cr_expect_lt(z0, 0.7);
+    cr_expect_lt(zt, z0 - 5e-4, "zeta %g at a(T) not below %g at 0 K", zt, z0);
+    cr_expect_lt(z0 - zt, 0.01, "zeta %g at a(T) against %g at 0 K", zt, z0);
+    cr_expect_float_eq(th_metric_value(m, "c44_mpm"), 55.07, 1e-6);
+    json_decref(r);
+}

@@ -25,6 +25,7 @@ struct hs_impact {
     struct hs_thermal bath;
     double c_user[3];                            /* GPa: MPM constants (0: the potential's at 0 K) */
     double account0;                             /* the energy account when the run starts */
+    double zeta0;                                /* diamond's zeta at 0 K (0: fcc, bcc) */
 };
 
 /* The energy account of the boundary (eV): the MD atoms of the target and
@@ -184,6 +185,16 @@ int handshake_impact_prepare(struct impact_boundary *b, const double lo[3], cons
                             a0, a);
     cr.type = type;
     cr.mass = p->mass[type];
+    h->zeta0 = cr.zeta;
+    /* at a temperature target.a is a(T): diamond's copies of region III
+     * take the internal shift of the crystal at that a, as in
+     * handshake_thermal (handshake_crystal_zeta_at; 0 for fcc and bcc) */
+    if (h->bath.temperature > 0 &&
+        (rc = handshake_crystal_zeta_at(pot, h->lattice, &cr, a, &cr.zeta, e))) {
+        char msg[ERR_MSG_MAX];
+        snprintf(msg, sizeof msg, "%s", e->msg);
+        return cfg_error_at(cfg, "target.a", "boundary 'handshake': %s", msg);
+    }
     if (h->c_user[0] > 0) {
         cr.c11 = h->c_user[0] / UNITS_EVA3_TO_GPA;
         cr.c12 = h->c_user[1] / UNITS_EVA3_TO_GPA;
@@ -317,6 +328,8 @@ void handshake_impact_report(const struct impact_boundary *b, struct result *r)
     result_metric(r, "coupled_energy_initial", h->e0.total, "eV");
     result_metric(r, "coupled_energy_final", en.total, "eV");
     result_metric(r, "c11_mpm", hs->cr.c11 * UNITS_EVA3_TO_GPA, "GPa");
+    result_metric(r, "kleinman_zeta", h->zeta0, "1");
+    result_metric(r, "kleinman_zeta_mpm", hs->cr.zeta, "1");   /* at a(T) at a temperature */
     result_metric(r, "c12_mpm", hs->cr.c12 * UNITS_EVA3_TO_GPA, "GPa");
     result_metric(r, "c44_mpm", hs->cr.c44 * UNITS_EVA3_TO_GPA, "GPa");
     double fine_II;
