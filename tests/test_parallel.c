@@ -10,6 +10,7 @@
 #include <string.h>
 
 #include "helpers/th.h"
+#include "helpers/th_bricks.h"
 
 static void read_file(const char *path, char *buf, size_t len)
 {
@@ -83,10 +84,7 @@ Test(parallel, two_ranks_match_serial_silicon, .timeout = 300)
  * show. */
 Test(parallel, case_error_is_reported_once, .timeout = 300)
 {
-    setenv("OMPI_ALLOW_RUN_AS_ROOT", "1", 1);
-    setenv("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1", 1);
-    setenv("OMP_NUM_THREADS", "1", 1);
-    setenv("ASAN_OPTIONS", "detect_leaks=0", 1);   /* Open MPI's components, as above */
+    thb_mpi_env(3);   /* mpirun as root, 1 thread, no leak checks of Open MPI's */
     const char *path = th_write_temp(7, "bad.yaml",
                                      "system:\n  lattice: {style: fcc, a: 3.615, cells: [3, 3, 3]}\n"
                                      "  element: Cu\npotential: {style: eam/alloy, file: "
@@ -107,10 +105,7 @@ Test(parallel, case_error_is_reported_once, .timeout = 300)
  * (one "step 50/100" line on 2 ranks, not one per rank). */
 Test(parallel, progress_is_reported_once, .timeout = 300)
 {
-    setenv("OMPI_ALLOW_RUN_AS_ROOT", "1", 1);
-    setenv("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1", 1);
-    setenv("OMP_NUM_THREADS", "1", 1);
-    setenv("ASAN_OPTIONS", "detect_leaks=0", 1);   /* Open MPI's components, as above */
+    thb_mpi_env(3);   /* mpirun as root, 1 thread, no leak checks of Open MPI's */
     const char *path = th_write_temp(7, "progress.yaml",
                                      "system:\n  lattice: {style: fcc, a: 3.615, cells: [6, 6, 6]}\n"
                                      "  element: Cu\npotential: {style: eam/alloy, file: "
