@@ -97,15 +97,9 @@ static void job_dir_of(const char *dir, const char *name, const char *key, char 
 
 Test(campaign_dispatch, attempt_layout_and_current_link_after_a_retry, .timeout = 120)
 {
-    char dir[64], out[8192], text[1024];
+    char dir[64], out[8192];
     ct_mkdir(dir, sizeof dir);
-    snprintf(text, sizeof text,
-             "name: flaky\n"
-             "base: {fake: {action: fail_once}}\n"
-             "sweep: {zip: {fake.x: [1, 2], fake.flag: [%s/flag1, %s/flag2]}}\n"
-             "retries: 1\n",
-             dir, dir);
-    ct_write(0, dir, "flaky.yaml", text);
+    ct_write_flaky_study(dir);
     cr_assert_eq(run_study(dir, "flaky.yaml", "1", out, sizeof out), 0, "%s", out);
     sqlite3 *db = ct_db(dir);
     cr_assert_eq(ct_int(db, "SELECT count(*) FROM runs WHERE status = 'failed' AND attempt = 1"),

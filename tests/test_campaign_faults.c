@@ -144,15 +144,9 @@ Test(campaign_faults, each_outcome_in_its_class, .timeout = 60)
 
 Test(campaign_faults, retries_then_success, .timeout = 60)
 {
-    char dir[64], out[8192], text[1024];
+    char dir[64], out[8192];
     ct_mkdir(dir, sizeof dir);
-    snprintf(text, sizeof text,
-             "name: flaky\n"
-             "base: {fake: {action: fail_once}}\n"
-             "sweep: {zip: {fake.x: [1, 2], fake.flag: [%s/flag1, %s/flag2]}}\n"
-             "retries: 1\n",
-             dir, dir);
-    ct_write(0, dir, "flaky.yaml", text);
+    ct_write_flaky_study(dir);
     /* each job fails its first attempt (creating its flag file), then succeeds */
     int rc = run_study(dir, "flaky.yaml", out, sizeof out);
     cr_assert_eq(rc, 0, "%s", out);

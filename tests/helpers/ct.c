@@ -56,6 +56,18 @@ const char *ct_write(int slot, const char *dir, const char *name, const char *te
     return paths[slot];
 }
 
+void ct_write_flaky_study(const char *dir)
+{
+    char text[1024];
+    snprintf(text, sizeof text,
+             "name: flaky\n"
+             "base: {fake: {action: fail_once}}\n"
+             "sweep: {zip: {fake.x: [1, 2], fake.flag: [%s/flag1, %s/flag2]}}\n"
+             "retries: 1\n",
+             dir, dir);
+    ct_write(0, dir, "flaky.yaml", text);
+}
+
 static void child_setup(const char *dir, const char *const *env)
 {
     if (chdir(dir) != 0)

@@ -21,6 +21,10 @@ void ct_rmrf(const char *dir);
 /* Write text to dir/name; returns the path in a static slot 0..7. */
 const char *ct_write(int slot, const char *dir, const char *name, const char *text);
 
+/* dir/flaky.yaml (slot 0): two stand-in jobs that fail their first
+ * attempt (each creates its flag file in dir) and pass the retry. */
+void ct_write_flaky_study(const char *dir);
+
 /* Run bin/cascade with the NULL-ended arguments in `dir`; output (stdout and
  * stderr) into out; returns the exit status (128 + signal when killed).
  * `env` (may be NULL) is a NULL-ended list of extra NAME=VALUE entries. */
