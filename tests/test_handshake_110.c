@@ -26,9 +26,9 @@
  *   follows C12 / C_L on both sides; the static bars (Cu, Fe, Ar, Si sw
  *   and meam/spline) deviate less than 1 %, and the Cu packets'
  *   transmitted fraction at sigma = 1 a is reported.
- * - Bad input: orientation 111, cells of half an oriented cell, regions
- *   narrower than the cutoff, and the thermal case along [110] are refused
- *   with file, line and key.
+ * - Bad input: orientation 111, cells of half an oriented cell and regions
+ *   narrower than the cutoff (also in the thermal case along [110]) are
+ *   refused with file, line and key.
  */
 #include <criterion/criterion.h>
 #include <jansson.h>
