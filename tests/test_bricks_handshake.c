@@ -15,6 +15,15 @@
  * (measured: 1e-13 and below of the total energy, the MPM energy equal to
  * the 12 printed digits); the MPM step itself is the same arithmetic on
  * every rank count once region I is in id order.
+ *
+ * The same target at 300 K with the Langevin bath on region II
+ * (target.handshake.thermal, couple/handshake_thermal.h: the copies of
+ * region II move by MD on the ranks that own them, the bath's draws are
+ * keyed on id and step, its heat from the copies is summed over the
+ * ranks, its coarse field takes region I from the gathered rows): 100
+ * steps on 1, 2 and 4 ranks agree with the serial run to REL as well,
+ * the bath's heat, region II's fine-scale energy and the target's
+ * temperature included, and checkpoints move between 1 and 2 ranks.
  */
 #include <criterion/criterion.h>
 #include <jansson.h>
@@ -36,10 +45,10 @@ static const char *const hs_yaml =
     "target:\n"
     "  lattice: fcc\n"
     "  element: Cu\n"
-    "  a: 3.615\n"
+    "  a: %s\n"
     "  cells: [6, 6, 5]\n"
     "  boundary: handshake\n"
-    "  handshake: {mpm: 6, fine: 4, levels: 1, layer: 4}\n"
+    "%s"
     "cluster: {atoms: 14, speed: 4, gap: 2}\n"
     "potential: {style: eam/alloy, file: Cu_mishin1.eam.alloy}\n"
     "md: {timestep: 0.001, steps: 100}\n"
@@ -74,11 +83,57 @@ static void compare_hs(const char *a, const char *b, const char *tag)
     thb_compare_snapshot(a, b, "/particles/00000100", sets, ncomp, REL, tag);
 }
 
-static const char *write_case(const char *name, const char *extra_output)
+/* The target at 0 K, and at 300 K (a(300 K) and the constants at 300 K,
+ * docs/handshake.md "At a temperature") with the bath. */
+static const char *const hs_athermal = "  handshake: {mpm: 6, fine: 4, levels: 1, layer: 4}\n";
+static const char *const hs_thermal =
+    "  temperature: 300\n"
+    "  handshake:\n"
+    "    mpm: 6\n"
+    "    fine: 4\n"
+    "    levels: 1\n"
+    "    layer: 4\n"
+    "    elastic: {c11: 164.20, c12: 119.25, c44: 68.27}\n"
+    "    thermal: {damping_time: 0.1, coarse_cell: 1, seed: 3}\n";
+
+static const char *write_target(const char *name, int thermal, const char *extra_output)
 {
     static char yaml[4096];
-    snprintf(yaml, sizeof yaml, hs_yaml, extra_output);
+    snprintf(yaml, sizeof yaml, hs_yaml, thermal ? "3.63176" : "3.615",
+             thermal ? hs_thermal : hs_athermal, extra_output);
     return th_write_temp(0, name, yaml);
+}
+
+static const char *write_case(const char *name, const char *extra_output)
+{
+    return write_target(name, 0, extra_output);
+}
+
+/* Runs of the case at path on each of the n rank counts nps (into
+ * TEMP/stem-N), each checked against the serial run in d0. */
+static void ranks_match_serial(const char *path, const char *d0, const char *stem,
+                               const int *nps, int n, long natoms, thb_check_fn check)
+{
+    char dk[600], tag[96];
+    for (int k = 0; k < n; k++) {
+        snprintf(dk, sizeof dk, "%s/%s-%d", th_temp_dir(), stem, nps[k]);
+        thb_must_run(path, nps[k], dk, NULL);
+        snprintf(tag, sizeof tag, "%s on %d ranks", stem, nps[k]);
+        check(d0, dk, tag);
+        thb_check_parallel_record(dk, nps[k], natoms);
+    }
+}
+
+/* The checkpoint tests' uninterrupted runs: serially into s1 and on 2
+ * ranks into m2 (TEMP/stem-serial, TEMP/stem-2), which agree. */
+static void serial_and_2_ranks(const char *path, const char *stem, char *s1, char *m2,
+                               size_t len, thb_check_fn check)
+{
+    snprintf(s1, len, "%s/%s-serial", th_temp_dir(), stem);
+    snprintf(m2, len, "%s/%s-2", th_temp_dir(), stem);
+    thb_must_run(path, 0, s1, NULL);
+    thb_must_run(path, 2, m2, NULL);
+    check(s1, m2, "uninterrupted 2 ranks");
 }
 
 /* The serial run, then 1 (bricks asked for), 2, 4 and 8 ranks; the copies
@@ -87,7 +142,7 @@ static const char *write_case(const char *name, const char *extra_output)
 Test(bricks_handshake, cu14_matches_serial_on_1_2_4_8_ranks, .timeout = 900)
 {
     const char *path = write_case("hs.yaml", "");
-    char d0[600], dk[600];
+    char d0[600];
     snprintf(d0, sizeof d0, "%s/hs-serial", th_temp_dir());
     thb_must_run(path, 0, d0, NULL);
     /* the comparison is of an impact whose waves reach the MPM */
@@ -101,14 +156,7 @@ Test(bricks_handshake, cu14_matches_serial_on_1_2_4_8_ranks, .timeout = 900)
     cr_assert_eq((long)thb_metric(r, "atoms_region_I"), 672);
     json_decref(r);
     static const int nps[] = {1, 2, 4, 8};
-    for (int k = 0; k < 4; k++) {
-        snprintf(dk, sizeof dk, "%s/hs-%d", th_temp_dir(), nps[k]);
-        thb_must_run(path, nps[k], dk, NULL);
-        char tag[64];
-        snprintf(tag, sizeof tag, "handshake impact on %d ranks", nps[k]);
-        compare_hs(d0, dk, tag);
-        thb_check_parallel_record(dk, nps[k], natoms);
-    }
+    ranks_match_serial(path, d0, "hs", nps, 4, natoms, compare_hs);
 }
 
 /* A checkpoint written on 2 ranks at step 50 restarts serially and on 4
@@ -119,56 +167,66 @@ Test(bricks_handshake, checkpoint_moves_between_rank_counts, .timeout = 900)
 {
     const char *path = write_case("hs_ck.yaml", ", checkpoint_every: 50");
     char s1[600], m2[600];
-    snprintf(s1, sizeof s1, "%s/hs-ck-serial", th_temp_dir());
-    snprintf(m2, sizeof m2, "%s/hs-ck-2", th_temp_dir());
-    thb_must_run(path, 0, s1, NULL);
-    thb_must_run(path, 2, m2, NULL);
-    compare_hs(s1, m2, "uninterrupted 2 ranks");
+    serial_and_2_ranks(path, "hs-ck", s1, m2, sizeof s1, compare_hs);
     const struct thb_restart cases[] = {
         {m2, 0, "2 to 1", NULL}, {m2, 4, "2 to 4", NULL}, {s1, 2, "1 to 2", NULL}};
     thb_restarts_match(path, 50, cases, 3, s1, compare_hs);
 }
 
-/* The thermal handshake (a Langevin bath on region II) is not decomposed:
- * asked for bricks it is refused naming the case file, line and key;
- * under `auto` every rank runs the whole case, with a note. */
-Test(bricks_handshake, thermal_handshake_is_refused_on_bricks, .timeout = 300)
+/* The thermal handshake's own metrics, to REL (the bath's heat and region
+ * II's fine-scale energy are sums of terms of both signs: to REL of their
+ * magnitude or of 1 eV, whichever is larger). */
+static const char *const metrics_thermal[] = {"energy_account_initial", "target_temperature_final",
+                                              NULL};
+
+static void compare_thermal(const char *a, const char *b, const char *tag)
 {
-    static char out[16384];
-    const char *hs =
-        "type: cluster_impact\n"
-        "seed: 1\n"
-        "target:\n"
-        "  lattice: fcc\n"
-        "  element: Cu\n"
-        "  a: 3.615\n"
-        "  cells: [6, 6, 5]\n"
-        "  boundary: handshake\n"
-        "  handshake: {mpm: 6, fine: 4, levels: 1, layer: 4, thermal: {damping_time: 0.1}}\n"
-        "cluster: {atoms: 14, speed: 2}\n"
-        "potential: {style: eam/alloy, file: Cu_mishin1.eam.alloy}\n"
-        "md: {timestep: 0.002, steps: 2}\n"
-        "analysis: {every: 1, structure: {method: fixed}}\n"
-        "output: {thermo_every: 1, snapshot_every: 0, hdf5: false}\n"
-        "parallel:\n"
-        "  decomposition: bricks\n";
-    const char *path = th_write_temp(0, "hs_thermal.yaml", hs);
-    char dir[600];
-    snprintf(dir, sizeof dir, "%s/hs-thermal-2", th_temp_dir());
-    cr_assert_eq(thb_run(path, 2, dir, NULL, out, sizeof out), 2, "%s", out);
-    cr_assert(strstr(out, "hs_thermal.yaml:16:") && strstr(out, "parallel.decomposition") &&
-                  strstr(out, "target.handshake.thermal (the Langevin bath on region II) is not "
-                              "decomposed into bricks"),
-              "%s", out);
-    char autoy[2048];
-    snprintf(autoy, sizeof autoy, "%s", hs);
-    char *p = strstr(autoy, "decomposition: bricks");
-    cr_assert(p);
-    memcpy(p, "decomposition: auto  ", 21);
-    path = th_write_temp(0, "hs_thermal_auto.yaml", autoy);
-    snprintf(dir, sizeof dir, "%s/hs-thermal-auto-2", th_temp_dir());
-    cr_assert_eq(thb_run(path, 2, dir, NULL, out, sizeof out), 0, "%s", out);
-    cr_assert(strstr(out, "note: target.handshake.thermal (the Langevin bath on region II) is "
-                          "not decomposed into bricks: each of the 2 ranks runs the whole case"),
-              "%s", out);
+    compare_hs(a, b, tag);
+    thb_compare_metrics(a, b, metrics_thermal, REL, tag);
+    json_t *ra = thb_result(a), *rb = thb_result(b);
+    static const char *const sums[] = {"bath_heat", "region_II_fine_energy", NULL};
+    for (int k = 0; sums[k]; k++) {
+        double x = thb_metric(ra, sums[k]), y = thb_metric(rb, sums[k]);
+        cr_assert_leq(fabs(x - y), REL * fmax(fabs(x), 1.0), "%s %s %.17g vs %.17g", tag, sums[k],
+                      x, y);
+    }
+    json_decref(ra);
+    json_decref(rb);
+}
+
+/* The target at 300 K with the bath: serially, then on 1 (bricks asked
+ * for), 2 and 4 ranks. */
+Test(bricks_handshake, thermal_cu14_matches_serial_on_1_2_4_ranks, .timeout = 900)
+{
+    const char *path = write_target("hs_th.yaml", 1, "");
+    char d0[600];
+    snprintf(d0, sizeof d0, "%s/hs-th-serial", th_temp_dir());
+    thb_must_run(path, 0, d0, NULL);
+    /* a hot target whose bath works: the bath takes heat, the MPM is driven */
+    json_t *r = thb_result(d0);
+    double T = thb_metric(r, "target_temperature_final");
+    cr_assert(T > 150 && T < 900, "target at %g K", T);
+    cr_assert_gt(fabs(thb_metric(r, "bath_heat")), 0.1, "bath heat %g eV",
+                 thb_metric(r, "bath_heat"));
+    cr_assert_gt(thb_metric(r, "mpm_energy"), 0.05, "the MPM took %g eV",
+                 thb_metric(r, "mpm_energy"));
+    long natoms = (long)thb_metric(r, "atoms");
+    cr_assert_eq(natoms, 720 + 14 + 6336);
+    json_decref(r);
+    static const int nps[] = {1, 2, 4};
+    ranks_match_serial(path, d0, "hs-th", nps, 3, natoms, compare_thermal);
+}
+
+/* A checkpoint of the thermal run written on 2 ranks at step 50 restarts
+ * serially, and a serial one on 2 ranks: both end where the uninterrupted
+ * serial run does (the bath's heat and step from the checkpoint, its
+ * draws keyed on the step). */
+Test(bricks_handshake, thermal_checkpoint_moves_between_1_and_2_ranks, .timeout = 900)
+{
+    const char *path = write_target("hs_th_ck.yaml", 1, ", checkpoint_every: 50");
+    char s1[600], m2[600];
+    serial_and_2_ranks(path, "hs-th-ck", s1, m2, sizeof s1, compare_thermal);
+    const struct thb_restart cases[] = {{m2, 0, "thermal 2 to 1", NULL},
+                                        {s1, 2, "thermal 1 to 2", NULL}};
+    thb_restarts_match(path, 50, cases, 2, s1, compare_thermal);
 }

@@ -210,10 +210,13 @@ int handshake_advance_mpm(struct handshake *hs, struct err *e)
         timer_start(m->timers, TIMER_COUPLING);
     if (md->nrebuilds != hs->seen_builds && (rc = reindex(hs, e)))
         return rc;
-    /* the bath closes the previous step (handshake_thermal.h) */
-    if (hs->thermal && (rc = hs_thermal_bath(hs, e)))
-        return rc;
+    /* region I to the MPM's extra set, then the bath, which closes the
+     * previous step (handshake_thermal.h): it changes region II and the
+     * points, not region I, and on bricks its coarse field takes region
+     * I of every rank from the gathered rows */
     rc = gather_region_I(hs, e);
+    if (!rc && hs->thermal)
+        rc = hs_thermal_bath(hs, e);
     if (m->timers)
         timer_stop(m->timers, TIMER_COUPLING);
     if (rc)

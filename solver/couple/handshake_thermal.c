@@ -5,6 +5,7 @@
 #include <math.h>
 #include <stdlib.h>
 
+#include "core/halo.h"
 #include "core/rng.h"
 #include "core/units.h"
 #include "couple/handshake.h"
@@ -112,7 +113,17 @@ int hs_thermal_coarse_velocity(const struct handshake *hs, double H, double **ou
         coarse_stencil(L->dom_lo, H, n, mp->x + 3 * q, cell, w);
         coarse_deposit(g, n, cell, w, mp->mass[q], mp->v + 3 * q);
     }
-    for (long k = 0; k < hs->nI; k++) {
+    if (hs->md->halo) {
+        /* bricks: region I of every rank, the rows gathered (in id order,
+         * wrapped) for this step's MPM (handshake_bricks.h), which
+         * handshake_advance_mpm gathers before the bath: the bath does
+         * not touch region I, so they are region I as it is now */
+        for (long k = 0; k < hs->extra.n; k++) {
+            coarse_stencil(L->dom_lo, H, n, hs->xI + 3 * k, cell, w);
+            coarse_deposit(g, n, cell, w, hs->mI[k], hs->vI + 3 * k);
+        }
+    }
+    for (long k = 0; !hs->md->halo && k < hs->nI; k++) {
         int i = hs->idxI[k];
         double x[3] = {p->x[3 * i], p->x[3 * i + 1], p->x[3 * i + 2]};
         handshake_wrap(hs, x);
@@ -173,6 +184,10 @@ int hs_thermal_bath(struct handshake *hs, struct err *e)
         }
         heat += 0.5 * m * UNITS_MVV2E * (before - after);
     }
+    /* bricks: each rank's copies; the points below are whole (the same)
+     * on every rank, so only this part is summed */
+    if (hs->md->halo)
+        halo_sum(hs->md->halo, &heat, 1);
     t->heat_copies += heat;
     /* the material points of regions II and III: friction on their motion
      * relative to the coarse field (hs_thermal_coarse_velocity), not on
@@ -221,6 +236,12 @@ void hs_thermal_group(const struct handshake *hs, uint32_t all, uint32_t none, d
         const double *v = p->v + 3 * i;
         sum += p->mass[p->type[i]] * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
         n++;
+    }
+    if (hs->md->halo) {   /* bricks: over the atoms of every rank */
+        double s[2] = {sum, (double)n};
+        halo_sum(hs->md->halo, s, 2);
+        sum = s[0];
+        n = (long)s[1];
     }
     double k = 0.5 * sum * UNITS_MVV2E;
     if (ke)

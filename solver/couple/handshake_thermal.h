@@ -60,6 +60,13 @@
  * Checkpoints (handshake_checkpoint_write) store the heat, its part taken
  * from region II's atoms and the step; v_c is recomputed at every step.
  *
+ * On MPI bricks (handshake_bricks.h) the copies of region II are the
+ * owning rank's particles and the bath acts on each rank's own (keyed on
+ * id: the serial draws); the heat taken from them is summed over the
+ * ranks, the points' part is every rank's own (the MPM is whole and the
+ * same on every rank), so t->heat is the same on every rank.  The coarse
+ * field takes region I of every rank from the rows gathered for the MPM.
+ *
  * Energy account: the bath's heat is the kinetic energy it takes out of
  * region II and the band's points, net of what its noise puts in, summed
  * over the steps.
@@ -98,18 +105,22 @@ void hs_thermal_attach(struct handshake *hs, struct hs_thermal *t, double t_init
 
 /* The bath on region II and the band's points: one step of md->dt (above);
  * adds what it took out to t->heat.  Called by handshake_advance_mpm
- * before the MPM step, i.e. after the previous step's second kick.
- * Fails only when out of memory. */
+ * after region I's gather and before the MPM step, i.e. after the
+ * previous step's second kick.  Collective on bricks.  Fails only when out
+ * of memory. */
 int hs_thermal_bath(struct handshake *hs, struct err *e);
 
 /* The coarse velocity field v_c (above) at every material point of regions
  * II and III (zero at the others): *out is a new array of 3 per point,
- * which the caller frees.  H is the coarse cell in Å. */
+ * which the caller frees.  H is the coarse cell in Å.  Serially region I
+ * is taken from the MD as it is; on bricks from the rows gathered for the
+ * MPM (hs->xI, vI, mI: region I of every rank), which must be current. */
 int hs_thermal_coarse_velocity(const struct handshake *hs, double H, double **out,
                                struct err *e);
 
 /* Kinetic energy (eV) and temperature (K, 3 N degrees of freedom) of the
- * MD particles whose mask has all bits of `all` and none of `none`. */
+ * MD particles whose mask has all bits of `all` and none of `none`; on
+ * bricks over every rank's (collective). */
 void hs_thermal_group(const struct handshake *hs, uint32_t all, uint32_t none, double *ke,
                       double *temperature, long *count);
 

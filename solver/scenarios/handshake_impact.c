@@ -6,6 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/halo.h"
 #include "core/units.h"
 #include "couple/handshake.h"
 #include "couple/handshake_thermal.h"
@@ -59,6 +60,10 @@ static double energy_account(const struct hs_impact *h, const struct handshake_e
                  pt->eint[q];
         }
     }
+    /* bricks: each rank's copies (collective; the bath's heat is already
+     * the same on every rank) */
+    if (h->thermal && h->hs.md->halo)
+        halo_sum(h->hs.md->halo, &f, 1);
     if (fine_II)
         *fine_II = f;
     return en->total + f + (h->thermal ? h->bath.heat : 0);
@@ -114,9 +119,6 @@ int handshake_impact_read(struct cfg_obj *t, struct impact_boundary *b)
     /* finite temperature: the bath on region II and the MPM's constants at T */
     h->thermal = thermal;
     h->bath.temperature = temp;
-    if (thermal)   /* the bath's sums and draws over region II are serial code */
-        b->no_bricks = "target.handshake.thermal (the Langevin bath on region II) is not "
-                       "decomposed into bricks";
     struct cfg_obj th, el;
     long seed = 1;
     /* read also when absent (its defaults are listed); given, it switches

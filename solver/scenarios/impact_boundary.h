@@ -31,8 +31,6 @@
  *                          material points of regions II and III; on
  *                          bricks those in the rank's brick) (optional,
  *                          with prepare);
- *   no_bricks              set by read when the case cannot run on MPI
- *                          bricks (why, for the refusal);
  *   setup(b, md, lo, hi)   after md_init: mark groups in p->mask, set
  *                          md->frozen_mask and the thermostat, and tie
  *                          whatever it owns to the md;
@@ -75,7 +73,6 @@ struct impact_boundary {
     double temperature;       /* K */
     long nfixed, ndamped;
     int peratom;              /* per-atom virials every step (not just at snapshots) */
-    const char *no_bricks;    /* why this treatment cannot run on MPI bricks (NULL: it can) */
     void *data;               /* the treatment's own state */
 };
 

@@ -51,9 +51,9 @@
  * runs on the same bricks: its MPM side is built whole on every rank
  * before the bricks are cut (the box grows by the copies' shell), each
  * rank keeps the copies of regions II and III in its brick, and region I
- * reaches the MPM of every rank through couple/handshake_bricks.h; with
- * target.handshake.thermal it is not decomposed (refused on `decomposition:
- * bricks`, whole on every rank with a note under auto).
+ * reaches the MPM of every rank through couple/handshake_bricks.h (with
+ * target.handshake.thermal the bath acts on each rank's copies of region
+ * II, its sums over the ranks: couple/handshake_thermal.h).
  */
 #include <math.h>
 #include <stdlib.h>
@@ -206,29 +206,16 @@ static int in_brick(const void *ctx, const double x[3])
     return decomp_owns(ctx, x);
 }
 
-/* Whether the run is split into bricks (*halo, new) or not (NULL).  A
- * boundary that cannot run on bricks (b->no_bricks: the handshake with its
- * thermal bath) is refused when bricks are asked for, and runs whole on
- * every rank with a note under auto. */
-static int plan_bricks(const struct impact_boundary *b, const struct case_common *common,
-                       const struct box *box, double range, struct cfg *cfg, struct halo **halo)
+/* Whether the run is split into bricks (*halo, new) or not (NULL); every
+ * boundary runs on bricks. */
+static int plan_bricks(const struct case_common *common, const struct box *box, double range,
+                       struct cfg *cfg, struct halo **halo)
 {
     const struct parallel *par = common->par;
-    const struct parallel_settings *ps = &common->parallel;
     *halo = NULL;
     if (!par || !par->mpi)
         return 0;
-    if (b->no_bricks) {
-        if (ps->decomposition == DECOMP_BRICKS || ps->grid_given)
-            return cfg_error_at(cfg, ps->grid_given ? "parallel.grid" : "parallel.decomposition",
-                                "%s; use decomposition: replicated (or auto), or the handshake "
-                                "without target.handshake.thermal", b->no_bricks);
-        if (par->size > 1 && ps->decomposition == DECOMP_AUTO && par->rank == 0)
-            fprintf(stderr, "note: %s: each of the %d ranks runs the whole case and rank 0 "
-                            "writes (no speed-up; docs/parallel.md)\n", b->no_bricks, par->size);
-        return 0;
-    }
-    return md_bricks_plan(par, ps, box, range, cfg, halo);
+    return md_bricks_plan(par, &common->parallel, box, range, cfg, halo);
 }
 
 /* Build target + cluster; refuse what cannot work.  Under mpirun with
@@ -322,7 +309,7 @@ static int build(struct impact *c, const struct impact_spec *s, struct potential
     /* bricks or not: each rank builds only its brick's atoms from here */
     struct halo *halo = NULL;
     double range = pot->cutoff + s->skin;
-    if (rc || (rc = plan_bricks(b, common, &box, range, cfg, &halo))) {
+    if (rc || (rc = plan_bricks(common, &box, range, cfg, &halo))) {
         cluster_cut_free(&cut);
         particles_destroy(&p);
         return rc;
