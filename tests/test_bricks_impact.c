@@ -5,8 +5,8 @@
  * brick of the target and of the cluster (the ids of a serial build),
  * marks the fixed and damped layers on each rank's own atoms, and runs the
  * MD on the bricks; the analyses (structure, displaced, sputtered, crater,
- * damage shape) run on rank 0 over the atoms of every rank, gathered at
- * the analysis steps only (solver/analysis/md_analysis_bricks.h).
+ * damage shape) run on each rank's own atoms with ghosts, with global
+ * reductions (solver/analysis/md_analysis_bricks.h).
  *
  * A Cu14 cluster at 20 km/s into a 300 K, 3200-site Cu(001) target (the
  * Maxwell velocities and the damped layer's Langevin forces keyed on the
@@ -132,7 +132,9 @@ static void compare_fields(const char *a, const char *b, const char *group, cons
     free(ob);
 }
 
-static void compare_impact(const char *a, const char *b, const char *tag)
+/* Everything of two impact runs, the analysis fields of the snapshot
+ * `group` included. */
+static void compare_impact_at(const char *a, const char *b, const char *group, const char *tag)
 {
     thb_compare_series(a, b, thermo_cols, REL, tag);
     compare_columns(a, b, count_cols, 1, tag);
@@ -147,8 +149,13 @@ static void compare_impact(const char *a, const char *b, const char *tag)
     json_decref(rb);
     static const char *const sets[] = {"position", "velocity", NULL};
     static const int ncomp[] = {3, 3};
-    thb_compare_snapshot(a, b, "/particles/00000100", sets, ncomp, REL, tag);
-    compare_fields(a, b, "/particles/00000100", tag);
+    thb_compare_snapshot(a, b, group, sets, ncomp, REL, tag);
+    compare_fields(a, b, group, tag);
+}
+
+static void compare_impact(const char *a, const char *b, const char *tag)
+{
+    compare_impact_at(a, b, "/particles/00000100", tag);
 }
 
 static const char *write_case(const char *name, const char *yaml)
@@ -156,8 +163,59 @@ static const char *write_case(const char *name, const char *yaml)
     return th_write_temp(0, name, yaml);
 }
 
+/* Atoms i and j with flag set, closer than r, on either side of one of
+ * the nb - 1 inner faces along axis d of the box [lo, hi] cut in nb equal
+ * bricks: 1 when such a pair exists (any pair when r <= 0). */
+static int pair_across_face(const double *x, const double *flag, long n, int d, const double *lo,
+                            const double *hi, int nb, double r)
+{
+    double w = (hi[d] - lo[d]) / nb;
+    for (long i = 0; i < n; i++)
+        for (long j = 0; flag[i] != 0 && j < n; j++) {
+            if (flag[j] == 0)
+                continue;
+            double r2 = 0;
+            for (int k = 0; k < 3; k++)
+                r2 += (x[3 * i + k] - x[3 * j + k]) * (x[3 * i + k] - x[3 * j + k]);
+            int bi = (int)floor((x[3 * i + d] - lo[d]) / w), bj = (int)floor((x[3 * j + d] - lo[d]) / w);
+            if (bi != bj && (r <= 0 || r2 < r * r))
+                return 1;
+        }
+    return 0;
+}
+
+/* 1 when two atoms with `field` set in snapshot `group` of the brick run
+ * in dir (closer than r when r > 0) lie in different bricks: the grid of
+ * result.json's parallel record cutting the snapshot's cell. */
+static int field_across_faces(const char *dir, const char *group, const char *field, double r)
+{
+    json_t *res = thb_result(dir);
+    json_t *grid = json_object_get(json_object_get(res, "parallel"), "grid");
+    cr_assert(json_is_array(grid) && json_array_size(grid) == 3, "%s: no parallel grid", dir);
+    char name[160];
+    long n, nf, nl, nh;
+    snprintf(name, sizeof name, "%s/position", group);
+    double *x = thb_read_h5(dir, name, H5T_NATIVE_DOUBLE, sizeof(double), &n);
+    snprintf(name, sizeof name, "%s/%s", group, field);
+    double *f = thb_read_h5(dir, name, H5T_NATIVE_DOUBLE, sizeof(double), &nf);
+    snprintf(name, sizeof name, "%s/cell/lo", group);
+    double *lo = thb_read_h5(dir, name, H5T_NATIVE_DOUBLE, sizeof(double), &nl);
+    snprintf(name, sizeof name, "%s/cell/hi", group);
+    double *hi = thb_read_h5(dir, name, H5T_NATIVE_DOUBLE, sizeof(double), &nh);
+    cr_assert(n == 3 * nf && nl == 3 && nh == 3);
+    int across = 0;
+    for (int d = 0; d < 3 && !across; d++) {
+        int nb = (int)json_integer_value(json_array_get(grid, (size_t)d));
+        across = nb > 1 && pair_across_face(x, f, nf, d, lo, hi, nb, r);
+    }
+    free(x); free(f); free(lo); free(hi);
+    json_decref(res);
+    return across;
+}
+
 /* The serial run, then 1 (bricks asked for), 2, 4 and 8 ranks; each run's
- * parallel record counts every atom once. */
+ * parallel record counts every atom once; on 4 and 8 ranks the crater's
+ * floor atoms lie in more than one brick. */
 Test(bricks_impact, cu14_matches_serial_on_1_2_4_8_ranks, .timeout = 900)
 {
     const char *path = write_case("impact.yaml", impact_yaml);
@@ -182,6 +240,10 @@ Test(bricks_impact, cu14_matches_serial_on_1_2_4_8_ranks, .timeout = 900)
         snprintf(tag, sizeof tag, "impact on %d ranks", nps[k]);
         compare_impact(d0, dk, tag);
         thb_check_parallel_record(dk, nps[k], natoms);
+        /* the crater's floor spans bricks (faces through the impact point) */
+        if (nps[k] >= 4)
+            cr_assert(field_across_faces(dk, "/particles/00000100", "crater", 0),
+                      "%s: the crater lies in one brick", tag);
     }
 }
 
@@ -225,4 +287,49 @@ Test(bricks_impact, checkpoint_moves_between_rank_counts, .timeout = 900)
     const struct thb_restart cases[] = {
         {m2, 0, "2 to 1", NULL}, {m2, 4, "2 to 4", NULL}, {s1, 2, "1 to 2", NULL}};
     thb_restarts_match(path, 50, cases, 3, s1, compare_impact);
+}
+
+/* Cu14 at 30 km/s (seed 4, 0.5 fs steps, 0.3 ps) ends with a sputtered
+ * dimer, two monomers and a crater; on a grid of 1 x 5 x 1 bricks (the
+ * faces 6.87 Å apart along y) the dimer's atoms lie in two bricks.  The
+ * analysis runs on each rank's atoms with ghosts, the groups found by
+ * label propagation across the faces (analysis/sputter_bricks.h), the crater from the reduced height
+ * map: the series, metrics and per-atom fields equal the serial run's. */
+static const char *const sputter_yaml =
+    "title: Cu14 sputtering on bricks\n"
+    "seed: 4\n"
+    "type: cluster_impact\n"
+    "target: {lattice: fcc, element: Cu, a: 3.615, cells: [10, 10, 8], temperature: 300,\n"
+    "         damped_thickness: 4}\n"
+    "cluster: {atoms: 14, speed: 30, gap: 2}\n"
+    "potential: {style: eam/alloy, file: Cu_mishin1.eam.alloy}\n"
+    "md: {timestep: 0.0005, steps: 600}\n"
+    "analysis: {every: 100, structure: {method: fixed}}\n"
+    "output: {thermo_every: 100, snapshot_every: 600}\n"
+    "parallel: {decomposition: bricks%s}\n";
+
+Test(bricks_impact, sputtered_dimer_across_a_face_matches_serial, .timeout = 900)
+{
+    char yaml[2048];
+    snprintf(yaml, sizeof yaml, sputter_yaml, "");
+    const char *serial = write_case("sputter.yaml", yaml);
+    snprintf(yaml, sizeof yaml, sputter_yaml, ", grid: [1, 5, 1]");
+    const char *bricks = write_case("sputter5.yaml", yaml);
+    char d0[600], d5[600];
+    snprintf(d0, sizeof d0, "%s/sputter-serial", th_temp_dir());
+    snprintf(d5, sizeof d5, "%s/sputter-5", th_temp_dir());
+    thb_must_run(serial, 0, d0, NULL);
+    thb_must_run(bricks, 5, d5, NULL);
+    json_t *r = thb_result(d0);
+    cr_assert_eq(thb_metric(r, "sputtered_largest"), 2, "largest sputtered group %g",
+                 thb_metric(r, "sputtered_largest"));
+    cr_assert_gt(thb_metric(r, "crater_depth"), 0, "no crater");
+    json_decref(r);
+    /* the case does what it is for: the dimer's atoms are in two bricks
+     * (4.77 Å: the connection cutoff, the fcc surface radius at 3.615 Å) */
+    const char *g = "/particles/00000600";
+    cr_assert(field_across_faces(d5, g, "sputtered", 4.77), "no sputtered pair across a face");
+    compare_impact_at(d0, d5, g, "sputtering on 5 ranks");
+    static const char *const counts[] = {"sputtered_largest", "sputtered_monomers", NULL};
+    thb_compare_metrics(d0, d5, counts, 0, "sputtering on 5 ranks");
 }

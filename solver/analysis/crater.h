@@ -25,6 +25,8 @@
 #ifndef CASCADE_CRATER_H
 #define CASCADE_CRATER_H
 
+#include <stdint.h>
+
 #include "util/err.h"
 
 struct crater_params {
@@ -47,5 +49,35 @@ struct crater_stats {
  * top atom of every crater column, 0 otherwise. */
 int crater_measure(const double *x, int n, const unsigned char *use, const struct crater_params *p,
                    unsigned char *floor_atom, struct crater_stats *out, struct err *e);
+
+/* crater_measure in two parts, for atoms spread over MPI ranks
+ * (md_analysis_bricks.c): each rank maps its own atoms, the maps are
+ * reduced (top: maximum; who: the smallest key among the atoms at the
+ * global top; rim: maximum), and every rank floods the same map.
+ *
+ * The height map: nx x ny columns (crater_grid). */
+struct crater_map {
+    int nx, ny;
+    double *top;       /* Å: highest atom of each column (-inf: empty) */
+    int64_t *who;      /* key of that atom (smallest key on ties; -1: empty) */
+    double rim;        /* Å: highest atom above the surface (-inf: none) */
+};
+
+/* Allocate the map of p's grid (ERR_INPUT for a bad bin or extent). */
+int crater_map_init(struct crater_map *m, const struct crater_params *p, struct err *e);
+void crater_map_free(struct crater_map *m);
+
+/* Add the atoms of x (use, NULL: all) to the map; key[i] names atom i
+ * (NULL: its index i; keys >= 0). */
+void crater_map_add(struct crater_map *m, const double *x, int n, const unsigned char *use,
+                    const int64_t *key, const struct crater_params *p);
+
+/* The crater of a complete map: the statistics, and in_crater[c] (nx ny
+ * entries, may be NULL) set to 1 for the crater's columns. */
+int crater_flood(const struct crater_map *m, const struct crater_params *p,
+                 unsigned char *in_crater, struct crater_stats *out, struct err *e);
+
+/* The column of position x (-1: outside the grid). */
+long crater_column(const struct crater_map *m, const struct crater_params *p, const double *x);
 
 #endif

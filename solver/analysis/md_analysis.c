@@ -85,7 +85,7 @@ int md_analysis_column(const struct md_analysis *a, const char *name)
     return -1;
 }
 
-static int reserve(struct md_analysis *a, int n, struct err *e)
+int md_analysis_reserve(struct md_analysis *a, int n, struct err *e)
 {
     if (n <= a->cap)
         return 0;
@@ -111,17 +111,9 @@ static int reserve(struct md_analysis *a, int n, struct err *e)
     return 0;
 }
 
-int md_analysis_run(struct md_analysis *a, struct particles *p, const struct box *box, double time,
-                    struct timers *timers, struct err *e)
+void md_analysis_mark(struct md_analysis *a, struct particles *p)
 {
     int n = p->n_owned;
-    if (timers)
-        timer_start(timers, TIMER_ANALYSIS);
-    int rc = reserve(a, n, e);
-    if (!rc)
-        rc = structure_classify_particles(&a->sp, p, box, &a->fr, a->cls, e);
-    if (rc)
-        goto out;
     for (int i = 0; i < n; i++) {
         a->sel[i] = (unsigned char)!(p->mask[i] & a->o.exclude_mask);
         a->mass[i] = p->mass[p->type[i]];
@@ -137,33 +129,25 @@ int md_analysis_run(struct md_analysis *a, struct particles *p, const struct box
         /* the damage below the surface: not the rim, not what flies off */
         a->damaged[i] = (unsigned char)(disp && p->x[3 * i + 2] < a->o.surface - a->o.crater_threshold);
     }
-    if (a->o.damage_shape &&
-        (rc = damage_shape_measure(p->x, n, a->damaged, a->shape_scratch, &a->shape, e)))
-        goto out;
-    if (a->o.sputter) {
-        /* connection and margin: the surface radius (about three neighbour
-         * shells), so hot rim atoms with stretched bonds stay attached */
-        struct sputter_params spp = {2, a->o.surface, a->sp.surface_radius, a->sp.surface_radius};
-        if ((rc = sputter_find(&a->fr, p->v, a->mass, &spp, a->sput, &a->sputter, e)))
-            goto out;
-        double *f = particles_field(p, a->f_sputtered);
-        for (int i = 0; i < n; i++)
-            f[i] = a->sput[i] == SPUTTER_LEFT;
-    }
-    if (a->o.crater) {
-        struct crater_params cp = {a->o.surface, {a->o.center[0], a->o.center[1]},
-                                   {a->o.lat_lo[0], a->o.lat_lo[1]}, {a->o.lat_hi[0], a->o.lat_hi[1]},
-                                   a->o.crater_bin, a->o.crater_threshold};
-        /* the target: the largest connected group (not the incoming
-         * projectile, not what flew off) */
-        for (int i = 0; i < n; i++)
-            a->sel[i] = a->o.sputter ? a->sput[i] == SPUTTER_TARGET : 1;
-        if ((rc = crater_measure(p->x, n, a->sel, &cp, a->floor_atom, &a->crater, e)))
-            goto out;
-        double *f = particles_field(p, a->f_crater);
-        for (int i = 0; i < n; i++)
-            f[i] = a->floor_atom[i];
-    }
+}
+
+struct sputter_params md_analysis_sputter_params(const struct md_analysis *a)
+{
+    /* connection and margin: the surface radius (about three neighbour
+     * shells), so hot rim atoms with stretched bonds stay attached */
+    return (struct sputter_params){2, a->o.surface, a->sp.surface_radius, a->sp.surface_radius};
+}
+
+struct crater_params md_analysis_crater_params(const struct md_analysis *a)
+{
+    return (struct crater_params){a->o.surface, {a->o.center[0], a->o.center[1]},
+                                  {a->o.lat_lo[0], a->o.lat_lo[1]},
+                                  {a->o.lat_hi[0], a->o.lat_hi[1]},
+                                  a->o.crater_bin, a->o.crater_threshold};
+}
+
+int md_analysis_push_latest(struct md_analysis *a, double time, struct err *e)
+{
     double row[MDA_MAXCOLS];
     int k = 0;
     row[k++] = time;
@@ -192,7 +176,45 @@ int md_analysis_run(struct md_analysis *a, struct particles *p, const struct box
         row[k++] = ds->extent_110;
         row[k++] = ds->extent_ratio;
     }
-    rc = md_analysis_push_row(a, row, e);
+    return md_analysis_push_row(a, row, e);
+}
+
+int md_analysis_run(struct md_analysis *a, struct particles *p, const struct box *box, double time,
+                    struct timers *timers, struct err *e)
+{
+    int n = p->n_owned;
+    if (timers)
+        timer_start(timers, TIMER_ANALYSIS);
+    int rc = md_analysis_reserve(a, n, e);
+    if (!rc)
+        rc = structure_classify_particles(&a->sp, p, box, &a->fr, a->cls, e);
+    if (rc)
+        goto out;
+    md_analysis_mark(a, p);
+    if (a->o.damage_shape &&
+        (rc = damage_shape_measure(p->x, n, a->damaged, a->shape_scratch, &a->shape, e)))
+        goto out;
+    if (a->o.sputter) {
+        struct sputter_params spp = md_analysis_sputter_params(a);
+        if ((rc = sputter_find(&a->fr, p->v, a->mass, &spp, a->sput, &a->sputter, e)))
+            goto out;
+        double *f = particles_field(p, a->f_sputtered);
+        for (int i = 0; i < n; i++)
+            f[i] = a->sput[i] == SPUTTER_LEFT;
+    }
+    if (a->o.crater) {
+        struct crater_params cp = md_analysis_crater_params(a);
+        /* the target: the largest connected group (not the incoming
+         * projectile, not what flew off) */
+        for (int i = 0; i < n; i++)
+            a->sel[i] = a->o.sputter ? a->sput[i] == SPUTTER_TARGET : 1;
+        if ((rc = crater_measure(p->x, n, a->sel, &cp, a->floor_atom, &a->crater, e)))
+            goto out;
+        double *f = particles_field(p, a->f_crater);
+        for (int i = 0; i < n; i++)
+            f[i] = a->floor_atom[i];
+    }
+    rc = md_analysis_push_latest(a, time, e);
 out:
     if (timers)
         timer_stop(timers, TIMER_ANALYSIS);

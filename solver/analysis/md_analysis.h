@@ -100,6 +100,18 @@ int md_analysis_due(const struct md_analysis *a, const struct run *run, long s, 
 int md_analysis_run(struct md_analysis *a, struct particles *p, const struct box *box, double time,
                     struct timers *timers, struct err *e);
 
+/* The parts of md_analysis_run the brick analysis (md_analysis_bricks.h)
+ * shares.  Room for n particles in the scratch arrays: */
+int md_analysis_reserve(struct md_analysis *a, int n, struct err *e);
+/* From a->cls of p's owned particles: sel, mass, the class counts,
+ * displaced and damaged, the structure and displaced fields. */
+void md_analysis_mark(struct md_analysis *a, struct particles *p);
+/* The sputter and crater parameters of the case. */
+struct sputter_params md_analysis_sputter_params(const struct md_analysis *a);
+struct crater_params md_analysis_crater_params(const struct md_analysis *a);
+/* Append the row of the latest results (counts, sputter, crater, shape). */
+int md_analysis_push_latest(struct md_analysis *a, double time, struct err *e);
+
 /* Append one row of a->ncols values (a row another rank computed). */
 int md_analysis_push_row(struct md_analysis *a, const double *row, struct err *e);
 

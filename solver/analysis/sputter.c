@@ -33,68 +33,85 @@ static void link_cb(void *ctx, int entry, double r2)
     }
 }
 
+int sputter_link(const struct frame *f, double cutoff, int *root, struct err *e)
+{
+    if (cutoff > f->range * (1 + 1e-12))
+        return err_set(e, ERR_RUNTIME, "sputter: connection cutoff %g Å exceeds the range %g Å "
+                                       "of the frame", cutoff, f->range);
+    for (int i = 0; i < f->n; i++)
+        root[i] = i;
+    struct link ctx = {f, root, 0};
+    for (int i = 0; i < f->n; i++) {
+        ctx.i = i;
+        frame_query(f, i, cutoff, link_cb, &ctx);
+    }
+    for (int i = 0; i < f->n; i++)
+        root[i] = find_root(root, i);
+    return 0;
+}
+
+long sputter_judge(struct sputter_group *g, long ng, const struct sputter_params *p,
+                   struct sputter_stats *out)
+{
+    memset(out, 0, sizeof *out);
+    long target = -1;
+    for (long k = 0; k < ng; k++) {
+        out->groups++;
+        g[k].left = 0;
+        if (target < 0 || g[k].size > g[target].size)
+            target = k;
+    }
+    out->target = target >= 0 ? g[target].size : 0;
+    for (long k = 0; k < ng; k++) {
+        if (k == target)
+            continue;
+        if (g[k].zmin > p->surface + p->margin && g[k].momentum / g[k].mass > 0) {
+            g[k].left = 1;
+            out->clusters++;
+            out->atoms += g[k].size;
+            if (g[k].size == 1)
+                out->monomers++;
+            if (g[k].size > out->largest)
+                out->largest = g[k].size;
+        }
+    }
+    return target;
+}
+
 int sputter_find(const struct frame *f, const double *v, const double *mass,
                  const struct sputter_params *p, unsigned char *state,
                  struct sputter_stats *out, struct err *e)
 {
     int n = f->n;
     memset(out, 0, sizeof *out);
-    if (p->cutoff > f->range * (1 + 1e-12))
-        return err_set(e, ERR_RUNTIME, "sputter: connection cutoff %g Å exceeds the range %g Å "
-                                       "of the frame", p->cutoff, f->range);
-    int *parent = malloc((size_t)(n + 1) * sizeof *parent);
-    long *size = calloc((size_t)(n + 1), sizeof *size);
-    double *zmin = malloc((size_t)(n + 1) * sizeof *zmin);
-    double *mv = calloc((size_t)(n + 1), sizeof *mv), *msum = calloc((size_t)(n + 1), sizeof *msum);
-    if (!parent || !size || !zmin || !mv || !msum) {
-        free(parent); free(size); free(zmin); free(mv); free(msum);
-        return err_nomem(e, "sputter groups");
-    }
-    for (int i = 0; i < n; i++)
-        parent[i] = i;
-    struct link ctx = {f, parent, 0};
-    for (int i = 0; i < n; i++) {
-        ctx.i = i;
-        frame_query(f, i, p->cutoff, link_cb, &ctx);
-    }
-    for (int i = 0; i < n; i++)
-        zmin[i] = INFINITY;
-    for (int i = 0; i < n; i++) {
-        int r = find_root(parent, i);
+    int *root = malloc((size_t)(n + 1) * sizeof *root);
+    int *slot = malloc((size_t)(n + 1) * sizeof *slot);
+    struct sputter_group *g = malloc((size_t)(n + 1) * sizeof *g);
+    int rc = root && slot && g ? sputter_link(f, p->cutoff, root, e)
+                               : err_nomem(e, "sputter groups");
+    long ng = 0;
+    /* the groups in the order of their roots (smallest index) */
+    for (int i = 0; !rc && i < n; i++)
+        if (root[i] == i) {
+            slot[i] = (int)ng;
+            g[ng++] = (struct sputter_group){i, 0, 0.0, 0.0, INFINITY, 0};
+        }
+    for (int i = 0; !rc && i < n; i++) {
+        struct sputter_group *gi = &g[slot[root[i]]];
         double m = mass ? mass[i] : 1.0, z = f->x[3 * i + p->axis];
-        size[r]++;
-        msum[r] += m;
-        mv[r] += m * v[3 * i + p->axis];
-        if (z < zmin[r])
-            zmin[r] = z;
+        gi->size++;
+        gi->mass += m;
+        gi->momentum += m * v[3 * i + p->axis];
+        if (z < gi->zmin)
+            gi->zmin = z;
     }
-    int target = -1;
-    for (int i = 0; i < n; i++)
-        if (parent[i] == i) {
-            out->groups++;
-            if (target < 0 || size[i] > size[target])
-                target = i;
-        }
-    out->target = target >= 0 ? size[target] : 0;
-    for (int i = 0; i < n; i++) {
-        if (parent[i] != i || i == target)
-            continue;
-        if (zmin[i] > p->surface + p->margin && mv[i] / msum[i] > 0) {
-            out->clusters++;
-            out->atoms += size[i];
-            if (size[i] == 1)
-                out->monomers++;
-            if (size[i] > out->largest)
-                out->largest = size[i];
-        } else {
-            size[i] = -size[i];   /* mark: not sputtered */
+    if (!rc) {
+        long target = sputter_judge(g, ng, p, out);
+        for (int i = 0; state && i < n; i++) {
+            long k = slot[root[i]];
+            state[i] = k == target ? SPUTTER_TARGET : g[k].left ? SPUTTER_LEFT : SPUTTER_DETACHED;
         }
     }
-    if (state)
-        for (int i = 0; i < n; i++) {
-            int r = find_root(parent, i);
-            state[i] = r == target ? SPUTTER_TARGET : size[r] > 0 ? SPUTTER_LEFT : SPUTTER_DETACHED;
-        }
-    free(parent); free(size); free(zmin); free(mv); free(msum);
-    return 0;
+    free(root); free(slot); free(g);
+    return rc;
 }

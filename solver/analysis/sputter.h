@@ -17,6 +17,8 @@
 #ifndef CASCADE_SPUTTER_H
 #define CASCADE_SPUTTER_H
 
+#include <stdint.h>
+
 #include "analysis/frame.h"
 #include "util/err.h"
 
@@ -45,5 +47,27 @@ enum { SPUTTER_TARGET = 0, SPUTTER_LEFT = 1, SPUTTER_DETACHED = 2 /* e.g. still 
 int sputter_find(const struct frame *f, const double *v, const double *mass,
                  const struct sputter_params *p, unsigned char *state,
                  struct sputter_stats *out, struct err *e);
+
+/* sputter_find in parts, for atoms spread over MPI ranks
+ * (md_analysis_bricks.c), where a group may span ranks. */
+
+/* Union-find over the pairs of f closer than cutoff: root[i] is the
+ * smallest index of i's group (root holds f->n entries). */
+int sputter_link(const struct frame *f, double cutoff, int *root, struct err *e);
+
+/* One connected group: `label` names it, the sums are over its atoms. */
+struct sputter_group {
+    int64_t label;
+    long size;
+    double mass, momentum;   /* sum m, sum m v along the axis */
+    double zmin;             /* lowest atom along the axis */
+    int left;                /* set by sputter_judge: sputtered */
+};
+
+/* The target (the largest group; the first of equal size) and the groups
+ * that left (above): fills g[].left and *out; returns the target's index
+ * (-1: no groups). */
+long sputter_judge(struct sputter_group *g, long ng, const struct sputter_params *p,
+                   struct sputter_stats *out);
 
 #endif

@@ -295,14 +295,19 @@ int structure_classify(const struct structure_params *p, const double *x, int n,
                        const struct box *b, struct frame *f, int *cls, struct err *e)
 {
     double radius = p->mode == CNA_ADAPTIVE ? p->search_radius : p->cutoff;
-    double range = radius > p->surface_radius ? radius : p->surface_radius;
-    int rc = frame_build(f, x, n, b, radius, range, p->nthreads, e);
+    int rc = frame_build(f, x, n, b, radius, structure_range(p), p->nthreads, e);
     if (rc)
         return rc;
 #pragma omp parallel for num_threads(p->nthreads) schedule(dynamic, 256)
     for (int i = 0; i < n; i++)
         cls[i] = classify_one(p, f, i);
     return 0;
+}
+
+double structure_range(const struct structure_params *p)
+{
+    double radius = p->mode == CNA_ADAPTIVE ? p->search_radius : p->cutoff;
+    return radius > p->surface_radius ? radius : p->surface_radius;
 }
 
 int structure_classify_particles(const struct structure_params *p, const struct particles *ps,

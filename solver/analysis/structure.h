@@ -115,6 +115,11 @@ static inline int structure_is_displaced(enum structure_ref ref, int cls)
 int structure_classify(const struct structure_params *p, const double *x, int n,
                        const struct box *b, struct frame *f, int *cls, struct err *e);
 
+/* The farthest a particle's class looks (the neighbour radius or the
+ * surface radius, whichever is larger; the frame's range): the class of a
+ * particle depends only on the particles closer than this. */
+double structure_range(const struct structure_params *p);
+
 /* The same for the owned particles of a particle set. */
 int structure_classify_particles(const struct structure_params *p, const struct particles *ps,
                                  const struct box *b, struct frame *f, int *cls, struct err *e);

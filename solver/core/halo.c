@@ -29,6 +29,24 @@ int halo_init(struct halo *h, const struct parallel *par, const int grid[3], con
     return decomp_init(&h->dc, par, grid, b, e);
 }
 
+int halo_init_like(struct halo *h, const struct halo *src, struct err *e)
+{
+    memset(h, 0, sizeof *h);
+    h->dc = src->dc;
+    for (int d = 0; d < 3; d++) {
+        h->dc.frac[d] = NULL;
+        if (!src->dc.frac[d])
+            continue;
+        size_t bytes = (size_t)(src->dc.grid[d] + 1) * sizeof *src->dc.frac[d];
+        if (!(h->dc.frac[d] = malloc(bytes))) {
+            halo_free(h);
+            return err_nomem(e, "halo copy");
+        }
+        memcpy(h->dc.frac[d], src->dc.frac[d], bytes);
+    }
+    return 0;
+}
+
 void halo_free(struct halo *h)
 {
     decomp_free(&h->dc);

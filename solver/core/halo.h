@@ -74,6 +74,10 @@ struct halo {
 
 int halo_init(struct halo *h, const struct parallel *par, const int grid[3], const struct box *b,
               struct err *e);
+/* A second exchange over src's bricks (the same ranks, box and cuts),
+ * with swaps of its own: ghosts of another set or range (the distributed
+ * analysis, analysis/md_analysis_bricks.c) leave src's untouched. */
+int halo_init_like(struct halo *h, const struct halo *src, struct err *e);
 void halo_free(struct halo *h);
 
 /* Every rank holds every particle (a set-up or a checkpoint read): keep
