@@ -480,8 +480,9 @@ static void on_done(void *ctx, int slot, struct outcome *o)
     /* the job claimed ahead starts before this one is recorded: the slot
      * stays empty only for the reap, reading result.json and the start
      * (not after an infrastructure failure, which pauses starting) */
+    int early_failed = 0;
     if (r->ahead.has && o->failure != FC_INFRA && r->infra_streak == 0 && !paused(r, t0))
-        launch_claimed(r, &r->ahead, slot);
+        early_failed = !launch_claimed(r, &r->ahead, slot);
     /* a job that succeeded is committed with the next claim (or the flush
      * before the runner waits): one transaction per job instead of two */
     int defer = o->status == RS_DONE && o->failure == FC_NONE;
@@ -501,7 +502,8 @@ static void on_done(void *ctx, int slot, struct outcome *o)
     label(r, j, lab, sizeof lab);
     const char *status = run_status_name(o->status);
     /* an attempt that ran to an outcome of its own shows the machine works */
-    if (!lost && !unrecorded && o->failure != FC_INFRA && o->status != RS_CANCELLED)
+    if (!lost && !unrecorded && o->failure != FC_INFRA && o->status != RS_CANCELLED &&
+        !early_failed)   /* the start just now came after it: its failure counts */
         r->infra_streak = 0;
     if (unrecorded) {
         /* the transaction rolled back: the run is still 'running' under our
