@@ -4,6 +4,11 @@
 #                               stand-in, action ok), 400 jobs one at a time:
 #                               claim, directory, process start, reading and
 #                               recording the result (as the runner reports it)
+#   campaign_slot_idle_ms       of it, what a job waits for: the slot's idle
+#                               time from a job's exit (reaped) to the next
+#                               one's start, as the runner reports it (the
+#                               claim and the directory of the next job are
+#                               done ahead, while the job runs)
 #   campaign_metric_rows_per_s  metric rows recorded per second (20 jobs of
 #                               5,000 metrics each)
 #   campaign_status_1m_ms       `cascade status` (the slower of its two forms:
@@ -41,7 +46,10 @@ values() { # values N -> [1, 2, ..., N]
 # --- dispatch --------------------------------------------------------------
 # The runner reports the time it spends per job between the jobs' own work
 # (claim in the database, run directory and case.yaml, process start, reading
-# result.json and hashing the files, recording): that is the overhead.  For
+# result.json and hashing the files, recording), and how long a slot stood
+# empty between two jobs (the claim and directory of the next job are made
+# while the job before runs, and the job before is recorded after the next
+# one started: docs/campaign.md, "Claiming ahead").  For
 # scale, the wall-clock cost of one more job (slope from 100 to 400 jobs, one
 # at a time) and of the no-op run alone are printed too.
 for n in 100 400; do
@@ -59,15 +67,16 @@ bare_s() { # the no-op job run directly, 300 times
     t1=$(now_ns)
     echo "($t1 - $t0) / 1000000000" | bc -l
 }
-: > "$D/dispatch"; : > "$D/perjob"; : > "$D/bare"
+: > "$D/dispatch"; : > "$D/idle"; : > "$D/perjob"; : > "$D/bare"
 i=0
 while [ $i -lt "$REPEAT" ]; do
     i=$((i + 1))
     a=$(run_s noop100.yaml --jobs 1)
     rm -rf "$D/runs" "$D"/cascade.db*
     t0=$(now_ns)
-    (cd "$D" && "$BIN/cascade" run noop400.yaml --solver "$FAKE" --jobs 1 2>&1) \
-        | sed -n 's/.*runner time per job: \([0-9.]*\) ms.*/\1/p' >> "$D/dispatch"
+    (cd "$D" && "$BIN/cascade" run noop400.yaml --solver "$FAKE" --jobs 1 2>&1) > "$D/report"
+    sed -n 's/.*runner time per job: \([0-9.]*\) ms.*/\1/p' "$D/report" >> "$D/dispatch"
+    sed -n 's/.*slot idle between jobs: \([0-9.]*\) ms.*/\1/p' "$D/report" >> "$D/idle"
     t1=$(now_ns)
     b=$(echo "($t1 - $t0) / 1000000000" | bc -l)
     if [ ! -f "$D/solo/case.yaml" ]; then
@@ -81,6 +90,8 @@ done
 echo "bench: wall clock: one more no-op job costs $(median < "$D/perjob" | xargs printf '%.2f') ms" \
      "in a campaign; the no-op run alone $(median < "$D/bare" | xargs printf '%.2f') ms" >&2
 bench_line campaign_dispatch_ms "$(median < "$D/dispatch" | xargs printf '%.2f')" ms "target 0.5; $(bench_load)"
+bench_line campaign_slot_idle_ms "$(median < "$D/idle" | xargs printf '%.2f')" ms \
+    "from a job's exit to the next one's start; the wall-clock figures above"
 
 # --- metric rows -------------------------------------------------------------
 # 20 jobs writing 5,000 metrics each; the time is what the runner reports for

@@ -17,6 +17,11 @@ typedef void (*backend_done_fn)(void *ctx, int slot, struct outcome *o);
 struct backend {
     int nslots;
     void *impl;
+    /* Starting a job costs the runner little beyond the claim (local child
+     * processes): while every slot is busy, the runner claims the next job
+     * and writes its directory, and starts it as soon as a slot is freed,
+     * before recording the job that freed it (runner.c). */
+    int claim_ahead;
     int (*start)(struct backend *b, int slot, const struct launch_spec *L, struct err *e);
     /* Wait up to max_wait seconds for finished slots (calling done for each)
      * or a signal; returns the signal caught (SIGINT, SIGTERM, SIGHUP) or 0. */

@@ -139,7 +139,7 @@ static void find_program(const char *name, char *out, size_t len)
 int exec_local_start(struct exec_local *x, int slot, const struct launch_spec *L, struct err *e)
 {
     struct exec_slot *s = &x->slots[slot];
-    int rc = launch_setup_dir(L, e);
+    int rc = L->dir_ready ? 0 : launch_setup_dir(L, e);
     if (rc)
         return rc;
     char prog[4096], out_path[4096 + 16], err_path[4096 + 16];
@@ -321,6 +321,7 @@ int backend_local_create(struct backend *b, int nslots, struct err *e)
     if (!b->impl)
         return err_nomem(e, "executor");
     b->nslots = nslots < 1 ? 1 : nslots;
+    b->claim_ahead = 1;
     b->start = local_start;
     b->wait = local_wait;
     b->cancel = local_cancel;

@@ -321,6 +321,21 @@ int launch_setup_dir(const struct launch_spec *L, struct err *e)
     return wfile_write_text(path, L->case_yaml, 0, e);
 }
 
+void launch_remove_dir(const char *run_dir)
+{
+    char path[4096 + 16];
+    snprintf(path, sizeof path, "%s/case.yaml", run_dir);
+    unlink(path);
+    if (rmdir(run_dir) != 0)
+        return;
+    /* the job's directory too, when that was its only attempt (rmdir
+     * leaves a directory that holds anything else) */
+    const char *base = strrchr(run_dir, '/');
+    if (base && base != run_dir && snprintf(path, sizeof path, "%.*s", (int)(base - run_dir),
+                                            run_dir) < (int)sizeof path)
+        rmdir(path);
+}
+
 int launch_point_current(const char *run_dir, struct err *e)
 {
     const char *base = strrchr(run_dir, '/');

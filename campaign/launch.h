@@ -33,6 +33,8 @@ struct launch_spec {
     char **argv;          /* owned, NULL-ended */
     int argc;
     double timeout;       /* seconds, 0: none */
+    int dir_ready;        /* launch_setup_dir already done (a job claimed ahead,
+                             runner.c); not sent to MPI workers */
 };
 
 /* The recorded run directory of the preparation job with this key, or NULL
@@ -62,6 +64,11 @@ void launch_attempt_dir(const char *job_dir, int attempt, char *out, size_t len)
 /* Create the attempt's directory (emptied, should an earlier database have
  * used the same number) and write case.yaml. */
 int launch_setup_dir(const struct launch_spec *L, struct err *e);
+
+/* Remove what launch_setup_dir made for an attempt that was never started
+ * (case.yaml, the attempt directory, the job directory when now empty);
+ * anything else found there is left. */
+void launch_remove_dir(const char *run_dir);
 
 /* Point <job dir>/current at the attempt directory run_dir (an atomic
  * rename of a new symlink).  Does nothing for a run directory that is not

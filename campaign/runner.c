@@ -26,6 +26,17 @@ struct slot {
     char run_dir[4096];  /* the attempt's own directory */
 };
 
+/* An attempt claimed and built, not yet started. */
+struct claimed {
+    int has;
+    long j;
+    long long run_id;
+    int attempt;
+    double prep_s;       /* time spent claiming and preparing it */
+    char run_dir[4096];
+    struct launch_spec L;
+};
+
 struct run_state {
     const struct study *s;
     const struct plan *p;
@@ -54,6 +65,8 @@ struct run_state {
     long pend_j;         /* the job whose outcome waits for its commit (store.pending) */
     long pend_rows;      /* its metric rows */
     int pend_attempt;
+    struct claimed ahead;   /* claimed ahead while every slot is busy (claim_ahead) */
+    double *freed_at;       /* monotonic: when a slot's job ended, 0: refilled */
 };
 
 static int push(struct run_state *r, long j, double at)
@@ -213,8 +226,33 @@ static void infra_failure(struct run_state *r, long j, int attempt, const char *
     push(r, j, r->pause_until);
 }
 
-/* Try to start queue entry k; returns 1 when a slot was used. */
-static int try_start(struct run_state *r, long k, int slot)
+/* An attempt claimed whose launch could not be built or started: recorded
+ * as the attempt's outcome, the environment's failure, not the job's. */
+static void start_failed(struct run_state *r, const struct claimed *c)
+{
+    struct outcome o;
+    outcome_start_failure(&o, r->e->msg);
+    err_clear(r->e);
+    r->mem[c->j] = M_QUEUED;
+    int lost;
+    int unrecorded = store_finish(&r->store, r->job_ids[c->j], c->run_id, c->run_dir, &o, &lost,
+                                  0, r->e) != 0;
+    pending_check(r);
+    if (unrecorded) {
+        r->fatal = 1;
+    } else if (lost) {
+        r->mem[c->j] = M_ELSEWHERE;
+        push(r, c->j, sys_mono() + r->o->poll_s);
+    } else {
+        infra_failure(r, c->j, c->attempt, o.message);
+    }
+}
+
+/* Claim queue entry k and build its launch into c (its directory and
+ * case.yaml written too when write_dir is set); 1 when c is ready to
+ * start, 0 when the entry was dealt with otherwise (not ready, done,
+ * leased elsewhere, failed for good, or its start failed and was recorded). */
+static int claim_entry(struct run_state *r, long k, struct claimed *c, int write_dir)
 {
     struct queue_entry *qe = &r->q[k];
     long j = qe->j;
@@ -230,16 +268,16 @@ static int try_start(struct run_state *r, long k, int slot)
         qe->retry_at = now + 0.05;
         return 0;
     }
-    char job_dir[4096], run_dir[4096];
+    char job_dir[4096];
     snprintf(job_dir, sizeof job_dir, "%s/%s/%s", r->o->runs_root, r->s->name, pj->key);
     double t0 = sys_mono();
     enum claim_result res;
-    long long run_id = 0;
-    int attempt = 0;
+    memset(c, 0, sizeof *c);
+    c->j = j;
     /* a job's outcome recorded just before (on_done) is committed with
      * this claim: one transaction per job (store.h) */
-    int claimed = store_claim(&r->store, r->job_ids[j], job_dir, &res, &run_id, &attempt,
-                              run_dir, sizeof run_dir, r->e);
+    int claimed = store_claim(&r->store, r->job_ids[j], job_dir, &res, &c->run_id, &c->attempt,
+                              c->run_dir, sizeof c->run_dir, r->e);
     if (claimed != 0)
         r->fatal = 1;
     pending_check(r);
@@ -275,49 +313,55 @@ static int try_start(struct run_state *r, long k, int slot)
     case CLAIM_OK:
         break;
     }
-    struct launch_spec L;
+    qe->j = -1;
     struct prep_lookup pl = {r, j, ""};
     /* a job that stopped early (timeout, node failure, killed runner)
      * continues from the newest checkpoint an earlier attempt left */
     char resume[4096];
-    int resuming = attempt > 1 && launch_resume_dir(job_dir, attempt, resume, sizeof resume) == 0;
-    int rc = launch_build(&L, r->s, r->sv, run_dir, pj->key, pj->case_json, prep_dir, &pl,
+    int resuming =
+        c->attempt > 1 && launch_resume_dir(job_dir, c->attempt, resume, sizeof resume) == 0;
+    int rc = launch_build(&c->L, r->s, r->sv, c->run_dir, pj->key, pj->case_json, prep_dir, &pl,
                           resuming ? resume : NULL, r->e);
-    if (!rc) {
-        L.job_id = r->job_ids[j];
-        L.run_id = run_id;
-        L.plan_index = j;
-        rc = r->b->start(r->b, slot, &L, r->e);
-        launch_free(&L);
+    if (!rc && write_dir) {
+        rc = launch_setup_dir(&c->L, r->e);
+        c->L.dir_ready = !rc;
     }
     if (rc) {
-        /* record the failure to start as the attempt's outcome: the
-         * environment's failure, not the job's */
-        struct outcome o;
-        outcome_start_failure(&o, r->e->msg);
-        err_clear(r->e);
-        int lost;
-        qe->j = -1;
-        int unrecorded = store_finish(&r->store, r->job_ids[j], run_id, run_dir, &o, &lost, 0,
-                                      r->e) != 0;
-        pending_check(r);
-        if (unrecorded) {
-            r->fatal = 1;
-        } else if (lost) {
-            r->mem[j] = M_ELSEWHERE;
-            push(r, j, sys_mono() + r->o->poll_s);
-        } else {
-            infra_failure(r, j, attempt, o.message);
-        }
+        launch_free(&c->L);
+        start_failed(r, c);
         return 0;
     }
-    qe->j = -1;
-    r->sum->start_s += sys_mono() - t0;
-    r->sum->started++;
+    c->L.job_id = r->job_ids[j];
+    c->L.run_id = c->run_id;
+    c->L.plan_index = j;
+    c->prep_s = sys_mono() - t0;
+    c->has = 1;
     r->mem[j] = M_RUNNING;
+    return 1;
+}
+
+/* Start a claimed attempt in a free slot; 1 when it started. */
+static int launch_claimed(struct run_state *r, struct claimed *c, int slot)
+{
+    double t0 = sys_mono();
+    int rc = r->b->start(r->b, slot, &c->L, r->e);
+    launch_free(&c->L);
+    c->has = 0;
+    if (rc) {
+        start_failed(r, c);
+        return 0;
+    }
+    double t1 = sys_mono();
+    r->sum->start_s += c->prep_s + (t1 - t0);
+    r->sum->started++;
+    if (r->freed_at[slot] > 0) {
+        r->sum->gap_s += t1 - r->freed_at[slot];
+        r->sum->gaps++;
+        r->freed_at[slot] = 0;
+    }
     struct slot *sl = &r->slots[slot];
-    *sl = (struct slot){1, j, run_id, attempt, 0, ""};
-    snprintf(sl->run_dir, sizeof sl->run_dir, "%s", run_dir);
+    *sl = (struct slot){1, c->j, c->run_id, c->attempt, 0, ""};
+    snprintf(sl->run_dir, sizeof sl->run_dir, "%s", c->run_dir);
     r->running++;
     r->view.running = r->running;
     progress_view_tick(&r->view, 1);
@@ -329,6 +373,14 @@ static int paused(const struct run_state *r, double now)
     return r->stopping || r->fatal || now < r->pause_until;
 }
 
+static int free_slot(const struct run_state *r)
+{
+    int slot = 0;
+    while (r->slots[slot].busy)
+        slot++;
+    return slot;
+}
+
 static void fill_slots(struct run_state *r)
 {
     double now = sys_mono();
@@ -337,16 +389,56 @@ static void fill_slots(struct run_state *r)
     /* after an infrastructure failure one job at a time probes whether the
      * machine works again, rather than every slot failing at once */
     int limit = r->infra_streak > 0 ? 1 : r->b->nslots;
+    if (r->ahead.has && r->running < limit)
+        launch_claimed(r, &r->ahead, free_slot(r));
     while (r->head < r->qn && r->q[r->head].j < 0)
         r->head++;
     for (long k = r->head; k < r->qn && r->running < limit && !paused(r, now); k++) {
         if (r->q[k].j < 0 || r->q[k].retry_at > now)
             continue;
-        int slot = 0;
-        while (r->slots[slot].busy)
-            slot++;
-        try_start(r, k, slot);
+        struct claimed c;
+        if (claim_entry(r, k, &c, 0))
+            launch_claimed(r, &c, free_slot(r));
     }
+}
+
+/* Every slot busy: claim the next job ahead and write its directory while
+ * they run (backend claim_ahead), so that the slot freed first starts it
+ * at once.  Its lease is held and renewed like a running job's; a runner
+ * killed before starting it leaves it to be reaped and run again. */
+static void claim_ahead(struct run_state *r)
+{
+    double now = sys_mono();
+    if (!r->b->claim_ahead || r->ahead.has || r->running < r->b->nslots ||
+        r->infra_streak > 0 || paused(r, now))
+        return;
+    while (r->head < r->qn && r->q[r->head].j < 0)
+        r->head++;
+    for (long k = r->head; k < r->qn && !r->ahead.has && !paused(r, now); k++)
+        if (r->q[k].j >= 0 && r->q[k].retry_at <= now)
+            claim_entry(r, k, &r->ahead, 1);
+}
+
+/* The runner stops with a job claimed ahead: the claim is undone (its run
+ * row and lease deleted, its directory removed), as if it had never been
+ * claimed; the next runner runs the job. */
+static void release_ahead(struct run_state *r)
+{
+    if (!r->ahead.has)
+        return;
+    struct claimed *c = &r->ahead;
+    launch_free(&c->L);
+    c->has = 0;
+    r->mem[c->j] = M_QUEUED;
+    struct err e = {0};
+    if (store_unclaim(&r->store, r->job_ids[c->j], c->run_id, &e) != 0) {
+        progress_view_note(&r->view, "%s: the attempt claimed ahead could not be undone (%s); "
+                                     "its lease lapses and the next runner runs the job",
+                           r->p->jobs[c->j].key, e.msg);
+    } else {
+        launch_remove_dir(c->run_dir);
+    }
+    pending_check(r);
 }
 
 static int queue_empty(struct run_state *r)
@@ -358,7 +450,7 @@ static int queue_empty(struct run_state *r)
 
 static double next_retry(struct run_state *r)
 {
-    double t = -1;
+    double t = r->ahead.has ? sys_mono() : -1;   /* ready to start */
     for (long k = r->head; k < r->qn; k++)
         if (r->q[k].j >= 0 && (t < 0 || r->q[k].retry_at < t))
             t = r->q[k].retry_at;
@@ -378,10 +470,19 @@ static int retry_allowed(struct run_state *r, long j)
 static void on_done(void *ctx, int slot, struct outcome *o)
 {
     struct run_state *r = ctx;
-    struct slot *sl = &r->slots[slot];
+    struct slot done_slot = r->slots[slot], *sl = &done_slot;
     long j = sl->j;
     int lost = 0;
     double t0 = sys_mono();
+    r->freed_at[slot] = t0 - o->collect_s;
+    r->slots[slot].busy = 0;
+    r->running--;
+    /* the job claimed ahead starts before this one is recorded: the slot
+     * stays empty only for the reap, reading result.json and the start
+     * (not after an infrastructure failure, which pauses starting) */
+    int early_failed = 0;
+    if (r->ahead.has && o->failure != FC_INFRA && r->infra_streak == 0 && !paused(r, t0))
+        early_failed = !launch_claimed(r, &r->ahead, slot);
     /* a job that succeeded is committed with the next claim (or the flush
      * before the runner waits): one transaction per job instead of two */
     int defer = o->status == RS_DONE && o->failure == FC_NONE;
@@ -395,15 +496,14 @@ static void on_done(void *ctx, int slot, struct outcome *o)
     r->sum->record_s += sys_mono() - t0 + o->collect_s;
     if (!lost && !unrecorded)
         r->sum->metric_rows += r->store.last_metric_rows;
-    sl->busy = 0;
-    r->running--;
     r->view.running = r->running;
     r->view.finished_here++;
     char lab[512];
     label(r, j, lab, sizeof lab);
     const char *status = run_status_name(o->status);
     /* an attempt that ran to an outcome of its own shows the machine works */
-    if (!lost && !unrecorded && o->failure != FC_INFRA && o->status != RS_CANCELLED)
+    if (!lost && !unrecorded && o->failure != FC_INFRA && o->status != RS_CANCELLED &&
+        !early_failed)   /* the start just now came after it: its failure counts */
         r->infra_streak = 0;
     if (unrecorded) {
         /* the transaction rolled back: the run is still 'running' under our
@@ -477,6 +577,20 @@ static void drop_lost_leases(struct run_state *r)
         else
             r->b->cancel(r->b, i);
     }
+    struct claimed *c = &r->ahead;
+    int held = 1;
+    struct err e = {0};
+    if (!c->has || store_lease_held(&r->store, r->job_ids[c->j], c->run_id, &held, &e) != 0 ||
+        held)
+        return;
+    /* claimed ahead and taken over before it started: the other runner's */
+    launch_free(&c->L);
+    c->has = 0;
+    r->mem[c->j] = M_ELSEWHERE;
+    push(r, c->j, sys_mono() + r->o->poll_s);
+    progress_view_note(&r->view, "%s: our lease expired and another runner took the job; "
+                                 "attempt %d (claimed, not started) is dropped",
+                       r->p->jobs[c->j].key, c->attempt);
 }
 
 static void cancel_all(struct run_state *r)
@@ -614,7 +728,8 @@ int runner_run(const struct study *s, const struct plan *p, const struct solver 
     r.dep_check = mem_calloc((size_t)p->njobs, sizeof *r.dep_check);
     r.dep_verdict = mem_calloc((size_t)p->njobs, sizeof *r.dep_verdict);
     r.slots = mem_calloc((size_t)b->nslots, sizeof *r.slots);
-    if (!r.job_ids || !r.mem || !r.dep_check || !r.dep_verdict || !r.slots)
+    r.freed_at = mem_calloc((size_t)b->nslots, sizeof *r.freed_at);
+    if (!r.job_ids || !r.mem || !r.dep_check || !r.dep_verdict || !r.slots || !r.freed_at)
         rc = err_nomem(e, "runner");
     if (!rc)
         rc = store_register(&r.store, s, p, &r.study_id, r.job_ids, e);
@@ -653,6 +768,7 @@ int runner_run(const struct study *s, const struct plan *p, const struct solver 
         free(r.dep_check);
         free(r.dep_verdict);
         free(r.slots);
+        free(r.freed_at);
         free(r.q);
         return rc;
     }
@@ -666,10 +782,11 @@ int runner_run(const struct study *s, const struct plan *p, const struct solver 
     double next_beat = sys_mono() + o->lease_s / 3.0;
     for (;;) {
         fill_slots(&r);
+        claim_ahead(&r);
         pending_flush(&r);
         if (r.fatal && r.running == 0)
             break;
-        if (r.running == 0 && (r.stopping || queue_empty(&r)))
+        if (r.running == 0 && (r.stopping || (queue_empty(&r) && !r.ahead.has)))
             break;
         if (r.detached)
             break;
@@ -701,6 +818,7 @@ int runner_run(const struct study *s, const struct plan *p, const struct solver 
         }
         progress_view_tick(&r.view, 0);
     }
+    release_ahead(&r);
     pending_flush(&r);
     progress_view_finish(&r.view);
     if (sum->started)
@@ -711,6 +829,11 @@ int runner_run(const struct study *s, const struct plan *p, const struct solver 
                            1e3 * sum->start_s / (double)sum->started,
                            1e3 * sum->record_s / (double)sum->started, sum->metric_rows,
                            sum->record_s);
+    if (sum->gaps)
+        progress_view_note(&r.view,
+                           "slot idle between jobs: %.2f ms (from a job's exit to the next "
+                           "one's start, over %ld starts)",
+                           1e3 * sum->gap_s / (double)sum->gaps, sum->gaps);
     sum->not_run = sum->total - sum->done - sum->failed;
     store_fini(&r.store);
     free(r.job_ids);
@@ -718,6 +841,7 @@ int runner_run(const struct study *s, const struct plan *p, const struct solver 
     free(r.dep_check);
     free(r.dep_verdict);
     free(r.slots);
+    free(r.freed_at);
     free(r.q);
     return r.fatal || r.infra_stop ? ERR_RUNTIME : 0;
 }

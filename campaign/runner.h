@@ -55,6 +55,9 @@ struct runner_summary {
     double start_s;          /* time spent claiming and starting them */
     long metric_rows;        /* metric rows recorded */
     double record_s;         /* time spent reading results and writing them to the database */
+    double gap_s;            /* time slots stood empty between a job's exit (reaped) and the
+                                next start in them (the runner's share of the critical path) */
+    long gaps;               /* starts that refilled a slot, over which gap_s is summed */
 };
 
 int runner_run(const struct study *s, const struct plan *p, const struct solver *sv, sqlite3 *db,

@@ -210,13 +210,17 @@ static int register_study(struct store *st, const struct study *s, long long *st
     for (int i = 0; i < s->naxes && !rc; i++) {
         sqlite3_reset(ax);
         char *vals = canon_json(s->axes[i].values);   /* reals as written: 7.22 */
+        if (!vals) {
+            rc = err_nomem(e, "the axis values");
+            break;
+        }
         sqlite3_bind_int64(ax, 1, *study_id);
         bind_text(ax, 2, s->axes[i].path);
         sqlite3_bind_int(ax, 3, i);
         sqlite3_bind_int(ax, 4, s->axes[i].group);
         bind_text(ax, 5, axis_kind_name(s->axes[i].kind));
         sqlite3_bind_int64(ax, 6, (sqlite3_int64)json_array_size(s->axes[i].values));
-        sqlite3_bind_text(ax, 7, vals ? vals : "[]", -1, SQLITE_TRANSIENT);
+        sqlite3_bind_text(ax, 7, vals, -1, SQLITE_TRANSIENT);
         free(vals);
         rc = step_done(db, ax, e, "registering the axes");
     }
@@ -791,6 +795,47 @@ int store_heartbeat(struct store *st, struct err *e)
     sqlite3_bind_double(s, 2, sys_now() + st->lease_s);
     int rc = sqlite3_step(s) == SQLITE_DONE ? 0 : db_fail(st->db, e, "heartbeat");
     sqlite3_reset(s);
+    return rc;
+}
+
+/* The statements of store_unclaim, in order: the lease (which must be
+ * ours), the run that never started, and the job's state back to what its
+ * latest remaining attempt says ('pending' when it has none; the
+ * job_counts triggers follow). */
+static const char *const unclaim_sql[] = {
+    "DELETE FROM leases WHERE job_id = ?1 AND run_id = ?2 AND runner = ?3",
+    "DELETE FROM runs WHERE id = ?2 AND job_id = ?1 AND status = 'running'",
+    "UPDATE jobs SET state = 'pending', last_run_id = NULL, solver = NULL WHERE id = ?1",
+    "UPDATE jobs SET (state, last_run_id, solver) = "
+    "(SELECT status, id, solver_version || ' (' || solver_git || ')' FROM runs "
+    "WHERE job_id = ?1 ORDER BY id DESC LIMIT 1) "
+    "WHERE id = ?1 AND EXISTS (SELECT 1 FROM runs WHERE job_id = ?1)",
+};
+
+int store_unclaim(struct store *st, long long job_id, long long run_id, struct err *e)
+{
+    int rc = begin_own(st, e);
+    for (size_t i = 0; !rc && i < sizeof unclaim_sql / sizeof unclaim_sql[0]; i++) {
+        sqlite3_stmt *s = NULL;
+        rc = db_prepare(st->db, unclaim_sql[i], &s, e);
+        if (rc)
+            break;
+        sqlite3_bind_int64(s, 1, job_id);
+        if (sqlite3_bind_parameter_count(s) >= 2)
+            sqlite3_bind_int64(s, 2, run_id);
+        if (sqlite3_bind_parameter_count(s) >= 3)
+            bind_text(s, 3, st->runner);
+        rc = step_done(st->db, s, e, "undoing a claim");
+        /* no lease of ours: the job is another runner's now, leave it */
+        int ours = i > 0 || sqlite3_changes(st->db) == 1;
+        sqlite3_finalize(s);
+        if (!rc && !ours)
+            break;
+    }
+    if (!rc)
+        rc = db_commit(st->db, e);
+    if (rc)
+        db_rollback(st->db);
     return rc;
 }
 

@@ -90,6 +90,12 @@ int store_finish(struct store *st, long long job_id, long long run_id, const cha
  * caller need only flush before it waits for anything. */
 int store_flush(struct store *st, struct err *e);
 
+/* Undo a claim whose attempt was never started (a runner that stops with a
+ * job claimed ahead, runner.c): its lease and its 'running' run are
+ * deleted and the job's state is what it was before, as if never claimed.
+ * Does nothing when the lease is no longer this runner's. */
+int store_unclaim(struct store *st, long long job_id, long long run_id, struct err *e);
+
 /* Extend this runner's leases. */
 int store_heartbeat(struct store *st, struct err *e);
 /* Whether this runner still holds the lease of run_id of a job (a runner

@@ -12,10 +12,17 @@
  *     emptied before the attempt runs, and case.yaml is the new one;
  *   - a done job's outcome, committed with the next job's claim (one
  *     transaction per job), is in the database when the run ends, for every
- *     job, also with several slots.
+ *     job, also with several slots;
+ *   - the job claimed ahead while every slot is busy (its run 'running',
+ *     its directory and case.yaml written, no process yet): a runner killed
+ *     then leaves it to the next runner, which closes that attempt as
+ *     cancelled ("is gone") and runs the job; a runner stopped by SIGINT
+ *     undoes the claim (no run row, no lease, no directory, the job
+ *     'pending' again in jobs and job_counts).
  */
 #include <criterion/criterion.h>
 #include <dirent.h>
+#include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -204,4 +211,126 @@ Test(campaign_dispatch, every_deferred_outcome_is_committed, .timeout = 180)
         artifacts_match_disk(dir, 48);
         ct_rmrf(dir);
     }
+}
+
+/* --- the job claimed ahead ------------------------------------------------ */
+
+/* Three jobs, one slot: the first sleeps `seconds` (it creates the flag;
+ * the others, finding it, do not sleep). */
+static void write_slow_first(const char *dir, double seconds)
+{
+    char text[512];
+    snprintf(text, sizeof text,
+             "name: ahead\nbase: {fake: {action: slow_once, seconds: %g, flag: %s/flag}}\n"
+             "sweep: {grid: {fake.x: [1, 2, 3]}}\n",
+             seconds, dir);
+    ct_write(0, dir, "ahead.yaml", text);
+}
+
+static long long count_now(const char *dir, const char *sql)
+{
+    char path[128];
+    snprintf(path, sizeof path, "%s/cascade.db", dir);
+    if (access(path, F_OK) != 0)
+        return -1;
+    sqlite3 *db = NULL;
+    long long n = -1;
+    sqlite3_stmt *st = NULL;
+    if (sqlite3_open_v2(path, &db, SQLITE_OPEN_READONLY, NULL) == SQLITE_OK &&
+        sqlite3_prepare_v2(db, sql, -1, &st, NULL) == SQLITE_OK && sqlite3_step(st) == SQLITE_ROW)
+        n = sqlite3_column_int64(st, 0);
+    sqlite3_finalize(st);
+    sqlite3_close(db);
+    return n;
+}
+
+/* Start the runner (one slot) and wait until the first job runs and the
+ * second is claimed ahead: two 'running' runs, the second's directory
+ * holding case.yaml and nothing else (its process not started).  Returns
+ * the runner's pid; the second attempt's directory into ahead_dir. */
+static pid_t run_until_claimed_ahead(const char *dir, char *ahead_dir, size_t len)
+{
+    const char *argv[] = {ct_cascade_bin(), "run", "ahead.yaml", "--solver", ct_standin(), "--jobs",
+                          "1", NULL};
+    pid_t pid = ct_spawn(dir, NULL, argv, "first.log");
+    long long n = -1;
+    for (int i = 0; i < 2000 && n < 2; i++) {
+        n = count_now(dir, "SELECT count(*) FROM runs WHERE status = 'running'");
+        if (n < 2)
+            usleep(10000);
+    }
+    cr_assert_eq(n, 2, "no job was claimed ahead within 20 s (runs 'running': %lld)", n);
+    sqlite3 *db = ct_db(dir);
+    ct_text(db, "SELECT run_dir FROM runs ORDER BY id LIMIT 1 OFFSET 1", ahead_dir, len);
+    cr_assert_eq(ct_int(db, "SELECT count(*) FROM leases"), 2);
+    sqlite3_close(db);
+    char names[512];
+    listing(ahead_dir, names, sizeof names);
+    cr_assert_str_eq(names, "case.yaml", "the job claimed ahead was started: %s holds %s",
+                     ahead_dir, names);
+    return pid;
+}
+
+Test(campaign_dispatch, a_killed_runner_leaves_the_job_claimed_ahead_to_the_next, .timeout = 120)
+{
+    char dir[64], out[16384], ahead[4096];
+    ct_mkdir(dir, sizeof dir);
+    write_slow_first(dir, 30);
+    pid_t pid = run_until_claimed_ahead(dir, ahead, sizeof ahead);
+    cr_assert_eq(kill(pid, SIGKILL), 0);
+    cr_assert_eq(ct_wait(pid), 128 + SIGKILL);
+    /* the first job's solver dies with the runner; the next runner reaps
+     * both runs (its lease is the dead runner's) and runs all three jobs */
+    cr_assert_eq(run_study(dir, "ahead.yaml", "1", out, sizeof out), 0, "%s", out);
+    cr_assert(strstr(out, "3 done (0 earlier), 0 failed"), "%s", out);
+    sqlite3 *db = ct_db(dir);
+    char sql[4096 + 256];
+    snprintf(sql, sizeof sql,
+             "SELECT count(*) FROM runs WHERE run_dir = '%s' AND status = 'cancelled' "
+             "AND failure_class = 'infrastructure' AND message LIKE '%%is gone%%'",
+             ahead);
+    cr_assert_eq(ct_int(db, sql), 1, "the attempt claimed ahead was not closed as cancelled");
+    cr_assert_eq(ct_int(db, "SELECT count(*) FROM runs WHERE status = 'cancelled'"), 2);
+    cr_assert_eq(ct_int(db, "SELECT count(*) FROM runs WHERE status = 'done'"), 3);
+    cr_assert_eq(ct_int(db, "SELECT count(*) FROM (SELECT job_id FROM runs WHERE status = 'done' "
+                            "GROUP BY job_id HAVING count(*) = 1)"),
+                 3, "a job has no done run or more than one");
+    cr_assert_eq(ct_int(db, "SELECT count(*) FROM runs WHERE status = 'running'"), 0);
+    cr_assert_eq(ct_int(db, "SELECT count(*) FROM leases"), 0);
+    cr_assert_eq(ct_int(db, "SELECT n FROM job_counts WHERE state = 'done'"), 3);
+    sqlite3_close(db);
+    ct_rmrf(dir);
+}
+
+Test(campaign_dispatch, sigint_undoes_the_claim_ahead, .timeout = 120)
+{
+    char dir[64], out[16384], ahead[4096];
+    ct_mkdir(dir, sizeof dir);
+    write_slow_first(dir, 5);
+    pid_t pid = run_until_claimed_ahead(dir, ahead, sizeof ahead);
+    cr_assert_eq(kill(pid, SIGINT), 0);
+    cr_assert_eq(ct_wait(pid), 130);
+    sqlite3 *db = ct_db(dir);
+    /* the running job was let finish; the one claimed ahead is as if never
+     * claimed, and so is the third */
+    cr_assert_eq(ct_int(db, "SELECT count(*) FROM runs"), 1);
+    cr_assert_eq(ct_int(db, "SELECT count(*) FROM runs WHERE status = 'done'"), 1);
+    cr_assert_eq(ct_int(db, "SELECT count(*) FROM leases"), 0);
+    cr_assert_eq(ct_int(db, "SELECT count(*) FROM jobs WHERE state = 'pending' AND "
+                            "last_run_id IS NULL AND solver IS NULL"),
+                 2);
+    cr_assert_eq(ct_int(db, "SELECT n FROM job_counts WHERE state = 'pending'"), 2);
+    cr_assert_eq(ct_int(db, "SELECT coalesce(sum(n), 0) FROM job_counts WHERE state = 'running'"),
+                 0);
+    sqlite3_close(db);
+    struct stat sb;
+    cr_assert_neq(stat(ahead, &sb), 0, "%s (claimed ahead, never started) is still there", ahead);
+    /* the next runner runs the other two, their first attempts */
+    cr_assert_eq(run_study(dir, "ahead.yaml", "1", out, sizeof out), 0, "%s", out);
+    cr_assert(strstr(out, "3 done (1 earlier), 0 failed"), "%s", out);
+    db = ct_db(dir);
+    cr_assert_eq(ct_int(db, "SELECT count(*) FROM runs WHERE status = 'done' AND attempt = 1"), 3);
+    cr_assert_eq(ct_int(db, "SELECT count(*) FROM runs"), 3);
+    sqlite3_close(db);
+    ct_rmrf(dir);
 }
