@@ -246,27 +246,22 @@ update_particle(const struct mpm *m, const struct mpm_view *w, long p, const int
 }
 
 /* Linear fast path of s7-s8 and s12-s14 for the material points. */
-/* Block of the point's new position for the next step (s9), -1 outside. */
-static inline long next_block(const struct mpm_grid *g, const double *x)
-{
-    long key[3];
-    for (int d = 0; d < 3; d++) {
-        double u = (x[d] - g->origin[d]) * g->inv_hd[d] - (double)g->lo[d];
-        if (!(u >= 0) || u >= (double)(g->nn[d] - 1))
-            return -1;
-        key[d] = (long)u;
-    }
-    return mpm_grid_key_block(g, key);
-}
+/* The cells of a chunk's points at their new positions (by their place in
+ * the chunk; mpm_lin_cell), for the fused pass's mapping. */
+struct chunk_cells {
+    long key[MPM_CHUNK][3];
+    double f[MPM_CHUNK][3];
+};
 
-/* s7-s8 and s12 of point p: its new position and block, and its velocity
- * gradient L (row-major) from the nodal velocities; returns the point's
- * material, or -1 for a point of a rigid body (moved at the body's
- * velocity, no stress update). */
+/* s7-s8 and s12 of point p: its new position, block and cell (key, f), and
+ * its velocity gradient L (row-major) from the nodal velocities; returns
+ * the point's material, or -1 for a point of a rigid body (moved at the
+ * body's velocity, no stress update). */
 static inline __attribute__((always_inline)) int
 kinematics_point_linear(const struct mpm *m, long p, double dt, const double *vel,
                         const struct mpm_node *node, const long s1, const long s2, const int musl,
-                        struct mpm_points *pts, int32_t *blk, double L[9], long *pf)
+                        struct mpm_points *pts, int32_t *blk, double L[9], long *pf,
+                        long key[3], double f[3])
 {
     double *x = pts->x + 3 * p;
     const struct mpm_body *body = &m->body[pts->body[p]];
@@ -274,7 +269,7 @@ kinematics_point_linear(const struct mpm *m, long p, double dt, const double *ve
         x[0] += body->velocity[0] * dt;
         x[1] += body->velocity[1] * dt;
         x[2] += body->velocity[2] * dt;
-        blk[p] = (int32_t)next_block(&m->grid, x);
+        blk[p] = (int32_t)mpm_lin_cell(&m->grid, x, key, f);
         return -1;
     }
     struct mpm_lin st;
@@ -315,7 +310,7 @@ kinematics_point_linear(const struct mpm *m, long p, double dt, const double *ve
     x[0] += vb[1] * dt;   /* Eq. (s8) */
     x[1] += vb[2] * dt;
     x[2] += vb[3] * dt;
-    blk[p] = (int32_t)next_block(&m->grid, x);
+    blk[p] = (int32_t)mpm_lin_cell(&m->grid, x, key, f);
     const int o = musl ? 0 : 1;   /* USL: velocities sit in lanes 1-3 of [m v] */
     double lc[3][4];
     memcpy(lc[0], &Lx, sizeof lc[0]);
@@ -365,14 +360,16 @@ chunk_scatter(struct mpm_points *pts, const struct mpm_chunk *ch, int nd)
 static inline __attribute__((always_inline)) void
 update_chunk_linear(const struct mpm *m, const int32_t *idx, long n, double dt, const double *vel,
                     const struct mpm_node *node, const long s1, const long s2, const int musl,
-                    struct mpm_points *pts, int32_t *blk, struct mpm_chunk *ch)
+                    struct mpm_points *pts, int32_t *blk, struct mpm_chunk *ch,
+                    struct chunk_cells *cc)
 {
     int nd = 0, same = 1;
     long pf = -1;   /* the cell whose next nodes were prefetched */
     for (long k = 0; k < n; k++) {
         long p = idx[k];
         double L[9];
-        int mat = kinematics_point_linear(m, p, dt, vel, node, s1, s2, musl, pts, blk, L, &pf);
+        int mat = kinematics_point_linear(m, p, dt, vel, node, s1, s2, musl, pts, blk, L, &pf,
+                                          cc->key[k], cc->f[k]);
         if (mat < 0)
             continue;
         for (int c = 0; c < 9; c++)
@@ -434,14 +431,15 @@ update_all(struct mpm *m, const struct mpm_view *views, int nv, double dt, const
 #pragma omp parallel for schedule(static) num_threads(m->nthreads) reduction(+ : se)
             for (long p0 = 0; p0 < n; p0 += MPM_CHUNK) {
                 struct mpm_chunk ch;
+                struct chunk_cells cc;
                 int32_t idx[MPM_CHUNK];
                 long c = n - p0 < MPM_CHUNK ? n - p0 : MPM_CHUNK;
                 for (long k = 0; k < c; k++)
                     idx[k] = (int32_t)(p0 + k);
                 if (vel)
-                    update_chunk_linear(m, idx, c, dt, vel, node, s1, s2, 1, pts, blk, &ch);
+                    update_chunk_linear(m, idx, c, dt, vel, node, s1, s2, 1, pts, blk, &ch, &cc);
                 else
-                    update_chunk_linear(m, idx, c, dt, vel, node, s1, s2, 0, pts, blk, &ch);
+                    update_chunk_linear(m, idx, c, dt, vel, node, s1, s2, 0, pts, blk, &ch, &cc);
                 for (long k = 0; k < c; k++)
                     se += pts->eint[p0 + k];
             }
@@ -490,15 +488,12 @@ static void block_key_range(const struct mpm_grid *g, long b, long kmin[3], long
     }
 }
 
-/* Whether the cell of x (inside the grid) has keys within [kmin, kmax]. */
-static inline int near_block(const struct mpm_grid *g, const double *x, const long kmin[3],
-                             const long kmax[3])
+/* Whether keys key[] lie within [kmin, kmax]. */
+static inline int near_block(const long key[3], const long kmin[3], const long kmax[3])
 {
     int ok = 1;
-    for (int d = 0; d < 3; d++) {
-        long key = (long)((x[d] - g->origin[d]) * g->inv_hd[d] - (double)g->lo[d]);
-        ok &= key >= kmin[d] && key <= kmax[d];
-    }
+    for (int d = 0; d < 3; d++)
+        ok &= key[d] >= kmin[d] && key[d] <= kmax[d];
     return ok;
 }
 
@@ -554,6 +549,7 @@ void mpm_update_particles_and_map(struct mpm *m, double dt)
             double aux[8] = {0};
             long cur = -1;
             struct mpm_chunk ch;
+            struct chunk_cells cc;
             /* chunks of points: update them (s7-s14), then map them while
              * they are still in cache (s1-s3 of the next step); two light
              * loops instead of one whose registers spill */
@@ -561,22 +557,23 @@ void mpm_update_particles_and_map(struct mpm *m, double dt)
                 long k1 = k0 + MPM_CHUNK < count ? k0 + MPM_CHUNK : count;
                 if (vel)
                     update_chunk_linear(m, idx + k0, k1 - k0, dt, vel, node, s1, s2, 1, pts, blk,
-                                        &ch);
+                                        &ch, &cc);
                 else
                     update_chunk_linear(m, idx + k0, k1 - k0, dt, vel, node, s1, s2, 0, pts, blk,
-                                        &ch);
+                                        &ch, &cc);
                 double t0 = timed ? timers_now() : 0;
                 for (long k = k0; k < k1; k++) {
                     long p = idx[k];
                     se += pts->eint[p];
                     if (blk[p] < 0)
                         continue;   /* left the grid: the next step reports it */
-                    if (!near_block(g, pts->x + 3 * p, kmin, kmax)) {
+                    const long *key = cc.key[k - k0];
+                    if (!near_block(key, kmin, kmax)) {
                         far = 1;
                         continue;
                     }
-                    struct mpm_lin st;
-                    mpm_lin_eval(g, pts->x + 3 * p, &st);
+                    struct mpm_lin st;   /* the cell kinematics found: mpm_lin_cell */
+                    mpm_lin_weights(mpm_lin_base(g, key), cc.f[k - k0], &st);
                     if (st.base != cur) {
                         if (cur >= 0)
                             p2g_flush(next, cur, off, A, B, aux);

@@ -20,6 +20,23 @@ struct mpm_lin {
     double t[4];   /* wy[b] wz[c] */
 };
 
+/* The weights of a point at fractions f[0..2] inside the cell at `base`. */
+static inline __attribute__((always_inline)) void mpm_lin_weights(long base, const double f[3],
+                                                                  struct mpm_lin *s)
+{
+    s->base = base;
+    s->wx[0] = 1.0 - f[0];
+    s->wx[1] = f[0];
+    s->wy[0] = 1.0 - f[1];
+    s->wy[1] = f[1];
+    s->wz[0] = 1.0 - f[2];
+    s->wz[1] = f[2];
+    s->t[0] = s->wy[0] * s->wz[0];
+    s->t[1] = s->wy[1] * s->wz[0];
+    s->t[2] = s->wy[0] * s->wz[1];
+    s->t[3] = s->wy[1] * s->wz[1];
+}
+
 /* Cell (patch-local index of its low corner node) and weights of x, which
  * must lie inside the grid (mpm_locate_particles checked it). */
 static inline __attribute__((always_inline)) void mpm_lin_eval(const struct mpm_grid *g,
@@ -33,17 +50,33 @@ static inline __attribute__((always_inline)) void mpm_lin_eval(const struct mpm_
         f[k] = u - (double)i;
         base += (i + g->halo) * g->stride[k];
     }
-    s->base = base;
-    s->wx[0] = 1.0 - f[0];
-    s->wx[1] = f[0];
-    s->wy[0] = 1.0 - f[1];
-    s->wy[1] = f[1];
-    s->wz[0] = 1.0 - f[2];
-    s->wz[1] = f[2];
-    s->t[0] = s->wy[0] * s->wz[0];
-    s->t[1] = s->wy[1] * s->wz[0];
-    s->t[2] = s->wy[0] * s->wz[1];
-    s->t[3] = s->wy[1] * s->wz[1];
+    mpm_lin_weights(base, f, s);
+}
+
+/* The cell of x for the next step (s9), found once for the three uses the
+ * fused pass has for it -- the point's colouring block, the test that it
+ * stays near its block, and its weights: keys (integer cell coordinates)
+ * and fractions as mpm_lin_eval computes them (the same bits).  Returns
+ * the block, or -1 when x lies outside the grid (key and f then unset). */
+static inline __attribute__((always_inline)) long mpm_lin_cell(const struct mpm_grid *g,
+                                                               const double *x, long key[3],
+                                                               double f[3])
+{
+    for (int d = 0; d < 3; d++) {
+        double u = (x[d] - g->origin[d]) * g->inv_hd[d] - (double)g->lo[d];
+        if (!(u >= 0) || u >= (double)(g->nn[d] - 1))
+            return -1;
+        key[d] = (long)u;
+        f[d] = u - (double)key[d];
+    }
+    return mpm_grid_key_block(g, key);
+}
+
+/* Patch-local index of the low corner node of the cell with keys key[]. */
+static inline long mpm_lin_base(const struct mpm_grid *g, const long key[3])
+{
+    return (key[0] + g->halo) * g->stride[0] + (key[1] + g->halo) * g->stride[1] +
+           (key[2] + g->halo) * g->stride[2];
 }
 
 /* Offsets of the 8 nodes from the base. */
