@@ -17,6 +17,12 @@
  * after_step hook and go into the checkpoints (output.checkpoint_every,
  * run --restart) with the partial sum of the sample in progress.
  *
+ * Under mpirun the rod runs on bricks (docs/dpd_mpm.md "Under MPI"): the
+ * DPD particles on the DPD halo's bricks (dpd_tensile_read), the grid
+ * whole on every rank with its node sums over the ranks (couple/dpd_mpm.c);
+ * the grips' forces, heats and counts are sums, the final state is
+ * gathered on rank 0.
+ *
  * Metrics: those of dpd_tensile (peak_stress, strain_at_peak, ...) and cell
  * (Å), grid_nodes, heat_dr, heat_grid (eV given to the internal energies by
  * the D + R forces and by the grid), internal_temperature (K).
