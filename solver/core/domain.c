@@ -7,8 +7,8 @@
 #include "core/halo.h"
 #include "core/neighbor.h"
 
-int domain_rebuild(struct particles *p, struct box *b, double range, int sort_now,
-                   struct timers *timers, struct err *e)
+static int rebuild(struct particles *p, struct box *b, double range, int sort_now,
+                   domain_order_fn order, void *ctx, struct timers *timers, struct err *e)
 {
     particles_clear_ghosts(p);
     /* bricks: wrap and shrink-wrap over all ranks, then particles that
@@ -18,11 +18,11 @@ int domain_rebuild(struct particles *p, struct box *b, double range, int sort_no
         rc = halo_migrate(p->halo, p, e);
     if (rc)
         return rc;
-    if (sort_now && p->n_owned > 1) {
+    if ((sort_now || order) && p->n_owned > 1) {
         int *perm = malloc((size_t)p->n_owned * sizeof *perm);
         if (!perm)
-            return err_nomem(e, "spatial sort");
-        rc = nlist_spatial_order(p, 0.5 * range, perm, e);
+            return err_nomem(e, "particle order");
+        rc = order ? order(ctx, p, perm, e) : nlist_spatial_order(p, 0.5 * range, perm, e);
         if (!rc)
             rc = particles_permute(p, perm, e);
         free(perm);
@@ -41,4 +41,17 @@ int domain_rebuild(struct particles *p, struct box *b, double range, int sort_no
     if (timers)
         timer_stop(timers, TIMER_COMM);
     return rc;
+}
+
+int domain_rebuild(struct particles *p, struct box *b, double range, int sort_now,
+                   struct timers *timers, struct err *e)
+{
+    return rebuild(p, b, range, sort_now, NULL, NULL, timers, e);
+}
+
+int domain_rebuild_ordered(struct particles *p, struct box *b, double range,
+                           domain_order_fn order, void *ctx, struct timers *timers,
+                           struct err *e)
+{
+    return rebuild(p, b, range, 0, order, ctx, timers, e);
 }

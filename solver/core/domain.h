@@ -19,4 +19,15 @@
 int domain_rebuild(struct particles *p, struct box *b, double range, int sort_now,
                    struct timers *timers, struct err *e);
 
+/* A fixed order of the owned particles, restored after they migrate
+ * between bricks (models whose particle kinds sit in blocks, the DPD/MPM
+ * coupling): perm[k] = index of the particle that goes to position k. */
+typedef int (*domain_order_fn)(void *ctx, const struct particles *p, int *perm, struct err *e);
+
+/* domain_rebuild without the spatial sort, the owned particles put in
+ * order(ctx) after the migration and before the ghosts are built. */
+int domain_rebuild_ordered(struct particles *p, struct box *b, double range,
+                           domain_order_fn order, void *ctx, struct timers *timers,
+                           struct err *e);
+
 #endif

@@ -148,6 +148,18 @@ int particles_find_field(const struct particles *p, const char *name)
     return -1;
 }
 
+void particles_remove_field(struct particles *p, const char *name)
+{
+    int idx = particles_find_field(p, name);
+    if (idx < 0)
+        return;
+    free(p->fields[idx].data);
+    memmove(p->fields + idx, p->fields + idx + 1,
+            (size_t)(p->nfields - idx - 1) * sizeof p->fields[0]);
+    p->nfields--;
+    memset(&p->fields[p->nfields], 0, sizeof p->fields[0]);
+}
+
 void particles_copy_one(struct particles *p, int dst, int src)
 {
     if (dst == src)

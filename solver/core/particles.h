@@ -81,6 +81,9 @@ int particles_add(struct particles *p, const double x[3], const double v[3], int
 int particles_add_field(struct particles *p, const char *name, int ncomp, int ghost_copy,
                         struct err *e);
 int particles_find_field(const struct particles *p, const char *name);
+/* Drop the field named `name` (no-op when absent); later fields move down
+ * one index. */
+void particles_remove_field(struct particles *p, const char *name);
 static inline double *particles_field(struct particles *p, int idx)
 {
     return p->fields[idx].data;

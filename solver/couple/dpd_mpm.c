@@ -5,6 +5,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/ghost.h"
+#include "core/halo.h"
 #include "core/units.h"
 #include "mpm/mpm_shape.h"
 
@@ -29,22 +31,17 @@ static int particle_class(const struct dpd *d, int i, uint32_t partner_bit)
 
 int dpd_mpm_order(struct dpd *d, uint32_t partner_bit, struct err *e)
 {
-    int n = d->p->n_owned;
-    int *cls = malloc((size_t)(n ? n : 1) * sizeof *cls);
-    if (!cls)
-        return err_nomem(e, "particle order");
-    for (int i = 0; i < n; i++)
-        cls[i] = particle_class(d, i, partner_bit);
-    int rc = dpd_fix_order(d, cls, e);
-    free(cls);
-    return rc;
+    return dpd_fix_class_order(d, partner_bit, e);
 }
 
 /* --- set-up ----------------------------------------------------------------- */
 
+/* Buffers for the owned particles, and on bricks for the ghosts too (w is
+ * forwarded to them for dpd_pair_heat). */
 static int reserve(struct dpd_mpm *c, struct err *e)
 {
-    long n = c->d->p->n_owned;
+    const struct particles *p = c->d->p;
+    long n = p->n_owned + (p->halo ? p->n_ghost : 0);
     if (n <= c->cap)
         return 0;
     long cap = n + 16;
@@ -63,6 +60,28 @@ static int reserve(struct dpd_mpm *c, struct err *e)
     return 0;
 }
 
+/* The classes must come in the order [carried | partners | bodies]: count
+ * them (at set-up, and on bricks after every migration). */
+static int count_classes(struct dpd_mpm *c, struct err *e)
+{
+    const struct dpd *d = c->d;
+    const struct particles *p = d->p;
+    int stage = 0;
+    c->ncarried = c->npartner = 0;
+    for (int i = 0; i < p->n_owned; i++) {
+        int k = particle_class(d, i, c->partner_bit);
+        if (k < stage)
+            return err_set(e, ERR_RUNTIME, "DPD particles not in [carried | partners | bodies] "
+                                           "order (call dpd_mpm_order)");
+        stage = k;
+        if (k == 0)
+            c->ncarried++;
+        else if (k == 1)
+            c->npartner++;
+    }
+    return 0;
+}
+
 int dpd_mpm_init(struct dpd_mpm *c, struct dpd *d, const struct dpd_mpm_grid *g,
                  uint32_t partner_bit, int64_t partner_id0, struct err *e)
 {
@@ -76,22 +95,14 @@ int dpd_mpm_init(struct dpd_mpm *c, struct dpd *d, const struct dpd_mpm_grid *g,
                        "MPM cell edge %g Å is not smaller than the DPD cutoff %g Å: the DPD "
                        "forces must reach beyond a cell (Chen 2014, Sec. 3)",
                        g->cell, cutoff);
-    /* the classes must come in the order [carried | partners | bodies] */
-    const struct particles *p = d->p;
-    int stage = 0;
-    for (int i = 0; i < p->n_owned; i++) {
-        int k = particle_class(d, i, partner_bit);
-        if (k < stage)
-            return err_set(e, ERR_RUNTIME, "DPD particles not in [carried | partners | bodies] "
-                                           "order (call dpd_mpm_order)");
-        stage = k;
-        if (k == 0)
-            c->ncarried++;
-        else if (k == 1)
-            c->npartner++;
-    }
+    int rc = count_classes(c, e);
+    if (!rc && d->p->halo && c->npartner > 0)
+        rc = err_set(e, ERR_INPUT, "the concurrent DPD/MPM model (material points with "
+                                   "partners) is not decomposed into bricks");
+    if (rc)
+        return rc;
     struct mpm_grid grid;
-    int rc = mpm_grid_init_uniform(&grid, g->lo, g->cell, g->ncell, MPM_SHAPE_LINEAR, e);
+    rc = mpm_grid_init_uniform(&grid, g->lo, g->cell, g->ncell, MPM_SHAPE_LINEAR, e);
     if (rc)
         return rc;
     if ((rc = mpm_init(&c->m, &grid, MPM_MAX_STATE, d->nthreads, e)))
@@ -223,6 +234,11 @@ int dpd_mpm_prepare(struct dpd_mpm *c, struct err *e)
         mmin = fmin(mmin, p->mass[p->type[i]]);
     for (long k = 0; k < c->m.pts.n; k++)
         mmin = fmin(mmin, c->m.pts.mass[k]);
+    if (p->halo) {   /* the lightest of all ranks: the same threshold everywhere */
+        double neg = -mmin;
+        halo_max(p->halo, &neg, 1);
+        mmin = -neg;
+    }
     c->m.small_mass = isfinite(mmin) ? c->m.small_mass_rel * mmin : 0.0;
     double dt = c->d->dt, limit = mpm_stable_dt(&c->m);
     if (dt > limit)
@@ -232,7 +248,10 @@ int dpd_mpm_prepare(struct dpd_mpm *c, struct err *e)
                        dt, limit, c->m.grid.h, c->m.cmax);
     sync_partners(c);
     update_view(c);
-    if ((rc = mpm_locate_particles(&c->m, e))) {
+    rc = mpm_locate_particles(&c->m, e);
+    if (p->halo && halo_any(p->halo, rc != 0) && !rc)
+        rc = err_set(e, ERR_INPUT, "particles outside the MPM grid on another rank");
+    if (rc) {
         char msg[sizeof e->msg];
         snprintf(msg, sizeof msg, "%s", e->msg);
         return err_set(e, ERR_INPUT, "particles outside the MPM grid: %s", msg);
@@ -268,6 +287,16 @@ static void node_velocities(struct dpd_mpm *c, double dt)
     }
 }
 
+/* Bricks: every rank holds the whole grid and has mapped its own
+ * particles; the nodes' mass, momentum and force (s1-s3b) are the sums
+ * over the ranks.  The coupling has no rigid MPM bodies, so the nodes'
+ * rigid marks (aux) are 0 on every rank and stay 0. */
+static void sum_nodes(const struct halo *h, struct mpm *m)
+{
+    _Static_assert(sizeof(struct mpm_node) == 8 * sizeof(double), "node of 8 doubles");
+    halo_sum(h, &m->grid.node[0].m, (int)(8 * m->grid.nnodes));
+}
+
 /* Both node velocities of node_velocities interpolated at x: w (centred)
  * and dv (remapped less moved). */
 static void interpolate(const struct dpd_mpm *c, const double *x, double *w, double *dv)
@@ -290,7 +319,14 @@ int dpd_mpm_step_forces(struct dpd_mpm *c, struct err *e)
     struct mpm *m = &c->m;
     const double dt = d->dt;
     const int dpde = d->set.variant == DPD_ENERGY && d->ufield >= 0;
-    int rc = reserve(c, e);
+    struct halo *h = d->p->halo;
+    int rc = 0;
+    /* bricks: particles may migrate at this step's rebuild; the classes
+     * come back in order (dpd_fix_class_order) with new counts */
+    if (h && !(rc = dpd_refresh_neighbours(d, e)))
+        rc = count_classes(c, e);
+    if (!rc)
+        rc = reserve(c, e);
     if (rc)
         return rc;
     /* s3b input: the pair forces at x(t), v(t), partners at their points */
@@ -320,6 +356,8 @@ int dpd_mpm_step_forces(struct dpd_mpm *c, struct err *e)
         for (int q = 0; q < 3; q++)
             F[b][q] += c->f[3 * i + q];
     }
+    if (h && d->nbodies > 0)   /* a body's particles on every rank: 3 numbers a body */
+        halo_sum(h, &F[0][0], 3 * d->nbodies);
     for (int b = 0; b < d->nbodies; b++) {
         memcpy(d->body[b].force, F[b], sizeof F[b]);
         memcpy(c->body_vold[b], d->body[b].v, sizeof c->body_vold[b]);
@@ -339,12 +377,15 @@ int dpd_mpm_step_update(struct dpd_mpm *c, struct err *e)
     struct particles *p = d->p;
     const long n = p->n_owned, nfree = c->ncarried + c->npartner;
     double (*vold)[3] = c->body_vold;
+    struct halo *h = p->halo;
     int rc;
     /* MUSL, Chen 2014 s1-s11 */
     update_view(c);
     if (m->timers)
         timer_start(m->timers, TIMER_MPM_P2G);
     rc = mpm_locate_particles(m, e);
+    if (h && halo_any(h, rc != 0) && !rc)   /* every rank stops */
+        rc = err_set(e, ERR_DIVERGED, "a particle left the MPM grid on another rank");
     if (rc) {
         char msg[sizeof e->msg];
         snprintf(msg, sizeof msg, "%s", e->msg);
@@ -356,6 +397,8 @@ int dpd_mpm_step_update(struct dpd_mpm *c, struct err *e)
     }
     mpm_clear_grid(m);
     mpm_map_to_grid(m, MPM_MAP_ALL);   /* s1, s2, s3a (points), s3b (DPD forces N_i) */
+    if (h)   /* the whole grid on every rank: each rank's particles' share summed */
+        sum_nodes(h, m);
     if (m->timers) {
         timer_stop(m->timers, TIMER_MPM_P2G);
         timer_start(m->timers, TIMER_MPM_GRID);
@@ -366,6 +409,8 @@ int dpd_mpm_step_update(struct dpd_mpm *c, struct err *e)
         timer_start(m->timers, TIMER_MPM_G2P);
     }
     mpm_map_to_particles(m, dt);       /* s6, s10 */
+    if (h && m->algorithm == MPM_MUSL)   /* the remap's nodal momenta, likewise */
+        halo_sum(h, m->grid.r, (int)(4 * m->grid.nnodes));
     if (m->algorithm == MPM_MUSL)
         mpm_update_grid_velocity(m);   /* s11 */
     /* DPDE: the work of the D + R forces comes out of the internal energies
@@ -385,12 +430,16 @@ int dpd_mpm_step_update(struct dpd_mpm *c, struct err *e)
             u[i] -= di;
             sub -= di;
         }
+        if (h)
+            halo_sum(h, &sub, 1);
         c->subgrid_heat += sub;
         for (long i = nfree; i < n; i++) {
             int b = body_of(d, p->mask[i]);
             for (int q = 0; q < 3; q++)
                 c->w[3 * i + q] = 0.5 * (vold[b][q] + d->body[b].v[q]);
         }
+        if (h)
+            ghost_forward(p, c->w, 3);
         rc = dpd_pair_heat(d, dt, c->w, &heat, e);
         if (rc) {
             if (m->timers)
@@ -418,12 +467,15 @@ int dpd_mpm_step_update(struct dpd_mpm *c, struct err *e)
         const double *a = c->vprev + 3 * i, *b = p->v + 3 * i;
         kec += p->mass[p->type[i]] * (a[0] * b[0] + a[1] * b[1] + a[2] * b[2]);
     }
+    if (h)
+        halo_sum(h, &kec, 1);
     c->ke_centred = 0.5 * kec * UNITS_MVV2E;
     d->step++;
     d->time += dt;
     m->step++;
     m->time += dt;
-    if (!isfinite(m->vmax) || !isfinite(c->ke_centred))
+    int bad = !isfinite(m->vmax) || !isfinite(c->ke_centred);
+    if (h ? halo_any(h, bad) : bad)
         return err_set(e, ERR_DIVERGED, "non-finite velocity at step %ld", d->step);
     return 0;
 }
@@ -448,6 +500,8 @@ void dpd_mpm_energy(const struct dpd_mpm *c, struct dpd_mpm_energy *en)
         const double *v = p->v + 3 * i;
         ke += p->mass[p->type[i]] * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
     }
+    if (p->halo)
+        halo_sum(p->halo, &ke, 1);
     struct mpm_totals t;
     mpm_totals(&c->m, &t);
     en->ke_dpd = 0.5 * ke * UNITS_MVV2E;
@@ -471,6 +525,8 @@ void dpd_mpm_momentum(const struct dpd_mpm *c, double P[3])
         for (int q = 0; q < 3; q++)
             P[q] += p->mass[p->type[i]] * p->v[3 * i + q];
     }
+    if (p->halo)
+        halo_sum(p->halo, P, 3);
     struct mpm_totals t;
     mpm_totals(&c->m, &t);
     for (int q = 0; q < 3; q++)

@@ -67,6 +67,16 @@
  * inside each class, no spatial sorting and canonical neighbour lists, so
  * that a run and its reference run without the flyer see the same pairs in
  * the same order).  The material points keep their order (no reordering).
+ *
+ * On MPI bricks (d->p->halo; the grid model without partners, so far the
+ * tensile rod): each rank holds its brick's DPD particles and the whole
+ * grid; the nodes' mass, momentum and force (s1-s3b) and the MUSL remap's
+ * momenta (s11) are summed over the ranks, so every rank updates the same
+ * nodes; the ghosts' velocities, internal energies and w are forwarded and
+ * their share of the pair heat returned; body forces, heats and energies
+ * are sums.  The class order is restored after every migration
+ * (dpd_fix_class_order) and the counts taken again each step.  The
+ * concurrent model's partners are refused on bricks (dpd_mpm_init).
  */
 #ifndef CASCADE_DPD_MPM_H
 #define CASCADE_DPD_MPM_H

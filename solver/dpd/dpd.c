@@ -70,15 +70,64 @@ static void canonical_order(const struct particles *p, struct nlist *nl)
     }
 }
 
+static int cmp_order_key(const void *a, const void *b);
+
+/* perm: the owned particles in (cls, id) order (cls NULL: id alone). */
+static int order_perm(const struct particles *p, const int *cls, int *perm, struct err *e)
+{
+    int n = p->n_owned;
+    int64_t (*key)[3] = malloc((size_t)(n ? n : 1) * sizeof *key);
+    if (!key)
+        return err_nomem(e, "particle order");
+    for (int i = 0; i < n; i++) {
+        key[i][0] = cls ? cls[i] : 0;
+        key[i][1] = p->id[i];
+        key[i][2] = i;
+    }
+    qsort(key, (size_t)n, sizeof *key, cmp_order_key);
+    for (int i = 0; i < n; i++)
+        perm[i] = (int)key[i][2];
+    free(key);
+    return 0;
+}
+
+/* The classes of dpd_fix_class_order. */
+static int particle_class(const struct dpd *d, int i)
+{
+    if (dpd_body_of(d, i) >= 0)
+        return 2;
+    return (d->p->mask[i] & d->class_mask) ? 1 : 0;
+}
+
+/* domain_order_fn: the owned particles back in (class, id) order after a
+ * migration between bricks. */
+static int class_perm(void *ctx, const struct particles *p, int *perm, struct err *e)
+{
+    const struct dpd *d = ctx;
+    int n = p->n_owned;
+    int *cls = malloc((size_t)(n ? n : 1) * sizeof *cls);
+    if (!cls)
+        return err_nomem(e, "particle order");
+    for (int i = 0; i < n; i++)
+        cls[i] = particle_class(d, i);
+    int rc = order_perm(p, cls, perm, e);
+    free(cls);
+    return rc;
+}
+
 /* Wrap, (sort), ghosts, list. */
 static int rebuild(struct dpd *d, struct err *e)
 {
     struct particles *p = d->p;
     double range = list_cutoff(d) + d->skin;
-    if (d->set.sweep_cells || p->halo)   /* the cell sweep's anchors reach half a cell past the brick */
+    /* the cell sweep's anchors reach half a cell past the brick */
+    if (d->set.sweep_cells || (p->halo && !d->moved_elsewhere))
         range = fmax(range, dpd_sweep_cells_range(&d->box, d->set.cutoff, d->skin));
-    int rc = domain_rebuild(p, &d->box, range, d->sort_every > 0 && d->nrebuilds % d->sort_every == 0,
-                            d->timers, e);
+    int rc = d->class_order && p->halo
+                 ? domain_rebuild_ordered(p, &d->box, range, class_perm, d, d->timers, e)
+                 : domain_rebuild(p, &d->box, range,
+                                  d->sort_every > 0 && d->nrebuilds % d->sort_every == 0,
+                                  d->timers, e);
     if (!rc)
         rc = nlist_build(d->nl, p, e);
     if (!rc && d->canonical_lists)
@@ -88,7 +137,7 @@ static int rebuild(struct dpd *d, struct err *e)
 }
 
 /* Bring ghosts and the list up to date with the current positions. */
-static int refresh_neighbours(struct dpd *d, struct err *e)
+int dpd_refresh_neighbours(struct dpd *d, struct err *e)
 {
     tstart(d, TIMER_NEIGHBOR);
     int rc = 0;
@@ -110,7 +159,7 @@ static int refresh_neighbours(struct dpd *d, struct err *e)
 
 int dpd_compute_forces(struct dpd *d, struct err *e)
 {
-    int rc = refresh_neighbours(d, e);
+    int rc = dpd_refresh_neighbours(d, e);
     if (rc)
         return rc;
     tstart(d, TIMER_FORCE);
@@ -196,6 +245,12 @@ int dpd_add_body(struct dpd *d, uint32_t mask, enum dpd_body_kind kind, const do
             body->mass += p->mass[p->type[i]];
             memcpy(p->v + 3 * i, v, 3 * sizeof(double));
         }
+    if (p->halo) {   /* a body spanning bricks: its particles on every rank */
+        double nm[2] = {body->n, body->mass};
+        halo_sum(p->halo, nm, 2);
+        body->n = (int)nm[0];
+        body->mass = nm[1];
+    }
     if (body->n == 0)
         return err_set(e, ERR_INPUT, "rigid body %d has no particles", d->nbodies);
     d->nbodies++;
@@ -254,7 +309,7 @@ int dpd_step_sweep_drift(struct dpd *d, struct err *e)
     int rc = 0;
     /* a checkpoint asked for ghosts and list rebuilt from the stored state:
      * the sweep below walks the list */
-    if (d->rebuild_next && (rc = refresh_neighbours(d, e)))
+    if (d->rebuild_next && (rc = dpd_refresh_neighbours(d, e)))
         return rc;
     /* 1. dissipative + random, pair by pair (positions at t, forces f(t) kept) */
     memset(d->body_impulse, 0, sizeof d->body_impulse);
@@ -409,24 +464,12 @@ int dpd_fix_order(struct dpd *d, const int *cls, struct err *e)
 {
     struct particles *p = d->p;
     int n = p->n_owned;
-    int64_t (*key)[3] = malloc((size_t)(n ? n : 1) * sizeof *key);
     int *perm = malloc((size_t)(n ? n : 1) * sizeof *perm);
-    int rc = 0;
-    if (!key || !perm) {
-        rc = err_nomem(e, "particle order");
-    } else {
-        for (int i = 0; i < n; i++) {
-            key[i][0] = cls ? cls[i] : 0;
-            key[i][1] = p->id[i];
-            key[i][2] = i;
-        }
-        qsort(key, (size_t)n, sizeof *key, cmp_order_key);
-        for (int i = 0; i < n; i++)
-            perm[i] = (int)key[i][2];
+    int rc = perm ? order_perm(p, cls, perm, e) : err_nomem(e, "particle order");
+    if (!rc) {
         particles_clear_ghosts(p);
         rc = particles_permute(p, perm, e);
     }
-    free(key);
     free(perm);
     if (rc)
         return rc;
@@ -434,4 +477,20 @@ int dpd_fix_order(struct dpd *d, const int *cls, struct err *e)
     d->canonical_lists = 1;
     d->nl->nbuilds = 0;   /* rebuild ghosts and list from the new order */
     return dpd_compute_forces(d, e);
+}
+
+int dpd_fix_class_order(struct dpd *d, uint32_t mid_mask, struct err *e)
+{
+    int n = d->p->n_owned;
+    int *cls = malloc((size_t)(n ? n : 1) * sizeof *cls);
+    if (!cls)
+        return err_nomem(e, "particle order");
+    d->class_mask = mid_mask;
+    d->class_order = 1;   /* also for the rebuild of dpd_fix_order */
+    d->moved_elsewhere = 1;
+    for (int i = 0; i < n; i++)
+        cls[i] = particle_class(d, i);
+    int rc = dpd_fix_order(d, cls, e);
+    free(cls);
+    return rc;
 }

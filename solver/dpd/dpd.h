@@ -101,6 +101,9 @@ struct dpd {
                                  * pair sweep visits a particle's pairs in the same
                                  * order whatever else is in the system (reference runs) */
     int peratom;                /* keep per-particle energy and virial current */
+    int class_order;            /* dpd_fix_class_order: on bricks the owned particles are put
+                                 * back in (class, id) order after every migration */
+    uint32_t class_mask;        /* its class-1 particles (bodies: class 2, the rest 0) */
     int rebuild_next;           /* rebuild ghosts and list before the next use of them
                                  * (a checkpoint: engine/model_dpd.c) */
     /* For models that integrate the particles themselves (solver/couple):
@@ -110,6 +113,9 @@ struct dpd {
      * take part in pairs with the other particles, but a pair of two passive
      * particles exerts no force and its energy is not the DPD model's. */
     uint32_t passive_mask;
+    int moved_elsewhere;        /* such a model moves every particle (no pair sweep): on
+                                 * bricks the ghost shell is the list's, without the
+                                 * cell sweep's reach (set by dpd_fix_class_order) */
     int keep_pair_dr;           /* dpd_pair_forces keeps each pair's D + R force (pair_dr) */
     double *pair_dr;            /* per neighbour-list entry: the D + R force on i along e_ij
                                  * (eV/Å), 0 for pairs without one; from the last
@@ -166,6 +172,17 @@ int dpd_compute_forces(struct dpd *d, struct err *e);
  * and recompute the forces: runs that must match particle by particle (a
  * reference run, a coupled model whose kinds sit in blocks) start here. */
 int dpd_fix_order(struct dpd *d, const int *cls, struct err *e);
+
+/* dpd_fix_order with the classes 0 (the rest), 1 (any bit of mid_mask)
+ * and 2 (rigid bodies), which a run on bricks keeps: after every migration
+ * each rank's owned particles return to (class, id) order (the DPD/MPM
+ * coupling's [carried | partners | bodies], couple/dpd_mpm.h). */
+int dpd_fix_class_order(struct dpd *d, uint32_t mid_mask, struct err *e);
+
+/* Ghosts and list up to date with the current positions (rebuilt when a
+ * particle moved too far, else the ghosts' positions refreshed): what the
+ * force calls do first; on bricks the owned set may change. */
+int dpd_refresh_neighbours(struct dpd *d, struct err *e);
 
 /* Chen 2014, Eq. (s3b) input: the total DPD pair force on every owned
  * particle, f_i = sum_j (f^C_ij + f^D_ij + f^R_ij), at the current positions

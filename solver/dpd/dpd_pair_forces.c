@@ -30,6 +30,11 @@ int dpd_pair_forces(struct dpd *d, double dt, double *fout, struct err *e)
         return rc;
     struct particles *p = d->p;
     const struct nlist *nl = d->nl;
+    if (p->halo) {   /* bricks: the ghosts' velocities and internal energies of this step */
+        ghost_update_velocities(p);
+        if (d->ufield >= 0)
+            ghost_forward(p, particles_field(p, d->ufield), 1);
+    }
     const int nt = d->nthreads < 1 ? 1 : d->nthreads;
     const int ntot = p->n_owned + p->n_ghost;
     const double rd = d->set.cutoff, rd2 = rd * rd;

@@ -16,8 +16,17 @@
  * in the kinetic-energy change when w_p is the model's centred velocity
  * at p (see couple/dpd_mpm.h); each pair's W_ij is Galilean invariant, so
  * a body in uniform motion exchanges no heat.
+ *
+ * On bricks (p->halo) w holds the ghosts' velocities too (the caller
+ * forwards them); a pair with a ghost is on one rank only, so the ghost's
+ * half goes into a buffer that the reverse communication adds to its
+ * owner, and the total is summed over the ranks.
  */
 #include <math.h>
+#include <stdlib.h>
+
+#include "core/ghost.h"
+#include "core/halo.h"
 
 #include "dpd/dpd_pair.h"
 
@@ -34,6 +43,9 @@ int dpd_pair_heat(struct dpd *d, double dt, const double *w, double *heat, struc
     const double *fdr = d->pair_dr;
     double *u = particles_field(p, d->ufield);
     double total = 0;
+    double *du = NULL;   /* bricks: the changes, owned and ghosts */
+    if (p->halo && !(du = calloc((size_t)(p->n_owned + p->n_ghost) + 1, sizeof *du)))
+        return err_nomem(e, "DPDE heat");
     for (int i = 0; i < p->n_owned; i++) {
         const double *wi = w + 3 * i;
         for (int k = nl->offset[i]; k < nl->offset[i + 1]; k++) {
@@ -47,14 +59,33 @@ int dpd_pair_heat(struct dpd *d, double dt, const double *w, double *heat, struc
             double wrel = (dx * (wi[0] - wj[0]) + dy * (wi[1] - wj[1]) + dz * (wi[2] - wj[2])) *
                           inv_r;
             double W = fdr[k] * wrel * dt;   /* eV: work of the pair's D + R force */
-            u[i] -= 0.5 * W;
-            u[oj] -= 0.5 * W;
+            if (du) {
+                du[i] -= 0.5 * W;
+                du[oj] -= 0.5 * W;
+            } else {
+                u[i] -= 0.5 * W;
+                u[oj] -= 0.5 * W;
+            }
             total += W;
         }
     }
+    int bad = -1;
+    if (du) {
+        ghost_reverse_add(p, du, 1);
+        for (int i = 0; i < p->n_owned; i++)
+            u[i] += du[i];
+        free(du);
+        halo_sum(p->halo, &total, 1);
+    }
     if (heat)
         *heat = total;
-    for (int i = 0; i < p->n_owned; i++)
+    for (int i = 0; i < p->n_owned && bad < 0; i++)
+        if (!(u[i] > 0))
+            bad = i;
+    if (p->halo && halo_any(p->halo, bad >= 0) && bad < 0)
+        return err_set(e, ERR_DIVERGED, "an internal energy became zero or negative at step %ld "
+                                        "on another rank", d->step);
+    for (int i = bad; i >= 0 && i < p->n_owned; i++)
         if (!(u[i] > 0))
             return err_set(e, ERR_DIVERGED,
                            "internal energy of particle %lld became %.3g eV at step %ld (time "

@@ -38,8 +38,21 @@
  * would not give here: a rebuild wraps particles across a periodic
  * boundary, and the MPM grid is not periodic, so when a particle is
  * wrapped changes which nodes carry it.
+ *
+ * On bricks (the grid-carried rod, docs/dpd_mpm.md "Under MPI") the
+ * particles go into the checkpoint as in the DPD model on bricks: rank 0
+ * writes the rest and lays out the particle datasets, every rank writes
+ * its own rows (collective HDF5); the list positions are not stored.  A
+ * read puts every particle on every rank, and checkpoint_sync keeps the
+ * brick's (the continuing run too: it goes on from the same state); the
+ * next step rebuilds ghosts and lists, which puts the particles back in
+ * their class order.  A serial run reading such a checkpoint orders them
+ * and rebuilds likewise.  So a checkpoint moves between rank counts (to
+ * round-off: the sums over the ranks run in another order).
  */
 #include "engine/models.h"
+
+#include "core/halo.h"
 
 #include <stdio.h>
 #include <stdlib.h>
@@ -70,6 +83,9 @@ static int dpd_mpm_model_force(void *self, struct sim *s, struct err *e)
 {
     struct dpd_mpm_model *m = self;
     (void)s;
+    if (m->sync_rc)
+        return err_set(e, m->sync_rc, "the particles could not be redistributed over the "
+                                      "bricks after a checkpoint");
     return dpd_mpm_step_forces(m->c, e);
 }
 
@@ -152,6 +168,43 @@ static int get_points(struct ckpt *ck, struct mpm_points *p, struct err *e)
     return rc;
 }
 
+/* Bricks: the positions of the last list build, as a particle field for
+ * the checkpoint (it migrates and is permuted with the particles). */
+#define LIST_FIELD "list_position"
+
+static void swap_list_field(struct particles *p)
+{
+    double *xb = particles_field(p, particles_find_field(p, LIST_FIELD));
+    for (long k = 0; k < 3L * p->n_owned; k++) {
+        double t = p->x[k];
+        p->x[k] = xb[k];
+        xb[k] = t;
+    }
+}
+
+/* The owned particles, holding their last build's positions in LIST_FIELD,
+ * put in class order with ghosts and lists built at those positions, as
+ * the continuing run has them (rebuild_lists_at for a set that was
+ * distributed over bricks); their positions, the energy and the virial
+ * are then those read.  Collective on bricks. */
+static int rebuild_ordered_at_field(struct dpd *d, uint32_t partner_bit, struct err *e)
+{
+    struct particles *p = d->p;
+    double epot = d->epot, virial[6];
+    memcpy(virial, d->virial, sizeof virial);
+    int peratom = d->peratom;
+    d->peratom = 0;
+    swap_list_field(p);
+    int rc = dpd_fix_class_order(d, partner_bit, e);   /* rebuilds at the build positions */
+    p = d->p;
+    swap_list_field(p);
+    particles_remove_field(p, LIST_FIELD);
+    d->peratom = peratom;
+    d->epot = epot;
+    memcpy(d->virial, virial, sizeof virial);
+    return rc;
+}
+
 static int dpd_mpm_model_checkpoint_write(void *self, struct ckpt *ck, struct err *e)
 {
     struct dpd_mpm_model *m = self;
@@ -175,9 +228,10 @@ static int dpd_mpm_model_checkpoint_write(void *self, struct ckpt *ck, struct er
     if (!rc) rc = ckpt_put_doubles(ck, "virial", d->virial, 6);
     if (!rc) rc = ckpt_put_doubles(ck, "body_velocity", bv, 3 * d->nbodies);
     if (!rc) rc = ckpt_put_doubles(ck, "body_force", bf, 3 * d->nbodies);
-    /* the coupling */
-    if (!rc) rc = ckpt_put_long(ck, "carried", c->ncarried);
-    if (!rc) rc = ckpt_put_long(ck, "partners", c->npartner);
+    /* the coupling (bricks: the counts over the ranks) */
+    const struct halo *h = d->p->halo;
+    if (!rc) rc = ckpt_put_long(ck, "carried", h ? m->ck_carried : c->ncarried);
+    if (!rc) rc = ckpt_put_long(ck, "partners", h ? m->ck_partners : c->npartner);
     if (!rc) rc = ckpt_put_double(ck, "heat", c->heat);
     if (!rc) rc = ckpt_put_double(ck, "subgrid_heat", c->subgrid_heat);
     if (!rc) rc = ckpt_put_double(ck, "ke_centred", c->ke_centred);
@@ -191,19 +245,81 @@ static int dpd_mpm_model_checkpoint_write(void *self, struct ckpt *ck, struct er
     if (!rc) rc = ckpt_put_double(ck, "mpm_ke_centred", g->ke_centred);
     if (!rc) rc = ckpt_put_double(ck, "mpm_strain", g->strain);
     if (!rc) rc = ckpt_put_double(ck, "mpm_strain_before", g->strain_before);
-    if (!rc) rc = ckpt_put_doubles(ck, "list_positions", d->nl->x_build, 3L * d->nl->n);
+    if (!rc && !h)   /* bricks: rebuilt after the checkpoint instead */
+        rc = ckpt_put_doubles(ck, "list_positions", d->nl->x_build, 3L * d->nl->n);
     char sub[sizeof base + 16];
     if (!rc) {
         snprintf(sub, sizeof sub, "%s/box", base);
         rc = ckpt_put_box(ck, sub, &d->box);
     }
-    if (!rc) {
+    if (!rc) {   /* bricks: the datasets; each rank writes its rows (write_part) */
         snprintf(sub, sizeof sub, "%s/particles", base);
-        rc = ckpt_put_particles(ck, sub, d->p);
+        rc = h ? ckpt_put_particles_layout(ck, sub, d->p, m->ck_total)
+               : ckpt_put_particles(ck, sub, d->p);
     }
     if (!rc && !(rc = enter(ck, base, "points")))
         rc = put_points(ck, &g->pts);
     return rc;
+}
+
+static int dpd_mpm_model_checkpoint_write_part(void *self, struct ckpt *ck, struct err *e)
+{
+    struct dpd_mpm_model *m = self;
+    (void)e;
+    char parts[sizeof ck->where + 16];
+    snprintf(parts, sizeof parts, "%s/particles", ck->where);
+    const struct particles *p = m->c->d->p;
+    return p->halo ? ckpt_put_particles_part(ck, parts, p, m->ck_offset) : 0;
+}
+
+/* Bricks: this rank's rows of the checkpoint's particles follow those of
+ * the lower ranks; the class counts are sums (rank 0 writes them). */
+static int dpd_mpm_model_checkpoint_collect(void *self, struct err *e)
+{
+    struct dpd_mpm_model *m = self;
+    struct particles *p = m->c->d->p;
+    m->ck_offset = m->ck_total = 0;
+    if (!p->halo)
+        return 0;
+    double n[2] = {(double)m->c->ncarried, (double)m->c->npartner};
+    halo_sum(p->halo, n, 2);
+    m->ck_carried = (long)n[0];
+    m->ck_partners = (long)n[1];
+    /* the list positions go with the particles (removed again by the sync) */
+    int k = particles_add_field(p, LIST_FIELD, 3, 0, e);
+    if (k < 0)
+        return ERR_RUNTIME;
+    memcpy(particles_field(p, k), m->c->d->nl->x_build, (size_t)3 * p->n_owned * sizeof(double));
+    return model_checkpoint_rows(p->halo, p, &m->ck_offset, &m->ck_total, e);
+}
+
+/* Bricks: every rank keeps its brick's particles of a checkpoint read,
+ * and the next step rebuilds ghosts and lists in the continuing run as in
+ * the restarted one (the rebuild restores the class order). */
+static void dpd_mpm_model_checkpoint_sync(void *self)
+{
+    struct dpd_mpm_model *m = self;
+    struct dpd *d = m->c->d;
+    struct halo *h = d->p->halo;
+    if (!h)
+        return;   /* serially the run goes on as if no checkpoint was written */
+    if (!m->read_all) {   /* the continuing run: as if no checkpoint was written */
+        particles_remove_field(d->p, LIST_FIELD);
+        return;
+    }
+    /* the restarted run: the brick's particles, by their positions at the
+     * last build (where the continuing run's migration put them) */
+    struct err e = {0};
+    struct particles *p = d->p;
+    particles_clear_ghosts(p);
+    decomp_set_box(&h->dc, &d->box);
+    swap_list_field(p);
+    int rc = halo_distribute(h, p, &e);
+    swap_list_field(d->p);
+    if (!rc)
+        rc = rebuild_ordered_at_field(d, m->c->partner_bit, &e);
+    m->read_all = 0;
+    m->sync_rc = rc;
 }
 
 /* Ghosts and the neighbour list as the continuing run has them: built with
@@ -242,18 +358,26 @@ static int dpd_mpm_model_checkpoint_read(void *self, struct ckpt *ck, struct err
     long ncarried = 0, npartner = 0, nb = -1, n = d->p->n_owned;
     double bv[3 * DPD_MAX_BODIES], bf[3 * DPD_MAX_BODIES];
     double *xb = NULL;
+    struct halo *h = d->p->halo;
+    /* the case's counts (bricks: over the ranks; every rank reads) */
+    double cnt[2] = {(double)c->ncarried, (double)c->npartner};
+    if (h)
+        halo_sum(h, cnt, 2);
+    /* a checkpoint written on bricks holds the list positions as a
+     * particle field (they travel with the particles), a serial one as a
+     * dataset in the particles' order */
+    int have_lists = ckpt_len(ck, "list_positions") >= 0;
     int rc = ckpt_get_long(ck, "carried", &ncarried);
     if (!rc) rc = ckpt_get_long(ck, "partners", &npartner);
     if (!rc) nb = ckpt_len(ck, "body_velocity");
-    if (!rc && (ncarried != c->ncarried || npartner != c->npartner || nb != 3L * d->nbodies))
+    if (!rc && (ncarried != (long)cnt[0] || npartner != (long)cnt[1] || nb != 3L * d->nbodies))
         rc = err_set(e, ERR_INPUT,
                      "%s: checkpoint of %s has %ld carried particles, %ld partners and %ld "
                      "bodies, the case has %ld, %ld and %d",
-                     ck->path, base, ncarried, npartner, nb / 3, c->ncarried, c->npartner,
+                     ck->path, base, ncarried, npartner, nb / 3, (long)cnt[0], (long)cnt[1],
                      d->nbodies);
-    if (!rc && !(xb = malloc((size_t)3 * (n ? n : 1) * sizeof *xb)))
-        rc = err_nomem(e, "neighbour list positions");
-    if (!rc) rc = ckpt_get_doubles(ck, "list_positions", xb, 3 * n);
+    if (!rc && !have_lists && particles_add_field(d->p, LIST_FIELD, 3, 0, e) < 0)
+        rc = ERR_RUNTIME;
     char sub[sizeof base + 16];
     if (!rc) {
         snprintf(sub, sizeof sub, "%s/box", base);
@@ -264,13 +388,33 @@ static int dpd_mpm_model_checkpoint_read(void *self, struct ckpt *ck, struct err
         rc = ckpt_get_particles(ck, sub, d->p);
     }
     /* the classes [carried | partners | bodies] are positions in this order */
-    if (!rc && d->p->n_owned != n)
+    long nall = h ? (long)(cnt[0] + cnt[1]) : n;
+    for (int b = 0; h && b < d->nbodies; b++)
+        nall += d->body[b].n;
+    if (!rc && d->p->n_owned != nall)
         rc = err_set(e, ERR_INPUT, "%s: checkpoint of %s has %d DPD particles, the case has %ld",
-                     ck->path, base, d->p->n_owned, n);
+                     ck->path, base, d->p->n_owned, nall);
     if (!rc && d->sort_every != 0)
         rc = err_set(e, ERR_RUNTIME, "DPD/MPM: particles sorted in space cannot be restored");
-    if (!rc)
+    if (!rc && have_lists && !(xb = malloc((size_t)3 * (nall ? nall : 1) * sizeof *xb)))
+        rc = err_nomem(e, "neighbour list positions");
+    if (!rc && xb) {
+        snprintf(sub, sizeof sub, "%s", base);
+        if (!(rc = ckpt_enter(ck, sub)))
+            rc = ckpt_get_doubles(ck, "list_positions", xb, 3 * nall);
+    }
+    if (!rc && h) {   /* every particle on every rank: the sync keeps the brick's */
+        int k = xb ? particles_add_field(d->p, LIST_FIELD, 3, 0, e) : 0;
+        if (k < 0)
+            rc = ERR_RUNTIME;
+        else if (xb)
+            memcpy(particles_field(d->p, k), xb, (size_t)3 * nall * sizeof *xb);
+        m->read_all = 1;
+    } else if (!rc && xb) {
         rc = rebuild_lists_at(d, xb, e);
+    } else if (!rc) {   /* written on bricks, read serially: order, lists at their positions */
+        rc = rebuild_ordered_at_field(d, c->partner_bit, e);
+    }
     free(xb);
     if (!rc) rc = enter(ck, base, "");
     if (!rc) rc = ckpt_get_long(ck, "step", &d->step);
@@ -315,5 +459,8 @@ const struct sim_model_ops sim_model_dpd_mpm = {
     .observe = dpd_mpm_model_observe,
     .checkpoint_write = dpd_mpm_model_checkpoint_write,
     .checkpoint_read = dpd_mpm_model_checkpoint_read,
-    /* no checkpoint_sync: the continuing run goes on as if none was written */
+    /* serially no sync: the continuing run goes on as if none was written */
+    .checkpoint_sync = dpd_mpm_model_checkpoint_sync,
+    .checkpoint_collect = dpd_mpm_model_checkpoint_collect,
+    .checkpoint_write_part = dpd_mpm_model_checkpoint_write_part,
 };

@@ -98,6 +98,11 @@ struct dpd_mpm_model {
     struct dpd_mpm *c;          /* borrowed from the case */
     int snapshots;              /* 1: per-particle energies when a snapshot is due (the
                                  * run whose particles are written) */
+    long ck_offset, ck_total;   /* bricks: this rank's first row and all rows of a
+                                 * checkpoint's particles (checkpoint_collect) */
+    long ck_carried, ck_partners;   /* bricks: the classes' counts over the ranks */
+    int read_all;               /* bricks: a checkpoint read put every particle on every rank */
+    int sync_rc;                /* bricks: the redistribution after a checkpoint failed */
 };
 extern const struct sim_model_ops sim_model_dpd_mpm;
 

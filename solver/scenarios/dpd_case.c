@@ -24,7 +24,6 @@
 #include "core/parallel.h"
 #include "core/units.h"
 #include "engine/models.h"
-#include "md/md_bricks.h"
 #include "output/decomp_record.h"
 #include "output/dpd_output.h"
 #include "scenarios/dpd_setup.h"
@@ -52,26 +51,6 @@ static void dpd_case_free_halo(struct dpd_case *c)
     c->halo = NULL;
 }
 
-/* The decomposition of the run: the ghost shell covers the list (cutoff +
- * skin) and the cell sweep's reach (dpd_sweep_cells_range). */
-static int dpd_bricks(const struct dpd_input *in, const struct box *box, struct particles *p,
-                      const struct case_common *common, struct cfg *cfg, struct halo **out)
-{
-    double rd = in->set.cutoff, sweep = dpd_sweep_cells_range(box, rd, in->skin);
-    double range = fmax(fmax(in->prm.sc.rc, rd) + in->skin, sweep);
-    int rc = md_bricks_plan(common->par, &common->parallel, box, range, cfg, out);
-    if (rc || !*out)
-        return rc;
-    if (!(sweep > 0))
-        return cfg_error_at(cfg, "parallel", "the DPD sweep on bricks needs every periodic axis "
-                                             "at least 3 r_d = %g Å long: run without mpirun, or "
-                                             "with decomposition: replicated",
-                            3 * rd);
-    p->halo = *out;
-    p->par = NULL;   /* no replicated sums: each rank owns its brick */
-    return halo_distribute(*out, p, cfg->err);
-}
-
 static int dpd_case_read(struct cfg_obj *root, const struct case_common *common, void **state)
 {
     struct particles *p = NULL;
@@ -95,7 +74,7 @@ static int dpd_case_read(struct cfg_obj *root, const struct case_common *common,
     /* under mpirun: bricks, each rank keeping its brick's particles (the
      * velocities were drawn over all of them first) */
     if (!rc)
-        rc = dpd_bricks(&in, &box, p, common, root->cfg, &c->halo);
+        rc = dpd_bricks(&in, &box, p, common, root->cfg, 1, &c->halo);
     if (rc) {
         particles_destroy(&p);
         dpd_case_free_halo(c);

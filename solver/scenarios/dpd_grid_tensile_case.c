@@ -17,6 +17,12 @@
  * after_step hook and go into the checkpoints (output.checkpoint_every,
  * run --restart) with the partial sum of the sample in progress.
  *
+ * Under mpirun the rod runs on bricks (docs/dpd_mpm.md "Under MPI"): the
+ * DPD particles on the DPD halo's bricks (dpd_tensile_read), the grid
+ * whole on every rank with its node sums over the ranks (couple/dpd_mpm.c);
+ * the grips' forces, heats and counts are sums, the final state is
+ * gathered on rank 0.
+ *
  * Metrics: those of dpd_tensile (peak_stress, strain_at_peak, ...) and cell
  * (Å), grid_nodes, heat_dr, heat_grid (eV given to the internal energies by
  * the D + R forces and by the grid), internal_temperature (K).
@@ -25,8 +31,10 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/halo.h"
 #include "core/units.h"
 #include "engine/models.h"
+#include "output/decomp_record.h"
 #include "scenarios/dpd_mpm_setup.h"
 #include "output/dpd_output.h"
 #include "scenarios/dpd_tensile_setup.h"
@@ -37,6 +45,7 @@ struct grid_tensile_case {
     struct dpd d;
     struct dpd_mpm c;
     struct dpd_tensile t;
+    struct halo *halo;                 /* bricks (owned), or NULL */
     int has_d, has_c;
     struct dpd_mpm_model model;
     /* the run's accumulators (checkpointed) */
@@ -56,6 +65,9 @@ static void gt_destroy(void *state)
         dpd_mpm_free(&c->c);
     if (c->has_d)
         dpd_free(&c->d);
+    if (c->halo)
+        halo_free(c->halo);
+    free(c->halo);
     dpd_tensile_curve_free(&c->cv);
     free(c->restored_rows);
     free(c);
@@ -66,9 +78,8 @@ static int gt_read(struct cfg_obj *root, const struct case_common *common, void 
     struct grid_tensile_case *c = calloc(1, sizeof *c);
     if (!c)
         return err_nomem(root->cfg->err, "tensile case");
-    int rc = dpd_mpm_parallel_check(root->cfg, common, "dpd_grid_tensile");
-    if (!rc)
-        rc = dpd_tensile_read(root, common, &c->d, &c->t);
+    /* under mpirun the rod runs on bricks (docs/dpd_mpm.md, "Under MPI") */
+    int rc = dpd_tensile_read(root, common, &c->d, &c->t, &c->halo);
     c->has_d = !rc && !root->cfg->shallow;
     struct dpd_mpm_grid_keys gk;
     if (!rc)
@@ -153,8 +164,13 @@ static int gt_report(void *state, struct sim *s, int rc, struct err *e)
     if (c->out_open) {
         c->out_open = 0;
         int rc2 = dpd_output_end(&c->out, run, e);
-        if (!rc && !rc2)
-            rc2 = run_write_final_state(run, d->p, &d->box, d->step, d->time, e);
+        /* bricks: every rank's particles, gathered on rank 0 in id order */
+        struct particles *all = NULL;
+        if (!rc && !rc2 && c->halo)
+            rc2 = halo_gather(c->halo, d->p, &all, e);
+        if (!rc && !rc2 && (!c->halo || all))   /* bricks: rank 0 writes */
+            rc2 = run_write_final_state(run, all ? all : d->p, &d->box, d->step, d->time, e);
+        particles_destroy(&all);
         rc = rc ? rc : rc2;
     }
     /* and the grid's */
@@ -163,14 +179,19 @@ static int gt_report(void *state, struct sim *s, int rc, struct err *e)
     result_metric(res, "heat_dr", c->c.heat, "eV");
     result_metric(res, "heat_grid", c->c.subgrid_heat, "eV");
     double T = NAN;
-    if (d->ufield >= 0 && c->c.ncarried > 0) {
+    if (d->ufield >= 0) {
         const double *u = d->p->fields[d->ufield].data;
-        double sum = 0;
+        double sum[2] = {0, (double)c->c.ncarried};
         for (long i = 0; i < c->c.ncarried; i++)
-            sum += u[i];
-        T = sum / (double)c->c.ncarried / (d->set.heat_capacity * UNITS_KB);
+            sum[0] += u[i];
+        if (c->halo)
+            halo_sum(c->halo, sum, 2);
+        if (sum[1] > 0)
+            T = sum[0] / sum[1] / (d->set.heat_capacity * UNITS_KB);
     }
     result_metric(res, "internal_temperature", T, "K");
+    if (c->halo)
+        decomp_record_write(run, c->halo, d->p);
     return rc;
 }
 
@@ -208,7 +229,7 @@ static int gt_run(void *state, struct run *run, struct err *e)
     int rc = dpd_tensile_curve_init(&c->cv, &c->t, e);
     if (rc)
         return rc;
-    c->model = (struct dpd_mpm_model){&c->c, 1};
+    c->model = (struct dpd_mpm_model){.c = &c->c, .snapshots = 1};
     struct sim s;
     sim_init(&s, run, c->t.steps, c->d.dt);
     s.case_ops = &gt_ops;
@@ -220,7 +241,7 @@ static int gt_run(void *state, struct run *run, struct err *e)
 static long gt_particles(const void *state)
 {
     const struct grid_tensile_case *c = state;
-    return c->d.p ? c->d.p->n_owned : 0;
+    return c->d.p ? dpd_nparticles(&c->d) : 0;
 }
 
 static long gt_steps(const void *state)
@@ -234,4 +255,5 @@ const struct case_type dpd_grid_tensile_case_type = {
     "DPD/MPM-grid tensile rod pulled by rigid ends: stress-strain curve and peak stress",
     gt_read, gt_run, gt_destroy, gt_particles, gt_steps,
     .checkpoints = 1,
+    .decomposes = 1,
 };

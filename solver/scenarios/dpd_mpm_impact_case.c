@@ -1079,7 +1079,7 @@ static int impact_run(void *state, struct run *run, struct err *e)
         if (!c->r[r].has_c)
             continue;
         /* the flyer run's particles are the ones written */
-        c->model[r] = (struct dpd_mpm_model){&c->r[r].c, r == 0};
+        c->model[r] = (struct dpd_mpm_model){.c = &c->r[r].c, .snapshots = r == 0};
         rc = sim_add_model_named(&s, &sim_model_dpd_mpm, &c->model[r], run_names[r], e);
     }
     return rc ? rc : sim_run(&s, run->opt.restart, e);

@@ -3,6 +3,7 @@
 
 #include <math.h>
 
+#include "core/halo.h"
 #include "core/parallel.h"
 
 int dpd_mpm_grid_read(struct cfg_obj *root, double cutoff, struct dpd_mpm_grid_keys *k)
@@ -40,6 +41,14 @@ void dpd_mpm_grid_place(const struct particles *p, uint32_t exclude, const doubl
             mx[d] = fmax(mx[d], p->x[3 * i + d]);
         }
     }
+    if (p->halo) {   /* bricks: the extent of every rank's particles */
+        double ext[6] = {-mn[0], -mn[1], -mn[2], mx[0], mx[1], mx[2]};
+        halo_max(p->halo, ext, 6);
+        for (int d = 0; d < 3; d++) {
+            mn[d] = -ext[d];
+            mx[d] = ext[3 + d];
+        }
+    }
     g->cell = k->cell;
     g->small_mass = k->small_mass;
     for (int d = 0; d < 3; d++) {
@@ -58,9 +67,10 @@ int dpd_mpm_parallel_check(struct cfg *c, const struct case_common *common, cons
         return 0;
     return cfg_error_at(c, ps->decomposition == DECOMP_BRICKS ? "parallel.decomposition"
                                                                : "parallel.grid",
-                        "case type %s is not decomposed into bricks yet (the MPM grid carries "
-                        "its DPD particles; the material points' partners and the rigid "
-                        "bodies are not split over ranks); use decomposition: replicated (or "
-                        "auto): each rank then runs the whole case and rank 0 writes",
+                        "case type %s is not decomposed into bricks yet (the free flyer, the "
+                        "reference runs, the material points' partners and the impact analyses "
+                        "are not split over ranks; dpd_grid_tensile is); use decomposition: "
+                        "replicated (or auto): each rank then runs the whole case and rank 0 "
+                        "writes",
                         type);
 }

@@ -39,10 +39,11 @@ void dpd_mpm_grid_place(const struct particles *p, uint32_t exclude, const doubl
                         struct dpd_mpm_grid *g);
 
 /* The `parallel` section under mpirun (docs/parallel.md, docs/dpd_mpm.md
- * "Under MPI").  The coupled models are not decomposed into bricks yet:
- * the grid carries the DPD particles, the material points' partners are
- * DPD copies of points, and the rigid flyer or grips are bodies of the
- * DPD model, none of which is split over ranks.  A case that asks for
+ * "Under MPI").  The impacts (dpd_grid_impact, dpd_mpm_impact) are not
+ * decomposed into bricks yet: the free flyer, the reference runs, the
+ * material points' partners (DPD copies of points) and the impact
+ * analyses are not split over ranks (the grid-carried tensile rod is:
+ * dpd_grid_tensile_case.c does not call this).  A case that asks for
  * bricks (decomposition: bricks, or a grid) is refused naming that key
  * (ERR_INPUT through cfg_error_at); auto and replicated pass, and each
  * rank then runs the whole case (main.c notes it under auto).  `type`

@@ -4,7 +4,9 @@
 #include <math.h>
 #include <string.h>
 
+#include "core/halo.h"
 #include "core/velocity.h"
+#include "md/md_bricks.h"
 
 int dpd_section_read(struct cfg_obj *root, enum dpd_variant default_variant,
                      struct dpd_input *in)
@@ -92,4 +94,25 @@ int dpd_build(const struct dpd_input *in, struct particles *p, const struct box 
                       common->seed, e);
     d->thermo = in->thermo;
     return rc;
+}
+
+int dpd_bricks(const struct dpd_input *in, const struct box *box, struct particles *p,
+               const struct case_common *common, struct cfg *cfg, int sweep,
+               struct halo **out)
+{
+    double rd = in->set.cutoff, reach = dpd_sweep_cells_range(box, rd, in->skin);
+    double range = fmax(in->prm.sc.rc, rd) + in->skin;
+    if (sweep)
+        range = fmax(range, reach);
+    int rc = md_bricks_plan(common->par, &common->parallel, box, range, cfg, out);
+    if (rc || !*out)
+        return rc;
+    if (sweep && !(reach > 0))
+        return cfg_error_at(cfg, "parallel", "the DPD sweep on bricks needs every periodic axis "
+                                             "at least 3 r_d = %g Å long: run without mpirun, or "
+                                             "with decomposition: replicated",
+                            3 * rd);
+    p->halo = *out;
+    p->par = NULL;   /* no replicated sums: each rank owns its brick */
+    return halo_distribute(*out, p, cfg->err);
 }

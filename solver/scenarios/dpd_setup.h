@@ -57,6 +57,18 @@ int dpd_init_velocities(const struct dpd_input *in, struct particles *p,
 
 /* dpd_init (which takes p, also on failure: dpd_free(d) then) and the
  * thermostat. */
+/* Under mpirun, when the `parallel` section and the box give bricks
+ * (md_bricks_plan): *out a new halo (the caller owns it), p keeps its
+ * brick's particles (every rank built them all).  The ghost shell covers
+ * the list (cutoff + skin) and, with `sweep` (the DPD step sweeps pairs;
+ * not the grid-carried models), the cell sweep's reach
+ * (dpd_sweep_cells_range): a periodic axis shorter than 3 r_d is then
+ * refused naming `parallel`.  *out
+ * NULL: serial or replicated data. */
+int dpd_bricks(const struct dpd_input *in, const struct box *box, struct particles *p,
+               const struct case_common *common, struct cfg *cfg, int sweep,
+               struct halo **out);
+
 int dpd_build(const struct dpd_input *in, struct particles *p, const struct box *box,
               const struct case_common *common, struct err *e, struct dpd *d);
 

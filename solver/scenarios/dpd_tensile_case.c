@@ -56,7 +56,7 @@ static int tensile_read(struct cfg_obj *root, const struct case_common *common, 
     struct tensile_case *c = calloc(1, sizeof *c);
     if (!c)
         return err_nomem(root->cfg->err, "tensile case");
-    int rc = dpd_tensile_read(root, common, &c->d, &c->t);
+    int rc = dpd_tensile_read(root, common, &c->d, &c->t, NULL);
     if (rc || root->cfg->shallow) {
         free(c);
         return rc;

@@ -27,7 +27,7 @@ static int read_tensile(struct cfg_obj *root, struct dpd_tensile *k)
 }
 
 int dpd_tensile_read(struct cfg_obj *root, const struct case_common *common, struct dpd *d,
-                     struct dpd_tensile *t)
+                     struct dpd_tensile *t, struct halo **halo)
 {
     struct particles *p = NULL;
     struct box box = {0};
@@ -78,6 +78,12 @@ int dpd_tensile_read(struct cfg_obj *root, const struct case_common *common, str
         double xlo = bar->face_lo[axis], xhi = bar->face_hi[axis];
         for (int i = 0; i < p->n_owned; i++)
             p->v[3 * i + axis] += v * (2 * p->x[3 * i + axis] - xlo - xhi) / (xhi - xlo);
+    }
+    /* bricks: each rank keeps its brick's particles, drawn and marked over
+     * all of them (no sweep: the grid-carried rod has none) */
+    if (halo && (rc = dpd_bricks(&in, &box, p, common, root->cfg, 0, halo))) {
+        particles_destroy(&p);
+        return rc;
     }
     rc = dpd_build(&in, p, &box, common, e, d);
     double vlo[3] = {0, 0, 0}, vhi[3] = {0, 0, 0};
@@ -147,7 +153,7 @@ void dpd_tensile_curve_report(const struct dpd_tensile_curve *cv, const struct d
     result_metric(res, "strain_final", 2.0 * c->v * d->time / c->L0, "1");
     result_metric(res, "rod_length", c->L0, "Å");
     result_metric(res, "area", c->area, "Å^2");
-    result_metric(res, "particles", (double)d->p->n_owned, "1");
+    result_metric(res, "particles", (double)dpd_nparticles(d), "1");
     result_metric(res, "grip_particles", (double)c->ngrip, "1");
     result_metric(res, "temperature", dpd_temperature(d), "K");
     result_series(res, "time_ps", cv->times, (int)ns, "ps");

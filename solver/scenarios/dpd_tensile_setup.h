@@ -49,9 +49,11 @@ struct dpd_tensile {
 
 /* Read system, dpd and tensile; unless shallow build the DPD model over d
  * with the grips as prescribed bodies 0 (low end) and 1 (high end).  On
- * failure after building, d is freed. */
+ * failure after building, d is freed.  halo (NULL: never): under mpirun
+ * the rod on bricks when the `parallel` section and the box give them
+ * (dpd_bricks; *halo the new halo, owned by the caller, or NULL). */
 int dpd_tensile_read(struct cfg_obj *root, const struct case_common *common, struct dpd *d,
-                     struct dpd_tensile *t);
+                     struct dpd_tensile *t, struct halo **halo);
 
 /* The stress-strain curve as the run samples it: the pieces a case type
  * on the engine calls from its hooks (dpd_tensile_case.c), checkpointed. */

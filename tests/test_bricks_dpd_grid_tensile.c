@@ -1,0 +1,175 @@
+/*
+ * The DPD/MPM-grid tensile rod on bricks (docs/dpd_mpm.md "Under MPI",
+ * docs/parallel.md): under mpirun `dpd_grid_tensile` splits the rod's DPD
+ * particles over bricks of the DPD halo, while every rank holds the whole
+ * (small) MPM grid, maps its own particles to it and sums the nodes over
+ * the ranks (mass, momentum, force of s1-s3b and the MUSL remap of s11).
+ * The grips are prescribed bodies whose force is a sum over the ranks.
+ * The grid model has no Shardlow sweep: every pair force is evaluated at
+ * x(t), v(t) with the random number keyed on the pair's ids and the step,
+ * so only the order of the sums changes (pair forces on a ghost returned
+ * by the reverse communication, node sums over ranks); over 100 steps the
+ * thermo series, the metrics and the stress-strain curve, and the last
+ * snapshot (positions, velocities, forces, DPDE internal energies,
+ * matched by id) agree with the serial run to 1e-10 relative, on 1, 2 and
+ * 4 ranks.  A checkpoint written on 2 ranks restarts serially and on 4
+ * (to the same tolerance) and on 2 (bitwise: the same arithmetic).
+ */
+#include <criterion/criterion.h>
+#include <jansson.h>
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "helpers/th.h"
+#include "helpers/th_bricks.h"
+
+#define REL 1e-10
+#define NPART 432
+
+#define PARAMS                                                                                    \
+    "element: Cu\nepsilon: 0.093945\nc: 37.8271\nn: 9\nm: 6\na: 7.23\ncutoff: 10.845\n"          \
+    "mass: 508.368\natoms_per_particle: 8\nlattice_constant: 7.2786\n"
+
+/* The 12 x 3 x 3-cell rod (432 particles, 87 Å, free surfaces) at 100 K,
+ * DPDE on a 4 Å grid, ends pulled at 1 Å/ps each: 100 steps of 5 fs. */
+static void rod_case(char *buf, size_t len, const char *output, const char *parallel)
+{
+    snprintf(buf, len,
+             "type: dpd_grid_tensile\nseed: 5\nsystem:\n"
+             "  lattice: {style: fcc, a: 7.2786, cells: [12, 3, 3]}\n"
+             "  element: Cu\n  boundary: [free, free, free]\n"
+             "dpd:\n  parameters: cg.yaml\n  timestep: 0.005\n  steps: 100\n"
+             "  initial_temperature: 100\n"
+             "tensile: {velocity: 1.0, sample_every: 5}\n"
+             "grid: {cell: 4.0}\n%s%s",
+             output, parallel);
+}
+
+#define OUTPUT "output: {thermo_every: 10, snapshot_every: 50}\n"
+#define OUTPUT_CK "output: {thermo_every: 10, snapshot_every: 50, checkpoint_every: 50}\n"
+
+static const char *const series_cols[] = {"pe_eV",  "ke_eV",     "uint_eV", "etotal_eV",
+                                          "temp_K", "press_GPa", NULL};
+static const char *const metrics[] = {"peak_stress",   "strain_at_peak", "strain_final",
+                                      "particles",     "grip_particles", "temperature",
+                                      "grid_nodes",    "heat_dr",        "heat_grid",
+                                      "internal_temperature", NULL};
+
+/* result.json's series `name` of b against a, to REL of its largest value */
+static void compare_result_series(json_t *ra, json_t *rb, const char *name, const char *tag)
+{
+    json_t *a = json_object_get(json_object_get(ra, "series"), name);
+    json_t *b = json_object_get(json_object_get(rb, "series"), name);
+    json_t *va = json_is_object(a) ? json_object_get(a, "values") : a;
+    json_t *vb = json_is_object(b) ? json_object_get(b, "values") : b;
+    cr_assert(json_is_array(va) && json_is_array(vb), "%s: series %s missing", tag, name);
+    size_t n = json_array_size(va);
+    cr_assert_eq(n, json_array_size(vb), "%s: series %s length", tag, name);
+    cr_assert_gt(n, 10, "%s: series %s has %zu values", tag, name, n);
+    double scale = 0;
+    for (size_t k = 0; k < n; k++)
+        scale = fmax(scale, fabs(json_number_value(json_array_get(va, k))));
+    for (size_t k = 0; k < n; k++) {
+        double x = json_number_value(json_array_get(va, k));
+        double y = json_number_value(json_array_get(vb, k));
+        cr_assert_leq(fabs(x - y), REL * scale + 1e-12 * fabs(x), "%s: %s[%zu] %.17g vs %.17g",
+                      tag, name, k, x, y);
+    }
+}
+
+static void compare_runs(const char *a, const char *b, const char *tag)
+{
+    thb_compare_series(a, b, series_cols, REL, tag);
+    thb_compare_metrics(a, b, metrics, REL, tag);
+    json_t *ra = thb_result(a), *rb = thb_result(b);
+    compare_result_series(ra, rb, "stress", tag);
+    json_decref(ra);
+    json_decref(rb);
+    static const char *const sets[] = {"position", "velocity", "force", "u_internal", NULL};
+    static const int ncomp[] = {3, 3, 3, 1};
+    thb_compare_snapshot(a, b, "/particles/00000100", sets, ncomp, REL, tag);
+}
+
+/* The run measured something: the rod was stretched against its
+ * cohesion, and the grid and the D + R forces exchanged heat. */
+static void assert_measured(const char *dir)
+{
+    json_t *r = thb_result(dir);
+    cr_assert_gt(thb_metric(r, "peak_stress"), 0.1, "%s: no tension", dir);
+    cr_assert_eq(thb_metric(r, "particles"), NPART);
+    cr_assert_gt(fabs(thb_metric(r, "heat_grid")), 1e-3, "%s: no grid heat", dir);
+    cr_assert_gt(fabs(thb_metric(r, "heat_dr")), 1e-4, "%s: no D + R heat", dir);
+    json_decref(r);
+}
+
+Test(bricks_dpd_grid_tensile, matches_serial_on_1_2_4_ranks, .timeout = 600)
+{
+    th_write_temp(2, "cg.yaml", PARAMS);
+    char yaml[2048];
+    rod_case(yaml, sizeof yaml, OUTPUT, "parallel: {decomposition: bricks}\n");
+    const char *path = th_write_temp(0, "rod.yaml", yaml);
+    char d0[600], dk[600];
+    snprintf(d0, sizeof d0, "%s/rod-serial", th_temp_dir());
+    thb_must_run(path, 0, d0, NULL);
+    assert_measured(d0);
+    static const int nps[] = {1, 2, 4};
+    for (int k = 0; k < 3; k++) {
+        snprintf(dk, sizeof dk, "%s/rod-%d", th_temp_dir(), nps[k]);
+        thb_must_run(path, nps[k], dk, NULL);
+        char tag[64];
+        snprintf(tag, sizeof tag, "grid tensile on %d ranks", nps[k]);
+        compare_runs(d0, dk, tag);
+        thb_check_parallel_record(dk, nps[k], NPART);
+    }
+}
+
+/* Without a `parallel` section (auto) 2 ranks take bricks, with no note
+ * that the case is not decomposed. */
+Test(bricks_dpd_grid_tensile, auto_takes_bricks, .timeout = 300)
+{
+    th_write_temp(2, "cg.yaml", PARAMS);
+    char yaml[2048];
+    rod_case(yaml, sizeof yaml, "output: {thermo_every: 10}\n", "");
+    const char *path = th_write_temp(0, "rod_auto.yaml", yaml);
+    char dir[600];
+    snprintf(dir, sizeof dir, "%s/rod-auto-2", th_temp_dir());
+    static char out[16384];
+    cr_assert_eq(thb_run(path, 2, dir, NULL, out, sizeof out), 0, "%s", out);
+    cr_assert_null(strstr(out, "not decomposed"), "%s", out);
+    thb_check_parallel_record(dir, 2, NPART);
+    json_t *r = thb_result(dir);
+    const char *dec = json_string_value(
+        json_object_get(json_object_get(r, "parallel"), "decomposition"));
+    cr_assert(dec && strcmp(dec, "bricks") == 0, "decomposition %s", dec ? dec : "(none)");
+    json_decref(r);
+}
+
+static void compare_restarted(const char *ref, const char *dir, const char *tag)
+{
+    json_t *r = thb_result(dir);
+    cr_assert_eq(json_integer_value(json_object_get(r, "restarted_from_step")), 50,
+                 "%s: not restarted from step 50", tag);
+    json_decref(r);
+    compare_runs(ref, dir, tag);
+}
+
+/* A checkpoint of step 50 written on 2 ranks, restarted serially, on 4
+ * and on 2 ranks: each ends where the uninterrupted serial run ends (to
+ * REL), and the 2-rank restart is the 2-rank run's thermo, bitwise. */
+Test(bricks_dpd_grid_tensile, checkpoint_moves_between_rank_counts, .timeout = 600)
+{
+    th_write_temp(2, "cg.yaml", PARAMS);
+    char yaml[2048];
+    rod_case(yaml, sizeof yaml, OUTPUT_CK, "");
+    const char *path = th_write_temp(0, "rod_ck.yaml", yaml);
+    char s1[600], m2[600];
+    snprintf(s1, sizeof s1, "%s/rod-ck-serial", th_temp_dir());
+    snprintf(m2, sizeof m2, "%s/rod-ck-2", th_temp_dir());
+    thb_must_run(path, 0, s1, NULL);
+    thb_must_run(path, 2, m2, NULL);
+    compare_runs(s1, m2, "checkpointing run on 2 ranks");
+    const struct thb_restart cases[] = {
+        {m2, 0, "2 to 1", NULL}, {m2, 4, "2 to 4", NULL}, {m2, 2, "2 to 2", m2}};
+    thb_restarts_match(path, 50, cases, 3, s1, compare_restarted);
+}
