@@ -2,6 +2,7 @@
 #include "core/parallel.h"
 
 #include <limits.h>
+#include <math.h>
 #include <mpi.h>
 #include <stdlib.h>
 #include <string.h>
@@ -190,6 +191,38 @@ void parallel_max(const struct parallel *par, double *buf, size_t n)
 void parallel_min(const struct parallel *par, double *buf, size_t n)
 {
     allreduce_op(par, buf, n, MPI_MIN);
+}
+
+void parallel_sum_max(const struct parallel *par, double *sum, size_t ns, double *mx, size_t nm)
+{
+    if (!par || par->size <= 1 || ns + nm == 0)
+        return;
+    size_t n = ns + nm, p = (size_t)par->size;
+    double *all = n <= (size_t)INT_MAX / p ? malloc(n * (p + 1) * sizeof *all) : NULL;
+    if (!all) {
+        parallel_sum(par, sum, ns);
+        parallel_max(par, mx, nm);
+        return;
+    }
+    double *mine = all + n * p;
+    memcpy(mine, sum, ns * sizeof *sum);
+    memcpy(mine + ns, mx, nm * sizeof *mx);
+    MPI_Allgather(mine, (int)n, MPI_DOUBLE, all, (int)n, MPI_DOUBLE, MPI_COMM_WORLD);
+    for (size_t k = 0; k < ns; k++) {
+        double t = all[k];
+        for (size_t r = 1; r < p; r++)
+            t += all[r * n + k];
+        sum[k] = t;
+    }
+    for (size_t k = 0; k < nm; k++) {
+        double t = all[ns + k];
+        for (size_t r = 1; r < p; r++) {
+            double x = all[r * n + ns + k];
+            t = isnan(t) || isnan(x) ? NAN : fmax(t, x);   /* a NaN (divergence) is kept */
+        }
+        mx[k] = t;
+    }
+    free(all);
 }
 
 void parallel_allgather_long(const struct parallel *par, long v, long *out)

@@ -62,6 +62,14 @@ int parallel_sendrecv_known(const struct parallel *par, int dest, const void *sb
 void parallel_max(const struct parallel *par, double *buf, size_t n);
 void parallel_min(const struct parallel *par, double *buf, size_t n);
 
+/* sum[k] <- sum over ranks of sum[k] (added in rank order: the same bits
+ * on every rank; two ranks give what parallel_sum gives) and mx[k] <- max
+ * over ranks of mx[k], in one collective instead of two: a per-step
+ * reduction of energies beside a largest speed or a flag costs one sync
+ * point.  Falls back to parallel_sum and parallel_max when the gather
+ * buffer cannot be had. */
+void parallel_sum_max(const struct parallel *par, double *sum, size_t ns, double *mx, size_t nm);
+
 /* out[r] = v of rank r (out holds size entries), on every rank. */
 void parallel_allgather_long(const struct parallel *par, long v, long *out);
 

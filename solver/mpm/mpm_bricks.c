@@ -535,30 +535,76 @@ static int offset_index(const struct mpm_bricks *b, const int c[3])
 
 /* Points whose cell another brick owns go to it (one of the 26
  * neighbours: a point moves less than a cell per step).  Collective. */
+/* Whether the point at x lies in a cell of this rank's brick: the common
+ * case, decided without looking up the owner of each axis' cell (the
+ * clamping is point_brick's). */
+static int point_in_own_brick(const struct mpm_bricks *b, const struct mpm_grid *g,
+                              const double *x)
+{
+    int in = 1;
+    for (int d = 0; d < 3; d++) {
+        double u = floor((x[d] - g->origin[d]) * g->inv_hd[d]);
+        long k = !(u >= 0) ? 0 : u >= (double)b->ncell[d] ? b->ncell[d] - 1 : (long)u;
+        in &= k >= b->cut[d][b->coords[d]] && k < b->cut[d][b->coords[d] + 1];
+    }
+    return in;
+}
+
+/* Offset index of the brick the point at x belongs to (offset_index). */
+static int point_offset(const struct mpm_bricks *b, const struct mpm_grid *g, const double *x)
+{
+    if (point_in_own_brick(b, g, x))
+        return -1;
+    int c[3];
+    long cell[3];
+    point_brick(b, g, x, c, cell);
+    return offset_index(b, c);
+}
+
+/* How many of this rank's points have a cell another brick owns, and the
+ * id of one beyond the neighbours (-1: none). */
+static void scan_leavers(const struct mpm_bricks *b, const struct mpm *m, long *nleave,
+                         long long *far_id)
+{
+    const struct mpm_points *p = &m->pts;
+    long count = 0, far = -1;
+    for (long i = 0; i < p->n; i++) {
+        int q = point_offset(b, &m->grid, p->x + 3 * i);
+        if (q == -2 && far < 0)
+            far = i;
+        if (q >= 0)
+            count++;
+    }
+    *nleave = count;
+    *far_id = far >= 0 ? (long long)p->id[far] : -1;
+}
+
 static int migrate(struct mpm_bricks *b, struct mpm *m, long *moved, struct err *e)
 {
     struct mpm_points *p = &m->pts;
     long n = p->n, rec = point_doubles(p);
-    long cnt[MPM_BRICKS_NBR] = {0}, nleave = 0, far = -1;
+    long cnt[MPM_BRICKS_NBR] = {0}, nleave;
+    long long far_id;
     int8_t *dest = NULL;
     *moved = 0;
-    for (long i = 0; i < n; i++) {
-        int c[3];
-        long cell[3];
-        point_brick(b, &m->grid, p->x + 3 * i, c, cell);
-        int q = offset_index(b, c);
-        if (q == -2 && far < 0)
-            far = i;
-        if (q >= 0)
-            nleave++;
+    double flag[2];
+    if (b->scan_valid) {   /* scanned and reduced at the end of the last step */
+        nleave = b->scan_nleave;
+        far_id = b->scan_far_id;
+        flag[0] = b->scan_any_far;
+        flag[1] = b->scan_any_leave;
+        b->scan_valid = 0;
+    } else {
+        scan_leavers(b, m, &nleave, &far_id);
+        /* one reduction: did a point move beyond the neighbours, does any leave */
+        flag[0] = far_id >= 0;
+        flag[1] = nleave > 0;
+        parallel_max(b->par, flag, 2);
     }
-    /* one reduction: did a point move beyond the neighbours, does any leave */
-    double flag[2] = {far >= 0, nleave > 0};
-    parallel_max(b->par, flag, 2);
-    if (far >= 0)
+    if (far_id >= 0)
         return err_set(e, ERR_DIVERGED, "material point %lld moved more than a brick in one step "
                                         "(step %ld)",
-                       (long long)p->id[far], m->step);
+                       far_id, m->step);
     if (flag[0] > 0)
         return err_set(e, ERR_DIVERGED, "step %ld: a material point moved more than a brick "
                                         "in one step (on another MPI rank)",
@@ -572,10 +618,7 @@ static int migrate(struct mpm_bricks *b, struct mpm *m, long *moved, struct err 
             rc = err_nomem(e, "MPM migration");
     }
     for (long i = 0; !rc && nleave && i < n; i++) {
-        int c[3];
-        long cell[3];
-        point_brick(b, &m->grid, p->x + 3 * i, c, cell);
-        int q = offset_index(b, c);
+        int q = point_offset(b, &m->grid, p->x + 3 * i);
         dest[i] = (int8_t)q;
         if (q >= 0)
             cnt[q]++;
@@ -885,10 +928,15 @@ int mpm_bricks_step_update(struct mpm_bricks *b, struct mpm *m, double dt, struc
     for (int k = 0; k < m->nbody; k++)
         for (int d = 0; d < 3; d++)
             s[ns++] = m->body[k].reaction[d];
+    /* the next step's migration scan, here so that its flags go with the
+     * sums: one collective for energies, speed, fused-map drop and leavers */
     tstart(m, TIMER_COMM);
-    mpm_bricks_sum(b, s, ns);
-    double mx[2] = {m->vmax, drop};
-    mpm_bricks_max(b, mx, 2);
+    scan_leavers(b, m, &b->scan_nleave, &b->scan_far_id);
+    double mx[4] = {m->vmax, drop, b->scan_far_id >= 0, b->scan_nleave > 0};
+    parallel_sum_max(b->par, s, (size_t)ns, mx, 4);
+    b->scan_any_far = mx[2] > 0;
+    b->scan_any_leave = mx[3] > 0;
+    b->scan_valid = 1;
     ns = 0;
     m->ke = s[ns++];
     m->ke_centred = s[ns++];

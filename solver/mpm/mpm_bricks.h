@@ -81,6 +81,13 @@ struct mpm_bricks {
     void *prbuf;
     size_t prcap;
     long migrated;                /* points sent away in the last step (diagnostics) */
+    /* The leaver scan of the end of the last step, whose flags travelled
+     * with that step's sums (one sync point less a step): the next
+     * migration takes it instead of scanning and reducing again. */
+    int scan_valid;
+    long scan_nleave;             /* this rank's points whose cell another brick owns */
+    long long scan_far_id;        /* id of a point of this rank beyond the neighbours, or -1 */
+    int scan_any_far, scan_any_leave;   /* the same over all ranks */
 };
 
 /* Whether a `type: mpm` case runs on bricks: *out a new decomposition
