@@ -16,7 +16,8 @@
  * about 2 %):
  *   - the MD region's mean within 4.5 % of 300 K, every block within 8 %
  *     (measured: Si [100] 300.8 K, Si [110] 307.4 K, Fe [100] 306.1 K, Fe
- *     [110] 301.2 K; largest block 1.1 / 2.5 / 2.2 / 0.7 %; Fe runs 1-2 % warm in 10 ps runs as well,
+ *     [110] 301.2 K, Si meam/spline [100] 309.4 K; largest block 1.1 / 2.5 / 2.2 / 0.7 / 3.9 %;
+ *     Fe runs 1-2 % warm in 10 ps runs as well,
  *     docs/handshake.md);
  *   - region II (the bath's atoms) within 5 % of 300 K;
  *   - the trend over the window (least-squares slope of the blocks times
@@ -162,5 +163,47 @@ Test(handshake_thermal_lattices, fe_eam_110_keeps_its_temperature, .timeout = 24
     cr_expect_float_eq(th_metric_value(m, "lattice_constant"), 2.85906, 1e-9);
     /* the MPM's longitudinal modulus along [110]: (C11 + C12 + 2 C44) / 2 */
     cr_expect_float_eq(th_metric_value(m, "cl_mpm"), 0.5 * (221.97 + 124.80 + 2 * 95.11), 1e-6);
+    json_decref(r);
+}
+
+/* Lenosky's meam/spline silicon (Si_1) at 300 K along [100]: a(300 K) and
+ * the isothermal constants at 300 K of type: elastic
+ * (docs/examples/elastic_si_meam_300K.yaml), cross-checked against LAMMPS
+ * (bench/lammps_elastic_T.sh; docs/handshake.md).  The potential's cutoff
+ * (4.5 Å) is within one lattice constant: regions 2 / 1 / 1 a, as for SW. */
+/* the output of type: elastic for Si_1 at 300 K (GPa, Å) */
+static const double meam_c[3] = {102.18, 55.57, 41.94}, meam_a = 5.41437;
+
+Test(handshake_thermal_lattices, si_meam_spline_100_keeps_its_temperature, .timeout = 900)
+{
+    char text[2048];
+    snprintf(text, sizeof text,
+             "type: handshake_thermal\n"
+             "seed: 3\n"
+             "crystal: {lattice: diamond, element: Si, a_min: 5.2, a_max: 5.7}\n"
+             "potential: {style: meam/spline, file: Si_1.meam.spline, elements: [Si]}\n"
+             "elastic: {c11: %.2f, c12: %.2f, c44: %.2f}\n"
+             "thermal: {temperature: 300, lattice_constant: %.5f, damping_time: 0.1, "
+             "equilibrate: 1, block: 0.5}\n"
+             "handshake: {regions: [2, 1, 1], levels: 0}\n"
+             "bar: {mpm: [4, 4], md: 8, width: 3}\n"
+             "md: {timestep: 0.001, steps: 1500}\n"
+             "output: {thermo_every: 100, snapshot_every: 0, hdf5: false}\n",
+             meam_c[0], meam_c[1], meam_c[2], meam_a);
+    json_t *r = th_run_case(5, "thermal_si_meam100.yaml", text);
+    json_t *m = json_object_get(r, "metrics");
+    expect_keeps_temperature("Si meam/spline [100]", m, 8 * 3 * 3 * 8);
+    cr_expect_float_eq(th_metric_value(m, "lattice_constant"), meam_a, 1e-9);
+    cr_expect_float_eq(th_metric_value(m, "c11_mpm"), meam_c[0], 1e-6);
+    cr_expect_float_eq(th_metric_value(m, "c44_mpm"), meam_c[2], 1e-6);
+    /* meam/spline contracts on heating (a(300 K) 0.30 % below a0), and its
+     * zeta jumps from 0.594 at a0 to 0.71 at a(T) (0.708 already at 5.4225
+     * Å: the potential's splines).  LAMMPS, relaxing a sheared 216-atom
+     * crystal (bench/lammps_zeta_diamond.in), gives 0.594100 at a0 and
+     * 0.710636 at 5.41437 Å. */
+    double z0 = th_metric_value(m, "kleinman_zeta"), zt = th_metric_value(m, "kleinman_zeta_mpm");
+    cr_log_info("Si meam/spline: zeta %.5f at 0 K, %.5f at a(300 K)", z0, zt);
+    cr_expect_lt(fabs(z0 - 0.594100), 1e-4, "zeta %g at 0 K, LAMMPS 0.594100", z0);
+    cr_expect_lt(fabs(zt - 0.710636), 1e-4, "zeta %g at a(T), LAMMPS 0.710636", zt);
     json_decref(r);
 }

@@ -22,6 +22,11 @@
  *     equilibrate: 2          ps under a Langevin thermostat on all MD atoms
  *     equilibrate_damping: 0.1   ps, its damping time
  *     block: 1                ps, the temperature block averages
+ *     from_potential: {...}   compute a(T) and the constants at T here, by the
+ *                             computation of type: elastic (elastic_thermal.h)
+ *                             with the keys of its elastic section (temperature:
+ *                             this one) and cells; then lattice_constant and the
+ *                             elastic section stay out of the case
  *
  * Metrics (the MD region = the core and region I; after the equilibration):
  * temperature_md_mean, temperature_core_mean, temperature_region_II_mean,
@@ -37,6 +42,7 @@
 
 #include "core/units.h"
 #include "couple/handshake_thermal.h"
+#include "scenarios/elastic_thermal.h"
 #include "scenarios/handshake_case.h"
 
 struct thermal_case {
@@ -45,12 +51,33 @@ struct thermal_case {
     double equilibrate, eq_damping, block;   /* ps */
     long neq, nblock;                        /* steps */
     uint64_t seed;
+    int nthreads;
+    /* thermal.from_potential: a(T) and the constants at T computed here */
+    int from_potential;
+    long auto_cells;
+    struct elastic_thermal_settings auto_set;
+    struct elastic_thermal auto_out;
     /* block sums of the MD region's, the core's and region II's temperature */
     double *blocks;                          /* 3 per block */
     long nblocks, maxblocks, in_block;
     double sum[3];
 };
 _Static_assert(offsetof(struct thermal_case, c) == 0, "hs_case first");
+
+/* thermal.from_potential: the settings of the a(T) and constants
+ * computation (the keys of type: elastic's elastic section and cells). */
+static int read_from_potential(struct cfg_obj *o, struct thermal_case *w)
+{
+    struct cfg_obj fp;
+    int rc = cfg_section_opt(o, "from_potential", &fp, &w->from_potential);
+    if (rc || !w->from_potential)
+        return rc;
+    w->auto_set.md.temperature = w->bath.temperature;
+    if ((rc = elastic_thermal_read(&fp, 0, &w->auto_set)) ||
+        (rc = cfg_int(&fp, "cells", 4, CFG_RANGE(2, 20), &w->auto_cells)))
+        return rc;
+    return cfg_close(&fp);
+}
 
 static int thermal_read(struct cfg_obj *root, const struct case_common *common, void **state)
 {
@@ -74,6 +101,7 @@ static int thermal_read(struct cfg_obj *root, const struct case_common *common, 
     c->bar_md = 16;
     c->bar_width = 4;
     w->seed = common->seed;
+    w->nthreads = common->nthreads;
     struct cfg_obj o;
     int rc = hs_case_read(root, c);
     if (!rc && !(rc = cfg_section_required(root, "thermal", &o)) &&
@@ -85,21 +113,27 @@ static int thermal_read(struct cfg_obj *root, const struct case_common *common, 
                         &w->bath.coarse_cell)) &&
         !(rc = cfg_real(&o, "equilibrate", 2, CFG_GE(0), &w->equilibrate)) &&
         !(rc = cfg_real(&o, "equilibrate_damping", 0.1, CFG_GT(0), &w->eq_damping)) &&
-        !(rc = cfg_real(&o, "block", 1, CFG_GT(0), &w->block)))
+        !(rc = cfg_real(&o, "block", 1, CFG_GT(0), &w->block)) &&
+        !(rc = read_from_potential(&o, w)))
         rc = cfg_close(&o);
+    if (!rc && w->from_potential && (c->a_given > 0 || c->c_user[0] > 0))
+        rc = cfg_error_at(root->cfg, c->a_given > 0 ? "thermal.lattice_constant" : "elastic",
+                          "thermal.from_potential computes a(T) and the constants at T: leave "
+                          "out thermal.lattice_constant and elastic's c11, c12, c44");
     /* the MPM at T: its lattice and its constants are those of T, not 0 K
      * (checked in deep reads: check, run; a listing of the keys is shallow) */
     int deep = !root->cfg->shallow;
-    if (!rc && deep && !(c->a_given > 0))
+    if (!rc && deep && !w->from_potential && !(c->a_given > 0))
         rc = cfg_error_at(root->cfg, "thermal.lattice_constant",
                           "give the lattice constant at %g K (the metric lattice_constant of "
                           "type: elastic): the material points sit on the lattice at that "
-                          "temperature",
+                          "temperature (or thermal.from_potential: {} to compute it here)",
                           w->bath.temperature);
-    if (!rc && deep && !(c->c_user[0] > 0))
+    if (!rc && deep && !w->from_potential && !(c->c_user[0] > 0))
         rc = cfg_error_at(root->cfg, "elastic",
                           "give c11, c12 and c44 at %g K (the output of type: elastic): the MPM "
-                          "needs the elastic constants at the MD temperature",
+                          "needs the elastic constants at the MD temperature (or "
+                          "thermal.from_potential: {} to compute them here)",
                           w->bath.temperature);
     if (!rc) {
         w->bath.seed = w->seed;
@@ -242,6 +276,17 @@ static int thermal_report(void *state, struct sim *s, int run_rc, struct err *e)
     double window = (double)(c->steps - w->neq) * c->dt;
     result_metric(res, "temperature", T0, "K");
     result_metric(res, "lattice_constant_T", c->a, "Å");
+    result_metric(res, "from_potential", w->from_potential, "1");
+    if (w->from_potential) {   /* what the computation gave, with its errors */
+        const double G = UNITS_EVA3_TO_GPA;
+        const struct elastic_thermal *r = &w->auto_out;
+        result_metric(res, "thermal_expansion", r->a / r->a0 - 1, "1");
+        result_metric(res, "c11_T_err", r->c_err[0] * G, "GPa");
+        result_metric(res, "c12_T_err", r->c_err[1] * G, "GPa");
+        result_metric(res, "c44_T_err", r->c_err[2] * G, "GPa");
+        result_metric(res, "from_potential_md_steps",
+                      (double)elastic_thermal_steps(&w->auto_set), "1");
+    }
     result_metric(res, "damping_time", w->bath.damping_time, "ps");
     result_metric(res, "bath_coarse_cell", w->bath.coarse_cell, "1");
     result_metric(res, "equilibrate", w->equilibrate, "ps");
@@ -272,12 +317,65 @@ static const struct sim_case_ops thermal_ops = {
     .report = thermal_report,
 };
 
+/* thermal.from_potential: a(T) and the constants at T by type: elastic's
+ * computation (elastic_thermal.h) with the case's potential, then the bar
+ * rebuilt on the lattice at a(T) with those constants (read built it at the
+ * 0 K lattice constant: that build checked the layout and counted the
+ * particles, which do not change).  The computation borrows the potential
+ * from the MD of the first build and hands it to the second. */
+static int compute_at_temperature(struct thermal_case *w, struct run *run, struct err *e)
+{
+    struct hs_case *c = &w->c;
+    const double G = UNITS_EVA3_TO_GPA;
+    struct elastic_thermal_settings s = w->auto_set;
+    s.md.temperature = w->bath.temperature;
+    s.md.seed = w->seed;
+    s.md.nthreads = w->nthreads;
+    enum lattice_style style = c->lattice == HS_LATTICE_BCC       ? LATTICE_BCC
+                               : c->lattice == HS_LATTICE_DIAMOND ? LATTICE_DIAMOND
+                                                                  : LATTICE_FCC;
+    struct crystal_spec spec = {style, c->element, 0, w->auto_cells};
+    struct elastic_thermal *r = &w->auto_out;
+    run_log(run, "handshake_thermal: computing a(T) and the constants at %g K (%ld MD steps "
+                 "of %ld atoms, type: elastic's computation)",
+            s.md.temperature, elastic_thermal_steps(&s),
+            (long)(style == LATTICE_DIAMOND ? 8 : style == LATTICE_BCC ? 2 : 4) * w->auto_cells *
+                w->auto_cells * w->auto_cells);
+    int rc = elastic_thermal_compute(c->md.pot, &spec, c->a_min, c->a_max, &s, run, r, e);
+    if (rc)
+        return rc;
+    run_log(run, "handshake_thermal: at %g K a = %.5f Å, C11 = %.2f +- %.2f, C12 = %.2f +- %.2f, "
+                 "C44 = %.2f +- %.2f GPa",
+            s.md.temperature, r->a, r->c[0] * G, r->c_err[0] * G, r->c[1] * G,
+            r->c_err[1] * G, r->c[2] * G, r->c_err[2] * G);
+    /* rebuild: the potential leaves the old MD for the new bar */
+    struct potential *pot = c->md.pot;
+    c->md.pot = NULL;
+    handshake_free(&c->hs);
+    md_free(&c->md);
+    hs_profile_free(&c->prof);
+    c->built = 0;
+    c->pot = pot;
+    c->a_given = r->a;
+    for (int k = 0; k < 3; k++)
+        c->c_user[k] = r->c[k] * G;
+    /* the read's cfg is gone: build errors name the case type */
+    struct cfg cfg = {"handshake_thermal (from_potential)", NULL, e, NULL, 0};
+    c->cfg = &cfg;
+    rc = hs_case_build(c, MPM_FACE_SLIDING, 0, w->nthreads);
+    c->cfg = NULL;
+    return rc;
+}
+
 static int thermal_run(void *state, struct run *run, struct err *e)
 {
     struct thermal_case *w = state;
     struct hs_case *c = &w->c;
     struct handshake *hs = &c->hs;
     const double T0 = w->bath.temperature;
+    int rc;
+    if (w->from_potential && (rc = compute_at_temperature(w, run, e)))
+        return rc;
     /* a perfect lattice started at 2T settles at T (equipartition) */
     hs_thermal_velocities(hs, 2 * T0, w->seed, HS_MASK_II | HS_MASK_III | HS_MASK_FIXED);
     hs_thermal_attach(hs, &w->bath, 2 * T0);
