@@ -105,8 +105,12 @@ int hs_case_read(struct cfg_obj *root, struct hs_case *c);
  * with the MD region after mpm_left; x faces sliding (x_lo) and
  * `x_hi_face`; with end_margin the grid goes one coarsest cell beyond the
  * x_hi end, so that a loaded free end can move out without its points
- * leaving the grid.  Layout refusals name the case key. */
-int hs_case_build(struct hs_case *c, enum mpm_face_bc x_hi_face, int end_margin, int nthreads);
+ * leaving the grid.  Layout refusals name the case key.  Under mpirun the
+ * MD runs on bricks when the case's `parallel` section asks for them or
+ * `auto` chooses them (handshake_setup_bricks: the MPM whole on every
+ * rank; docs/parallel.md), else every rank builds the whole bar. */
+int hs_case_build(struct hs_case *c, enum mpm_face_bc x_hi_face, int end_margin,
+                  const struct case_common *common);
 
 void hs_case_free(struct hs_case *c);
 
