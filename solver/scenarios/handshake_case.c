@@ -360,7 +360,7 @@ static void print_profile_row(FILE *f, const double *r)
 }
 
 #define HS_BASE_COLS 7
-#define HS_MAX_COLS 24
+#define HS_MAX_COLS HS_THERMO_MAX_COLS
 static const char *const base_cols[HS_BASE_COLS] = {
     "step", "time_ps", "md_ke_eV", "md_pe_eV", "mpm_ke_eV", "mpm_strain_eV", "etotal_eV"};
 
@@ -380,6 +380,7 @@ int hs_case_output_begin(struct hs_case *c, struct run *run, const char *const *
         return err_set(e, ERR_INPUT, "checkpoint thermo rows have %d columns, the case writes %d",
                        c->ncols, n);
     c->ncols = n;
+    memcpy(c->thermo_names, cols, (size_t)n * sizeof *cols);
     for (long i = 0; i < c->nthermo; i++)
         run_thermo_row(run, c->thermo + i * n, n);
     if (run->opt.rank == 0) {
@@ -692,8 +693,18 @@ int hs_case_output_end(struct hs_case *c, struct run *run, struct err *e)
     free(buf);
     if (c->md.halo)   /* the grid, every rank's particles, their peak memory */
         decomp_record_write(run, c->md.halo, c->md.p);
+    /* the thermo rows as series under /series of fields.h5, as an MD run's:
+     * the unit is the column name's suffix (step: 1) */
+    const char *units[HS_MAX_COLS];
+    for (int k = 0; k < c->ncols; k++) {
+        const char *u = strrchr(c->thermo_names[k], '_');
+        units[k] = u ? u + 1 : "1";
+    }
+    int rc = run_write_series_table(run, c->thermo, c->nthermo, c->ncols, c->thermo_names, units,
+                                    e);
     c->profile_csv = NULL;
-    int rc = wfile_commit(&c->profile_w, e);
+    int rc2 = wfile_commit(&c->profile_w, e);
+    rc = rc ? rc : rc2;
     /* bricks: rank 0 wrote; every rank returns its verdict */
     return c->md.halo ? halo_agree(c->md.halo, rc, e) : rc;
 }

@@ -49,6 +49,7 @@
 #include "util/wfile.h"
 
 #define HS_PROFILE_COLS 14   /* a profile.csv row */
+#define HS_THERMO_MAX_COLS 24   /* thermo columns: the common ones and the case's */
 
 struct hs_case {
     /* read */
@@ -94,6 +95,7 @@ struct hs_case {
     double *thermo;
     long nthermo, thermo_cap;
     int ncols;
+    const char *thermo_names[HS_THERMO_MAX_COLS];   /* the columns (static strings) */
     double *profile;
     long nprofile, profile_cap;
 };
