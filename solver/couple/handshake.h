@@ -277,6 +277,23 @@ int handshake_setup(struct handshake *hs, struct md *md, const struct handshake_
                     const struct handshake_crystal *cr, struct potential *pot, double dt,
                     double skin, int nthreads, struct err *e);
 
+/* The MD box of handshake_setup: B along periodic axes, B and the shell
+ * of regions II and III (free) along the others. */
+void handshake_md_box(const struct handshake_layout *L, struct box *box);
+
+/* handshake_setup on MPI bricks (core/halo.h; docs/parallel.md, "How the
+ * handshake bar cases run on bricks"): the MPM side whole on every rank,
+ * the atoms of B whose sites lie in this rank's brick and the copies whose
+ * points lie in it (ids of a serial build), md_adopt and md_init over them
+ * (the box of handshake_md_box; with `balance` the cuts shifted to even
+ * the particles, halo_balance), handshake_connect.  pot and halo are the
+ * md's from the call on (freed with it, or here on a failure before md_init
+ * takes them).  Collective over the halo's ranks. */
+int handshake_setup_bricks(struct handshake *hs, struct md *md, const struct handshake_layout *L,
+                           const struct handshake_crystal *cr, struct potential *pot, double dt,
+                           double skin, int nthreads, struct halo *halo, int balance,
+                           struct err *e);
+
 /* The crystal of a potential for the handshake: 0 K lattice constant in
  * [a_min, a_max] (*a0), cohesive energy, cubic elastic constants and the
  * atomic mass of `element` (from the potential file, else the standard

@@ -440,6 +440,83 @@ int handshake_create(struct handshake *hs, const struct handshake_layout *L,
     return rc ? rc : add_md_particles(hs, p, NULL, e);
 }
 
+void handshake_md_box(const struct handshake_layout *L, struct box *box)
+{
+    memset(box, 0, sizeof *box);
+    for (int d = 0; d < 3; d++) {
+        box->bc[d] = L->md_periodic[d] ? BOUNDARY_PERIODIC : BOUNDARY_FREE;
+        box->lo[d] = L->md_periodic[d] ? L->md_lo[d] : L->md_lo[d] - L->w[1] - L->w[2];
+        box->hi[d] = L->md_periodic[d] ? L->md_hi[d] : L->md_hi[d] + L->w[1] + L->w[2];
+    }
+}
+
+/* The atoms of B whose sites lie in this rank's brick, with the ids of a
+ * serial build: every rank runs over all of B's sites (no memory) and
+ * counts each one, as site_atom numbers them. */
+struct brick_atom_ctx {
+    struct atom_ctx a;
+    const struct decomp *dc;
+};
+
+static int brick_site_atom(void *ctx, const double x[3])
+{
+    struct brick_atom_ctx *c = ctx;
+    enum hs_region r = handshake_classify(&c->a.hs->lay, x);
+    if (r != HS_CORE && r != HS_I)
+        return 0;
+    int64_t id = c->a.next_id++;
+    if (!decomp_owns(c->dc, x))
+        return 0;
+    return particles_add(c->a.p, x, NULL, c->a.hs->cr.type, id) < 0
+               ? err_nomem(c->a.e, "handshake atoms")
+               : 0;
+}
+
+int handshake_setup_bricks(struct handshake *hs, struct md *md, const struct handshake_layout *L,
+                           const struct handshake_crystal *cr, struct potential *pot, double dt,
+                           double skin, int nthreads, struct halo *halo, int balance,
+                           struct err *e)
+{
+    struct particles *p = particles_create(1024);
+    struct handshake_crystal c = *cr;
+    int rc = p ? 0 : err_nomem(e, "handshake particles");
+    if (!rc) {
+        c.type = particles_type_index(p, cr->element, cr->mass);
+        rc = handshake_build_mpm(hs, L, &c, nthreads, e);
+    }
+    if (!rc) {
+        struct brick_atom_ctx bc = {{hs, p, 1, e}, &halo->dc};
+        rc = for_sites(L, L->md_lo, L->md_hi, brick_site_atom, &bc);
+    }
+    /* the atoms' regions from their sites, the copies of the brick, the
+     * counts over the ranks (collective: every rank gets here) */
+    rc = halo_agree(halo, rc, e);
+    if (!rc)
+        rc = add_md_particles(hs, &p, halo, e);
+    rc = halo_adopt(halo, p, rc, e);
+    if (rc) {
+        particles_destroy(&p);
+        potential_destroy(&pot);
+        halo_free(halo);
+        free(halo);
+        return rc;
+    }
+    struct box box;
+    handshake_md_box(L, &box);
+    md_adopt(md, p, halo);   /* the md owns the halo from here */
+    /* the copies' shells make the bar's ends denser: move the cuts when
+     * asked (parallel.balance: shift) */
+    if (balance && (rc = halo_balance(halo, &box, p, pot->cutoff + skin, e))) {
+        particles_destroy(&p);
+        potential_destroy(&pot);
+        return rc;
+    }
+    rc = md_init(md, p, &box, pot, dt, skin, nthreads, e);   /* owns p and pot */
+    if (!rc)
+        rc = handshake_connect(hs, md, e);
+    return rc;
+}
+
 int handshake_setup(struct handshake *hs, struct md *md, const struct handshake_layout *L,
                     const struct handshake_crystal *cr, struct potential *pot, double dt,
                     double skin, int nthreads, struct err *e)
@@ -457,12 +534,8 @@ int handshake_setup(struct handshake *hs, struct md *md, const struct handshake_
         potential_destroy(&pot);
         return rc;
     }
-    struct box box = {0};
-    for (int d = 0; d < 3; d++) {
-        box.bc[d] = L->md_periodic[d] ? BOUNDARY_PERIODIC : BOUNDARY_FREE;
-        box.lo[d] = L->md_periodic[d] ? L->md_lo[d] : L->md_lo[d] - L->w[1] - L->w[2];
-        box.hi[d] = L->md_periodic[d] ? L->md_hi[d] : L->md_hi[d] + L->w[1] + L->w[2];
-    }
+    struct box box;
+    handshake_md_box(L, &box);
     rc = md_init(md, p, &box, pot, dt, skin, nthreads, e);
     if (!rc)
         rc = handshake_connect(hs, md, e);

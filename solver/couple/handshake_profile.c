@@ -6,6 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/halo.h"
 #include "core/units.h"
 
 int hs_profile_init(struct hs_profile *pr, const struct handshake *hs, int axis, double width,
@@ -20,7 +21,8 @@ int hs_profile_init(struct hs_profile *pr, const struct handshake *hs, int axis,
         pr->nbins = 1;
     pr->md = calloc((size_t)pr->nbins, sizeof *pr->md);
     pr->mpm = calloc((size_t)pr->nbins, sizeof *pr->mpm);
-    if (!pr->md || !pr->mpm) {
+    pr->sums = malloc((size_t)pr->nbins * HS_SLAB_SUMS * sizeof *pr->sums);
+    if (!pr->md || !pr->mpm || !pr->sums) {
         hs_profile_free(pr);
         return err_nomem(e, "handshake profile");
     }
@@ -31,6 +33,7 @@ void hs_profile_free(struct hs_profile *pr)
 {
     free(pr->md);
     free(pr->mpm);
+    free(pr->sums);
     memset(pr, 0, sizeof *pr);
 }
 
@@ -38,6 +41,33 @@ static long bin_of(const struct hs_profile *pr, double x)
 {
     long k = (long)floor((x - pr->x0) / pr->width);
     return k < 0 || k >= pr->nbins ? -1 : k;
+}
+
+/* Bricks: each rank summed the atoms it owns; the slabs' sums (count,
+ * virial and kinetic stress, displacement and velocity) over the ranks,
+ * before the means and the volumes.  Collective. */
+static void sum_md_slabs(struct hs_profile *pr, const struct halo *h)
+{
+    double *buf = pr->sums;
+    for (long k = 0; k < pr->nbins; k++) {
+        const struct hs_slab *s = &pr->md[k];
+        double *b = buf + HS_SLAB_SUMS * k;
+        b[0] = (double)s->n;
+        for (int c = 0; c < 6; c++)
+            b[1 + c] = s->stress[c];
+        b[7] = s->u;
+        b[8] = s->v;
+    }
+    halo_sum(h, buf, (int)(pr->nbins * HS_SLAB_SUMS));
+    for (long k = 0; k < pr->nbins; k++) {
+        struct hs_slab *s = &pr->md[k];
+        const double *b = buf + HS_SLAB_SUMS * k;
+        s->n = (long)b[0];
+        for (int c = 0; c < 6; c++)
+            s->stress[c] = b[1 + c];
+        s->u = b[7];
+        s->v = b[8];
+    }
 }
 
 void hs_profile_compute(struct hs_profile *pr, const struct handshake *hs)
@@ -70,6 +100,8 @@ void hs_profile_compute(struct hs_profile *pr, const struct handshake *hs)
         s->v += v[ax];
         s->n++;
     }
+    if (hs->md->halo)
+        sum_md_slabs(pr, hs->md->halo);
     for (long k = 0; k < pr->nbins; k++) {
         struct hs_slab *s = &pr->md[k];
         if (s->n == 0)

@@ -29,11 +29,14 @@ struct hs_slab {
     double mass;        /* amu (MPM slabs) */
 };
 
+#define HS_SLAB_SUMS 9   /* an MD slab's sums over the ranks: n, stress[6], u, v */
+
 struct hs_profile {
     int axis;
     double x0, width;   /* Å: slab k spans [x0 + k width, x0 + (k+1) width) */
     long nbins;
     struct hs_slab *md, *mpm;   /* nbins each */
+    double *sums;       /* HS_SLAB_SUMS x nbins: the MD slabs' sums on bricks */
 };
 
 /* Slabs of `width` Å over the MPM domain along `axis`. */
@@ -41,7 +44,9 @@ int hs_profile_init(struct hs_profile *pr, const struct handshake *hs, int axis,
                     struct err *e);
 void hs_profile_free(struct hs_profile *pr);
 
-/* Fill the slabs from the current state. */
+/* Fill the slabs from the current state.  On MPI bricks (hs->md->halo)
+ * the MD slabs are sums over every rank's atoms: collective, and every
+ * rank gets the same profile. */
 void hs_profile_compute(struct hs_profile *pr, const struct handshake *hs);
 
 /* Reference position of slab k's centre (Å). */

@@ -22,12 +22,34 @@
  * both the continuing and the restarted run rebuild the MD lists at the
  * next force call, locate the points afresh and re-index region I and the
  * copies at the next step (checkpoint_sync).
+ *
+ * On MPI bricks (the bar case types under mpirun, docs/parallel.md) the
+ * atoms and copies are written as model_md writes its atoms: rank 0 lays
+ * out the datasets for every rank's particles (with the MPM, whole and the
+ * same on every rank), each rank writes its own rows (checkpoint_write_part);
+ * a read gives each rank its brick's particles (model_md_atoms_read), the
+ * sync sends strays to their bricks, so a checkpoint of N ranks restarts
+ * on M.
  */
 #include "engine/models.h"
 
 #include "couple/handshake.h"
 
 #define HS_GROUP "model/handshake"
+
+/* Forces, per-atom energies and virials at step 0 (as model_md's init):
+ * the case's set-up may have left the per-atom arrays of a probe behind
+ * (md_check_timestep displaces sample atoms and restores only the forces),
+ * and region I hands its virials to the MPM at the first step.  On bricks
+ * the probe's samples are rank 0's atoms, so without this the first MPM
+ * step would see different leftovers on every rank count. */
+static int hs_model_init(void *self, struct sim *s, struct err *e)
+{
+    struct handshake_model *m = self;
+    struct md *md = m->hs->md;
+    md->peratom = 1;
+    return md_compute_forces(md, e);
+}
 
 static int hs_model_pre_force(void *self, struct sim *s, struct err *e)
 {
@@ -78,9 +100,30 @@ static int hs_model_checkpoint_write(void *self, struct ckpt *ck, struct err *e)
     if (!rc) rc = ckpt_put_double(ck, "energy", md->last.energy);
     if (!rc) rc = ckpt_put_doubles(ck, "virial", md->last.virial, 6);
     if (!rc) rc = ckpt_put_box(ck, HS_GROUP "/box", &md->box);
-    if (!rc) rc = ckpt_put_particles(ck, HS_GROUP "/atoms", md->p);
+    /* bricks (rank 0 writes): the datasets for every rank's atoms, which
+     * each rank fills with its own (hs_model_checkpoint_write_part); the
+     * MPM is rank 0's, the same as every rank's */
+    if (!rc && md->halo)
+        rc = ckpt_put_particles_layout(ck, HS_GROUP "/atoms", md->p, m->ck_total);
+    else if (!rc)
+        rc = ckpt_put_particles(ck, HS_GROUP "/atoms", md->p);
     if (!rc) rc = handshake_checkpoint_write(m->hs, ck, HS_GROUP "/mpm");
     return rc;
+}
+
+static int hs_model_checkpoint_collect(void *self, struct err *e)
+{
+    struct handshake_model *m = self;
+    struct md *md = m->hs->md;
+    m->ck_offset = m->ck_total = 0;
+    return md->halo ? model_checkpoint_rows(md->halo, md->p, &m->ck_offset, &m->ck_total, e) : 0;
+}
+
+static int hs_model_checkpoint_write_part(void *self, struct ckpt *ck, struct err *e)
+{
+    struct handshake_model *m = self;
+    struct md *md = m->hs->md;
+    return md->halo ? ckpt_put_particles_part(ck, HS_GROUP "/atoms", md->p, m->ck_offset) : 0;
 }
 
 static int hs_model_checkpoint_read(void *self, struct ckpt *ck, struct err *e)
@@ -93,7 +136,8 @@ static int hs_model_checkpoint_read(void *self, struct ckpt *ck, struct err *e)
     if (!rc) rc = ckpt_get_double(ck, "energy", &md->last.energy);
     if (!rc) rc = ckpt_get_doubles(ck, "virial", md->last.virial, 6);
     if (!rc) rc = ckpt_get_box(ck, HS_GROUP "/box", &md->box);
-    if (!rc) rc = ckpt_get_particles(ck, HS_GROUP "/atoms", md->p);
+    /* bricks: each rank its brick's atoms and copies (model_md's reader) */
+    rc = model_md_atoms_read(md, ck, HS_GROUP "/atoms", rc, &m->read_all, e);
     if (!rc) rc = handshake_checkpoint_read(m->hs, ck, HS_GROUP "/mpm");
     return rc;
 }
@@ -101,12 +145,19 @@ static int hs_model_checkpoint_read(void *self, struct ckpt *ck, struct err *e)
 static void hs_model_checkpoint_sync(void *self)
 {
     struct handshake_model *m = self;
-    m->hs->md->rebuild_next = 1;
+    struct md *md = m->hs->md;
+    md->rebuild_next = 1;
+    if (md->halo) {   /* every atom to its brick; an error is reported by the next force call */
+        struct err e = {0};
+        md->sync_rc = md_decomposed_sync(md, m->read_all, &e);
+        m->read_all = 0;
+    }
     handshake_checkpoint_sync(m->hs);
 }
 
 const struct sim_model_ops sim_model_handshake = {
     .name = "handshake",
+    .init = hs_model_init,
     .pre_force = hs_model_pre_force,
     .force = hs_model_force,
     .integrate = hs_model_integrate,
@@ -114,4 +165,6 @@ const struct sim_model_ops sim_model_handshake = {
     .checkpoint_write = hs_model_checkpoint_write,
     .checkpoint_read = hs_model_checkpoint_read,
     .checkpoint_sync = hs_model_checkpoint_sync,
+    .checkpoint_collect = hs_model_checkpoint_collect,
+    .checkpoint_write_part = hs_model_checkpoint_write_part,
 };

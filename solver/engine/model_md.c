@@ -113,6 +113,33 @@ static int ids_unique_over_ranks(struct md *md, struct ckpt *ck, struct err *e)
     return rc;
 }
 
+int model_md_atoms_read(struct md *md, struct ckpt *ck, const char *group, int rc,
+                        int *read_all, struct err *e)
+{
+    *read_all = 0;
+    if (md->halo) {   /* bricks: each rank reads its brick's atoms */
+        if (!rc)
+            decomp_set_box(&md->halo->dc, &md->box);
+        if (ck->par) {   /* an even share of the stored rows, read collectively */
+            const struct parallel *par = md->halo->dc.par;
+            if (!rc)
+                rc = ckpt_get_particles_part(ck, group, md->p, par->rank, par->size);
+            /* counted over the ranks; the sync migrates them to their bricks */
+            rc = halo_adopt(md->halo, md->p, rc, e);
+        } else {
+            if (!rc)
+                rc = ckpt_get_particles_where(ck, group, md->p, in_brick, &md->halo->dc);
+            rc = halo_agree(md->halo, rc, e);
+        }
+        if (!rc)
+            rc = ids_unique_over_ranks(md, ck, e);
+        *read_all = !rc && !ck->par;   /* the sync counts them and migrates strays */
+        return rc;
+    }
+    if (!rc) rc = ckpt_get_particles(ck, group, md->p);
+    return rc;
+}
+
 static int md_model_checkpoint_read(void *self, struct ckpt *ck, struct err *e)
 {
     struct md_model *m = self;
@@ -123,28 +150,7 @@ static int md_model_checkpoint_read(void *self, struct ckpt *ck, struct err *e)
     if (!rc) rc = ckpt_get_double(ck, "energy", &md->last.energy);
     if (!rc) rc = ckpt_get_doubles(ck, "virial", md->last.virial, 6);
     if (!rc) rc = ckpt_get_box(ck, "model/md/box", &md->box);
-    if (md->halo) {   /* bricks: each rank reads its brick's atoms */
-        if (!rc)
-            decomp_set_box(&md->halo->dc, &md->box);
-        if (ck->par) {   /* an even share of the stored rows, read collectively */
-            const struct parallel *par = md->halo->dc.par;
-            if (!rc)
-                rc = ckpt_get_particles_part(ck, "model/md/atoms", md->p, par->rank, par->size);
-            /* counted over the ranks; the sync migrates them to their bricks */
-            rc = halo_adopt(md->halo, md->p, rc, e);
-        } else {
-            if (!rc)
-                rc = ckpt_get_particles_where(ck, "model/md/atoms", md->p, in_brick,
-                                              &md->halo->dc);
-            rc = halo_agree(md->halo, rc, e);
-        }
-        if (!rc)
-            rc = ids_unique_over_ranks(md, ck, e);
-        m->read_all = !rc && !ck->par;   /* the sync counts them and migrates strays */
-        return rc;
-    }
-    if (!rc) rc = ckpt_get_particles(ck, "model/md/atoms", md->p);
-    return rc;
+    return model_md_atoms_read(md, ck, "model/md/atoms", rc, &m->read_all, e);
 }
 
 /* Bricks: this rank's rows of the checkpoint's atoms follow those of

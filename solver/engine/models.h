@@ -35,6 +35,14 @@ extern const struct sim_model_ops sim_model_md;
 int model_checkpoint_rows(struct halo *h, const struct particles *p, long *offset, long *total,
                           struct err *e);
 
+/* A checkpoint's atoms (group, e.g. "model/md/atoms") into md after its
+ * box was read: serially all of them; on bricks each rank its brick's
+ * (or, from a collective file, an even share that the sync migrates:
+ * *read_all then tells md_decomposed_sync), ids checked unique over the
+ * ranks.  rc: the result of the reads before (collective on bricks). */
+int model_md_atoms_read(struct md *md, struct ckpt *ck, const char *group, int rc,
+                        int *read_all, struct err *e);
+
 /* An impact target's boundary treatment (scenarios/impact_boundary.h):
  * its pre_step before the md's drift, its step after the md's kick.  The
  * stateful variant (the handshake layers) cannot be checkpointed yet. */
@@ -51,6 +59,9 @@ extern const struct sim_model_ops sim_model_impact_boundary_stateful;
 struct handshake;
 struct handshake_model {
     struct handshake *hs;       /* borrowed from the case */
+    long ck_offset, ck_total;   /* bricks: this rank's first row and all rows of a
+                                 * checkpoint's atoms (checkpoint_collect) */
+    int read_all;               /* bricks: a checkpoint read put every atom on every rank */
 };
 extern const struct sim_model_ops sim_model_handshake;
 

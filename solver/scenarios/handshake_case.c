@@ -7,6 +7,10 @@
 #include <string.h>
 
 #include "core/units.h"
+#include "core/halo.h"
+#include "core/parallel.h"
+#include "md/md_bricks.h"
+#include "output/decomp_record.h"
 #include "mpm/mpm_hgrid.h"
 #include "md/md_settings.h"
 #include "md/md_timestep.h"
@@ -96,8 +100,24 @@ double hs_case_wave_speed(const struct hs_case *c, double cl)
     return sqrt(cl / c->hs.rho * UNITS_FTM2V);
 }
 
-int hs_case_build(struct hs_case *c, enum mpm_face_bc x_hi_face, int end_margin, int nthreads)
+/* Whether the bar runs on bricks (*halo, new) or not (NULL): under mpirun
+ * with bricks asked for or chosen (`parallel`, md_bricks_plan: refusals
+ * name the case file, line and key). */
+static int plan_bricks(const struct case_common *common, const struct handshake_layout *L,
+                       double range, struct cfg *cfg, struct halo **halo)
 {
+    *halo = NULL;
+    if (!common->par || !common->par->mpi)
+        return 0;
+    struct box box;
+    handshake_md_box(L, &box);
+    return md_bricks_plan(common->par, &common->parallel, &box, range, cfg, halo);
+}
+
+int hs_case_build(struct hs_case *c, enum mpm_face_bc x_hi_face, int end_margin,
+                  const struct case_common *common)
+{
+    const int nthreads = common->nthreads;
     struct cfg *cfg = c->cfg;
     struct err *e = cfg->err;
     double a;
@@ -166,9 +186,14 @@ int hs_case_build(struct hs_case *c, enum mpm_face_bc x_hi_face, int end_margin,
         "handshake.levels",  "handshake.layer", "bar.mpm",       "bar.md"};
     if (handshake_layout_check(&L, c->pot->cutoff, &key, why, sizeof why))
         return cfg_error_at(cfg, key_path[key], "%s", why);
+    struct halo *halo = NULL;
+    if ((rc = plan_bricks(common, &L, c->pot->cutoff + c->skin, cfg, &halo)))
+        return rc;
     struct potential *pot = c->pot;
     c->pot = NULL;   /* the md owns it from here, even on failure */
-    rc = handshake_setup(&c->hs, &c->md, &L, &cr, pot, c->dt, c->skin, nthreads, e);
+    rc = halo ? handshake_setup_bricks(&c->hs, &c->md, &L, &cr, pot, c->dt, c->skin, nthreads,
+                                       halo, common->parallel.balance == BALANCE_SHIFT, e)
+              : handshake_setup(&c->hs, &c->md, &L, &cr, pot, c->dt, c->skin, nthreads, e);
     c->built = 1;
     if (rc)
         return rc;
@@ -204,7 +229,9 @@ void hs_case_destroy(void *state)
 long hs_case_particles(const void *state)
 {
     const struct hs_case *c = state;
-    return c ? c->md.p->n_owned + c->hs.mpm.pts.n : 0;
+    /* on bricks md_natoms counts every rank's atoms and copies; the points
+     * are whole on every rank */
+    return c ? md_natoms(&c->md) + c->hs.mpm.pts.n : 0;
 }
 
 long hs_case_steps(const void *state)
@@ -262,7 +289,7 @@ int hs_case_run(struct hs_case *c, struct run *run, const struct sim_case_ops *o
 {
     c->md.timers = &run->timers;
     c->hs.mpm.timers = &run->timers;
-    c->model = (struct handshake_model){&c->hs};
+    c->model = (struct handshake_model){.hs = &c->hs};
     struct sim s;
     sim_init(&s, run, c->steps, c->md.dt);
     s.case_ops = ops;
@@ -333,7 +360,7 @@ static void print_profile_row(FILE *f, const double *r)
 }
 
 #define HS_BASE_COLS 7
-#define HS_MAX_COLS 24
+#define HS_MAX_COLS HS_THERMO_MAX_COLS
 static const char *const base_cols[HS_BASE_COLS] = {
     "step", "time_ps", "md_ke_eV", "md_pe_eV", "mpm_ke_eV", "mpm_strain_eV", "etotal_eV"};
 
@@ -353,6 +380,7 @@ int hs_case_output_begin(struct hs_case *c, struct run *run, const char *const *
         return err_set(e, ERR_INPUT, "checkpoint thermo rows have %d columns, the case writes %d",
                        c->ncols, n);
     c->ncols = n;
+    memcpy(c->thermo_names, cols, (size_t)n * sizeof *cols);
     for (long i = 0; i < c->nthermo; i++)
         run_thermo_row(run, c->thermo + i * n, n);
     if (run->opt.rank == 0) {
@@ -414,18 +442,18 @@ static int point_level(const struct handshake *hs, long q)
     return cell >= 0 ? g->hg->cell[cell].level : -1;
 }
 
-int hs_case_snapshot(struct hs_case *c, struct run *run, struct err *e)
+/* The MD particles of the snapshot (on bricks each rank its own, inside
+ * a collective snapshot). */
+static int snapshot_particles(struct hs_case *c, struct run *run, struct err *e)
 {
-    if (!run->h5_open)
-        return 0;
     struct handshake *hs = &c->hs;
     struct particles *p = c->md.p;
     long n = p->n_owned;
-    const struct mpm_points *pt = &hs->mpm.pts;
-    int rc = grow(c, n > pt->n ? n : pt->n, e);
+    struct h5out *h = &run->h5;
+    /* collective on bricks: an allocation that failed on one rank stops all */
+    int rc = c->md.halo ? h5out_par_agree(h, grow(c, n, e), e) : grow(c, n, e);
     if (rc)
         return rc;
-    struct h5out *h = &run->h5;
     hid_t g = h5out_begin_snapshot(h, "particles", hs->step, hs->time, n, e);
     if (g < 0)
         return ERR_RUNTIME;
@@ -446,10 +474,21 @@ int hs_case_snapshot(struct hs_case *c, struct run *run, struct err *e)
     if (!rc)
         rc = h5out_write_ints(h, g, "region", c->ibuf, n, "1", e);
     h5out_end_snapshot(h, g);
+    return rc;
+}
+
+/* The material points (whole on every rank: written by the rank that has
+ * the file, rank 0). */
+static int snapshot_points(struct hs_case *c, struct run *run, struct err *e)
+{
+    struct handshake *hs = &c->hs;
+    const struct mpm_points *pt = &hs->mpm.pts;
+    struct h5out *h = &run->h5;
+    long np = pt->n;
+    int rc = grow(c, np, e);
     if (rc)
         return rc;
-    long np = pt->n;
-    g = h5out_begin_snapshot(h, "points", hs->step, hs->time, np, e);
+    hid_t g = h5out_begin_snapshot(h, "points", hs->step, hs->time, np, e);
     if (g < 0)
         return ERR_RUNTIME;
     rc = h5out_write_doubles(h, g, "position", pt->x, np, 3, "Å", e);
@@ -480,6 +519,25 @@ int hs_case_snapshot(struct hs_case *c, struct run *run, struct err *e)
     return rc;
 }
 
+int hs_case_snapshot(struct hs_case *c, struct run *run, struct err *e)
+{
+    if (c->md.halo) {   /* bricks: the atoms collectively, then rank 0 the points */
+        if (!run->out.hdf5)
+            return 0;
+        int rc = run_h5_par_begin(run, c->md.p->n_owned, e);
+        if (!rc)
+            rc = snapshot_particles(c, run, e);
+        rc = run_h5_par_end(run, rc, e);
+        if (!rc && run->h5_open)
+            rc = snapshot_points(c, run, e);
+        return halo_agree(c->md.halo, rc, e);
+    }
+    if (!run->h5_open)
+        return 0;
+    int rc = snapshot_particles(c, run, e);
+    return rc ? rc : snapshot_points(c, run, e);
+}
+
 int hs_case_profile(struct hs_case *c, struct run *run, double (*analytic)(const void *, double),
                     const void *ctx, struct err *e)
 {
@@ -490,11 +548,11 @@ int hs_case_profile(struct hs_case *c, struct run *run, double (*analytic)(const
     for (long k = 0; k < pr->nbins; k++)
         nrow += (pr->md[k].n > 0) + (pr->mpm[k].n > 0);
     int rc = grow(c, nrow, e);
-    if (rc)
-        return rc;
-    double *x = malloc((size_t)(nrow ? nrow : 1) * 10 * sizeof *x);
-    if (!x)
-        return err_nomem(e, "profile");
+    double *x = rc ? NULL : malloc((size_t)(nrow ? nrow : 1) * 10 * sizeof *x);
+    if (!rc && !x)
+        rc = err_nomem(e, "profile");
+    if (rc)   /* bricks: every rank stops at this step */
+        return c->md.halo ? halo_agree(c->md.halo, rc, e) : rc;
     double *s6 = x + nrow, *u = s6 + 6 * nrow, *v = u + nrow, *an = v + nrow;
     long r = 0;
     for (long k = 0; k < pr->nbins; k++)
@@ -544,7 +602,8 @@ int hs_case_profile(struct hs_case *c, struct run *run, double (*analytic)(const
         c->profile_csv = NULL;
         rc = ERR_RUNTIME;
     }
-    return rc;
+    /* bricks: rank 0 wrote; the others stop with it at the same step */
+    return c->md.halo ? halo_agree(c->md.halo, rc, e) : rc;
 }
 
 int hs_case_output_end(struct hs_case *c, struct run *run, struct err *e)
@@ -559,6 +618,10 @@ int hs_case_output_end(struct hs_case *c, struct run *run, struct err *e)
     result_metric(res, "points", (double)hs->mpm.pts.n, "1");
     result_metric(res, "points_region_II", (double)hs->counts[HS_II], "1");
     result_metric(res, "points_region_III", (double)hs->counts[HS_III], "1");
+    /* the MD copies of the lattice-site points of regions II and III (every
+     * such point with a cell of one lattice constant, every site point with
+     * half-constant cells) */
+    result_metric(res, "copies_region_II_III", (double)hs->ncopies, "1");
     result_metric(res, "nodes", (double)hs->mpm.grid.nnodes, "1");
     /* lattice sites the MPM domain holds outside the MD region: the atoms a
      * full MD model would need there */
@@ -628,6 +691,20 @@ int hs_case_output_end(struct hs_case *c, struct run *run, struct err *e)
     result_series(res, "profile_sxx", buf + 2 * nrow, (int)nrow, "GPa");
     result_series(res, "profile_szz", buf + 3 * nrow, (int)nrow, "GPa");
     free(buf);
+    if (c->md.halo)   /* the grid, every rank's particles, their peak memory */
+        decomp_record_write(run, c->md.halo, c->md.p);
+    /* the thermo rows as series under /series of fields.h5, as an MD run's:
+     * the unit is the column name's suffix (step: 1) */
+    const char *units[HS_MAX_COLS];
+    for (int k = 0; k < c->ncols; k++) {
+        const char *u = strrchr(c->thermo_names[k], '_');
+        units[k] = u ? u + 1 : "1";
+    }
+    int rc = run_write_series_table(run, c->thermo, c->nthermo, c->ncols, c->thermo_names, units,
+                                    e);
     c->profile_csv = NULL;
-    return wfile_commit(&c->profile_w, e);
+    int rc2 = wfile_commit(&c->profile_w, e);
+    rc = rc ? rc : rc2;
+    /* bricks: rank 0 wrote; every rank returns its verdict */
+    return c->md.halo ? halo_agree(c->md.halo, rc, e) : rc;
 }

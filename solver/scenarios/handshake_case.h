@@ -49,6 +49,7 @@
 #include "util/wfile.h"
 
 #define HS_PROFILE_COLS 14   /* a profile.csv row */
+#define HS_THERMO_MAX_COLS 24   /* thermo columns: the common ones and the case's */
 
 struct hs_case {
     /* read */
@@ -94,6 +95,7 @@ struct hs_case {
     double *thermo;
     long nthermo, thermo_cap;
     int ncols;
+    const char *thermo_names[HS_THERMO_MAX_COLS];   /* the columns (static strings) */
     double *profile;
     long nprofile, profile_cap;
 };
@@ -105,8 +107,12 @@ int hs_case_read(struct cfg_obj *root, struct hs_case *c);
  * with the MD region after mpm_left; x faces sliding (x_lo) and
  * `x_hi_face`; with end_margin the grid goes one coarsest cell beyond the
  * x_hi end, so that a loaded free end can move out without its points
- * leaving the grid.  Layout refusals name the case key. */
-int hs_case_build(struct hs_case *c, enum mpm_face_bc x_hi_face, int end_margin, int nthreads);
+ * leaving the grid.  Layout refusals name the case key.  Under mpirun the
+ * MD runs on bricks when the case's `parallel` section asks for them or
+ * `auto` chooses them (handshake_setup_bricks: the MPM whole on every
+ * rank; docs/parallel.md), else every rank builds the whole bar. */
+int hs_case_build(struct hs_case *c, enum mpm_face_bc x_hi_face, int end_margin,
+                  const struct case_common *common);
 
 void hs_case_free(struct hs_case *c);
 

@@ -33,6 +33,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/halo.h"
 #include "core/units.h"
 #include "scenarios/handshake_case.h"
 
@@ -119,23 +120,30 @@ static int packet_read(struct cfg_obj *root, const struct case_common *common, v
                           "beyond region I (%g): it would start inside the handshake",
                           w->center, un, 6 * w->sigma, c->regions[0]);
     if (!rc && !root->cfg->shallow)
-        rc = hs_case_build(c, MPM_FACE_FREE, 0, common->nthreads);
+        rc = hs_case_build(c, MPM_FACE_FREE, 0, common);
     if (rc || root->cfg->shallow) {
         hs_case_free(c);
         free(w);
         return rc;
     }
-    /* the held end */
+    /* the held end (on bricks each rank marks its own atoms; the counts'
+     * changes are sums over the ranks) */
     struct particles *p = c->md.p;
     double xf = hs_case_length(c) - w->fixed * c->unit[0];
     const double *x0 = p->fields[c->hs.f_x0].data;
+    double held[3] = {0, 0, 0};   /* from region I, from the core, held */
     for (int i = 0; i < p->n_owned; i++)
         if (!(p->mask[i] & (HS_MASK_II | HS_MASK_III)) && x0[3 * i] >= xf) {
             p->mask[i] |= HS_MASK_FIXED;
             p->fields[c->hs.f_region].data[i] = HS_FIXED;
-            c->hs.counts[p->mask[i] & HS_MASK_I ? HS_I : HS_CORE]--;
-            c->hs.counts[HS_FIXED]++;
+            held[p->mask[i] & HS_MASK_I ? 0 : 1] += 1;
+            held[2] += 1;
         }
+    if (c->md.halo)
+        halo_sum(c->md.halo, held, 3);
+    c->hs.counts[HS_I] -= (long)held[0];
+    c->hs.counts[HS_CORE] -= (long)held[1];
+    c->hs.counts[HS_FIXED] += (long)held[2];
     c->md.frozen_mask |= HS_MASK_FIXED;
     /* the packet: a Gaussian displacement at rest */
     w->x0 = hs_case_x_left(c) + w->center * c->unit[0];
@@ -166,7 +174,8 @@ static int packet_read(struct cfg_obj *root, const struct case_common *common, v
     return 0;
 }
 
-/* Excess energy of the MD atoms left and right of X0 (eV). */
+/* Excess energy of the MD atoms left and right of X0 (eV); on bricks over
+ * every rank's atoms (collective). */
 static void md_halves(const struct packet_case *w, double *left, double *right)
 {
     const struct hs_case *c = &w->c;
@@ -184,6 +193,12 @@ static void md_halves(const struct packet_case *w, double *left, double *right)
             *left += e;
         else
             *right += e;
+    }
+    if (c->md.halo) {   /* bricks: every rank's atoms (collective) */
+        double s[2] = {*left, *right};
+        halo_sum(c->md.halo, s, 2);
+        *left = s[0];
+        *right = s[1];
     }
 }
 
@@ -308,4 +323,5 @@ const struct case_type handshake_packet_case_type = {
     "MPM/MD handshake: Gaussian wave packets from the MD into the MPM (Guo & Yang 2005, Fig. 9)",
     packet_read, packet_run, hs_case_destroy, hs_case_particles, hs_case_steps,
     .checkpoints = 1,
+    .decomposes = 1,
 };

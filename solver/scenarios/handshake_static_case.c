@@ -73,7 +73,7 @@ static int static_read(struct cfg_obj *root, const struct case_common *common, v
     if (!rc)
         rc = cfg_real(root, "exclude", 8, CFG_GE(0), &w->exclude);
     if (!rc && !root->cfg->shallow)
-        rc = hs_case_build(c, MPM_FACE_FREE, 1, common->nthreads);
+        rc = hs_case_build(c, MPM_FACE_FREE, 1, common);
     if (rc || root->cfg->shallow) {
         hs_case_free(c);
         free(w);
@@ -217,4 +217,5 @@ const struct case_type handshake_static_case_type = {
     "MPM/MD handshake: quasi-static end-loaded bar with damping (Guo & Yang 2005, Fig. 8)",
     static_read, static_run, hs_case_destroy, hs_case_particles, hs_case_steps,
     .checkpoints = 1,
+    .decomposes = 1,
 };

@@ -144,7 +144,7 @@ static int thermal_read(struct cfg_obj *root, const struct case_common *common, 
         c->steps += w->neq;   /* md.steps is the measured window */
     }
     if (!rc && !root->cfg->shallow)
-        rc = hs_case_build(c, MPM_FACE_SLIDING, 0, common->nthreads);
+        rc = hs_case_build(c, MPM_FACE_SLIDING, 0, common);
     if (rc || root->cfg->shallow) {
         hs_case_free(c);
         free(w);
@@ -389,4 +389,5 @@ const struct case_type handshake_thermal_case_type = {
     "bath (the future work of Guo & Yang 2005)",
     thermal_read, thermal_run, thermal_destroy, hs_case_particles, hs_case_steps,
     .checkpoints = 0,   /* the block sums are not stored: docs/handshake.md, Limits */
+    .decomposes = 1,    /* the MD on bricks, the MPM whole (docs/parallel.md) */
 };

@@ -118,7 +118,7 @@ static int wave_read(struct cfg_obj *root, const struct case_common *common, voi
         !(rc = cfg_int(&o, "every", 10, CFG_GE(1), &w->probe_every)))
         rc = cfg_close(&o);
     if (!rc && !root->cfg->shallow)
-        rc = hs_case_build(c, MPM_FACE_FREE, 1, common->nthreads);
+        rc = hs_case_build(c, MPM_FACE_FREE, 1, common);
     if (rc || root->cfg->shallow) {
         hs_case_free(c);
         free(w);
@@ -502,4 +502,5 @@ const struct case_type handshake_wave_case_type = {
     "MPM/MD handshake: step stress wave from the MPM into the MD (Guo & Yang 2005, Figs. 4-7)",
     wave_read, wave_run, wave_destroy, hs_case_particles, hs_case_steps,
     .checkpoints = 1,
+    .decomposes = 1,
 };
