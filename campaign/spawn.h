@@ -92,7 +92,7 @@ int spawn_start(struct spawn_request *r, struct spawn_stack *s, pid_t *pid, stru
  * exits).  Set-up and failure reporting are those of spawn_start; the
  * failure (errno and step) is read once the child has been reaped.
  * Where no raw system calls are written for the architecture (only x86-64
- * and AArch64 have them), spawn_async_start falls back to spawn_start.
+ * has them), spawn_async_start falls back to spawn_start.
  */
 struct spawn_async {
     struct spawn_stack stack;   /* mapped on first use, reused */

@@ -29,6 +29,8 @@
  * rt_sigprocmask want (not glibc's 128-byte sigset_t). */
 #define KSIGSET_BYTES 8
 
+/* Raw system calls are written for x86-64 only (where this was written and
+ * tested); elsewhere spawn_async_start falls back to the waiting spawn_start. */
 #if defined(__x86_64__)
 #define SPAWN_RAW 1
 /* A system call without libc: no errno, no interceptor, -errno on failure. */
@@ -43,28 +45,14 @@ raw_call(long n, long a, long b, long c, long d)
                      : "rcx", "r11", "memory");
     return ret;
 }
-#elif defined(__aarch64__)
-#define SPAWN_RAW 1
-__attribute__((always_inline, no_sanitize_address)) static inline long
-raw_call(long n, long a, long b, long c, long d)
-{
-    register long x8 __asm__("x8") = n;
-    register long x0 __asm__("x0") = a;
-    register long x1 __asm__("x1") = b;
-    register long x2 __asm__("x2") = c;
-    register long x3 __asm__("x3") = d;
-    __asm__ volatile("svc 0" : "+r"(x0) : "r"(x8), "r"(x1), "r"(x2), "r"(x3) : "memory", "cc");
-    return x0;
-}
 #else
 #define SPAWN_RAW 0
 #endif
 
 #if SPAWN_RAW
-/* The kernel's struct sigaction is at most 4 words on these architectures
- * (handler first); all zero is SIG_DFL with no flags and an empty mask.
- * Read-only data, so the child reads it without touching the caller's
- * state. */
+/* The kernel's struct sigaction is 4 words on x86-64 (handler first); all
+ * zero is SIG_DFL with no flags and an empty mask.  Read-only data, so the
+ * child reads it without touching the caller's state. */
 static const unsigned long kdefault[8];
 static const unsigned long kempty_mask;
 
