@@ -10,9 +10,9 @@
  * descriptor beyond 0-2 and no CASCADE_FAULT_* variable; the solver's
  * `info` and `resolve --batch`, started before the jobs, hold no
  * descriptor beyond 0-2 either (the stand-in fails when they do).  A program that
- * cannot be started, or a directory that cannot be entered, leaves its
- * reason in the job's stderr file and ends with 127 (an infrastructure
- * failure, not the job's).  The runner does not wait for a job's exec
+ * cannot be started, a directory that cannot be entered, or a stdout that
+ * cannot be created (the child creates it), leaves its reason in the job's
+ * stderr file and ends with 127 (an infrastructure failure, not the job's).  The runner does not wait for a job's exec
  * (spawn_async_start): a job reads its own copy of the command line, which
  * the runner frees and overwrites at once, and a job cancelled the moment
  * it was started is already in its own process group, which the SIGTERM
@@ -215,6 +215,32 @@ Test(campaign_spawn, a_directory_that_cannot_be_entered_says_why, .timeout = 60)
     char want[256];
     snprintf(want, sizeof want, "cannot start the job: %s: No such file or directory", gone);
     cr_assert(strstr(o.message, want), "%s", o.message);
+    ct_rmrf(dir);
+}
+
+/* The child creates the job's stdout and stderr itself: one that cannot be
+ * created (a directory of that name in the way) is a start that failed,
+ * with the path and the reason in the message and in stderr. */
+Test(campaign_spawn, a_stdout_that_cannot_be_created_says_why, .timeout = 60)
+{
+    char dir[64], in_way[128], errf[128];
+    ct_mkdir(dir, sizeof dir);
+    snprintf(in_way, sizeof in_way, "%s/attempt-1/stdout", dir);
+    snprintf(errf, sizeof errf, "%s/attempt-1", dir);
+    cr_assert_eq(mkdir(errf, 0777), 0);
+    cr_assert_eq(mkdir(in_way, 0777), 0);
+    struct seen o = start_and_wait(dir, dir, ct_standin());
+    cr_assert_eq(o.exit_code, 127);
+    cr_assert_eq(o.status, RS_CANCELLED);
+    cr_assert_eq(o.failure, FC_INFRA);
+    char want[256];
+    snprintf(want, sizeof want, "could not start the solver: cascade: cannot start the job: %s: "
+                                "Is a directory", in_way);
+    cr_assert(strstr(o.message, want), "%s", o.message);
+    char tail[1024];
+    snprintf(errf, sizeof errf, "%s/attempt-1/stderr", dir);
+    outcome_file_tail(errf, 1, tail, sizeof tail);
+    cr_assert(strstr(tail, "Is a directory"), "stderr says: %s", tail);
     ct_rmrf(dir);
 }
 
