@@ -7,14 +7,17 @@
 # per job (perf stat --no-inherit task-clock on the 400, when perf is
 # there), its own report (runner time per job; slot idle between jobs,
 # builds that report it); then 300 bare runs of the no-op job.  Prints every
-# round and the medians.  Both builds run B's stand-in.
-#   usage: sh bench/ab_campaign.sh BINDIR_A BINDIR_B [ROUNDS]
+# round and the medians.  Both builds run B's stand-in.  JOBS=N (default 1)
+# runs the studies with --jobs N instead: with several slots the runner's
+# work and a start that makes a job wait show in the slope too.
+#   usage: [JOBS=N] sh bench/ab_campaign.sh BINDIR_A BINDIR_B [ROUNDS]
 # e.g. main built in /tmp/before against this tree (release builds):
 #   sh bench/ab_campaign.sh /tmp/before/build/release/bin build/release/bin 5
 set -eu
 A=${1:?usage: ab_campaign.sh BINDIR_A BINDIR_B [ROUNDS]}
 B=${2:?usage: ab_campaign.sh BINDIR_A BINDIR_B [ROUNDS]}
 ROUNDS=${3:-5}
+JOBS=${JOBS:-1}
 A=$(cd "$A" && pwd)
 B=$(cd "$B" && pwd)
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
@@ -34,7 +37,7 @@ one() { # one BINDIR N -> "wall_us cpu_ms report_ms idle_ms" (NA when not report
     rm -rf runs cascade.db*
     : > perf
     t0=$(now_ns)
-    $PERF "$1/cascade" run "noop$2.yaml" --solver "$FAKE" --jobs 1 > out 2>&1 || true
+    $PERF "$1/cascade" run "noop$2.yaml" --solver "$FAKE" --jobs "$JOBS" > out 2>&1 || true
     t1=$(now_ns)
     cpu=$(sed -n 's/^\([0-9.]*\),[^,]*,task-clock.*/\1/p' perf)
     rep=$(sed -n 's/.*runner time per job: \([0-9.]*\) ms.*/\1/p' out)
@@ -66,8 +69,8 @@ while [ $r -lt "$ROUNDS" ]; do
         cpu=NA
         [ "$2" = NA ] || cpu=$(echo "$2 / 400" | bc -l | xargs printf '%.3f')
         printf '%s %s %s %s\n' "$slope" "$cpu" "$3" "$4" >> "$v.rounds"
-        printf 'round %d %s: one more job %.3f ms; runner CPU %s ms/job; report %s ms; slot idle %s ms; %s\n' \
-            $r $v "$slope" "$cpu" "$3" "$4" "$(bench_load)"
+        printf 'round %d %s (--jobs %s): one more job %.3f ms; runner CPU %s ms/job; report %s ms; slot idle %s ms; %s\n' \
+            $r $v "$JOBS" "$slope" "$cpu" "$3" "$4" "$(bench_load)"
     done
     bare >> bare.rounds
     printf 'round %d: the no-op run alone %.3f ms\n' $r "$(tail -n1 bare.rounds)"

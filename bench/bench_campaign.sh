@@ -6,9 +6,11 @@
 #                               recording the result (as the runner reports it)
 #   campaign_slot_idle_ms       of it, what a job waits for: the slot's idle
 #                               time from a job's exit (reaped) to the next
-#                               one's start, as the runner reports it (the
-#                               claim and the directory of the next job are
-#                               done ahead, while the job runs)
+#                               one's start (the clone; the child's own set-up
+#                               and exec follow beside the runner), as the
+#                               runner reports it (the claim and the directory
+#                               of the next job are done ahead, while the job
+#                               runs)
 #   campaign_metric_rows_per_s  metric rows recorded per second (20 jobs of
 #                               5,000 metrics each)
 #   campaign_status_1m_ms       `cascade status` (the slower of its two forms:

@@ -7,6 +7,8 @@
 #ifndef CASCADE_CAMPAIGN_BACKEND_H
 #define CASCADE_CAMPAIGN_BACKEND_H
 
+#include <sys/types.h>
+
 #include "launch.h"
 #include "outcome.h"
 
@@ -61,5 +63,7 @@ int exec_local_start(struct exec_local *x, int slot, const struct launch_spec *L
 int exec_local_wait(struct exec_local *x, double max_wait, backend_done_fn done, void *ctx);
 void exec_local_cancel(struct exec_local *x, int slot);
 int exec_local_busy(const struct exec_local *x);
+/* The process (group leader) of the job in a slot; 0 when the slot is free. */
+pid_t exec_local_pid(const struct exec_local *x, int slot);
 
 #endif

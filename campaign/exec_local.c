@@ -6,7 +6,9 @@
  * runner), dies with the runner (PR_SET_PDEATHSIG), runs in the study's
  * directory with stdout and stderr in files of its run directory, and gets
  * the environment without the runner's MPI variables (childenv.h).  It is
- * started without fork's copy of the runner's page tables (spawn.h).
+ * started without fork's copy of the runner's page tables and without the
+ * runner waiting for its exec (spawn.h, spawn_async_start); a start that
+ * failed in the child is written into the job's stderr when it is reaped.
  */
 #include "backend.h"
 
@@ -38,7 +40,7 @@ struct exec_slot {
     double started;        /* Unix start */
     double deadline;       /* monotonic, 0: none */
     double kill_at;        /* monotonic time to send SIGKILL, 0: not yet */
-    int timed_out, cancelled, exec_failed;
+    int timed_out, cancelled;
     double timeout;
     char run_dir[4096];
 };
@@ -47,7 +49,8 @@ struct exec_local {
     int nslots;
     struct exec_slot *slots;
     char **env;
-    struct spawn_stack stack;
+    struct spawn_async *spawns;   /* per slot: the child's stack and request */
+    pid_t pid;                    /* this process: a child checks it is still its parent */
     char host[256];
 };
 
@@ -83,10 +86,11 @@ struct exec_local *exec_local_create(int nslots)
      * runner's heap stays at its high-water mark instead (a few MiB). */
     mallopt(M_TRIM_THRESHOLD, 64 << 20);
     x->slots = mem_calloc((size_t)x->nslots, sizeof *x->slots);
+    x->spawns = mem_calloc((size_t)x->nslots, sizeof *x->spawns);
     x->env = childenv_create();
+    x->pid = getpid();
     sys_hostname(x->host, sizeof x->host);
-    struct err e = {0};
-    if (!x->slots || !x->env || spawn_stack_init(&x->stack, &e) != 0) {
+    if (!x->slots || !x->spawns || !x->env) {
         exec_local_destroy(&x);
         return NULL;
     }
@@ -103,7 +107,9 @@ void exec_local_destroy(struct exec_local **px)
             kill(-x->slots[i].pid, SIGKILL);
             waitpid(x->slots[i].pid, NULL, 0);
         }
-    spawn_stack_fini(&x->stack);
+    for (int i = 0; x->spawns && i < x->nslots; i++)
+        spawn_async_fini(&x->spawns[i]);
+    free(x->spawns);
     free(x->slots);
     free(x->env);
     free(x);
@@ -116,6 +122,11 @@ int exec_local_busy(const struct exec_local *x)
     for (int i = 0; i < x->nslots; i++)
         n += x->slots[i].busy;
     return n;
+}
+
+pid_t exec_local_pid(const struct exec_local *x, int slot)
+{
+    return x->slots[slot].busy ? x->slots[slot].pid : 0;
 }
 
 /* argv[0] as a path: as given when it holds '/', else searched on PATH. */
@@ -146,37 +157,23 @@ int exec_local_start(struct exec_local *x, int slot, const struct launch_spec *L
     find_program(L->argv[0], prog, sizeof prog);
     snprintf(out_path, sizeof out_path, "%s/stdout", L->run_dir);
     snprintf(err_path, sizeof err_path, "%s/stderr", L->run_dir);
-    /* opened here, not in the child: a child that cannot open them has no
-     * stderr to say why, and the runner must know the path that failed */
+    /* opened by the child (spawn.h), as a shell's redirection is, beside
+     * the runner rather than by it (two new inodes, docs/bench.md).  A
+     * child that cannot open one exits 127 and its reason, with the path,
+     * reaches the job's stderr and the outcome's message when it is reaped
+     * (start_failure).  An injected write fault still fails here, at the
+     * same count as when the runner opened them. */
     const char *paths[3] = {"/dev/null", out_path, err_path};
-    int fds[3] = {-1, -1, -1};
-    for (int k = 0; k < 3 && !rc; k++) {
-        fds[k] = k && fault_write(ENOSPC) != 0
-                     ? -1
-                     : open(paths[k], k ? O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC
-                                        : O_RDONLY | O_CLOEXEC,
-                            0666);
-        if (fds[k] < 0)
+    for (int k = 1; k < 3 && !rc; k++)
+        if (fault_write(ENOSPC) != 0)
             rc = err_set(e, ERR_RUNTIME, "cannot create %s: %s", paths[k], strerror(errno));
-    }
-    struct spawn_request req = {prog, L->argv, x->env, L->cwd, {fds[0], fds[1], fds[2]},
-                                getpid(), 0, NULL};
+    struct spawn_request req = {prog, L->argv, x->env, L->cwd, {-1, -1, -1},
+                                {paths[0], paths[1], paths[2]}, x->pid, 0, NULL};
     pid_t pid = 0;
     if (!rc)
-        rc = spawn_start(&req, &x->stack, &pid, e);
-    if (rc) {
-        for (int k = 0; k < 3; k++)
-            if (fds[k] >= 0)
-                close(fds[k]);
+        rc = spawn_async_start(&x->spawns[slot], &req, &pid, e);
+    if (rc)
         return rc;
-    }
-    /* the child exited 127 without starting the program: say why where a
-     * job says it, its stderr file (outcome.c quotes the last line) */
-    if (req.failed_errno)
-        dprintf(fds[2], "cascade: cannot start the job: %s: %s\n", req.failed_step,
-                strerror(req.failed_errno));
-    for (int k = 0; k < 3; k++)
-        close(fds[k]);
     setpgid(pid, pid);   /* also here, so a kill(-pid) right away reaches it */
     memset(s, 0, sizeof *s);
     s->busy = 1;
@@ -199,6 +196,27 @@ void exec_local_cancel(struct exec_local *x, int slot)
     s->kill_at = sys_mono() + KILL_GRACE_S;
 }
 
+/* The child exited 127 without starting the program: say why (into why,
+ * "" when it did start) and where a job says it, its stderr file (created
+ * if the child could not).  Read once the child is reaped: it wrote the
+ * reason into its request before exiting. */
+static void start_failure(const struct spawn_async *a, const char *run_dir, char *why,
+                          size_t len)
+{
+    why[0] = '\0';
+    if (!a->req.failed_errno)
+        return;
+    snprintf(why, len, "cascade: cannot start the job: %s: %s", a->req.failed_step,
+             strerror(a->req.failed_errno));
+    char path[4096 + 16];
+    snprintf(path, sizeof path, "%s/stderr", run_dir);
+    int fd = open(path, O_WRONLY | O_APPEND | O_CREAT | O_CLOEXEC, 0666);
+    if (fd < 0)
+        return;
+    dprintf(fd, "%s\n", why);
+    close(fd);
+}
+
 static int reap(struct exec_local *x, backend_done_fn done, void *ctx)
 {
     int n = 0;
@@ -214,11 +232,17 @@ static int reap(struct exec_local *x, backend_done_fn done, void *ctx)
         /* the group may outlive its leader: end it before the pid can be reused */
         kill(-s->pid, SIGKILL);
         s->busy = 0;
+        char why[OUTCOME_MSG_MAX];
+        start_failure(&x->spawns[i], s->run_dir, why, sizeof why);
         struct outcome o;
         memset(&o, 0, sizeof o);
         struct exit_info xi = {r < 0 ? (127 << 8) : status, s->timed_out, s->cancelled, s->timeout,
                                r < 0};
         outcome_collect(&o, s->run_dir, &xi);
+        /* the set-up's own reason, also when it was the stderr file that
+         * could not be created (outcome.c quotes stderr's last line) */
+        if (why[0] && o.failure == FC_INFRA && o.exit_code == 127)
+            snprintf(o.message, sizeof o.message, "could not start the solver: %s", why);
         o.started = s->started;
         o.finished = sys_now();
         o.wall_s = sys_mono() - s->t0;

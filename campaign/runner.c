@@ -481,8 +481,12 @@ static void on_done(void *ctx, int slot, struct outcome *o)
      * stays empty only for the reap, reading result.json and the start
      * (not after an infrastructure failure, which pauses starting) */
     int early_failed = 0;
-    if (r->ahead.has && o->failure != FC_INFRA && r->infra_streak == 0 && !paused(r, t0))
+    double t_start = 0;   /* that start, counted under "claim and start" */
+    if (r->ahead.has && o->failure != FC_INFRA && r->infra_streak == 0 && !paused(r, t0)) {
         early_failed = !launch_claimed(r, &r->ahead, slot);
+        if (!early_failed)
+            t_start = sys_mono() - t0;
+    }
     /* a job that succeeded is committed with the next claim (or the flush
      * before the runner waits): one transaction per job instead of two */
     int defer = o->status == RS_DONE && o->failure == FC_NONE;
@@ -493,7 +497,7 @@ static void on_done(void *ctx, int slot, struct outcome *o)
     pending_check(r);   /* an earlier deferred outcome, committed first */
     if (r->store.note[0])
         progress_view_note(&r->view, "%s: %s", r->p->jobs[j].key, r->store.note);
-    r->sum->record_s += sys_mono() - t0 + o->collect_s;
+    r->sum->record_s += sys_mono() - t0 - t_start + o->collect_s;
     if (!lost && !unrecorded)
         r->sum->metric_rows += r->store.last_metric_rows;
     r->view.running = r->running;

@@ -98,9 +98,19 @@ __attribute__((no_sanitize_address)) static int child_main(void *arg)
      * The caller opened fds[] in order, so fds[k] >= k and no dup2
      * overwrites a source still to be copied. */
     step = "dup2";
-    for (int k = 0; k < 3; k++)
+    for (int k = 0; k < 3; k++) {
+        if (r->paths[k]) {
+            /* 0..k-1 are in place, so the new descriptor is >= k */
+            step = r->paths[k];
+            int fd = open(r->paths[k], k ? O_WRONLY | O_CREAT | O_TRUNC : O_RDONLY, 0666);
+            if (fd < 0 || (fd != k && (dup2(fd, k) < 0 || close(fd) != 0)))
+                goto fail;
+            step = "dup2";
+            continue;
+        }
         if (r->fds[k] == k ? fcntl(k, F_SETFD, 0) != 0 : dup2(r->fds[k], k) < 0)
             goto fail;
+    }
     step = "close_range";
     if (close_range(3, ~0U, CLOSE_RANGE_CLOEXEC) != 0)
         goto fail;
