@@ -37,6 +37,27 @@ double displacement_slab_mean(const struct particles *p, const struct box *b, in
     return n ? sum / n : NAN;
 }
 
+void displacement_profile_sums(const struct particles *p, const struct box *b, int field,
+                               int axis, double origin, double w, int nbins, uint32_t exclude,
+                               double *sum, double *cnt)
+{
+    const double *x0 = p->fields[field].data;
+    for (int k = 0; k < nbins; k++)
+        sum[k] = cnt[k] = 0;
+    for (int i = 0; i < p->n_owned; i++) {
+        if (p->mask[i] & exclude)
+            continue;
+        double r = x0[3 * i + axis];
+        int k = (int)floor((r - origin) / w);
+        if (k < 0 || k >= nbins)
+            continue;
+        double xu[3];
+        box_unwrap(b, p, i, xu);
+        sum[k] += xu[axis] - r;
+        cnt[k] += 1;
+    }
+}
+
 void displacement_profile(const struct particles *p, const struct box *b, int field, int axis,
                           double origin, double w, int nbins, uint32_t exclude, double *out)
 {

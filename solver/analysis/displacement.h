@@ -34,4 +34,11 @@ double displacement_slab_mean(const struct particles *p, const struct box *b, in
 void displacement_profile(const struct particles *p, const struct box *b, int field, int axis,
                           double origin, double w, int nbins, uint32_t exclude, double *out);
 
+/* The sums behind displacement_profile: sum[k] of the displacements and
+ * cnt[k] of the particles of bin k (for sums over the ranks of a brick
+ * decomposition before the division). */
+void displacement_profile_sums(const struct particles *p, const struct box *b, int field,
+                               int axis, double origin, double w, int nbins, uint32_t exclude,
+                               double *sum, double *cnt);
+
 #endif

@@ -257,7 +257,8 @@ int dpd_add_body(struct dpd *d, uint32_t mask, enum dpd_body_kind kind, const do
     return 0;
 }
 
-/* Sum of the conservative forces on each body (owned particles). */
+/* Sum of the conservative forces on each body (owned particles; on
+ * bricks summed over the ranks, so a free body moves alike on every rank). */
 static void body_forces(struct dpd *d, double F[DPD_MAX_BODIES][3])
 {
     memset(F, 0, sizeof(double) * 3 * DPD_MAX_BODIES);
@@ -270,6 +271,8 @@ static void body_forces(struct dpd *d, double F[DPD_MAX_BODIES][3])
             for (int c = 0; c < 3; c++)
                 F[b][c] += p->f[3 * i + c];
     }
+    if (p->halo)
+        halo_sum(p->halo, &F[0][0], 3 * DPD_MAX_BODIES);
 }
 
 /* Velocity-Verlet half kick of free particles and free bodies. */

@@ -9,10 +9,14 @@
  * changes.  Here the order is fixed by the particles' positions and ids
  * alone:
  *
- *   cells   the box is cut into n_x x n_y x n_z cells at least r_d wide
- *           (n = floor(L / r_d), along a periodic axis rounded down to a
- *           multiple of 3, at least 3); a particle's cell is computed by
- *           its owner and copied to its ghosts, so every copy agrees;
+ *   cells   along a periodic axis the box is cut into n cells at least
+ *           r_d wide (n = floor(L / r_d) rounded down to a multiple of 3,
+ *           at least 3); along a free or fixed axis the cells are r_d wide
+ *           from the coordinate origin, whatever the box (a free axis'
+ *           box follows the particles: fixed cells keep the order of a
+ *           run and of its reference run without the flyer the same);
+ *           a particle's cell is computed by its owner and copied to its
+ *           ghosts, so every copy agrees;
  *   pairs   a pair (r < r_d) belongs to the cell of its lower-id particle
  *           (the anchor); its partner then lies in the anchor cell or one
  *           of the 26 around it;
@@ -35,7 +39,12 @@
  * of LAMMPS' DPD-REACT (Larentzos et al., Comput. Phys. Commun. 185, 1987
  * (2014)), whose eight sub-domain regions per rank make its order depend
  * on the decomposition; a global 27-colour grid makes it not.
- * Rigid bodies (whose shared velocity couples distant pairs) are refused.
+ * Rigid bodies: a prescribed body (grip, piston) keeps its velocity, so
+ * its pairs commute within a colour like any other (its particles have
+ * infinite mass in the pair; the impulses on it are summed over the
+ * ranks).  A free body's one velocity couples its pairs in every cell:
+ * they are swept apart, before the colours, in one global order on every
+ * rank (dpd_sweep_bodies.h).
  */
 #include <math.h>
 #include <stdlib.h>
@@ -45,6 +54,7 @@
 #include "core/halo.h"
 #include "dpd/dpd_ou.h"
 #include "dpd/dpd_pair.h"
+#include "dpd/dpd_sweep_bodies.h"
 
 #define NCOLOURS 27
 
@@ -54,22 +64,32 @@ struct cell_grid {
     int periodic[3];
 };
 
+/* Cell coordinates along a free axis are offset by this into 17 bits of
+ * the cell key (cells of r_d = 10 Å reach 650 µm from the origin). */
+#define FREE_OFFSET 65536
+#define FREE_MAX 65535
+
 /* 0, or -1 when a periodic axis is shorter than three cells of r_d. */
 static int grid_of(const struct box *box, double rd, struct cell_grid *g, int *bad_axis)
 {
     for (int k = 0; k < 3; k++) {
         double L = box_length(box, k);
+        g->periodic[k] = box->bc[k] == BOUNDARY_PERIODIC;
+        if (!g->periodic[k]) {   /* fixed cells of r_d from the origin */
+            g->lo[k] = 0;
+            g->len[k] = L;
+            g->n[k] = 0;
+            g->side[k] = rd > 0 ? rd : (L > 0 ? L : 1.0);
+            continue;
+        }
         g->lo[k] = box->lo[k];
         g->len[k] = L;
-        g->periodic[k] = box->bc[k] == BOUNDARY_PERIODIC;
         double q = rd > 0 ? floor(L / rd) : 1;
         int n = q >= 1 ? (q > 4096 ? 4096 : (int)q) : 1;
-        if (g->periodic[k]) {
-            n -= n % 3;
-            if (n < 3) {
-                *bad_axis = k;
-                return -1;
-            }
+        n -= n % 3;
+        if (n < 3) {
+            *bad_axis = k;
+            return -1;
         }
         g->n[k] = n;
         g->side[k] = L > 0 ? L / n : 1.0;
@@ -101,13 +121,39 @@ static int cell_coord(const struct cell_grid *g, int k, double x)
             m += g->n[k];
         return (int)m;
     }
-    return q < 0 ? 0 : q >= g->n[k] ? g->n[k] - 1 : (int)q;
+    return q < -FREE_MAX ? -FREE_MAX : q > FREE_MAX ? FREE_MAX : (int)q;
+}
+
+/* The key of cell c (exact in a double: 3 x 17 bits) and back. */
+static double cell_key(const int c[3])
+{
+    double key = 0;
+    for (int k = 2; k >= 0; k--)
+        key = key * 131072.0 + (double)(c[k] + FREE_OFFSET);
+    return key;
+}
+
+static void cell_of_key(double key, int c[3])
+{
+    long v = (long)key;
+    for (int k = 0; k < 3; k++) {
+        c[k] = (int)(v % 131072) - FREE_OFFSET;
+        v /= 131072;
+    }
+}
+
+static int colour_of(const int c[3])
+{
+    int col = 0;
+    for (int k = 2; k >= 0; k--)
+        col = 3 * col + ((c[k] % 3) + 3) % 3;
+    return col;
 }
 
 struct sweep_pair {
     int64_t ida, idb;
-    long cell;
-    int colour;
+    double cell;      /* cell_key */
+    int colour;       /* -1: a free body's pair (dpd_sweep_bodies.h) */
     uint32_t image;   /* the partner's periodic copy, as in the pair key */
     int a, b;         /* local indices */
 };
@@ -210,9 +256,9 @@ static int collect_pairs(const struct dpd *d, const struct cell_grid *g, const d
     long n = 0, cap = 0;
     struct sweep_pair *pairs = NULL;
     for (int a = 0; !rc && a < ntot; a++) {
-        long cell = (long)cellf[a];
-        int c[3] = {(int)(cell % g->n[0]), (int)(cell / g->n[0] % g->n[1]),
-                    (int)(cell / g->n[0] / g->n[1])};
+        double cell = cellf[a];
+        int c[3];
+        cell_of_key(cell, c);
         if (!cell_is_mine(p, g, c))
             continue;
         /* the copy near the cell (periodic copies are three cells apart) */
@@ -223,7 +269,8 @@ static int collect_pairs(const struct dpd *d, const struct cell_grid *g, const d
                 near = 0;
         if (!near)
             continue;
-        int colour = c[0] % 3 + 3 * (c[1] % 3) + 9 * (c[2] % 3);
+        const int colour = colour_of(c), ba = dpd_body_of(d, a);
+        const int fa = ba >= 0 && d->body[ba].kind == DPD_BODY_FREE;
         int q[3];
         for (int k = 0; k < 3; k++) {
             q[k] = (int)((p->x[3 * a + k] - b.lo[k]) / b.w[k]);
@@ -244,6 +291,12 @@ static int collect_pairs(const struct dpd *d, const struct cell_grid *g, const d
                                ddz = p->x[3 * a + 2] - p->x[3 * j + 2];
                         if (ddx * ddx + ddy * ddy + ddz * ddz >= rd2)
                             continue;
+                        /* not inside one body, not between two prescribed ones */
+                        int bb = dpd_body_of(d, j);
+                        if (ba >= 0 && (bb == ba || (bb >= 0 && !fa &&
+                                                     d->body[bb].kind != DPD_BODY_FREE)))
+                            continue;
+                        int fb = bb >= 0 && d->body[bb].kind == DPD_BODY_FREE;
                         if (n == cap) {
                             long nc = cap ? 2 * cap : 4096;
                             struct sweep_pair *t = realloc(pairs, (size_t)nc * sizeof *t);
@@ -261,8 +314,8 @@ static int collect_pairs(const struct dpd *d, const struct cell_grid *g, const d
                                                (dpd_copy_shift(p, a, k) - p->image[3 * a + k]) +
                                                512) &
                                               1023);
-                        pairs[n++] = (struct sweep_pair){p->id[a], p->id[j], cell, colour, code,
-                                                         a, j};
+                        pairs[n++] = (struct sweep_pair){p->id[a], p->id[j], cell,
+                                                         fa || fb ? -1 : colour, code, a, j};
                     }
                 }
     }
@@ -318,12 +371,47 @@ static void sync_colour(struct dpd *d, double *buf, const unsigned char *touched
     }
 }
 
+/* The record of a free body's pair a-b for dpd_sweep_bodies. */
+static void body_record(const struct dpd *d, const struct sweep_pair *sp, uint64_t prefix,
+                        const double *u, struct dpd_body_pair *r)
+{
+    const struct particles *p = d->p;
+    const int a = sp->a, b = sp->b, loc[2] = {a, b};
+    memset(r, 0, sizeof *r);
+    r->cell = sp->cell;
+    r->id[0] = sp->ida;
+    r->id[1] = sp->idb;
+    r->image = sp->image;
+    double dx[3], r2 = 0;
+    for (int k = 0; k < 3; k++) {
+        dx[k] = p->x[3 * a + k] - p->x[3 * b + k];
+        r2 += dx[k] * dx[k];
+    }
+    double inv_r = 1.0 / sqrt(r2), rr = r2 * inv_r;
+    for (int k = 0; k < 3; k++)
+        r->e[k] = dx[k] * inv_r;
+    r->wr = 1.0 - rr / d->set.cutoff;
+    r->xi = dpd_normal(dpd_pair_key_ab_pre(p, prefix, a, b));
+    for (int q = 0; q < 2; q++) {
+        int i = loc[q], bi = dpd_body_of(d, i);
+        r->body[q] = bi;
+        r->winv[q] = bi < 0 ? 1.0 / p->mass[p->type[i]]
+                            : d->body[bi].kind == DPD_BODY_FREE ? 1.0 / d->body[bi].mass : 0.0;
+        memcpy(r->v[q], p->v + 3 * i, sizeof r->v[q]);
+        r->u[q] = u ? u[i] : 0;
+    }
+}
+
+/* Inverse mass of copy i in a pair of the colour sweep: 0 for a prescribed
+ * body's particle (free bodies' pairs are not swept there). */
+static double colour_inv_mass(const struct dpd *d, int i)
+{
+    return d->nbodies && dpd_body_of(d, i) >= 0 ? 0.0 : 1.0 / d->p->mass[d->p->type[i]];
+}
+
 int dpd_sweep_cells(struct dpd *d, struct err *e)
 {
     struct particles *p = d->p;
-    if (d->nbodies > 0)
-        return err_set(e, ERR_INPUT, "the cell-ordered DPD sweep (bricks, dpd.sweep: cells) "
-                                     "takes no rigid bodies");
     struct cell_grid g;
     int bad = 0;
     if (grid_of(&d->box, d->set.cutoff, &g, &bad) != 0)
@@ -339,6 +427,9 @@ int dpd_sweep_cells(struct dpd *d, struct err *e)
     dpd_ou_init(&ou, dpde, d->set.gamma, d->set.temperature, d->set.heat_capacity, d->dt);
     double *u = d->ufield >= 0 ? particles_field(p, d->ufield) : NULL;
     memset(d->body_impulse, 0, sizeof d->body_impulse);
+    int free_bodies = 0;
+    for (int b = 0; b < d->nbodies; b++)
+        free_bodies |= d->body[b].kind == DPD_BODY_FREE;
 
     /* every copy's cell, from its owner; current velocities and energies */
     double *buf = malloc((size_t)5 * (ntot ? ntot : 1) * sizeof *buf);
@@ -349,10 +440,10 @@ int dpd_sweep_cells(struct dpd *d, struct err *e)
         return err_nomem(e, "DPD sweep");
     }
     for (int i = 0; i < p->n_owned; i++) {
-        long c = 0;
-        for (int k = 2; k >= 0; k--)
-            c = c * g.n[k] + cell_coord(&g, k, p->x[3 * i + k]);
-        buf[i] = (double)c;
+        int c[3];
+        for (int k = 0; k < 3; k++)
+            c[k] = cell_coord(&g, k, p->x[3 * i + k]);
+        buf[i] = cell_key(c);
     }
     ghost_forward(p, buf, 1);
     ghost_update_velocities(p);
@@ -369,7 +460,29 @@ int dpd_sweep_cells(struct dpd *d, struct err *e)
         free(pairs);
         return rc ? rc : err_set(e, ERR_RUNTIME, "stopped: another MPI rank failed");
     }
+    /* the free bodies' pairs (colour -1, sorted first), swept apart in one
+     * global order (dpd_sweep_bodies.h) */
     long k = 0;
+    double bimp[DPD_MAX_BODIES][3] = {{0}};
+    if (free_bodies) {
+        while (k < npairs && pairs[k].colour < 0)
+            k++;
+        struct dpd_body_pair *rec = malloc((size_t)(k ? k : 1) * sizeof *rec);
+        rc = rec ? 0 : err_nomem(e, "DPD body pairs");
+        if (p->halo && halo_any(p->halo, rc != 0) && !rc)
+            rc = err_set(e, ERR_RUNTIME, "stopped: another MPI rank failed");
+        for (long q = 0; !rc && q < k; q++)
+            body_record(d, pairs + q, prefix, u, rec + q);
+        if (!rc)
+            rc = dpd_sweep_bodies(d, &ou, rec, k, bimp, e);
+        free(rec);
+        if (rc) {
+            free(buf);
+            free(touched);
+            free(pairs);
+            return rc;
+        }
+    }
     for (int colour = 0; colour < NCOLOURS; colour++) {
         for (; k < npairs && pairs[k].colour == colour; k++) {
             if (rc)
@@ -378,7 +491,7 @@ int dpd_sweep_cells(struct dpd *d, struct err *e)
             double dx = p->x[3 * a] - p->x[3 * b], dy = p->x[3 * a + 1] - p->x[3 * b + 1],
                    dz = p->x[3 * a + 2] - p->x[3 * b + 2];
             double r2 = dx * dx + dy * dy + dz * dz;
-            double wa = 1.0 / p->mass[p->type[a]], wb = 1.0 / p->mass[p->type[b]];
+            double wa = colour_inv_mass(d, a), wb = colour_inv_mass(d, b);
             double invmu = wa + wb, mu = 1.0 / invmu;
             double inv_r = 1.0 / sqrt(r2), r = r2 * inv_r;
             double ex = dx * inv_r, ey = dy * inv_r, ez = dz * inv_r;
@@ -397,6 +510,20 @@ int dpd_sweep_cells(struct dpd *d, struct err *e)
             vb[1] = fma(-ab, ey, vb[1]);
             vb[2] = fma(-ab, ez, vb[2]);
             touched[a] = touched[b] = 1;
+            if (d->nbodies) {   /* a prescribed body takes the impulse J along e, +J on a */
+                double J = du * mu;
+                int ba = dpd_body_of(d, a), bb = dpd_body_of(d, b);
+                if (ba >= 0) {
+                    d->body_impulse[ba][0] += J * ex;
+                    d->body_impulse[ba][1] += J * ey;
+                    d->body_impulse[ba][2] += J * ez;
+                }
+                if (bb >= 0) {
+                    d->body_impulse[bb][0] -= J * ex;
+                    d->body_impulse[bb][1] -= J * ey;
+                    d->body_impulse[bb][2] -= J * ez;
+                }
+            }
             if (dpde) {
                 double dE4 = du * ((unew + urel) * (mu * (0.25 * UNITS_MVV2E)));   /* eV, per side */
                 u[a] -= dE4;
@@ -415,6 +542,13 @@ int dpd_sweep_cells(struct dpd *d, struct err *e)
     free(buf);
     free(touched);
     free(pairs);
+    /* the prescribed bodies' impulses of every rank's cells; the free
+     * bodies' are the same on every rank already */
+    if (p->halo && d->nbodies)
+        halo_sum(p->halo, &d->body_impulse[0][0], 3 * DPD_MAX_BODIES);
+    for (int b = 0; b < d->nbodies; b++)
+        for (int c = 0; c < 3; c++)
+            d->body_impulse[b][c] += bimp[b][c];
     if (p->halo && halo_any(p->halo, rc != 0) && !rc)
         rc = err_set(e, ERR_DIVERGED, "stopped: an internal energy became non-positive on "
                                       "another MPI rank");

@@ -79,7 +79,7 @@ static int gt_read(struct cfg_obj *root, const struct case_common *common, void 
     if (!c)
         return err_nomem(root->cfg->err, "tensile case");
     /* under mpirun the rod runs on bricks (docs/dpd_mpm.md, "Under MPI") */
-    int rc = dpd_tensile_read(root, common, &c->d, &c->t, &c->halo);
+    int rc = dpd_tensile_read(root, common, &c->d, &c->t, &c->halo, 0);
     c->has_d = !rc && !root->cfg->shallow;
     struct dpd_mpm_grid_keys gk;
     if (!rc)

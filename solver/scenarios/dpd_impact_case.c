@@ -50,6 +50,15 @@
  * how the speed depends on it: small thresholds follow the leading edge,
  * large ones the main pulse.
  *
+ * Under mpirun the impact runs on bricks (docs/dpd.md, docs/parallel.md):
+ * every rank builds the target and the flyer, the flyer run keeps its
+ * brick's particles of the DPD halo and the reference run its own of a
+ * second halo over the same bricks; both sweep in cell-colour order
+ * (dpd.sweep: cells), the flyer's pairs apart in one global order on
+ * every rank (dpd/dpd_sweep_bodies.h), so the flyer's velocity is the same
+ * on every rank.  The region means, profiles, front probes and CNA counts
+ * are sums over the ranks; the final state is gathered on rank 0.
+ *
  * Metrics: wave_speed and its companions (m/s; the threshold-free front
  * fit over probe slabs between the regions, scenarios/impact_front.h:
  * null when its spread over the criteria exceeds 3 %), wave_speed_threshold
@@ -77,9 +86,11 @@
 #include "analysis/displacement.h"
 #include "analysis/wave_arrival.h"
 #include "dpd/cg_lattice.h"
+#include "core/halo.h"
 #include "core/lattice.h"
 #include "core/units.h"
 #include "engine/models.h"
+#include "output/decomp_record.h"
 #include "scenarios/dpd_bar.h"
 #include "scenarios/dpd_impact_setup.h"
 #include "scenarios/impact_front.h"
@@ -94,6 +105,7 @@ struct impact_case {
     struct dpd d;
     struct dpd ref;            /* the target without the flyer (has_ref) */
     int has_ref, xref_ref;
+    struct halo *halo, *halo_ref;   /* bricks of the two runs (owned), or NULL */
     long steps;
     int axis;
     double regions[2], half;   /* Å from the face; half thickness */
@@ -118,6 +130,7 @@ struct impact_case {
     int nbins;
     double *prof;              /* nprofiles x nbins, NaN until taken */
     double *pref;              /* scratch: the reference run's profile */
+    double *pcnt;              /* scratch: a profile's particles per bin */
     long *pstep;               /* step of each profile time */
     double P0[3];              /* momentum at the start */
     double demax;              /* largest |etotal - etotal(0)| so far */
@@ -125,6 +138,17 @@ struct impact_case {
     double *restored_rows;     /* thermo rows read from a checkpoint */
     long nrestored;
 };
+
+static void impact_free_halos(struct impact_case *c)
+{
+    struct halo **h[2] = {&c->halo, &c->halo_ref};
+    for (int q = 0; q < 2; q++) {
+        if (*h[q])
+            halo_free(*h[q]);
+        free(*h[q]);
+        *h[q] = NULL;
+    }
+}
 
 static int impact_read(struct cfg_obj *root, const struct case_common *common, void **state)
 {
@@ -178,6 +202,28 @@ static int impact_read(struct cfg_obj *root, const struct case_common *common, v
         return rc;
     }
     c->n_flyer = nflyer;
+    /* under mpirun: bricks, each run keeping its brick's particles (built,
+     * drawn and marked over all of them); the reference run's halo cuts
+     * the same bricks */
+    rc = dpd_bricks(&in, &box, p, common, root->cfg, 1, &c->halo);
+    if (!rc && c->halo && pref) {
+        c->halo_ref = calloc(1, sizeof *c->halo_ref);
+        rc = c->halo_ref ? halo_init_like(c->halo_ref, c->halo, e)
+                         : err_nomem(e, "reference run bricks");
+        if (!rc) {
+            pref->halo = c->halo_ref;
+            pref->par = NULL;
+            rc = halo_distribute(c->halo_ref, pref, e);
+        }
+    }
+    if (rc) {
+        particles_destroy(&p);
+        particles_destroy(&pref);
+        free(k.ptimes);
+        impact_free_halos(c);
+        free(c);
+        return rc;
+    }
     rc = dpd_build(&in, p, &box, common, e, &c->d);
     double v[3] = {0, 0, 0};
     v[k.axis] = k.velocity;
@@ -196,7 +242,10 @@ static int impact_read(struct cfg_obj *root, const struct case_common *common, v
          * storage order (no spatial sorting: the target particles keep their
          * indices, the flyer's come after them) and canonical neighbour
          * lists: the pair sweep meets every target particle's pairs in the
-         * same order in both runs, so ahead of the wave they stay equal. */
+         * same order in both runs, so ahead of the wave they stay equal.
+         * The cell-colour sweep (bricks, dpd.sweep: cells) orders the pairs
+         * by cells fixed in space along the free axes, also the same in
+         * both runs (dpd_sweep_cells.c). */
         if (!rc) {
             c->has_ref = 1;
             rc = dpd_build(&in, pref, &box, common, e, &c->ref);
@@ -219,6 +268,7 @@ static int impact_read(struct cfg_obj *root, const struct case_common *common, v
         dpd_free(&c->d);
         if (c->has_ref)
             dpd_free(&c->ref);
+        impact_free_halos(c);
         free(k.ptimes);
         free(c);
         return rc;
@@ -252,6 +302,7 @@ static int impact_read(struct cfg_obj *root, const struct case_common *common, v
         if (c->has_ref)
             dpd_free(&c->ref);
         dpd_structure_free(&c->st);
+        impact_free_halos(c);
         free(c->profile_times);
         free(c);
         return rc;
@@ -260,16 +311,48 @@ static int impact_read(struct cfg_obj *root, const struct case_common *common, v
     return 0;
 }
 
+/* The mean displacement of a slab of run d (dpd_slab_mean), on bricks
+ * over every rank's particles. */
+static double slab_mean(const struct dpd *d, int field, int axis, double lo, double hi,
+                        uint32_t exclude, long *count)
+{
+    long n = 0;
+    double m = displacement_slab_mean(d->p, &d->box, field, axis, lo, hi, exclude, &n);
+    if (d->p->halo) {   /* each rank's sum and count */
+        double s[2] = {n ? m * (double)n : 0.0, (double)n};
+        halo_sum(d->p->halo, s, 2);
+        n = lround(s[1]);
+        m = n ? s[0] / s[1] : NAN;
+    }
+    if (count)
+        *count = n;
+    return m;
+}
+
 /* Mean displacement of reference region r in the flyer run (*raw) and, with
  * a reference run, less that of the same material without the flyer. */
 static double region_disp(const struct impact_case *c, int r, long *count, double *raw)
 {
     double lo = c->face + c->regions[r] - c->half, hi = c->face + c->regions[r] + c->half;
-    *raw = displacement_slab_mean(c->d.p, &c->d.box, c->xref, c->axis, lo, hi, FLYER_BIT, count);
+    *raw = slab_mean(&c->d, c->xref, c->axis, lo, hi, FLYER_BIT, count);
     if (!c->has_ref)
         return *raw;
-    return *raw - displacement_slab_mean(c->ref.p, &c->ref.box, c->xref_ref, c->axis, lo, hi, 0,
-                                         NULL);
+    return *raw - slab_mean(&c->ref, c->xref_ref, c->axis, lo, hi, 0, NULL);
+}
+
+/* The displacement profile of run d into out (nbins), on bricks over
+ * every rank's particles; cnt: nbins of scratch. */
+static void profile(const struct impact_case *c, const struct dpd *d, int field,
+                    uint32_t exclude, double *out, double *cnt)
+{
+    displacement_profile_sums(d->p, &d->box, field, c->axis, c->face, c->profile_bin, c->nbins,
+                              exclude, out, cnt);
+    if (d->p->halo) {
+        halo_sum(d->p->halo, out, c->nbins);
+        halo_sum(d->p->halo, cnt, c->nbins);
+    }
+    for (int b = 0; b < c->nbins; b++)
+        out[b] = cnt[b] > 0 ? out[b] / cnt[b] : NAN;
 }
 
 /* Samples of step `step`: region displacements and energy every
@@ -292,17 +375,17 @@ static void impact_sample(struct impact_case *c, struct run *run, long step)
         if (c->has_ref)
             impact_front_add(f, 1, c->ref.p->fields[c->xref_ref].data, c->ref.p->v,
                              c->ref.p->mask, 0, c->ref.p->n_owned);
+        if (c->halo)
+            impact_front_sum_ranks(f, c->halo);
         impact_front_end(f, d->time, c->has_ref);
     }
     for (size_t q = 0; q < c->nprofiles; q++) {
         if (c->pstep[q] != step)
             continue;
         double *pq = c->prof + q * c->nbins;
-        displacement_profile(d->p, &d->box, c->xref, c->axis, c->face, c->profile_bin, c->nbins,
-                             FLYER_BIT, pq);
+        profile(c, d, c->xref, FLYER_BIT, pq, c->pcnt);
         if (c->has_ref) {
-            displacement_profile(c->ref.p, &c->ref.box, c->xref_ref, c->axis, c->face,
-                                 c->profile_bin, c->nbins, 0, c->pref);
+            profile(c, &c->ref, c->xref_ref, 0, c->pref, c->pcnt);
             for (int b = 0; b < c->nbins; b++)
                 pq[b] -= c->pref[b];
         }
@@ -438,9 +521,18 @@ static int impact_report(void *state, struct sim *s, int run_rc, struct err *e)
     run_log(run, "wave front fit: %.0f m/s (flagged when null); fixed threshold %g Å: region 1 "
             "at %.4f ps, region 2 at %.4f ps -> %.0f m/s",
             front_speed * UNITS_APS_TO_MS, c->threshold, t1, t2, speed * UNITS_APS_TO_MS);
+    if (c->halo)
+        decomp_record_write(run, c->halo, d->p);
     int rc2 = dpd_output_end(&c->out, run, e);
-    if (!run_rc && !rc && !rc2)
-        rc2 = run_write_final_state(run, d->p, &d->box, d->step, d->time, e);
+    if (!run_rc && !rc && !rc2) {
+        /* bricks: every rank's particles, gathered on rank 0 in id order */
+        struct particles *all = NULL;
+        if (c->halo)
+            rc2 = halo_gather(c->halo, d->p, &all, e);
+        if (!rc2 && (!c->halo || all))   /* bricks: rank 0 writes */
+            rc2 = run_write_final_state(run, all ? all : d->p, &d->box, d->step, d->time, e);
+        particles_destroy(&all);
+    }
     return rc ? rc : rc2;
 }
 
@@ -520,8 +612,9 @@ static int impact_run(void *state, struct run *run, struct err *e)
     c->r2 = malloc((size_t)nsamp * sizeof *c->r2);
     c->prof = calloc(np * (size_t)nbins, sizeof *c->prof);
     c->pref = calloc((size_t)nbins, sizeof *c->pref);
+    c->pcnt = calloc((size_t)nbins, sizeof *c->pcnt);
     c->pstep = malloc(np * sizeof *c->pstep);
-    if (!c->ts || !c->s1 || !c->s2 || !c->es || !c->r1 || !c->r2 || !c->prof || !c->pref ||
+    if (!c->ts || !c->s1 || !c->s2 || !c->es || !c->r1 || !c->r2 || !c->prof || !c->pref || !c->pcnt ||
         !c->pstep)
         return err_nomem(e, "impact samples");
     double lat_lo[3];
@@ -558,6 +651,7 @@ static void impact_destroy(void *state)
     if (c->has_ref)
         dpd_free(&c->ref);
     dpd_structure_free(&c->st);
+    impact_free_halos(c);
     free(c->profile_times);
     free(c->ts);
     free(c->s1);
@@ -567,6 +661,7 @@ static void impact_destroy(void *state)
     free(c->r2);
     free(c->prof);
     free(c->pref);
+    free(c->pcnt);
     free(c->pstep);
     impact_front_free(&c->front);
     free(c->restored_rows);
@@ -577,9 +672,9 @@ static void impact_destroy(void *state)
 static long impact_particles(const void *state)
 {
     const struct impact_case *c = state;
-    long n = c->d.p ? c->d.p->n_owned : 0;
+    long n = c->d.p ? dpd_nparticles(&c->d) : 0;
     if (c->has_ref && c->ref.p)
-        n += c->ref.p->n_owned;
+        n += dpd_nparticles(&c->ref);
     return n;
 }
 
@@ -593,4 +688,5 @@ const struct case_type dpd_impact_case_type = {
     "dpd_impact", "DPD flyer/target impact: wave arrival at reference regions, wave speed",
     impact_read, impact_run, impact_destroy, impact_particles, impact_steps,
     .checkpoints = 1,
+    .decomposes = 1,
 };

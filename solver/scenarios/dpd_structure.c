@@ -2,8 +2,11 @@
  * (Chen et al. 2014, Fig. 4). */
 #include "scenarios/dpd_structure.h"
 
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
+
+#include "core/halo.h"
 
 int dpd_structure_read(struct cfg_obj *root, struct dpd_structure *s)
 {
@@ -41,21 +44,47 @@ int dpd_structure_attach(struct dpd_structure *s, struct dpd *d, double a, uint3
     return s->field < 0 ? ERR_RUNTIME : 0;
 }
 
+/* On bricks: the classes of the owned particles from them and their
+ * ghosts (the DPD halo reaches the list cutoff + skin, beyond the CNA's
+ * reach; a ghost's position is its owner's, so every owned particle sees
+ * the neighbours of a serial run), with an open box (the ghosts carry the
+ * periodic images). */
+static int classify_bricks(struct dpd_structure *s, struct dpd *d, struct err *e)
+{
+    struct particles *p = d->p;
+    double reach = structure_range(&s->sp), shell = fmax(d->prm.sc.rc, d->set.cutoff);
+    if (!(reach <= shell))
+        return err_set(e, ERR_INPUT, "analysis.structure: its reach %g Å exceeds the DPD "
+                                     "ghost shell %g Å of the brick decomposition",
+                       reach, shell);
+    struct box open = d->box;
+    for (int k = 0; k < 3; k++)
+        open.bc[k] = BOUNDARY_FREE;
+    return structure_classify(&s->sp, p->x, p->n_owned + p->n_ghost, &open, &s->fr, s->cls, e);
+}
+
 int dpd_structure_classify(struct dpd_structure *s, struct dpd *d, struct err *e)
 {
     struct particles *p = d->p;
-    int n = p->n_owned;
-    if (n > s->cap) {
-        int *c = realloc(s->cls, (size_t)n * sizeof *c);
-        if (!c)
-            return err_nomem(e, "structure classes");
-        s->cls = c;
-        s->cap = n;
+    int n = p->n_owned, ntot = p->halo ? p->n_owned + p->n_ghost : n;
+    int rc = 0;
+    if (ntot > s->cap) {
+        int *c = realloc(s->cls, (size_t)ntot * sizeof *c);
+        if (c) {
+            s->cls = c;
+            s->cap = ntot;
+        } else {
+            rc = err_nomem(e, "structure classes");
+        }
     }
-    unsigned char *sel = malloc((size_t)(n ? n : 1));
-    if (!sel)
-        return err_nomem(e, "structure selection");
-    int rc = structure_classify_particles(&s->sp, p, &d->box, &s->fr, s->cls, e);
+    unsigned char *sel = rc ? NULL : malloc((size_t)(n ? n : 1));
+    if (!rc && !sel)
+        rc = err_nomem(e, "structure selection");
+    if (!rc)
+        rc = p->halo ? classify_bricks(s, d, e)
+                     : structure_classify_particles(&s->sp, p, &d->box, &s->fr, s->cls, e);
+    if (p->halo)   /* no rank waits in the sum below for a failed one */
+        rc = halo_agree(p->halo, rc, e);
     if (!rc) {
         double *f = particles_field(p, s->field);
         for (int i = 0; i < n; i++) {
@@ -63,6 +92,16 @@ int dpd_structure_classify(struct dpd_structure *s, struct dpd *d, struct err *e
             sel[i] = (unsigned char)!(p->mask[i] & s->exclude);
         }
         s->counted = structure_count(s->cls, n, sel, s->counts);
+        if (p->halo) {   /* the counts of every rank's particles */
+            double sum[STRUCT_NCLASSES + 1];
+            for (int k = 0; k < STRUCT_NCLASSES; k++)
+                sum[k] = (double)s->counts[k];
+            sum[STRUCT_NCLASSES] = (double)s->counted;
+            halo_sum(p->halo, sum, STRUCT_NCLASSES + 1);
+            for (int k = 0; k < STRUCT_NCLASSES; k++)
+                s->counts[k] = lround(sum[k]);
+            s->counted = lround(sum[STRUCT_NCLASSES]);
+        }
         if (s->classified_step < 0)
             memcpy(s->start, s->counts, sizeof s->start);
         s->classified_step = d->step;
@@ -74,7 +113,9 @@ int dpd_structure_classify(struct dpd_structure *s, struct dpd *d, struct err *e
 int dpd_structure_before_output(struct dpd_structure *s, struct run *run, struct dpd *d,
                                 long total_steps, struct err *e)
 {
-    if (!run->h5_open || !run_due(d->step, total_steps, run->out.snapshot_every) ||
+    /* bricks: every rank writes the snapshot (only rank 0 holds the file) */
+    int h5 = d->p->halo ? run->out.hdf5 : run->h5_open;
+    if (!h5 || !run_due(d->step, total_steps, run->out.snapshot_every) ||
         s->classified_step == d->step)
         return 0;
     timer_start(&run->timers, TIMER_ANALYSIS);

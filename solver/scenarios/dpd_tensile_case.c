@@ -30,19 +30,28 @@
  * rod every 2 L / c.  The ramp (the usual start of constant-strain-rate MD
  * tension) removes that jump, so the peak is the rod's strength.
  *
+ * Under mpirun the rod runs on bricks (docs/dpd.md, docs/parallel.md): the
+ * particles on the DPD halo's bricks with the cell-colour Shardlow sweep
+ * (dpd.sweep: cells, the same order on any rank count), the grips
+ * prescribed bodies whose forces and impulses are sums over the ranks
+ * (dpd_sweep_cells.c); the final state is gathered on rank 0.
+ *
  * Metrics: peak_stress (GPa), strain_at_peak (1), strain_rate (1/ps),
  * strain_final (1), rod_length (Å), area (Å^2), grip_particles (1).
  * Series: strain, stress (GPa), time_ps.
  */
 #include <stdlib.h>
 
+#include "core/halo.h"
 #include "engine/models.h"
+#include "output/decomp_record.h"
 #include "output/dpd_output.h"
 #include "scenarios/dpd_tensile_setup.h"
 
 struct tensile_case {
     struct dpd d;
     struct dpd_tensile t;
+    struct halo *halo;           /* bricks (owned), or NULL */
     struct dpd_model model;
     /* the run's accumulators (checkpointed) */
     struct dpd_output out;
@@ -56,8 +65,11 @@ static int tensile_read(struct cfg_obj *root, const struct case_common *common, 
     struct tensile_case *c = calloc(1, sizeof *c);
     if (!c)
         return err_nomem(root->cfg->err, "tensile case");
-    int rc = dpd_tensile_read(root, common, &c->d, &c->t, NULL);
+    int rc = dpd_tensile_read(root, common, &c->d, &c->t, &c->halo, 1);
     if (rc || root->cfg->shallow) {
+        if (c->halo)
+            halo_free(c->halo);
+        free(c->halo);
         free(c);
         return rc;
     }
@@ -101,9 +113,18 @@ static int tensile_report(void *state, struct sim *s, int run_rc, struct err *e)
     struct tensile_case *c = state;
     struct dpd *d = &c->d;
     dpd_tensile_curve_report(&c->cv, &c->t, d, s->run);
+    if (c->halo)
+        decomp_record_write(s->run, c->halo, d->p);
     int rc = dpd_output_end(&c->out, s->run, e);
-    if (!run_rc && !rc)
-        rc = run_write_final_state(s->run, d->p, &d->box, d->step, d->time, e);
+    if (!run_rc && !rc) {
+        /* bricks: every rank's particles, gathered on rank 0 in id order */
+        struct particles *all = NULL;
+        if (c->halo)
+            rc = halo_gather(c->halo, d->p, &all, e);
+        if (!rc && (!c->halo || all))   /* bricks: rank 0 writes */
+            rc = run_write_final_state(s->run, all ? all : d->p, &d->box, d->step, d->time, e);
+        particles_destroy(&all);
+    }
     return rc;
 }
 
@@ -155,6 +176,9 @@ static void tensile_destroy(void *state)
     if (!c)
         return;
     dpd_free(&c->d);
+    if (c->halo)
+        halo_free(c->halo);
+    free(c->halo);
     dpd_tensile_curve_free(&c->cv);
     free(c->restored_rows);
     free(c);
@@ -163,7 +187,7 @@ static void tensile_destroy(void *state)
 static long tensile_particles(const void *state)
 {
     const struct tensile_case *c = state;
-    return c->d.p ? c->d.p->n_owned : 0;
+    return c->d.p ? dpd_nparticles(&c->d) : 0;
 }
 
 static long tensile_steps(const void *state)
@@ -176,4 +200,5 @@ const struct case_type dpd_tensile_case_type = {
     "dpd_tensile", "DPD tensile rod pulled by rigid ends: stress-strain curve and peak stress",
     tensile_read, tensile_run, tensile_destroy, tensile_particles, tensile_steps,
     .checkpoints = 1,
+    .decomposes = 1,
 };

@@ -27,7 +27,7 @@ static int read_tensile(struct cfg_obj *root, struct dpd_tensile *k)
 }
 
 int dpd_tensile_read(struct cfg_obj *root, const struct case_common *common, struct dpd *d,
-                     struct dpd_tensile *t, struct halo **halo)
+                     struct dpd_tensile *t, struct halo **halo, int sweep)
 {
     struct particles *p = NULL;
     struct box box = {0};
@@ -80,8 +80,8 @@ int dpd_tensile_read(struct cfg_obj *root, const struct case_common *common, str
             p->v[3 * i + axis] += v * (2 * p->x[3 * i + axis] - xlo - xhi) / (xhi - xlo);
     }
     /* bricks: each rank keeps its brick's particles, drawn and marked over
-     * all of them (no sweep: the grid-carried rod has none) */
-    if (halo && (rc = dpd_bricks(&in, &box, p, common, root->cfg, 0, halo))) {
+     * all of them (the grid-carried rod has no sweep) */
+    if (halo && (rc = dpd_bricks(&in, &box, p, common, root->cfg, sweep, halo))) {
         particles_destroy(&p);
         return rc;
     }

@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "analysis/wave_front.h"
+#include "core/halo.h"
 #include "core/units.h"
 
 /* the peak window: 15 % above sqrt(C11/rho) for the nonlinear speed-up */
@@ -112,6 +113,22 @@ static double slot_signal(const struct impact_front *f, size_t q, int has_ref)
     if (!has_ref)
         return a;
     return f->cnt[slots + q] ? a - f->sum[slots + q] / (double)f->cnt[slots + q] : NAN;
+}
+
+void impact_front_sum_ranks(struct impact_front *f, const struct halo *h)
+{
+    const size_t n = 2 * SLOTS(f);
+    halo_sum(h, f->sum, (int)n);
+    /* the counts in pieces through a double buffer (exact below 2^53) */
+    double buf[64];
+    for (size_t q0 = 0; q0 < n; q0 += 64) {
+        int m = (int)(n - q0 < 64 ? n - q0 : 64);
+        for (int q = 0; q < m; q++)
+            buf[q] = (double)f->cnt[q0 + q];
+        halo_sum(h, buf, m);
+        for (int q = 0; q < m; q++)
+            f->cnt[q0 + q] = lround(buf[q]);
+    }
 }
 
 void impact_front_end(struct impact_front *f, double t, int has_ref)

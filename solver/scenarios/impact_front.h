@@ -89,6 +89,10 @@ void impact_front_clear(struct impact_front *f);
 void impact_front_add(struct impact_front *f, int run, const double *x0, const double *v,
                       const uint32_t *mask, uint32_t exclude, long n);
 void impact_front_end(struct impact_front *f, double t, int has_ref);
+/* On bricks, between the adds and the end: each rank added its own
+ * particles; the probes' sums and counts become sums over the ranks. */
+struct halo;
+void impact_front_sum_ranks(struct impact_front *f, const struct halo *h);
 
 /* Metrics and series into res; c11, c12 (eV/Å^3) and rho (amu/Å^3) of the
  * material for the reference speeds and the peak window.  *speed (may be
