@@ -11,12 +11,19 @@
  * its two halves are timed (mpm_step_map: s9 and any mapping the fused
  * pass did not do; mpm_step_update: s4-s14 and the next step's s1-s3).
  *
- *   mpm_kernel_probe [STEPS [WARM [THREADS [COARSEN]]]]
- *   -> "points P step_min_ns S step_median_ns D map_min_ns M update_min_ns U
- *       wall_min_ns W wall_median_ns V balance2_blocks B balance2_slabs L ke K"
+ *   mpm_kernel_probe [STEPS [WARM [THREADS [COARSEN [TIMED]]]]]
+ *   -> "points P step_min_ns S step_median_ns D step_mean_ns A map_min_ns M
+ *       update_min_ns U wall_min_ns W wall_median_ns V balance2_blocks B
+ *       balance2_slabs L ke K"
  *
  * step_*, map_*, update_*: CPU time of the process (all threads) per
- * point; wall_*: the same steps in wall-clock time (with THREADS 2 on a
+ * point; step_mean_ns: the timed steps' CPU time over their number, the
+ * figure a run's loop time corresponds to (it includes the periodic
+ * reorder's steps, which the median passes over: with WARM 0 and STEPS
+ * 500 the bench case's whole loop minus the engine around the steps).
+ * TIMED 1 gives the model the solver's stage timers (struct timers), as a
+ * run has them, so their own cost shows against TIMED 0.
+ * wall_*: the same steps in wall-clock time (with THREADS 2 on a
  * loaded machine the fastest wall step is the one that found both cores).
  * balance2_*: how close two threads taking the blocks of each colour one
  * by one come to half the work (1 = perfectly), counted in points per
@@ -34,6 +41,7 @@
 #include <stdlib.h>
 #include <time.h>
 
+#include "core/timers.h"
 #include "mpm/mpm.h"
 #include "mpm/mpm_build.h"
 
@@ -180,14 +188,18 @@ int main(int argc, char **argv)
     int warm = argc > 2 ? atoi(argv[2]) : 130;
     int nthreads = argc > 3 ? atoi(argv[3]) : 1;
     int coarsen = argc > 4 ? atoi(argv[4]) : 1;
+    int timed = argc > 5 ? atoi(argv[5]) : 0;
     if (steps < 1 || warm < 0 || nthreads < 1 || coarsen < 1) {
-        fprintf(stderr, "usage: mpm_kernel_probe [STEPS [WARM [THREADS [COARSEN]]]]\n");
+        fprintf(stderr, "usage: mpm_kernel_probe [STEPS [WARM [THREADS [COARSEN [TIMED]]]]]\n");
         return 2;
     }
     struct mpm m;
     struct err e = {0};
     if (build(&m, nthreads, coarsen, &e))
         return fail(&e);
+    struct timers tm = {0};
+    if (timed)
+        m.timers = &tm;
     double *t = malloc(4 * (size_t)steps * sizeof *t);
     if (!t)
         return 1;
@@ -211,7 +223,9 @@ int main(int argc, char **argv)
         }
     }
     double scale = 1e9 / (double)m.pts.n;
-    double med;
+    double med, sum = 0;
+    for (int s = 0; s < steps; s++)
+        sum += t[s];
     qsort(tmap, (size_t)steps, sizeof *t, cmp_double);
     qsort(tupd, (size_t)steps, sizeof *t, cmp_double);
     qsort(t, (size_t)steps, sizeof *t, cmp_double);
@@ -219,10 +233,10 @@ int main(int argc, char **argv)
     med = t[steps / 2];
     double bal_blocks, bal_slabs;
     balances(&m, 2, &bal_blocks, &bal_slabs);
-    printf("points %ld step_min_ns %.1f step_median_ns %.1f map_min_ns %.1f update_min_ns %.1f "
-           "wall_min_ns %.1f wall_median_ns %.1f balance2_blocks %.3f balance2_slabs %.3f "
-           "ke %.12e\n",
-           m.pts.n, t[0] * scale, med * scale, tmap[0] * scale, tupd[0] * scale,
+    printf("points %ld step_min_ns %.1f step_median_ns %.1f step_mean_ns %.1f map_min_ns %.1f "
+           "update_min_ns %.1f wall_min_ns %.1f wall_median_ns %.1f balance2_blocks %.3f "
+           "balance2_slabs %.3f ke %.12e\n",
+           m.pts.n, t[0] * scale, med * scale, sum / steps * scale, tmap[0] * scale, tupd[0] * scale,
            twall[0] * scale, twall[steps / 2] * scale, bal_blocks, bal_slabs, m.ke);
     free(t);
     mpm_free(&m);

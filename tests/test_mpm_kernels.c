@@ -8,6 +8,9 @@
  *   with the same stresses, deformation gradients, volumes, positions and
  *   velocities to 1e-12 of their largest values (the two forms are the same
  *   operations; only fused multiply-adds may round differently).
+ * - Stage timers change nothing: the same impact with timers ends with the
+ *   same bits, and the fused pass booked a share of its time (measured on
+ *   every MPM_SPLIT_EVERY-th step, applied to the others) as p2g.
  * - The reorder of the points (mpm_points_permute) by following the
  *   permutation's cycles (a few points move) and component by component
  *   (many move) against the definition new[k] = old[perm[k]]: every array,
@@ -20,7 +23,7 @@
 
 #include "helpers/th_mpm.h"
 
-static void impact(struct mpm *m, int vector_law, int jaumann)
+static void impact_timed(struct mpm *m, int vector_law, int jaumann, struct timers *tm)
 {
     long nc[3] = {40, 12, 10};
     th_mpm_uniform(m, nc, 1.0, MPM_SHAPE_LINEAR, th_mpm_faces_free, 2);
@@ -35,7 +38,13 @@ static void impact(struct mpm *m, int vector_law, int jaumann)
     th_mpm_box(m, "A", k, lo1, hi1, 2, v1, 0);
     th_mpm_box(m, "B", k, lo2, hi2, 2, v2, 0);
     m->sort_every = 7;
+    m->timers = tm;
     th_mpm_run(m, 40, 0.5);
+}
+
+static void impact(struct mpm *m, int vector_law, int jaumann)
+{
+    impact_timed(m, vector_law, jaumann, NULL);
 }
 
 static double max_abs(const double *a, long n)
@@ -77,6 +86,30 @@ Test(mpm_kernels, vector_stress_update_matches_point_by_point)
         mpm_free(&a);
         mpm_free(&b);
     }
+}
+
+Test(mpm_kernels, timers_change_nothing_and_book_the_fused_mapping_as_p2g)
+{
+    struct mpm a, b;
+    struct timers tm = {0};
+    impact(&a, 1, 1);
+    impact_timed(&b, 1, 1, &tm);
+    long n = a.pts.n;
+    cr_assert(b.pts.n == n && mpm_fusable(&a));
+    cr_assert(memcmp(a.pts.x, b.pts.x, 3 * (size_t)n * sizeof(double)) == 0, "positions");
+    cr_assert(memcmp(a.pts.stress, b.pts.stress, 6 * (size_t)n * sizeof(double)) == 0,
+              "stresses");
+    cr_assert(memcmp(a.pts.F, b.pts.F, 9 * (size_t)n * sizeof(double)) == 0, "F");
+    /* 40 steps: the share was timed at steps 0, 16 and 32 */
+    cr_assert(b.fused_map_share > 0 && b.fused_map_share < 1, "mapping share %g",
+              b.fused_map_share);
+    cr_assert(a.fused_map_share < 0, "untimed run timed the share");
+    cr_assert(tm.total[TIMER_MPM_P2G] > 0 && tm.total[TIMER_MPM_G2P] > 0 &&
+                  tm.total[TIMER_MPM_GRID] > 0,
+              "p2g %g g2p %g grid %g s", tm.total[TIMER_MPM_P2G], tm.total[TIMER_MPM_G2P],
+              tm.total[TIMER_MPM_GRID]);
+    mpm_free(&a);
+    mpm_free(&b);
 }
 
 /* n points whose every array holds values unique to the point */

@@ -18,6 +18,7 @@ int mpm_init(struct mpm *m, struct mpm_grid *grid, int nstate, int nthreads, str
     m->fext_scale = 1.0;
     m->sort_every = 50;
     m->fuse = 1;
+    m->fused_map_share = -1;
     m->nthreads = nthreads > 0 ? nthreads : 1;
     for (int s = 0; s <= MPM_MAX_EXTRA; s++)
         m->bins[s].blk_step = -1;

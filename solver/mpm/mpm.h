@@ -50,6 +50,7 @@
 #define MPM_MAX_BODIES 32
 #define MPM_MAX_MATERIALS 16
 #define MPM_MAX_EXTRA 8
+#define MPM_SPLIT_EVERY 16   /* steps between timings of the fused pass's mapping share */
 
 enum mpm_algorithm { MPM_MUSL, MPM_USL };
 
@@ -140,6 +141,8 @@ struct mpm {
                                    next step (s1-s3: clearing the second buffer and
                                    the scatter), per thread; mpm_step books it as
                                    p2g when timers are on */
+    double fused_map_share;     /* the scatter's share of the fused pass, timed every
+                                   MPM_SPLIT_EVERY steps (-1: not yet) */
     double *scratch;         /* reorder scratch, n doubles */
     long scratch_cap;
 };
@@ -178,11 +181,20 @@ void mpm_map_to_grid(struct mpm *m, unsigned what);
 void mpm_update_grid(struct mpm *m, double dt);
 void mpm_map_to_particles(struct mpm *m, double dt);
 void mpm_update_grid_velocity(struct mpm *m);
+/* s11, zeroing the nnodes node records at `clear` (if not NULL) in the same
+ * loop: the fused pass's second buffer (mpm_grid_next_buffer) */
+void mpm_update_grid_velocity_clearing(struct mpm *m, struct mpm_node *clear);
 void mpm_update_particles(struct mpm *m, double dt);
 /* mpm_update_particles plus s1-s3 of the next step for the material points,
  * into the grid's second buffer, which then becomes the grid; requires the
  * conditions of m->fuse (see mpm_fusable). */
 void mpm_update_particles_and_map(struct mpm *m, double dt);
+/* The same, told whether the second buffer is already zeroed (by
+ * mpm_update_grid_velocity_clearing) */
+void mpm_update_particles_and_map_cleared(struct mpm *m, double dt, int cleared);
+/* The grid's second node buffer for the fused pass, allocated on first use;
+ * NULL without memory (the fused pass then takes the unfused way) */
+struct mpm_node *mpm_grid_next_buffer(struct mpm_grid *g);
 int mpm_fusable(const struct mpm *m);
 
 /* One whole step; ERR_DIVERGED when a particle leaves the grid or a value

@@ -338,25 +338,11 @@ stress_point(const struct mpm *m, long p, int mat, const double L[9], double dt,
                      pts->nstate ? pts->state + (long)pts->nstate * p : NULL);
 }
 
-/* The chunk's results back to the points (point by point: the vectoriser
- * would use scatter instructions, slower here than plain stores). */
-static __attribute__((noinline, optimize("no-tree-loop-vectorize"))) void
-chunk_scatter(struct mpm_points *pts, const struct mpm_chunk *ch, int nd)
-{
-    for (int j = 0; j < nd; j++) {
-        long p = ch->p[j];
-        for (int c = 0; c < 6; c++)
-            pts->stress[6 * p + c] = ch->s[c][j];
-        for (int c = 0; c < 9; c++)
-            pts->F[9 * p + c] = ch->F[c][j];
-        pts->vol[p] = ch->vol[j];
-        pts->eint[p] = ch->eint[j];
-    }
-}
-
 /* The points idx[0..n) (n <= MPM_CHUNK): s7-s8 and s12 of each, then
  * s13-s14 of all -- for a chunk of one isotropic linear elastic material
- * four points at a time (mpm_stress_chunk.h), else point by point. */
+ * four points at a time (mpm_stress_chunk.h: stress, F, volumes and stress
+ * work move between the points' arrays and vector lanes there, with no
+ * copies), else point by point. */
 static inline __attribute__((always_inline)) void
 update_chunk_linear(const struct mpm *m, const int32_t *idx, long n, double dt, const double *vel,
                     const struct mpm_node *node, const long s1, const long s2, const int musl,
@@ -374,13 +360,6 @@ update_chunk_linear(const struct mpm *m, const int32_t *idx, long n, double dt, 
             continue;
         for (int c = 0; c < 9; c++)
             ch->L[c][nd] = L[c];
-        for (int c = 0; c < 6; c++)   /* the copies for the vector update */
-            ch->s[c][nd] = pts->stress[6 * p + c];
-        for (int c = 0; c < 9; c++)
-            ch->F[c][nd] = pts->F[9 * p + c];
-        ch->vol[nd] = pts->vol[p];
-        ch->vol0[nd] = pts->vol0[p];
-        ch->eint[nd] = pts->eint[p];
         ch->p[nd] = (int32_t)p;
         ch->mat[nd] = mat;
         same &= mat == ch->mat[0];
@@ -399,18 +378,13 @@ update_chunk_linear(const struct mpm *m, const int32_t *idx, long n, double dt, 
         return;
     }
     int n4 = (nd + 3) & ~3;
-    for (int j = nd; j < n4; j++) {   /* padding lanes: finite values, results unused */
+    for (int j = nd; j < n4; j++)   /* padding lanes: finite values, results unused */
         for (int c = 0; c < 9; c++)
-            ch->L[c][j] = ch->F[c][j] = 0;
-        for (int c = 0; c < 6; c++)
-            ch->s[c][j] = 0;
-        ch->vol[j] = ch->vol0[j] = ch->eint[j] = 0;
-    }
+            ch->L[c][j] = 0;
     if (mat0->jaumann)
-        mpm_stress_chunk_iso(mat0->iso, 1, dt, ch, n4);
+        mpm_stress_chunk_iso(mat0->iso, 1, dt, ch, nd, pts);
     else
-        mpm_stress_chunk_iso(mat0->iso, 0, dt, ch, n4);
-    chunk_scatter(pts, ch, nd);
+        mpm_stress_chunk_iso(mat0->iso, 0, dt, ch, nd, pts);
 }
 
 static inline __attribute__((always_inline)) void
@@ -497,27 +471,43 @@ static inline int near_block(const long key[3], const long kmin[3], const long k
     return ok;
 }
 
+struct mpm_node *mpm_grid_next_buffer(struct mpm_grid *g)
+{
+    if (!g->node_next)
+        g->node_next = aligned_alloc(64, ((size_t)g->nnodes * sizeof *g->node_next + 63) / 64 * 64);
+    return g->node_next;
+}
+
+void mpm_update_particles_and_map(struct mpm *m, double dt)
+{
+    mpm_update_particles_and_map_cleared(m, dt, 0);
+}
+
 /* The fused pass: s7-s14 of this step for every material point and,
  * straight after, its s1-s3 contribution for the next step at its new
  * position into the grid's second buffer.  It saves a pass over the points.
  * Threads take blocks of one colour at a time as in mpm_p2g.c: blocks are
  * at least 3 cells wide across every cut and a point moves less than a cell
  * per step (the CFL limit), so blocks of one colour still share no node. */
-void mpm_update_particles_and_map(struct mpm *m, double dt)
+void mpm_update_particles_and_map_cleared(struct mpm *m, double dt, int cleared)
 {
     struct mpm_grid *g = &m->grid;
-    if (!g->node_next) {
-        g->node_next = aligned_alloc(64, ((size_t)g->nnodes * sizeof *g->node_next + 63) / 64 * 64);
-        if (!g->node_next) {   /* no memory for a second buffer: the unfused way */
-            mpm_update_particles(m, dt);
-            return;
-        }
+    struct mpm_node *next = mpm_grid_next_buffer(g);
+    if (!next) {   /* no memory for a second buffer: the unfused way */
+        mpm_update_particles(m, dt);
+        return;
     }
-    struct mpm_node *next = g->node_next;
+    /* With timers, the mapping's part is booked as p2g.  Timing it chunk by
+     * chunk takes two clock reads per 64 points (some 1.4 % of the pass on
+     * the reference problem), so it is timed on every MPM_SPLIT_EVERY-th
+     * step only and its share of the pass applied to the steps between. */
     const int timed = m->timers != NULL;
+    const int split = timed && (m->step % MPM_SPLIT_EVERY == 0 || m->fused_map_share < 0);
     double t_clear = timed ? timers_now() : 0;
-    mpm_grid_clear_nodes(next, g->nnodes, m->nthreads);
-    double t_map = timed ? timers_now() - t_clear : 0;   /* s1-s3 of the next step */
+    if (!cleared)
+        mpm_grid_clear_nodes(next, g->nnodes, m->nthreads);
+    double t_pass = timed ? timers_now() : 0;
+    double t_map = t_pass - t_clear;   /* s1-s3 of the next step: the clear, then the share */
     struct mpm_view views[1 + MPM_MAX_EXTRA];
     mpm_views(m, views);
     const struct mpm_view *w = &views[0];
@@ -561,7 +551,7 @@ void mpm_update_particles_and_map(struct mpm *m, double dt)
                 else
                     update_chunk_linear(m, idx + k0, k1 - k0, dt, vel, node, s1, s2, 0, pts, blk,
                                         &ch, &cc);
-                double t0 = timed ? timers_now() : 0;
+                double t0 = split ? timers_now() : 0;
                 for (long k = k0; k < k1; k++) {
                     long p = idx[k];
                     se += pts->eint[p];
@@ -588,7 +578,7 @@ void mpm_update_particles_and_map(struct mpm *m, double dt)
                     }
                     p2g_lin_add(m, w, p, &st, 1, 1, 0, A, B, aux);   /* Eqs. (s1)-(s3a) */
                 }
-                if (timed)
+                if (split)
                     t_scatter += timers_now() - t0;
             }
             if (cur >= 0)
@@ -596,7 +586,12 @@ void mpm_update_particles_and_map(struct mpm *m, double dt)
         }
     }
     m->strain = se;
-    m->fused_map_seconds = t_map + t_scatter / m->nthreads;
+    if (timed) {
+        t_pass = timers_now() - t_pass;
+        if (split)
+            m->fused_map_share = t_pass > 0 ? t_scatter / m->nthreads / t_pass : 0;
+        m->fused_map_seconds = t_map + m->fused_map_share * t_pass;
+    }
     b0->blk_step = m->step + 1;
     if (!far) {   /* the new mapping becomes the grid */
         g->node_next = g->node;

@@ -181,20 +181,18 @@ void mpm_points_permute(struct mpm_points *p, const int32_t *perm, double *tmp, 
          * bytes) and a bitmap (n / 8 bytes) */
         int32_t *list = (int32_t *)tmp;
         long len = perm_cycles(perm, n, list, (uint8_t *)(list + n));
-        permute_cycles(p->x, 3 * sizeof(double), list, len);
-        permute_cycles(p->x0, 3 * sizeof(double), list, len);
-        permute_cycles(p->v, 3 * sizeof(double), list, len);
-        permute_cycles(p->mass, sizeof(double), list, len);
-        permute_cycles(p->vol0, sizeof(double), list, len);
-        permute_cycles(p->vol, sizeof(double), list, len);
-        permute_cycles(p->stress, 6 * sizeof(double), list, len);
-        permute_cycles(p->F, 9 * sizeof(double), list, len);
-        permute_cycles(p->eint, sizeof(double), list, len);
-        permute_cycles(p->state, (size_t)p->nstate * sizeof(double), list, len);
-        permute_cycles(p->fext, 3 * sizeof(double), list, len);
-        permute_cycles(p->id, sizeof *p->id, list, len);
-        permute_cycles(p->body, sizeof *p->body, list, len);
-        permute_cycles(p->mask, sizeof *p->mask, list, len);
+        /* the arrays are independent: threads take them one by one, the
+         * largest records first */
+        void *const arr[14] = {p->F,    p->stress, p->x,    p->x0,   p->v,  p->fext, p->state,
+                               p->mass, p->vol0,   p->vol,  p->eint, p->id, p->body, p->mask};
+        const size_t rec[14] = {9 * sizeof(double), 6 * sizeof(double), 3 * sizeof(double),
+                                3 * sizeof(double), 3 * sizeof(double), 3 * sizeof(double),
+                                (size_t)p->nstate * sizeof(double),     sizeof(double),
+                                sizeof(double),     sizeof(double),     sizeof(double),
+                                sizeof *p->id,      sizeof *p->body,    sizeof *p->mask};
+#pragma omp parallel for schedule(dynamic, 1) num_threads(nthreads)
+        for (int a = 0; a < 14; a++)
+            permute_cycles(arr[a], rec[a], list, len);
         return;
     }
     permute_doubles(p->x, 3, n, perm, tmp, nthreads);

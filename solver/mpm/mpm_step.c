@@ -42,15 +42,18 @@ int mpm_step_update(struct mpm *m, double dt, struct err *e)
     tstart(m, TIMER_MPM_G2P);
     mpm_map_to_particles(m, dt);           /* s6, s10 */
     tstop(m, TIMER_MPM_G2P);
+    /* the fused pass's second buffer is zeroed by s11's loop over the nodes */
+    struct mpm_node *clear = fused && m->algorithm == MPM_MUSL ? mpm_grid_next_buffer(&m->grid)
+                                                                 : NULL;
     if (m->algorithm == MPM_MUSL) {
         tstart(m, TIMER_MPM_GRID);
-        mpm_update_grid_velocity(m);       /* s11 */
+        mpm_update_grid_velocity_clearing(m, clear);   /* s11 */
         tstop(m, TIMER_MPM_GRID);
     }
     tstart(m, TIMER_MPM_G2P);
     m->fused_map_seconds = 0;
-    if (fused)
-        mpm_update_particles_and_map(m, dt);   /* s7-s8, s12-s14 and s1-s3 of the next step */
+    if (fused)   /* s7-s8, s12-s14 and s1-s3 of the next step */
+        mpm_update_particles_and_map_cleared(m, dt, clear != NULL);
     else
         mpm_update_particles(m, dt);           /* s7-s8, s12-s14 */
     tstop(m, TIMER_MPM_G2P);

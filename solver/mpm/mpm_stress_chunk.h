@@ -5,15 +5,20 @@
  * (mpm_stress.h) with the same operations in the same order -- the strain
  * increment, the Hughes-Winget rotation of the Jaumann rate, the elastic
  * increment, the stress work, F <- (I + L dt) F and V = V0 det F -- on
- * structure-of-arrays copies of the points' values, so that the compiler
- * needs no shuffles: the per-point form spends most of its instructions
- * moving the components of one point between lanes.
+ * one component of four points per vector, so that the arithmetic needs no
+ * shuffles: the per-point form spends most of its instructions moving the
+ * components of one point between lanes.
  *
- * The caller gathers the points' stress, F, volumes and stress work into
- * the chunk, pads the lanes past n (any finite values), calls
- * mpm_stress_chunk_iso and scatters the results back.  Every point goes
- * through the same vector code whatever its lane, so results do not depend
- * on how points fall into chunks.
+ * The caller puts the chunk's velocity gradients in structure-of-arrays
+ * form (L, with finite values in the lanes past n up to a multiple of 4)
+ * and the points' indices (p); mpm_stress_chunk_iso reads each group of
+ * four points' stress, F, volumes and stress work straight from the
+ * points' arrays into vector lanes and writes the results straight back.
+ * (It used to update structure-of-arrays copies of those too, which the
+ * caller gathered point by point and scattered back: some 70 scalar loads
+ * and stores per point, 13 % of the fused pass, docs/bench.md.)  Every
+ * point goes through the same vector code whatever its lane, so results do
+ * not depend on how points fall into chunks.
  */
 #ifndef CASCADE_MPM_STRESS_CHUNK_H
 #define CASCADE_MPM_STRESS_CHUNK_H
@@ -21,30 +26,56 @@
 #include <stdint.h>
 
 #include "mpm/mpm_material.h"
+#include "mpm/mpm_points.h"
 #include "mpm/mpm_simd.h"
 
 #define MPM_CHUNK 64
 
 struct mpm_chunk {
     double L[9][MPM_CHUNK] __attribute__((aligned(64)));   /* velocity gradient, row-major */
-    double s[6][MPM_CHUNK] __attribute__((aligned(64)));   /* stress xx yy zz xy xz yz */
-    double F[9][MPM_CHUNK] __attribute__((aligned(64)));   /* deformation gradient */
-    double vol[MPM_CHUNK] __attribute__((aligned(64)));
-    double vol0[MPM_CHUNK] __attribute__((aligned(64)));
-    double eint[MPM_CHUNK] __attribute__((aligned(64)));
     int32_t p[MPM_CHUNK];     /* the points */
     int32_t mat[MPM_CHUNK];   /* their materials */
 };
 
 #define MPM_V4(a) (*(mpm_v4 *)(a))
 
-/* Lanes [0, nlanes) of the chunk (nlanes a multiple of 4). */
+/* Component c of the records of `stride` doubles of points q[0..3] as one
+ * vector (a macro: a vector returned by value would change the ABI without
+ * AVX, mpm_simd.h). */
+#define mpm_lanes_get(a, stride, q, c)                                                      \
+    ((mpm_v4){(a)[(long)(stride) * (q)[0] + (c)], (a)[(long)(stride) * (q)[1] + (c)],     \
+              (a)[(long)(stride) * (q)[2] + (c)], (a)[(long)(stride) * (q)[3] + (c)]})
+
+/* Lanes [0, nl) of *v back to component c of points q[0..nl). */
+static inline __attribute__((always_inline)) void mpm_lanes_put(double *a, int stride,
+                                                               const int32_t q[4], int c,
+                                                               const mpm_v4 *v, int nl)
+{
+    if (nl == 4) {
+        a[(long)stride * q[0] + c] = (*v)[0];
+        a[(long)stride * q[1] + c] = (*v)[1];
+        a[(long)stride * q[2] + c] = (*v)[2];
+        a[(long)stride * q[3] + c] = (*v)[3];
+        return;
+    }
+    for (int i = 0; i < nl; i++)
+        a[(long)stride * q[i] + c] = (*v)[i];
+}
+
+/* Points ch->p[0, n) of pts; the lanes of L past n up to a multiple of 4
+ * must hold finite values (their results are not stored). */
 static inline __attribute__((always_inline)) void
-mpm_stress_chunk_iso(const struct mpm_iso *c, const int jaumann, double dt, struct mpm_chunk *ch,
-                     int nlanes)
+mpm_stress_chunk_iso(const struct mpm_iso *c, const int jaumann, double dt,
+                     const struct mpm_chunk *ch, int n, struct mpm_points *pts)
 {
     const double lam = c->lambda, mu = c->mu;
-    for (int j = 0; j < nlanes; j += 4) {
+    double *S = pts->stress, *Fp = pts->F, *vol = pts->vol, *eint = pts->eint;
+    const double *vol0 = pts->vol0;
+    for (int j = 0; j < n; j += 4) {
+        const int nl = n - j < 4 ? n - j : 4;
+        int32_t q[4];   /* lanes past n read the last point again (not written) */
+        for (int i = 0; i < 4; i++)
+            q[i] = ch->p[j + (i < nl ? i : nl - 1)];
         const mpm_v4 L0 = MPM_V4(&ch->L[0][j]), L1 = MPM_V4(&ch->L[1][j]),
                      L2 = MPM_V4(&ch->L[2][j]), L3 = MPM_V4(&ch->L[3][j]),
                      L4 = MPM_V4(&ch->L[4][j]), L5 = MPM_V4(&ch->L[5][j]),
@@ -53,9 +84,9 @@ mpm_stress_chunk_iso(const struct mpm_iso *c, const int jaumann, double dt, stru
         /* Eq. (s13): de = sym(L) dt */
         const mpm_v4 d0 = L0 * dt, d1 = L4 * dt, d2 = L8 * dt, d3 = 0.5 * (L1 + L3) * dt,
                      d4 = 0.5 * (L2 + L6) * dt, d5 = 0.5 * (L5 + L7) * dt;
-        const mpm_v4 o0 = MPM_V4(&ch->s[0][j]), o1 = MPM_V4(&ch->s[1][j]),
-                     o2 = MPM_V4(&ch->s[2][j]), o3 = MPM_V4(&ch->s[3][j]),
-                     o4 = MPM_V4(&ch->s[4][j]), o5 = MPM_V4(&ch->s[5][j]);
+        const mpm_v4 o0 = mpm_lanes_get(S, 6, q, 0), o1 = mpm_lanes_get(S, 6, q, 1),
+                     o2 = mpm_lanes_get(S, 6, q, 2), o3 = mpm_lanes_get(S, 6, q, 3),
+                     o4 = mpm_lanes_get(S, 6, q, 4), o5 = mpm_lanes_get(S, 6, q, 5);
         mpm_v4 r0 = o0, r1 = o1, r2 = o2, r3 = o3, r4 = o4, r5 = o5;
         if (jaumann) {
             /* Hughes & Winget: sigma <- Q sigma Q^T, Q = I + 2 (A + A^2) / (1 + a.a),
@@ -91,22 +122,24 @@ mpm_stress_chunk_iso(const struct mpm_iso *c, const int jaumann, double dt, stru
         r3 += 2 * mu * d3;
         r4 += 2 * mu * d4;
         r5 += 2 * mu * d5;
-        MPM_V4(&ch->s[0][j]) = r0;
-        MPM_V4(&ch->s[1][j]) = r1;
-        MPM_V4(&ch->s[2][j]) = r2;
-        MPM_V4(&ch->s[3][j]) = r3;
-        MPM_V4(&ch->s[4][j]) = r4;
-        MPM_V4(&ch->s[5][j]) = r5;
+        mpm_lanes_put(S, 6, q, 0, &r0, nl);
+        mpm_lanes_put(S, 6, q, 1, &r1, nl);
+        mpm_lanes_put(S, 6, q, 2, &r2, nl);
+        mpm_lanes_put(S, 6, q, 3, &r3, nl);
+        mpm_lanes_put(S, 6, q, 4, &r4, nl);
+        mpm_lanes_put(S, 6, q, 5, &r5, nl);
         /* stress work, midpoint rule, with the volume before the step */
         const mpm_v4 w = (o0 + r0) * d0 + (o1 + r1) * d1 + (o2 + r2) * d2 +
                          2 * ((o3 + r3) * d3 + (o4 + r4) * d4 + (o5 + r5) * d5);
-        MPM_V4(&ch->eint[j]) += 0.5 * MPM_V4(&ch->vol[j]) * w;
+        const mpm_v4 V = mpm_lanes_get(vol, 1, q, 0);
+        const mpm_v4 E = mpm_lanes_get(eint, 1, q, 0) + 0.5 * V * w;
+        mpm_lanes_put(eint, 1, q, 0, &E, nl);
         /* F <- (I + L dt) F, row a: F_a + dt sum_b L_ab F_b */
-        const mpm_v4 f0 = MPM_V4(&ch->F[0][j]), f1 = MPM_V4(&ch->F[1][j]),
-                     f2 = MPM_V4(&ch->F[2][j]), f3 = MPM_V4(&ch->F[3][j]),
-                     f4 = MPM_V4(&ch->F[4][j]), f5 = MPM_V4(&ch->F[5][j]),
-                     f6 = MPM_V4(&ch->F[6][j]), f7 = MPM_V4(&ch->F[7][j]),
-                     f8 = MPM_V4(&ch->F[8][j]);
+        const mpm_v4 f0 = mpm_lanes_get(Fp, 9, q, 0), f1 = mpm_lanes_get(Fp, 9, q, 1),
+                     f2 = mpm_lanes_get(Fp, 9, q, 2), f3 = mpm_lanes_get(Fp, 9, q, 3),
+                     f4 = mpm_lanes_get(Fp, 9, q, 4), f5 = mpm_lanes_get(Fp, 9, q, 5),
+                     f6 = mpm_lanes_get(Fp, 9, q, 6), f7 = mpm_lanes_get(Fp, 9, q, 7),
+                     f8 = mpm_lanes_get(Fp, 9, q, 8);
         const mpm_v4 n0 = f0 + dt * (L0 * f0 + L1 * f3 + L2 * f6),
                      n1 = f1 + dt * (L0 * f1 + L1 * f4 + L2 * f7),
                      n2 = f2 + dt * (L0 * f2 + L1 * f5 + L2 * f8),
@@ -116,18 +149,19 @@ mpm_stress_chunk_iso(const struct mpm_iso *c, const int jaumann, double dt, stru
                      n6 = f6 + dt * (L6 * f0 + L7 * f3 + L8 * f6),
                      n7 = f7 + dt * (L6 * f1 + L7 * f4 + L8 * f7),
                      n8 = f8 + dt * (L6 * f2 + L7 * f5 + L8 * f8);
-        MPM_V4(&ch->F[0][j]) = n0;
-        MPM_V4(&ch->F[1][j]) = n1;
-        MPM_V4(&ch->F[2][j]) = n2;
-        MPM_V4(&ch->F[3][j]) = n3;
-        MPM_V4(&ch->F[4][j]) = n4;
-        MPM_V4(&ch->F[5][j]) = n5;
-        MPM_V4(&ch->F[6][j]) = n6;
-        MPM_V4(&ch->F[7][j]) = n7;
-        MPM_V4(&ch->F[8][j]) = n8;
+        mpm_lanes_put(Fp, 9, q, 0, &n0, nl);
+        mpm_lanes_put(Fp, 9, q, 1, &n1, nl);
+        mpm_lanes_put(Fp, 9, q, 2, &n2, nl);
+        mpm_lanes_put(Fp, 9, q, 3, &n3, nl);
+        mpm_lanes_put(Fp, 9, q, 4, &n4, nl);
+        mpm_lanes_put(Fp, 9, q, 5, &n5, nl);
+        mpm_lanes_put(Fp, 9, q, 6, &n6, nl);
+        mpm_lanes_put(Fp, 9, q, 7, &n7, nl);
+        mpm_lanes_put(Fp, 9, q, 8, &n8, nl);
         const mpm_v4 J = n0 * (n4 * n8 - n5 * n7) - n1 * (n3 * n8 - n5 * n6) +
                          n2 * (n3 * n7 - n4 * n6);
-        MPM_V4(&ch->vol[j]) = MPM_V4(&ch->vol0[j]) * J;
+        const mpm_v4 Vn = mpm_lanes_get(vol0, 1, q, 0) * J;
+        mpm_lanes_put(vol, 1, q, 0, &Vn, nl);
     }
 }
 
