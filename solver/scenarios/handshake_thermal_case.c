@@ -51,7 +51,9 @@ struct thermal_case {
     double equilibrate, eq_damping, block;   /* ps */
     long neq, nblock;                        /* steps */
     uint64_t seed;
-    int nthreads;
+    /* the read's common settings (threads, ranks, `parallel`) for the
+     * rebuild at a(T) of thermal.from_potential; title not kept */
+    struct case_common common;
     /* thermal.from_potential: a(T) and the constants at T computed here */
     int from_potential;
     long auto_cells;
@@ -101,7 +103,8 @@ static int thermal_read(struct cfg_obj *root, const struct case_common *common, 
     c->bar_md = 16;
     c->bar_width = 4;
     w->seed = common->seed;
-    w->nthreads = common->nthreads;
+    w->common = *common;
+    w->common.title = NULL;
     struct cfg_obj o;
     int rc = hs_case_read(root, c);
     if (!rc && !(rc = cfg_section_required(root, "thermal", &o)) &&
@@ -330,7 +333,7 @@ static int compute_at_temperature(struct thermal_case *w, struct run *run, struc
     struct elastic_thermal_settings s = w->auto_set;
     s.md.temperature = w->bath.temperature;
     s.md.seed = w->seed;
-    s.md.nthreads = w->nthreads;
+    s.md.nthreads = w->common.nthreads;
     enum lattice_style style = c->lattice == HS_LATTICE_BCC       ? LATTICE_BCC
                                : c->lattice == HS_LATTICE_DIAMOND ? LATTICE_DIAMOND
                                                                   : LATTICE_FCC;
@@ -362,7 +365,7 @@ static int compute_at_temperature(struct thermal_case *w, struct run *run, struc
     /* the read's cfg is gone: build errors name the case type */
     struct cfg cfg = {"handshake_thermal (from_potential)", NULL, e, NULL, 0};
     c->cfg = &cfg;
-    rc = hs_case_build(c, MPM_FACE_SLIDING, 0, w->nthreads);
+    rc = hs_case_build(c, MPM_FACE_SLIDING, 0, &w->common);
     c->cfg = NULL;
     return rc;
 }
