@@ -61,23 +61,9 @@ void displacement_profile_sums(const struct particles *p, const struct box *b, i
 void displacement_profile(const struct particles *p, const struct box *b, int field, int axis,
                           double origin, double w, int nbins, uint32_t exclude, double *out)
 {
-    const double *x0 = p->fields[field].data;
-    long *cnt = calloc((size_t)nbins, sizeof *cnt);
-    for (int k = 0; k < nbins; k++)
-        out[k] = 0;
-    for (int i = 0; i < p->n_owned; i++) {
-        if (p->mask[i] & exclude)
-            continue;
-        double r = x0[3 * i + axis];
-        int k = (int)floor((r - origin) / w);
-        if (k < 0 || k >= nbins)
-            continue;
-        double xu[3];
-        box_unwrap(b, p, i, xu);
-        out[k] += xu[axis] - r;
-        if (cnt)
-            cnt[k]++;
-    }
+    double *cnt = malloc((size_t)(nbins > 0 ? nbins : 1) * sizeof *cnt);
+    if (cnt)
+        displacement_profile_sums(p, b, field, axis, origin, w, nbins, exclude, out, cnt);
     for (int k = 0; k < nbins; k++)
         out[k] = cnt && cnt[k] ? out[k] / cnt[k] : NAN;
     free(cnt);

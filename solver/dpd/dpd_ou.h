@@ -114,4 +114,19 @@ static inline double dpd_ou_unew(const struct dpd_ou *o, const struct dpd_ou_pai
     return dpd_ou_general(o, urel, q->wr, q->invmu, q->xi, ui, uj);
 }
 
+/* The pair's velocity change along e: +aa e on a, -ab e on b (aa, ab the
+ * change of the relative velocity times each one's share of the reduced
+ * mass), with the fused multiply-adds every sweep order uses, so that
+ * sweeps that visit a pair in the same order give the same bits. */
+static inline void dpd_ou_kick(double *va, double *vb, double aa, double ab, double ex, double ey,
+                               double ez)
+{
+    va[0] = fma(aa, ex, va[0]);
+    va[1] = fma(aa, ey, va[1]);
+    va[2] = fma(aa, ez, va[2]);
+    vb[0] = fma(-ab, ex, vb[0]);
+    vb[1] = fma(-ab, ey, vb[1]);
+    vb[2] = fma(-ab, ez, vb[2]);
+}
+
 #endif

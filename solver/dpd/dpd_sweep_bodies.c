@@ -8,6 +8,7 @@
 
 #include "core/halo.h"
 #include "core/parallel.h"
+#include "dpd/dpd_ou.h"
 #include "dpd/dpd_pair.h"
 
 /* Every rank's records on every rank (*all: a new buffer). */
@@ -138,12 +139,7 @@ int dpd_sweep_bodies(struct dpd *d, const struct dpd_ou *ou, const struct dpd_bo
         double unew = dpd_ou_unew(ou, &op, urel, sa->u, sb->u);
         double du = unew - urel;
         double aa = du * (q->winv[0] * mu), ab = du * (q->winv[1] * mu);
-        va[0] = fma(aa, ex, va[0]);
-        va[1] = fma(aa, ey, va[1]);
-        va[2] = fma(aa, ez, va[2]);
-        vb[0] = fma(-ab, ex, vb[0]);
-        vb[1] = fma(-ab, ey, vb[1]);
-        vb[2] = fma(-ab, ez, vb[2]);
+        dpd_ou_kick(va, vb, aa, ab, ex, ey, ez);
         double J = du * mu;   /* amu Å/ps along e, +J on the anchor */
         for (int c = 0; c < 3; c++) {
             if (q->body[0] >= 0)

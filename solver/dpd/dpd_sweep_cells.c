@@ -503,12 +503,7 @@ int dpd_sweep_cells(struct dpd *d, struct err *e)
             double unew = dpd_ou_unew(&ou, &q, urel, u ? u[a] : 0, u ? u[b] : 0);
             double du = unew - urel;
             double aa = du * (wa * mu), ab = du * (wb * mu);
-            va[0] = fma(aa, ex, va[0]);
-            va[1] = fma(aa, ey, va[1]);
-            va[2] = fma(aa, ez, va[2]);
-            vb[0] = fma(-ab, ex, vb[0]);
-            vb[1] = fma(-ab, ey, vb[1]);
-            vb[2] = fma(-ab, ez, vb[2]);
+            dpd_ou_kick(va, vb, aa, ab, ex, ey, ez);
             touched[a] = touched[b] = 1;
             if (d->nbodies) {   /* a prescribed body takes the impulse J along e, +J on a */
                 double J = du * mu;
