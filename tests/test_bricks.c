@@ -94,6 +94,8 @@ static void check_rank_counts(const char *tag, const char *yaml, long natoms, lo
         compare_series(dir[0], dir[k], what);
         compare_metrics(dir[0], dir[k], what);
         compare_snapshot(dir[0], dir[k], steps, what);
+        if (strstr(yaml, "final_state: final.xyz"))   /* gathered on rank 0 by id */
+            thb_compare_final_xyz(dir[0], dir[k], "final.xyz", REL, what);
         thb_check_parallel_record(dir[k], nps[k], natoms);
     }
 }
@@ -117,7 +119,7 @@ Test(bricks, eam_cu_matches_serial, .timeout = 600)
                              "  element: Cu\npotential: {style: eam/alloy, file: "
                              "Cu_mishin1.eam.alloy}\nmd: {steps: 100, temperature: 600}\n"
                              "parallel: {decomposition: bricks}\n"
-                             "output: {thermo_every: 10}\n",
+                             "output: {thermo_every: 10, final_state: final.xyz}\n",
                       2048, 100);
 }
 

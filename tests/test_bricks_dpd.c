@@ -70,6 +70,8 @@ static void check_rank_counts(const char *tag, const char *yaml, long n, long st
         char what[96];
         snprintf(what, sizeof what, "%s on %d ranks", tag, nps[k]);
         compare_runs(d0, dk, steps, dpde, what);
+        if (strstr(yaml, "final_state: final.xyz"))   /* gathered on rank 0 by id */
+            thb_compare_final_xyz(d0, dk, "final.xyz", REL, what);
         thb_check_parallel_record(dk, nps[k], n);
     }
 }
@@ -86,7 +88,7 @@ Test(bricks_dpd, dpde_matches_serial_cell_sweep, .timeout = 900)
                       "  element: Cu\ndpd: {parameters: cg.yaml, variant: dpde, gamma: 2.0, "
                       "steps: 100, timestep: 0.01, initial_temperature: 600, sweep: cells}\n"
                       "parallel: {decomposition: bricks}\n"
-                      "output: {thermo_every: 10, snapshot_every: 100}\n",
+                      "output: {thermo_every: 10, snapshot_every: 100, final_state: final.xyz}\n",
                       864, 100, 1, nps);
 }
 

@@ -24,6 +24,7 @@
 #include "core/parallel.h"
 #include "core/units.h"
 #include "engine/models.h"
+#include "output/final_state.h"
 #include "output/decomp_record.h"
 #include "output/dpd_output.h"
 #include "scenarios/dpd_setup.h"
@@ -169,13 +170,7 @@ static int dpd_case_report(void *state, struct sim *s, int run_rc, struct err *e
         decomp_record_write(s->run, c->halo, d->p);
     int rc = dpd_output_end(&c->out, s->run, e);
     if (!run_rc && !rc) {
-        /* bricks: every rank's particles, gathered on rank 0 in id order */
-        struct particles *all = NULL;
-        if (c->halo)
-            rc = halo_gather(c->halo, d->p, &all, e);
-        if (!rc && (!c->halo || all))   /* bricks: rank 0 writes */
-            rc = run_write_final_state(s->run, all ? all : d->p, &d->box, d->step, d->time, e);
-        particles_destroy(&all);
+        rc = final_state_write(s->run, c->halo, d->p, &d->box, d->step, d->time, e);
     }
     return rc;
 }

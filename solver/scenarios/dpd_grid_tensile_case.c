@@ -34,6 +34,7 @@
 #include "core/halo.h"
 #include "core/units.h"
 #include "engine/models.h"
+#include "output/final_state.h"
 #include "output/decomp_record.h"
 #include "scenarios/dpd_mpm_setup.h"
 #include "output/dpd_output.h"
@@ -164,13 +165,8 @@ static int gt_report(void *state, struct sim *s, int rc, struct err *e)
     if (c->out_open) {
         c->out_open = 0;
         int rc2 = dpd_output_end(&c->out, run, e);
-        /* bricks: every rank's particles, gathered on rank 0 in id order */
-        struct particles *all = NULL;
-        if (!rc && !rc2 && c->halo)
-            rc2 = halo_gather(c->halo, d->p, &all, e);
-        if (!rc && !rc2 && (!c->halo || all))   /* bricks: rank 0 writes */
-            rc2 = run_write_final_state(run, all ? all : d->p, &d->box, d->step, d->time, e);
-        particles_destroy(&all);
+        if (!rc && !rc2)
+            rc2 = final_state_write(run, c->halo, d->p, &d->box, d->step, d->time, e);
         rc = rc ? rc : rc2;
     }
     /* and the grid's */

@@ -90,6 +90,7 @@
 #include "core/lattice.h"
 #include "core/units.h"
 #include "engine/models.h"
+#include "output/final_state.h"
 #include "output/decomp_record.h"
 #include "scenarios/dpd_bar.h"
 #include "scenarios/dpd_impact_setup.h"
@@ -525,13 +526,7 @@ static int impact_report(void *state, struct sim *s, int run_rc, struct err *e)
         decomp_record_write(run, c->halo, d->p);
     int rc2 = dpd_output_end(&c->out, run, e);
     if (!run_rc && !rc && !rc2) {
-        /* bricks: every rank's particles, gathered on rank 0 in id order */
-        struct particles *all = NULL;
-        if (c->halo)
-            rc2 = halo_gather(c->halo, d->p, &all, e);
-        if (!rc2 && (!c->halo || all))   /* bricks: rank 0 writes */
-            rc2 = run_write_final_state(run, all ? all : d->p, &d->box, d->step, d->time, e);
-        particles_destroy(&all);
+        rc2 = final_state_write(run, c->halo, d->p, &d->box, d->step, d->time, e);
     }
     return rc ? rc : rc2;
 }

@@ -27,6 +27,7 @@
 #include "core/velocity.h"
 #include "scenarios/case_type.h"
 #include "input/md_system.h"
+#include "output/final_state.h"
 #include "output/md_output.h"
 #include "md/md_timestep.h"
 
@@ -272,16 +273,8 @@ static int md_case_report(void *state, struct sim *s, int run_rc, struct err *e)
     int rc = md_output_end(&c->out, s->run, e);
     if (md->halo)   /* rank 0 wrote: all ranks or none go on to the gather */
         rc = halo_agree(md->halo, rc, e);
-    if (!run_rc && !rc && s->run->out.final_state) {
-        /* bricks: every rank's atoms, gathered on rank 0 in id order */
-        struct particles *all = NULL;
-        if (md->halo)
-            rc = halo_gather(md->halo, md->p, &all, e);
-        if (!rc && (!md->halo || all))   /* bricks: rank 0 writes */
-            rc = run_write_final_state(s->run, all ? all : md->p, &md->box, md->step, md->time,
-                                       e);
-        particles_destroy(&all);
-    }
+    if (!run_rc && !rc)
+        rc = final_state_write(s->run, md->halo, md->p, &md->box, md->step, md->time, e);
     return rc;
 }
 

@@ -6,6 +6,7 @@
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 #include <sys/stat.h>
 
 #include "helpers/th.h"
@@ -260,4 +261,131 @@ void thb_read_text(const char *dir, const char *name, char *buf, size_t len)
     size_t n = fread(buf, 1, len - 1, f);
     buf[n] = '\0';
     fclose(f);
+}
+
+/* One whitespace-separated field of an XYZ line, with a header's `Key=`
+ * and quotes taken off. */
+static const char *xyz_field(char *tok)
+{
+    char *eq = strchr(tok, '=');
+    if (eq)
+        tok = eq + 1;
+    while (*tok == '"')
+        tok++;
+    size_t n = strlen(tok);
+    while (n && tok[n - 1] == '"')
+        tok[--n] = '\0';
+    return tok;
+}
+
+static int xyz_number(const char *s, double *x)
+{
+    char *end;
+    *x = strtod(s, &end);
+    return *s && end != s && *end == '\0';
+}
+
+#define XYZ_MAXCOL 64
+
+/* Largest magnitude of each numeric column over the atom lines (from the
+ * third line on). */
+static void xyz_column_max(char **lines, long n, double *cmax)
+{
+    for (int k = 0; k < XYZ_MAXCOL; k++)
+        cmax[k] = 0;
+    for (long l = 2; l < n; l++) {
+        char *copy = strdup(lines[l]), *save = NULL;
+        int k = 0;
+        for (char *t = strtok_r(copy, " \t", &save); t && k < XYZ_MAXCOL;
+             t = strtok_r(NULL, " \t", &save), k++) {
+            double x;
+            if (xyz_number(xyz_field(t), &x) && fabs(x) > cmax[k])
+                cmax[k] = fabs(x);
+        }
+        free(copy);
+    }
+}
+
+static char **xyz_lines(const char *path, long *n)
+{
+    FILE *f = fopen(path, "rb");
+    cr_assert_not_null(f, "%s: cannot open", path);
+    fseek(f, 0, SEEK_END);
+    long len = ftell(f);
+    rewind(f);
+    char *text = malloc((size_t)len + 1);
+    cr_assert_eq(fread(text, 1, (size_t)len, f), (size_t)len, "%s: short read", path);
+    fclose(f);
+    text[len] = '\0';
+    long cap = 16, k = 0;
+    char **lines = malloc(cap * sizeof *lines);
+    char *save = NULL;
+    for (char *l = strtok_r(text, "\n", &save); l; l = strtok_r(NULL, "\n", &save)) {
+        if (k == cap)
+            lines = realloc(lines, (cap *= 2) * sizeof *lines);
+        lines[k++] = strdup(l);
+    }
+    free(text);
+    *n = k;
+    return lines;
+}
+
+/* The atom's id: the 11th field (species, pos:3, velo:3, forces:3, id). */
+static long long xyz_line_id(const char *line)
+{
+    const char *p = line;
+    for (int k = 0; k < 10; k++) {
+        p += strcspn(p, " \t");
+        p += strspn(p, " \t");
+    }
+    return strtoll(p, NULL, 10);
+}
+
+static int xyz_by_id(const void *a, const void *b)
+{
+    long long x = xyz_line_id(*(char *const *)a), y = xyz_line_id(*(char *const *)b);
+    return (x > y) - (x < y);
+}
+
+void thb_compare_final_xyz(const char *a, const char *b, const char *name, double rel,
+                           const char *tag)
+{
+    char pa[700], pb[700];
+    snprintf(pa, sizeof pa, "%s/%s", a, name);
+    snprintf(pb, sizeof pb, "%s/%s", b, name);
+    long na, nb;
+    char **la = xyz_lines(pa, &na), **lb = xyz_lines(pb, &nb);
+    cr_assert_eq(na, nb, "%s: %s has %ld lines, %s %ld", tag, pa, na, pb, nb);
+    cr_assert_geq(na, 3, "%s: %s holds no atoms", tag, pa);
+    /* a serial run writes its atoms in memory (cell) order, bricks in id
+     * order: compare by id */
+    qsort(la + 2, (size_t)(na - 2), sizeof *la, xyz_by_id);
+    qsort(lb + 2, (size_t)(nb - 2), sizeof *lb, xyz_by_id);
+    double cmax[XYZ_MAXCOL];
+    xyz_column_max(la, na, cmax);
+    for (long l = 0; l < na; l++) {
+        char *sa = NULL, *sb = NULL;
+        char *ta = strtok_r(la[l], " \t", &sa), *tb = strtok_r(lb[l], " \t", &sb);
+        for (int k = 0; ta || tb; k++) {
+            cr_assert(ta && tb, "%s: %s line %ld: %d vs other field count", tag, name, l + 1, k);
+            const char *fa = xyz_field(ta), *fb = xyz_field(tb);
+            double x, y;
+            if (xyz_number(fa, &x) && xyz_number(fb, &y)) {
+                double scale = l >= 2 && k < XYZ_MAXCOL ? cmax[k] : fmax(fabs(x), fabs(y));
+                double tol = 1e-9 * fmax(fabs(x), fabs(y)) + rel * scale;
+                cr_assert_leq(fabs(x - y), tol, "%s: %s line %ld field %d: %.17g vs %.17g", tag,
+                              name, l + 1, k + 1, x, y);
+            } else {
+                cr_assert_str_eq(fa, fb, "%s: %s line %ld field %d", tag, name, l + 1, k + 1);
+            }
+            ta = strtok_r(NULL, " \t", &sa);
+            tb = strtok_r(NULL, " \t", &sb);
+        }
+    }
+    for (long l = 0; l < na; l++) {
+        free(la[l]);
+        free(lb[l]);
+    }
+    free(la);
+    free(lb);
 }

@@ -45,6 +45,13 @@ void thb_compare_metrics(const char *a, const char *b, const char *const *names,
 void thb_compare_snapshot(const char *a, const char *b, const char *group,
                           const char *const *sets, const int *ncomp, double rel, const char *tag);
 
+/* The final-state files (output.final_state, extended XYZ: %.10g) of two
+ * runs hold the same atoms (matched by id) and header, text fields equal
+ * and numbers equal to their printed precision plus rel of the column's
+ * largest magnitude. */
+void thb_compare_final_xyz(const char *a, const char *b, const char *name, double rel,
+                           const char *tag);
+
 /* A snapshot group's particles in id order: (id, index in the datasets). */
 struct thb_by_id {
     int64_t id;
