@@ -74,8 +74,8 @@ void *thb_read_h5(const char *dir, const char *name, hid_t type, size_t elem, lo
     return buf;
 }
 
-void thb_compare_series(const char *a, const char *b, const char *const *cols, double rel,
-                        const char *tag)
+void thb_compare_series_floor(const char *a, const char *b, const char *const *cols,
+                              const double *floor, double rel, const char *tag)
 {
     for (int c = 0; cols[c]; c++) {
         char name[96];
@@ -85,7 +85,7 @@ void thb_compare_series(const char *a, const char *b, const char *const *cols, d
         double *y = thb_read_h5(b, name, H5T_NATIVE_DOUBLE, sizeof(double), &nb);
         cr_assert_eq(na, nb, "%s %s: %ld vs %ld rows", tag, name, na, nb);
         cr_assert_geq(na, 2, "%s %s: %ld rows", tag, name, na);
-        double scale = 0;
+        double scale = floor ? floor[c] : 0;
         for (long i = 0; i < na; i++)
             scale = fmax(scale, fabs(x[i]));
         for (long i = 0; i < na; i++)
@@ -94,6 +94,12 @@ void thb_compare_series(const char *a, const char *b, const char *const *cols, d
         free(x);
         free(y);
     }
+}
+
+void thb_compare_series(const char *a, const char *b, const char *const *cols, double rel,
+                        const char *tag)
+{
+    thb_compare_series_floor(a, b, cols, NULL, rel, tag);
 }
 
 json_t *thb_result(const char *dir)

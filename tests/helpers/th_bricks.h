@@ -30,6 +30,10 @@ void *thb_read_h5(const char *dir, const char *name, hid_t type, size_t elem, lo
  * magnitude, for each NULL-ended column. */
 void thb_compare_series(const char *a, const char *b, const char *const *cols, double rel,
                         const char *tag);
+/* The same with a least scale per column: floor[c] (NULL: none), for a
+ * column whose values may stay near zero while their parts are large. */
+void thb_compare_series_floor(const char *a, const char *b, const char *const *cols,
+                              const double *floor, double rel, const char *tag);
 
 json_t *thb_result(const char *dir);
 double thb_metric(json_t *res, const char *name);
