@@ -1,9 +1,9 @@
 /*
  * The DPD/MPM couplings under mpirun (docs/parallel.md, docs/dpd_mpm.md
- * "Under MPI").  The coupled impacts -- the concurrent DPD/MPM impact
- * (dpd_mpm_impact, Chen 2014 Sec. 4.2, Fig. 8) and the DPD/MPM-grid
- * impact -- are not decomposed into bricks yet (the grid-carried tensile
- * rod is: tests/test_bricks_dpd_grid_tensile.c): a case that asks
+ * "Under MPI").  The concurrent DPD/MPM impact (dpd_mpm_impact, Chen 2014
+ * Sec. 4.2, Fig. 8) is not decomposed into bricks yet (the grid-carried
+ * tensile rod and impact are: tests/test_bricks_dpd_grid_tensile.c,
+ * tests/test_bricks_dpd_grid_impact.c): a case that asks
  * for bricks (decomposition: bricks, or a grid) stops before the run
  * naming the case file, line and key; under `auto` (and `replicated`)
  * every rank runs the whole case and rank 0 writes, with a note.  So the
@@ -232,17 +232,6 @@ Test(bricks_dpd_mpm, bricks_are_refused_naming_the_key, .timeout = 300)
                    "dpd_mpm_impact", 1);
     concurrent_case(yaml, sizeof yaml, 5, OUTPUT, "parallel: {grid: [2, 1, 1]}\n");
     assert_refused("conc_grid.yaml", yaml, "[2, 1, 1]", "parallel.grid", "dpd_mpm_impact", 2);
-
-    const char *grid_impact =
-        "type: dpd_grid_impact\nseed: 3\nsystem:\n"
-        "  lattice: {style: fcc, a: 7.2786, cells: [12, 3, 3]}\n"
-        "  element: Cu\n  boundary: [free, periodic, periodic]\n"
-        "dpd:\n  parameters: cg.yaml\n  timestep: 0.005\n  steps: 5\n"
-        "impact:\n  regions: [25.0, 55.0]\n"
-        "grid:\n  cell: 4.0\n"
-        "parallel: {decomposition: bricks, grid: [2, 1, 1]}\n";
-    assert_refused("grid_impact.yaml", grid_impact, "bricks,", "parallel.decomposition",
-                   "dpd_grid_impact", 2);
 
     /* replicated asks for no bricks: the whole case on every rank, no note */
     static char out[16384];

@@ -68,8 +68,8 @@
  * that a run and its reference run without the flyer see the same pairs in
  * the same order).  The material points keep their order (no reordering).
  *
- * On MPI bricks (d->p->halo; the grid model without partners, so far the
- * tensile rod): each rank holds its brick's DPD particles and the whole
+ * On MPI bricks (d->p->halo; the grid model without partners: the tensile
+ * rod and the flyer/target impact): each rank holds its brick's DPD particles and the whole
  * grid; the nodes' mass, momentum and force (s1-s3b) and the MUSL remap's
  * momenta (s11) are summed over the ranks, so every rank updates the same
  * nodes; the ghosts' velocities, internal energies and w are forwarded and

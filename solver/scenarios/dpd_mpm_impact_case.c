@@ -84,6 +84,14 @@
  * structure analysis are the case's after_step hook, and they go into the
  * checkpoints (output.checkpoint_every, run --restart).
  *
+ * Under mpirun dpd_grid_impact runs on bricks (docs/dpd_mpm.md "Under
+ * MPI"; impact_bricks): each run's DPD particles on its own halo over the
+ * same bricks, its grid whole on every rank with the node sums over the
+ * ranks (couple/dpd_mpm.c), the free flyer's force a sum over the ranks;
+ * the region means, profiles, front probes, CNA counts and internal
+ * temperature are sums, the final state is gathered on rank 0.  The
+ * concurrent model is not decomposed (dpd_mpm_parallel_check).
+ *
  * Metrics (besides dpd_impact's wave_speed and its companions,
  * wave_speed_threshold, arrival_time_1/2,
  * region_particles_1/2, displacement_max_1/2, flyer_velocity_final,
@@ -108,6 +116,7 @@
 
 #include "analysis/displacement.h"
 #include "analysis/wave_arrival.h"
+#include "core/halo.h"
 #include "core/units.h"
 #include "dpd/cg_lattice.h"
 #include "engine/models.h"
@@ -116,6 +125,7 @@
 #include "scenarios/dpd_impact_setup.h"
 #include "scenarios/impact_front.h"
 #include "scenarios/dpd_mpm_setup.h"
+#include "output/decomp_record.h"
 #include "output/dpd_output.h"
 #include "scenarios/dpd_setup.h"
 #include "scenarios/dpd_structure.h"
@@ -179,6 +189,8 @@ static void samples_free(struct samples *s)
 struct impact_case {
     int concurrent;
     struct coupled r[MAX_RUNS];   /* flyer, reference, all-DPD flyer, all-DPD reference */
+    struct halo *halo[MAX_RUNS];  /* bricks of each run (owned; dpd_grid_impact under
+                                     mpirun), or NULL */
     int nruns, has_ref, has_hom;
     long steps;
     struct dpd_impact_keys k;
@@ -197,7 +209,7 @@ struct impact_case {
     int out_open;
     struct samples S;             /* region signals every sample_every steps */
     double *prof, *pref;          /* profiles at the profile times (nptimes x nbins) */
-    long *cnt;
+    double *cnt;                  /* scratch: a profile's particles per bin */
     int nbins;
     double bin;
     double P0[3];                 /* total momentum at step 0 */
@@ -257,18 +269,18 @@ static void coupled_free(struct coupled *m)
 }
 
 /* One run over the DPD particles p (taken), with the flyer's particles
- * (mask DPD_FLYER_BIT) made a rigid body, and the material points `pts`
+ * (mask DPD_FLYER_BIT) made a rigid body when `flyer` (on bricks on every
+ * rank, also those that hold none of them), and the material points `pts`
  * (NULL: none). */
-static int coupled_build(struct coupled *m, struct particles *p, const struct points *pts,
-                         const struct impact_case *ic, const struct dpd_input *in,
-                         const struct box *box, const struct case_common *common,
-                         const struct dpd_mpm_grid *g, struct err *e)
+static int coupled_build(struct coupled *m, struct particles *p, int flyer,
+                         const struct points *pts, const struct impact_case *ic,
+                         const struct dpd_input *in, const struct box *box,
+                         const struct case_common *common, const struct dpd_mpm_grid *g,
+                         struct err *e)
 {
     memset(m, 0, sizeof *m);
     long added = 0;
-    int rc = 0, flyer = 0;
-    for (int i = 0; i < p->n_owned; i++)
-        flyer |= (p->mask[i] & DPD_FLYER_BIT) != 0;
+    int rc = 0;
     if (pts && pts->n > 0)
         rc = dpd_mpm_partners_create(p, p->n_owned, pts->n, pts->x, pts->id, pts->range,
                                      PARTNER_BIT, PARTNER_ID0, &added, e);
@@ -387,6 +399,35 @@ static int check_points_per_cell(struct cfg_obj *root, double cell, const struct
 
 static void impact_destroy(void *state);
 
+/* Under mpirun, for dpd_grid_impact (docs/dpd_mpm.md "Under MPI"): the
+ * flyer run's particles p keep their brick's share of the DPD halo
+ * (dpd_bricks without the sweep's reach: the grid model has no Shardlow
+ * sweep), every other run its own of a halo over the same bricks, so that
+ * a run and its reference run hold the same material on each rank.  Every
+ * rank built all particles; the grid stays whole on every rank.  No-op
+ * serially, replicated, and for the concurrent model (refused on bricks by
+ * dpd_mpm_parallel_check). */
+static int impact_bricks(struct impact_case *c, int r, struct particles *p,
+                         const struct dpd_input *in, const struct box *box,
+                         const struct case_common *common, struct cfg *cfg)
+{
+    if (c->concurrent)
+        return 0;
+    if (r == 0)
+        return dpd_bricks(in, box, p, common, cfg, 0, &c->halo[0]);
+    if (!c->halo[0])
+        return 0;
+    struct err *e = cfg->err;
+    if (!(c->halo[r] = calloc(1, sizeof *c->halo[r])))
+        return err_nomem(e, "reference run bricks");
+    int rc = halo_init_like(c->halo[r], c->halo[0], e);
+    if (rc)
+        return rc;
+    p->halo = c->halo[r];
+    p->par = NULL;   /* no replicated sums: each rank owns its brick */
+    return halo_distribute(c->halo[r], p, e);
+}
+
 static int impact_read(struct cfg_obj *root, const struct case_common *common, void **state,
                        int concurrent)
 {
@@ -399,8 +440,8 @@ static int impact_read(struct cfg_obj *root, const struct case_common *common, v
     if (!c)
         return err_nomem(root->cfg->err, "impact case");
     c->concurrent = concurrent;
-    int rc = dpd_mpm_parallel_check(root->cfg, common,
-                                    concurrent ? "dpd_mpm_impact" : "dpd_grid_impact");
+    /* the concurrent model is not decomposed; dpd_grid_impact is (impact_bricks) */
+    int rc = concurrent ? dpd_mpm_parallel_check(root->cfg, common, "dpd_mpm_impact") : 0;
     if (!rc)
         rc = md_system_read(root, common->seed, &p, &box, &info);
     if (!rc)
@@ -515,8 +556,10 @@ static int impact_read(struct cfg_obj *root, const struct case_common *common, v
             rc = dpd_impact_add_flyer(src[r], &bar, &c->k, a, &nf, e);
         if (r == 0)
             c->n_flyer = nf;
+        if (!rc)
+            rc = impact_bricks(c, r, src[r], &in, &box, common, root->cfg);
         if (!rc) {
-            rc = coupled_build(&c->r[r], src[r], use[r], c, &in, &box, common, &g, e);
+            rc = coupled_build(&c->r[r], src[r], flyer[r], use[r], c, &in, &box, common, &g, e);
             src[r] = NULL;
             c->nruns = r + 1;
         }
@@ -563,50 +606,45 @@ static double slab_mean(const struct coupled *m, int ax, double lo, double hi, l
     long nd = 0;
     double md = displacement_slab_mean(m->d.p, &m->d.box, m->xref, ax, lo, hi,
                                        DPD_FLYER_BIT | PARTNER_BIT, &nd);
-    double sum = nd ? md * nd : 0.0;
-    long n = nd;
+    double s[2] = {nd ? md * nd : 0.0, (double)nd};   /* sum, count */
     const struct mpm_points *pts = &m->c.m.pts;
     for (long k = 0; k < pts->n; k++) {
         double r = pts->x0[3 * k + ax];
         if (r < lo || r >= hi)
             continue;
-        sum += pts->x[3 * k + ax] - r;
-        n++;
+        s[0] += pts->x[3 * k + ax] - r;
+        s[1] += 1;
     }
+    if (m->d.p->halo)   /* bricks: each rank's particles (no material points) */
+        halo_sum(m->d.p->halo, s, 2);
+    long n = lround(s[1]);
     if (count)
         *count = n;
-    return n ? sum / n : NAN;
+    return n ? s[0] / s[1] : NAN;
 }
 
 /* Displacement profile of both kinds of material in bins of width w from
  * origin: out[k] (NAN for empty bins). */
 static void profile(const struct coupled *m, int ax, double origin, double w, int nbins,
-                    double *out, long *cnt)
+                    double *out, double *cnt)
 {
-    const struct particles *p = m->d.p;
-    const double *x0 = p->fields[m->xref].data;
-    memset(cnt, 0, (size_t)nbins * sizeof *cnt);
-    for (int k = 0; k < nbins; k++)
-        out[k] = 0;
-    for (long i = 0; i < m->c.ncarried; i++) {
-        int k = (int)floor((x0[3 * i + ax] - origin) / w);
-        if (k < 0 || k >= nbins)
-            continue;
-        double xu[3];
-        box_unwrap(&m->d.box, p, (int)i, xu);
-        out[k] += xu[ax] - x0[3 * i + ax];
-        cnt[k]++;
-    }
+    /* the carried DPD particles: neither the flyer nor partners */
+    displacement_profile_sums(m->d.p, &m->d.box, m->xref, ax, origin, w, nbins,
+                              DPD_FLYER_BIT | PARTNER_BIT, out, cnt);
     const struct mpm_points *pts = &m->c.m.pts;
     for (long q = 0; q < pts->n; q++) {
         int k = (int)floor((pts->x0[3 * q + ax] - origin) / w);
         if (k < 0 || k >= nbins)
             continue;
         out[k] += pts->x[3 * q + ax] - pts->x0[3 * q + ax];
-        cnt[k]++;
+        cnt[k] += 1;
+    }
+    if (m->d.p->halo) {   /* bricks: each rank's particles */
+        halo_sum(m->d.p->halo, out, nbins);
+        halo_sum(m->d.p->halo, cnt, nbins);
     }
     for (int k = 0; k < nbins; k++)
-        out[k] = cnt[k] ? out[k] / cnt[k] : NAN;
+        out[k] = cnt[k] > 0 ? out[k] / cnt[k] : NAN;
 }
 
 /* Impact-caused mean displacement of [lo, hi) from the face: flyer run a
@@ -622,13 +660,17 @@ static double signal(const struct impact_case *c, int a, int b, double lo, doubl
 static double internal_temperature(const struct coupled *m)
 {
     const struct dpd *d = &m->d;
-    if (d->ufield < 0 || m->c.ncarried == 0)
+    if (d->ufield < 0)
         return NAN;
     const double *u = d->p->fields[d->ufield].data;
-    double s = 0;
+    double s[2] = {0, (double)m->c.ncarried};   /* sum, count */
     for (long i = 0; i < m->c.ncarried; i++)
-        s += u[i];
-    return s / (double)m->c.ncarried / (d->set.heat_capacity * UNITS_KB);
+        s[0] += u[i];
+    if (d->p->halo)   /* bricks: each rank's carried particles */
+        halo_sum(d->p->halo, s, 2);
+    if (!(s[1] > 0))
+        return NAN;
+    return s[0] / s[1] / (d->set.heat_capacity * UNITS_KB);
 }
 
 /* --- the run ----------------------------------------------------------------- */
@@ -849,6 +891,8 @@ static void front_sample(struct impact_case *c, double t)
         const struct mpm_points *pts = &m->c.m.pts;
         impact_front_add(f, r, pts->x0, pts->v, NULL, 0, pts->n);
     }
+    if (c->halo[0])   /* bricks: each rank added its own particles */
+        impact_front_sum_ranks(f, c->halo[0]);
     impact_front_end(f, t, c->has_ref);
 }
 
@@ -974,8 +1018,17 @@ static int impact_report(void *state, struct sim *s, int rc, struct err *e)
         return rc;
     c->out_open = 0;
     int rc2 = dpd_output_end(&c->out, run, e);
-    if (!rc && !rc2)
-        rc2 = run_write_final_state(run, d->p, &d->box, d->step, d->time, e);
+    if (c->halo[0])
+        decomp_record_write(run, c->halo[0], d->p);
+    if (!rc && !rc2) {
+        /* bricks: every rank's particles, gathered on rank 0 in id order */
+        struct particles *all = NULL;
+        if (c->halo[0])
+            rc2 = halo_gather(c->halo[0], d->p, &all, e);
+        if (!rc2 && (!c->halo[0] || all))   /* bricks: rank 0 writes */
+            rc2 = run_write_final_state(run, all ? all : d->p, &d->box, d->step, d->time, e);
+        particles_destroy(&all);
+    }
     return rc ? rc : rc2;
 }
 
@@ -1092,6 +1145,11 @@ static void impact_destroy(void *state)
         return;
     for (int r = 0; r < MAX_RUNS; r++)
         coupled_free(&c->r[r]);
+    for (int r = 0; r < MAX_RUNS; r++) {   /* after the runs whose particles use them */
+        if (c->halo[r])
+            halo_free(c->halo[r]);
+        free(c->halo[r]);
+    }
     free(c->pts.x);
     free(c->pts.id);
     free(c->k.ptimes);
@@ -1106,14 +1164,14 @@ static void impact_destroy(void *state)
 }
 
 /* Particles advanced per step, over every run: DPD particles (not the
- * partners) and material points. */
+ * partners; on bricks over every rank) and material points. */
 static long impact_particles(const void *state)
 {
     const struct impact_case *c = state;
     long n = 0;
     for (int r = 0; r < c->nruns; r++)
         if (c->r[r].has_c)
-            n += c->r[r].d.p->n_owned - c->r[r].c.npartner + c->r[r].c.m.pts.n;
+            n += dpd_nparticles(&c->r[r].d) - c->r[r].c.npartner + c->r[r].c.m.pts.n;
     return n;
 }
 
@@ -1128,6 +1186,7 @@ const struct case_type dpd_grid_impact_case_type = {
     "DPD/MPM-grid flyer/target impact: DPD forces on the MPM grid, wave arrival, wave speed",
     grid_impact_read, impact_run, impact_destroy, impact_particles, impact_steps,
     .checkpoints = 1,
+    .decomposes = 1,
 };
 
 const struct case_type dpd_mpm_impact_case_type = {

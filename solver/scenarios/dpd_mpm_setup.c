@@ -67,10 +67,10 @@ int dpd_mpm_parallel_check(struct cfg *c, const struct case_common *common, cons
         return 0;
     return cfg_error_at(c, ps->decomposition == DECOMP_BRICKS ? "parallel.decomposition"
                                                                : "parallel.grid",
-                        "case type %s is not decomposed into bricks yet (the MPM grid with "
-                        "the free flyer and the reference runs, and the material points' "
-                        "partners, are not split over ranks; dpd_grid_tensile, dpd_impact and "
-                        "dpd_tensile are); use decomposition: "
+                        "case type %s is not decomposed into bricks yet (the material points' "
+                        "partners and the all-DPD comparison runs are not split over ranks; "
+                        "dpd_grid_impact, dpd_grid_tensile, dpd_impact and dpd_tensile are); "
+                        "use decomposition: "
                         "replicated (or auto): each rank then runs the whole case and rank 0 "
                         "writes",
                         type);

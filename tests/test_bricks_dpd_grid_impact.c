@@ -1,0 +1,250 @@
+/*
+ * The DPD/MPM-grid impact on bricks (docs/dpd_mpm.md "Under MPI",
+ * docs/parallel.md): under mpirun `dpd_grid_impact` splits the DPD
+ * particles of the flyer run over the bricks of the DPD halo and those of
+ * the reference run (the target without the flyer) over a second halo of
+ * the same bricks, while every rank holds the whole (small) MPM grid of
+ * each run and sums its nodes over the ranks, as the grid tensile rod
+ * does (tests/test_bricks_dpd_grid_tensile.c).  The flyer is a free rigid
+ * body of the DPD model: its force is a sum over the ranks, so it moves
+ * alike on every rank.  The region means, profiles, front probes, CNA
+ * counts and the internal temperature are sums over the ranks.
+ *
+ * The grid model has no Shardlow sweep, so only the order of the sums
+ * changes: over 100 steps the thermo series, every metric of result.json
+ * (wave-speed fits, arrival times, front metrics, the flyer's final
+ * velocity, heats) and every series (region displacements, the profile,
+ * the front probes), and the last snapshot (positions, velocities,
+ * forces, DPDE internal energies, matched by id) agree with the serial run
+ * to 1e-10 relative on 1, 2 and 4 ranks; the energy-change metrics, being
+ * differences of nearly equal total energies, on the total energy's scale;
+ * the CNA counts exactly.  A checkpoint written on 2 ranks restarts
+ * serially and on 4 (to the same tolerances) and on 2 (bitwise).
+ */
+#include <criterion/criterion.h>
+#include <jansson.h>
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "helpers/th.h"
+#include "helpers/th_bricks.h"
+
+#define REL 1e-10
+#define BAR_N 432
+#define FLYER_N 72
+#define PARTICLE_MASS 508.368   /* amu */
+#define FLYER_VELOCITY 5.0      /* Å/ps, the default */
+
+#define PARAMS                                                                                    \
+    "element: Cu\nepsilon: 0.093945\nc: 37.8271\nn: 9\nm: 6\na: 7.23\ncutoff: 10.845\n"          \
+    "mass: 508.368\natoms_per_particle: 8\nlattice_constant: 7.2786\n"
+
+/* The 12 x 3 x 3-cell bar (432 particles, 87 Å, free surfaces) at 100 K,
+ * DPDE on a 4 Å grid, hit by a free 4-plane flyer (72 particles) at
+ * 5 Å/ps, with the reference run; regions 6 and 14 Å from the face (the
+ * wave reaches both within the 0.5 ps), a profile at 0.25 ps, CNA at the
+ * snapshots: 100 steps of 5 fs. */
+static void bar_case(char *buf, size_t len, const char *output, const char *parallel)
+{
+    snprintf(buf, len,
+             "type: dpd_grid_impact\nseed: 3\nsystem:\n"
+             "  lattice: {style: fcc, a: 7.2786, cells: [12, 3, 3]}\n"
+             "  element: Cu\n  boundary: [free, free, free]\n"
+             "dpd:\n  parameters: cg.yaml\n  timestep: 0.005\n  steps: 100\n"
+             "  initial_temperature: 100\n"
+             "impact: {regions: [6.0, 14.0], sample_every: 2, arrival_threshold: 0.002, "
+             "profile_times: [0.25]}\n"
+             "grid: {cell: 4.0}\n%s%s",
+             output, parallel);
+}
+
+#define OUTPUT "output: {thermo_every: 10, snapshot_every: 50}\n"
+#define OUTPUT_CK "output: {thermo_every: 10, snapshot_every: 50, checkpoint_every: 50}\n"
+
+static const char *const series_cols[] = {"pe_eV",  "ke_eV",     "uint_eV", "etotal_eV",
+                                          "temp_K", "press_GPa", NULL};
+
+/* Energy changes (eV, or over |E| or the impact energy): differences of
+ * nearly equal total energies, compared on the total energy's scale;
+ * momentum_change is zero to round-off (a free flyer). */
+static const char *const differences[] = {"energy_drift", "energy_deviation_max",
+                                          "energy_deviation_max_abs",
+                                          "energy_error_impact_fraction", "momentum_change",
+                                          NULL};
+
+static int is_difference(const char *name)
+{
+    for (int k = 0; differences[k]; k++)
+        if (strcmp(name, differences[k]) == 0)
+            return 1;
+    return 0;
+}
+
+static json_t *series_values(json_t *r, const char *name)
+{
+    json_t *s = json_object_get(json_object_get(r, "series"), name);
+    return json_is_object(s) ? json_object_get(s, "values") : s;
+}
+
+/* Every metric of a in b: null in both, or to REL relative; the energy
+ * changes to REL of the total energy e0 (eV). */
+static void compare_metrics(json_t *ra, json_t *rb, const char *tag)
+{
+    json_t *ma = json_object_get(ra, "metrics"), *mb = json_object_get(rb, "metrics");
+    cr_assert_gt(json_object_size(ma), 40, "%s: %zu metrics", tag, json_object_size(ma));
+    double e0 = fabs(json_number_value(json_array_get(series_values(ra, "etotal"), 1)));
+    double ke0 = json_number_value(json_object_get(json_object_get(ma, "impact_energy"), "value"));
+    cr_assert_gt(e0, 1e3, "%s: total energy %g eV", tag, e0);
+    cr_assert_gt(ke0, 1.0, "%s: impact energy %g eV", tag, ke0);
+    const char *k;
+    json_t *v;
+    json_object_foreach(ma, k, v)
+    {
+        json_t *u = json_object_get(v, "value");
+        json_t *w = json_object_get(json_object_get(mb, k), "value");
+        cr_assert(u && w, "%s: metric %s missing", tag, k);
+        cr_assert_eq(json_is_null(u), json_is_null(w), "%s: metric %s null in one run", tag, k);
+        if (json_is_null(u))
+            continue;
+        double x = json_number_value(u), y = json_number_value(w), tol;
+        if (strcmp(k, "momentum_change") == 0) {
+            /* round-off of the total momentum, against the flyer's */
+            double pf = FLYER_N * PARTICLE_MASS * FLYER_VELOCITY;
+            cr_assert_leq(fmax(x, y), REL * pf, "%s: momentum_change %g, %g", tag, x, y);
+            continue;
+        }
+        if (!is_difference(k))
+            tol = REL * fabs(x) + 1e-12 * fabs(x);
+        else if (strcmp(k, "energy_deviation_max_abs") == 0)
+            tol = REL * e0;
+        else if (strcmp(k, "energy_error_impact_fraction") == 0)
+            tol = REL * e0 / ke0;
+        else   /* over |E| */
+            tol = REL;
+        cr_assert_leq(fabs(x - y), tol, "%s: metric %s %.17g vs %.17g", tag, k, x, y);
+    }
+}
+
+/* Every series of a in b, to REL of its largest magnitude (the same
+ * nulls). */
+static void compare_series(json_t *ra, json_t *rb, const char *tag)
+{
+    json_t *sa = json_object_get(ra, "series");
+    cr_assert_gt(json_object_size(sa), 10, "%s: %zu series", tag, json_object_size(sa));
+    const char *name;
+    json_t *s;
+    json_object_foreach(sa, name, s)
+    {
+        json_t *va = series_values(ra, name), *vb = series_values(rb, name);
+        cr_assert(json_is_array(va) && json_is_array(vb), "%s: series %s missing", tag, name);
+        size_t n = json_array_size(va);
+        cr_assert_eq(n, json_array_size(vb), "%s: series %s length", tag, name);
+        double scale = 0;
+        for (size_t q = 0; q < n; q++)
+            scale = fmax(scale, fabs(json_number_value(json_array_get(va, q))));
+        for (size_t q = 0; q < n; q++) {
+            json_t *xa = json_array_get(va, q), *xb = json_array_get(vb, q);
+            cr_assert_eq(json_is_null(xa), json_is_null(xb), "%s: %s[%zu] null in one run",
+                         tag, name, q);
+            double x = json_number_value(xa), y = json_number_value(xb);
+            cr_assert_leq(fabs(x - y), REL * scale + 1e-12 * fabs(x),
+                          "%s: %s[%zu] %.17g vs %.17g", tag, name, q, x, y);
+        }
+    }
+}
+
+static void compare_runs(const char *a, const char *b, const char *tag)
+{
+    thb_compare_series(a, b, series_cols, REL, tag);
+    json_t *ra = thb_result(a), *rb = thb_result(b);
+    compare_metrics(ra, rb, tag);
+    compare_series(ra, rb, tag);
+    /* the CNA counts are counts: the same classes */
+    static const char *const counts[] = {"cna_fcc", "cna_hcp", "cna_other", "cna_fcc_start",
+                                         NULL};
+    for (int k = 0; counts[k]; k++)
+        cr_assert_eq(thb_metric(ra, counts[k]), thb_metric(rb, counts[k]), "%s: %s", tag,
+                     counts[k]);
+    json_decref(ra);
+    json_decref(rb);
+    static const char *const sets[] = {"position", "velocity", "force", "u_internal", NULL};
+    static const int ncomp[] = {3, 3, 3, 1};
+    thb_compare_snapshot(a, b, "/particles/00000100", sets, ncomp, REL, tag);
+}
+
+/* The flyer hit the bar: the wave reached both regions, the flyer slowed,
+ * and the grid and the D + R forces exchanged heat. */
+static void assert_impact(const char *dir)
+{
+    json_t *r = thb_result(dir);
+    cr_assert_gt(thb_metric(r, "displacement_max_1"), 0.05, "%s: no wave at region 1", dir);
+    cr_assert_gt(thb_metric(r, "displacement_max_2"), 0.01, "%s: no wave at region 2", dir);
+    double vf = thb_metric(r, "flyer_velocity_final");
+    cr_assert(vf < 4.9 && vf > 0, "%s: flyer at %g Å/ps", dir, vf);
+    cr_assert_eq(thb_metric(r, "target_particles"), BAR_N);
+    cr_assert_eq(thb_metric(r, "flyer_particles"), FLYER_N);
+    cr_assert_gt(thb_metric(r, "cna_fcc"), 50, "%s: no fcc", dir);
+    cr_assert_gt(fabs(thb_metric(r, "heat_grid")), 1e-3, "%s: no grid heat", dir);
+    cr_assert_gt(fabs(thb_metric(r, "heat_dr")), 1e-4, "%s: no D + R heat", dir);
+    json_decref(r);
+}
+
+Test(bricks_dpd_grid_impact, matches_serial_on_1_2_4_ranks, .timeout = 900)
+{
+    th_write_temp(2, "cg.yaml", PARAMS);
+    char yaml[2048];
+    bar_case(yaml, sizeof yaml, OUTPUT, "parallel: {decomposition: bricks}\n");
+    const char *path = th_write_temp(0, "gbar.yaml", yaml);
+    char d0[600], dk[600];
+    snprintf(d0, sizeof d0, "%s/gbar-serial", th_temp_dir());
+    thb_must_run(path, 0, d0, NULL);
+    assert_impact(d0);
+    static const int nps[] = {1, 2, 4};
+    for (int k = 0; k < 3; k++) {
+        snprintf(dk, sizeof dk, "%s/gbar-%d", th_temp_dir(), nps[k]);
+        thb_must_run(path, nps[k], dk, NULL);
+        char tag[64];
+        snprintf(tag, sizeof tag, "grid impact on %d ranks", nps[k]);
+        compare_runs(d0, dk, tag);
+        thb_check_parallel_record(dk, nps[k], BAR_N + FLYER_N);
+    }
+}
+
+static void compare_restarted(const char *ref, const char *dir, const char *tag)
+{
+    json_t *r = thb_result(dir);
+    cr_assert_eq(json_integer_value(json_object_get(r, "restarted_from_step")), 50,
+                 "%s: not restarted from step 50", tag);
+    json_decref(r);
+    compare_runs(ref, dir, tag);
+}
+
+/* Without a `parallel` section (auto) 2 ranks take bricks, with no note
+ * that the case is not decomposed; a checkpoint of step 50 written there
+ * restarts serially, on 4 and on 2 ranks: each ends where the
+ * uninterrupted serial run ends, and the 2-rank restart is the 2-rank
+ * run's thermo, bitwise. */
+Test(bricks_dpd_grid_impact, checkpoint_moves_between_rank_counts, .timeout = 900)
+{
+    th_write_temp(2, "cg.yaml", PARAMS);
+    char yaml[2048];
+    bar_case(yaml, sizeof yaml, OUTPUT_CK, "");
+    const char *path = th_write_temp(0, "gbar_ck.yaml", yaml);
+    char s1[600], m2[600];
+    snprintf(s1, sizeof s1, "%s/gbar-ck-serial", th_temp_dir());
+    snprintf(m2, sizeof m2, "%s/gbar-ck-2", th_temp_dir());
+    thb_must_run(path, 0, s1, NULL);
+    static char out[16384];
+    cr_assert_eq(thb_run(path, 2, m2, NULL, out, sizeof out), 0, "%s", out);
+    cr_assert_null(strstr(out, "not decomposed"), "%s", out);
+    json_t *r = thb_result(m2);
+    const char *dec = json_string_value(
+        json_object_get(json_object_get(r, "parallel"), "decomposition"));
+    cr_assert(dec && strcmp(dec, "bricks") == 0, "decomposition %s", dec ? dec : "(none)");
+    json_decref(r);
+    compare_runs(s1, m2, "checkpointing grid impact on 2 ranks");
+    const struct thb_restart cases[] = {
+        {m2, 0, "2 to 1", NULL}, {m2, 4, "2 to 4", NULL}, {m2, 2, "2 to 2", m2}};
+    thb_restarts_match(path, 50, cases, 3, s1, compare_restarted);
+}
