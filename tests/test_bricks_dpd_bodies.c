@@ -100,29 +100,23 @@ static void compare_rods(const char *a, const char *b, const char *tag)
     compare_snapshot(a, b, tag);
 }
 
+/* the rod was pulled against its cohesion: tension on the grips */
+static void assert_pulled(const char *dir)
+{
+    json_t *r = thb_result(dir);
+    cr_assert_gt(thb_metric(r, "peak_stress"), 0.1, "%s: no tension", dir);
+    cr_assert_eq(thb_metric(r, "particles"), ROD_N);
+    json_decref(r);
+}
+
 Test(bricks_dpd_bodies, tensile_matches_serial_on_1_2_4_ranks, .timeout = 900)
 {
     th_write_temp(2, "cg.yaml", PARAMS);
     char yaml[2048];
     rod_case(yaml, sizeof yaml, "parallel: {decomposition: bricks}\n");
     const char *path = th_write_temp(0, "rod.yaml", yaml);
-    char d0[600], dk[600];
-    snprintf(d0, sizeof d0, "%s/rod-serial", th_temp_dir());
-    thb_must_run(path, 0, d0, NULL);
-    json_t *r = thb_result(d0);
-    /* the rod was pulled against its cohesion: tension on the grips */
-    cr_assert_gt(thb_metric(r, "peak_stress"), 0.1, "no tension");
-    cr_assert_eq(thb_metric(r, "particles"), ROD_N);
-    json_decref(r);
     static const int nps[] = {1, 2, 4};
-    for (int k = 0; k < 3; k++) {
-        snprintf(dk, sizeof dk, "%s/rod-%d", th_temp_dir(), nps[k]);
-        thb_must_run(path, nps[k], dk, NULL);
-        char tag[64];
-        snprintf(tag, sizeof tag, "DPD tensile on %d ranks", nps[k]);
-        compare_rods(d0, dk, tag);
-        thb_check_parallel_record(dk, nps[k], ROD_N);
-    }
+    thb_matches_serial(path, "rod", nps, 3, ROD_N, assert_pulled, compare_rods, "DPD tensile");
 }
 
 /* ---- the flyer/target impact -------------------------------------------- */
@@ -200,27 +194,14 @@ Test(bricks_dpd_bodies, impact_matches_serial_on_1_2_4_ranks, .timeout = 900)
     char yaml[2048];
     bar_case(yaml, sizeof yaml, BAR_OUTPUT, "parallel: {decomposition: bricks}\n");
     const char *path = th_write_temp(0, "bar.yaml", yaml);
-    char d0[600], dk[600];
-    snprintf(d0, sizeof d0, "%s/bar-serial", th_temp_dir());
-    thb_must_run(path, 0, d0, NULL);
-    assert_impact(d0);
     static const int nps[] = {1, 2, 4};
-    for (int k = 0; k < 3; k++) {
-        snprintf(dk, sizeof dk, "%s/bar-%d", th_temp_dir(), nps[k]);
-        thb_must_run(path, nps[k], dk, NULL);
-        char tag[64];
-        snprintf(tag, sizeof tag, "DPD impact on %d ranks", nps[k]);
-        compare_bars(d0, dk, tag);
-        thb_check_parallel_record(dk, nps[k], BAR_N + FLYER_N);
-    }
+    thb_matches_serial(path, "bar", nps, 3, BAR_N + FLYER_N, assert_impact, compare_bars,
+                       "DPD impact");
 }
 
 static void compare_restarted(const char *ref, const char *dir, const char *tag)
 {
-    json_t *r = thb_result(dir);
-    cr_assert_eq(json_integer_value(json_object_get(r, "restarted_from_step")), 50,
-                 "%s: not restarted from step 50", tag);
-    json_decref(r);
+    thb_assert_restarted_from(dir, 50, tag);
     compare_bars(ref, dir, tag);
 }
 
@@ -238,14 +219,7 @@ Test(bricks_dpd_bodies, impact_checkpoint_moves_between_rank_counts, .timeout = 
     snprintf(s1, sizeof s1, "%s/bar-ck-serial", th_temp_dir());
     snprintf(m2, sizeof m2, "%s/bar-ck-2", th_temp_dir());
     thb_must_run(path, 0, s1, NULL);
-    static char out[16384];
-    cr_assert_eq(thb_run(path, 2, m2, NULL, out, sizeof out), 0, "%s", out);
-    cr_assert_null(strstr(out, "not decomposed"), "%s", out);
-    json_t *r = thb_result(m2);
-    const char *dec = json_string_value(
-        json_object_get(json_object_get(r, "parallel"), "decomposition"));
-    cr_assert(dec && strcmp(dec, "bricks") == 0, "decomposition %s", dec ? dec : "(none)");
-    json_decref(r);
+    thb_must_run_auto_bricks(path, 2, m2);
     compare_bars(s1, m2, "checkpointing impact on 2 ranks");
     const struct thb_restart cases[] = {
         {m2, 0, "2 to 1", NULL}, {m2, 4, "2 to 4", NULL}, {m2, 2, "2 to 2", m2}};

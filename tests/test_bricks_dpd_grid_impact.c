@@ -196,27 +196,14 @@ Test(bricks_dpd_grid_impact, matches_serial_on_1_2_4_ranks, .timeout = 900)
     char yaml[2048];
     bar_case(yaml, sizeof yaml, OUTPUT, "parallel: {decomposition: bricks}\n");
     const char *path = th_write_temp(0, "gbar.yaml", yaml);
-    char d0[600], dk[600];
-    snprintf(d0, sizeof d0, "%s/gbar-serial", th_temp_dir());
-    thb_must_run(path, 0, d0, NULL);
-    assert_impact(d0);
     static const int nps[] = {1, 2, 4};
-    for (int k = 0; k < 3; k++) {
-        snprintf(dk, sizeof dk, "%s/gbar-%d", th_temp_dir(), nps[k]);
-        thb_must_run(path, nps[k], dk, NULL);
-        char tag[64];
-        snprintf(tag, sizeof tag, "grid impact on %d ranks", nps[k]);
-        compare_runs(d0, dk, tag);
-        thb_check_parallel_record(dk, nps[k], BAR_N + FLYER_N);
-    }
+    thb_matches_serial(path, "gbar", nps, 3, BAR_N + FLYER_N, assert_impact, compare_runs,
+                       "grid impact");
 }
 
 static void compare_restarted(const char *ref, const char *dir, const char *tag)
 {
-    json_t *r = thb_result(dir);
-    cr_assert_eq(json_integer_value(json_object_get(r, "restarted_from_step")), 50,
-                 "%s: not restarted from step 50", tag);
-    json_decref(r);
+    thb_assert_restarted_from(dir, 50, tag);
     compare_runs(ref, dir, tag);
 }
 
@@ -235,14 +222,7 @@ Test(bricks_dpd_grid_impact, checkpoint_moves_between_rank_counts, .timeout = 90
     snprintf(s1, sizeof s1, "%s/gbar-ck-serial", th_temp_dir());
     snprintf(m2, sizeof m2, "%s/gbar-ck-2", th_temp_dir());
     thb_must_run(path, 0, s1, NULL);
-    static char out[16384];
-    cr_assert_eq(thb_run(path, 2, m2, NULL, out, sizeof out), 0, "%s", out);
-    cr_assert_null(strstr(out, "not decomposed"), "%s", out);
-    json_t *r = thb_result(m2);
-    const char *dec = json_string_value(
-        json_object_get(json_object_get(r, "parallel"), "decomposition"));
-    cr_assert(dec && strcmp(dec, "bricks") == 0, "decomposition %s", dec ? dec : "(none)");
-    json_decref(r);
+    thb_must_run_auto_bricks(path, 2, m2);
     compare_runs(s1, m2, "checkpointing grid impact on 2 ranks");
     const struct thb_restart cases[] = {
         {m2, 0, "2 to 1", NULL}, {m2, 4, "2 to 4", NULL}, {m2, 2, "2 to 2", m2}};

@@ -109,19 +109,9 @@ Test(bricks_dpd_grid_tensile, matches_serial_on_1_2_4_ranks, .timeout = 600)
     char yaml[2048];
     rod_case(yaml, sizeof yaml, OUTPUT, "parallel: {decomposition: bricks}\n");
     const char *path = th_write_temp(0, "rod.yaml", yaml);
-    char d0[600], dk[600];
-    snprintf(d0, sizeof d0, "%s/rod-serial", th_temp_dir());
-    thb_must_run(path, 0, d0, NULL);
-    assert_measured(d0);
     static const int nps[] = {1, 2, 4};
-    for (int k = 0; k < 3; k++) {
-        snprintf(dk, sizeof dk, "%s/rod-%d", th_temp_dir(), nps[k]);
-        thb_must_run(path, nps[k], dk, NULL);
-        char tag[64];
-        snprintf(tag, sizeof tag, "grid tensile on %d ranks", nps[k]);
-        compare_runs(d0, dk, tag);
-        thb_check_parallel_record(dk, nps[k], NPART);
-    }
+    thb_matches_serial(path, "rod", nps, 3, NPART, assert_measured, compare_runs,
+                       "grid tensile");
 }
 
 /* Without a `parallel` section (auto) 2 ranks take bricks, with no note
@@ -134,23 +124,13 @@ Test(bricks_dpd_grid_tensile, auto_takes_bricks, .timeout = 300)
     const char *path = th_write_temp(0, "rod_auto.yaml", yaml);
     char dir[600];
     snprintf(dir, sizeof dir, "%s/rod-auto-2", th_temp_dir());
-    static char out[16384];
-    cr_assert_eq(thb_run(path, 2, dir, NULL, out, sizeof out), 0, "%s", out);
-    cr_assert_null(strstr(out, "not decomposed"), "%s", out);
+    thb_must_run_auto_bricks(path, 2, dir);
     thb_check_parallel_record(dir, 2, NPART);
-    json_t *r = thb_result(dir);
-    const char *dec = json_string_value(
-        json_object_get(json_object_get(r, "parallel"), "decomposition"));
-    cr_assert(dec && strcmp(dec, "bricks") == 0, "decomposition %s", dec ? dec : "(none)");
-    json_decref(r);
 }
 
 static void compare_restarted(const char *ref, const char *dir, const char *tag)
 {
-    json_t *r = thb_result(dir);
-    cr_assert_eq(json_integer_value(json_object_get(r, "restarted_from_step")), 50,
-                 "%s: not restarted from step 50", tag);
-    json_decref(r);
+    thb_assert_restarted_from(dir, 50, tag);
     compare_runs(ref, dir, tag);
 }
 

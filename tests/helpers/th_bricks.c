@@ -258,6 +258,46 @@ void thb_restarts_match(const char *path, long step, const struct thb_restart *r
     }
 }
 
+void thb_matches_serial(const char *path, const char *stem, const int *nps, int nnp, long n,
+                        void (*measured)(const char *dir), thb_check_fn compare,
+                        const char *what)
+{
+    char d0[600], dk[600];
+    snprintf(d0, sizeof d0, "%s/%s-serial", th_temp_dir(), stem);
+    thb_must_run(path, 0, d0, NULL);
+    if (measured)
+        measured(d0);
+    for (int k = 0; k < nnp; k++) {
+        snprintf(dk, sizeof dk, "%s/%s-%d", th_temp_dir(), stem, nps[k]);
+        thb_must_run(path, nps[k], dk, NULL);
+        char tag[128];
+        snprintf(tag, sizeof tag, "%s on %d ranks", what, nps[k]);
+        compare(d0, dk, tag);
+        thb_check_parallel_record(dk, nps[k], n);
+    }
+}
+
+void thb_must_run_auto_bricks(const char *path, int np, const char *dir)
+{
+    static char out[16384];
+    cr_assert_eq(thb_run(path, np, dir, NULL, out, sizeof out), 0, "%s", out);
+    cr_assert_null(strstr(out, "not decomposed"), "%s", out);
+    json_t *r = thb_result(dir);
+    const char *dec = json_string_value(
+        json_object_get(json_object_get(r, "parallel"), "decomposition"));
+    cr_assert(dec && strcmp(dec, "bricks") == 0, "%s: decomposition %s", dir,
+              dec ? dec : "(none)");
+    json_decref(r);
+}
+
+void thb_assert_restarted_from(const char *dir, long step, const char *tag)
+{
+    json_t *r = thb_result(dir);
+    cr_assert_eq(json_integer_value(json_object_get(r, "restarted_from_step")), step,
+                 "%s: not restarted from step %ld", tag, step);
+    json_decref(r);
+}
+
 void thb_read_text(const char *dir, const char *name, char *buf, size_t len)
 {
     char path[700];

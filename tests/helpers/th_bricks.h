@@ -87,6 +87,23 @@ typedef void (*thb_check_fn)(const char *ref, const char *dir, const char *tag);
 void thb_restarts_match(const char *path, long step, const struct thb_restart *r, int n,
                         const char *ref, thb_check_fn check);
 
+/* Run path serially into TEMP/<stem>-serial, checked by `measured` (may be
+ * NULL), then with the same case file on each of the nnp rank counts
+ * nps[] into TEMP/<stem>-<np>: each checked against the serial run by
+ * `compare` (tag "<what> on <np> ranks") and its parallel record over n
+ * particles. */
+void thb_matches_serial(const char *path, const char *stem, const int *nps, int nnp, long n,
+                        void (*measured)(const char *dir), thb_check_fn compare,
+                        const char *what);
+
+/* Run path on np ranks into dir with no `parallel` section of its own:
+ * it must run on bricks (result.json's parallel.decomposition) without the
+ * note that the case type is not decomposed. */
+void thb_must_run_auto_bricks(const char *path, int np, const char *dir);
+
+/* The run in dir was restarted from the checkpoint of `step`. */
+void thb_assert_restarted_from(const char *dir, long step, const char *tag);
+
 /* dir/name as text into buf (at most len - 1 bytes; asserts it opens). */
 void thb_read_text(const char *dir, const char *name, char *buf, size_t len);
 
