@@ -199,12 +199,6 @@ Test(bricks_dpd_bodies, impact_matches_serial_on_1_2_4_ranks, .timeout = 900)
                        "DPD impact");
 }
 
-static void compare_restarted(const char *ref, const char *dir, const char *tag)
-{
-    thb_assert_restarted_from(dir, 50, tag);
-    compare_bars(ref, dir, tag);
-}
-
 /* Without a `parallel` section (auto) 2 ranks take bricks; a checkpoint of
  * step 50 written there restarts serially, on 4 and on 2 ranks: each ends
  * where the uninterrupted serial run ends (to REL), and the 2-rank restart
@@ -214,14 +208,6 @@ Test(bricks_dpd_bodies, impact_checkpoint_moves_between_rank_counts, .timeout = 
     th_write_temp(2, "cg.yaml", PARAMS);
     char yaml[2048];
     bar_case(yaml, sizeof yaml, BAR_OUTPUT_CK, "");
-    const char *path = th_write_temp(0, "bar_ck.yaml", yaml);
-    char s1[600], m2[600];
-    snprintf(s1, sizeof s1, "%s/bar-ck-serial", th_temp_dir());
-    snprintf(m2, sizeof m2, "%s/bar-ck-2", th_temp_dir());
-    thb_must_run(path, 0, s1, NULL);
-    thb_must_run_auto_bricks(path, 2, m2);
-    compare_bars(s1, m2, "checkpointing impact on 2 ranks");
-    const struct thb_restart cases[] = {
-        {m2, 0, "2 to 1", NULL}, {m2, 4, "2 to 4", NULL}, {m2, 2, "2 to 2", m2}};
-    thb_restarts_match(path, 50, cases, 3, s1, compare_restarted);
+    thb_checkpoint_moves(th_write_temp(0, "bar_ck.yaml", yaml), "bar", compare_bars,
+                         "DPD impact");
 }

@@ -201,12 +201,6 @@ Test(bricks_dpd_grid_impact, matches_serial_on_1_2_4_ranks, .timeout = 900)
                        "grid impact");
 }
 
-static void compare_restarted(const char *ref, const char *dir, const char *tag)
-{
-    thb_assert_restarted_from(dir, 50, tag);
-    compare_runs(ref, dir, tag);
-}
-
 /* Without a `parallel` section (auto) 2 ranks take bricks, with no note
  * that the case is not decomposed; a checkpoint of step 50 written there
  * restarts serially, on 4 and on 2 ranks: each ends where the
@@ -217,14 +211,6 @@ Test(bricks_dpd_grid_impact, checkpoint_moves_between_rank_counts, .timeout = 90
     th_write_temp(2, "cg.yaml", PARAMS);
     char yaml[2048];
     bar_case(yaml, sizeof yaml, OUTPUT_CK, "");
-    const char *path = th_write_temp(0, "gbar_ck.yaml", yaml);
-    char s1[600], m2[600];
-    snprintf(s1, sizeof s1, "%s/gbar-ck-serial", th_temp_dir());
-    snprintf(m2, sizeof m2, "%s/gbar-ck-2", th_temp_dir());
-    thb_must_run(path, 0, s1, NULL);
-    thb_must_run_auto_bricks(path, 2, m2);
-    compare_runs(s1, m2, "checkpointing grid impact on 2 ranks");
-    const struct thb_restart cases[] = {
-        {m2, 0, "2 to 1", NULL}, {m2, 4, "2 to 4", NULL}, {m2, 2, "2 to 2", m2}};
-    thb_restarts_match(path, 50, cases, 3, s1, compare_restarted);
+    thb_checkpoint_moves(th_write_temp(0, "gbar_ck.yaml", yaml), "gbar", compare_runs,
+                         "grid impact");
 }

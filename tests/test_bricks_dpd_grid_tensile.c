@@ -115,41 +115,15 @@ Test(bricks_dpd_grid_tensile, matches_serial_on_1_2_4_ranks, .timeout = 600)
 }
 
 /* Without a `parallel` section (auto) 2 ranks take bricks, with no note
- * that the case is not decomposed. */
-Test(bricks_dpd_grid_tensile, auto_takes_bricks, .timeout = 300)
-{
-    th_write_temp(2, "cg.yaml", PARAMS);
-    char yaml[2048];
-    rod_case(yaml, sizeof yaml, "output: {thermo_every: 10}\n", "");
-    const char *path = th_write_temp(0, "rod_auto.yaml", yaml);
-    char dir[600];
-    snprintf(dir, sizeof dir, "%s/rod-auto-2", th_temp_dir());
-    thb_must_run_auto_bricks(path, 2, dir);
-    thb_check_parallel_record(dir, 2, NPART);
-}
-
-static void compare_restarted(const char *ref, const char *dir, const char *tag)
-{
-    thb_assert_restarted_from(dir, 50, tag);
-    compare_runs(ref, dir, tag);
-}
-
-/* A checkpoint of step 50 written on 2 ranks, restarted serially, on 4
- * and on 2 ranks: each ends where the uninterrupted serial run ends (to
- * REL), and the 2-rank restart is the 2-rank run's thermo, bitwise. */
+ * that the case is not decomposed; a checkpoint of step 50 written there,
+ * restarted serially, on 4 and on 2 ranks: each ends where the uninterrupted serial
+ * run ends (to REL), and the 2-rank restart is the 2-rank run's thermo,
+ * bitwise. */
 Test(bricks_dpd_grid_tensile, checkpoint_moves_between_rank_counts, .timeout = 600)
 {
     th_write_temp(2, "cg.yaml", PARAMS);
     char yaml[2048];
     rod_case(yaml, sizeof yaml, OUTPUT_CK, "");
-    const char *path = th_write_temp(0, "rod_ck.yaml", yaml);
-    char s1[600], m2[600];
-    snprintf(s1, sizeof s1, "%s/rod-ck-serial", th_temp_dir());
-    snprintf(m2, sizeof m2, "%s/rod-ck-2", th_temp_dir());
-    thb_must_run(path, 0, s1, NULL);
-    thb_must_run(path, 2, m2, NULL);
-    compare_runs(s1, m2, "checkpointing run on 2 ranks");
-    const struct thb_restart cases[] = {
-        {m2, 0, "2 to 1", NULL}, {m2, 4, "2 to 4", NULL}, {m2, 2, "2 to 2", m2}};
-    thb_restarts_match(path, 50, cases, 3, s1, compare_restarted);
+    thb_checkpoint_moves(th_write_temp(0, "rod_ck.yaml", yaml), "rod", compare_runs,
+                         "grid tensile");
 }

@@ -240,12 +240,23 @@ void thb_restart_at(const char *path, const char *from_dir, long step, int np, i
     thb_must_run(path, np, dir, extra);
 }
 
-void thb_restarts_match(const char *path, long step, const struct thb_restart *r, int n,
-                        const char *ref, thb_check_fn check)
+static void assert_restarted_from(const char *dir, long step, const char *tag)
+{
+    json_t *res = thb_result(dir);
+    cr_assert_eq(json_integer_value(json_object_get(res, "restarted_from_step")), step,
+                 "%s: not restarted from step %ld", tag, step);
+    json_decref(res);
+}
+
+/* thb_restarts_match, and with check_step each run's restarted_from_step */
+static void restarts_match(const char *path, long step, const struct thb_restart *r, int n,
+                           const char *ref, thb_check_fn check, int check_step)
 {
     for (int k = 0; k < n; k++) {
         char dir[700];
         thb_restart_at(path, r[k].from, step, r[k].np, k, dir, sizeof dir);
+        if (check_step)
+            assert_restarted_from(dir, step, r[k].tag);
         check(ref, dir, r[k].tag);
         if (!r[k].bitwise_with)
             continue;
@@ -256,6 +267,27 @@ void thb_restarts_match(const char *path, long step, const struct thb_restart *r
         cr_assert(b1 && b2);
         cr_assert_str_eq(b1, b2, "%s restart is not bitwise", r[k].tag);
     }
+}
+
+void thb_restarts_match(const char *path, long step, const struct thb_restart *r, int n,
+                        const char *ref, thb_check_fn check)
+{
+    restarts_match(path, step, r, n, ref, check, 0);
+}
+
+void thb_checkpoint_moves(const char *path, const char *stem, thb_check_fn compare,
+                          const char *what)
+{
+    char s1[600], m2[600], tag[128];
+    snprintf(s1, sizeof s1, "%s/%s-ck-serial", th_temp_dir(), stem);
+    snprintf(m2, sizeof m2, "%s/%s-ck-2", th_temp_dir(), stem);
+    thb_must_run(path, 0, s1, NULL);
+    thb_must_run_auto_bricks(path, 2, m2);
+    snprintf(tag, sizeof tag, "checkpointing %s on 2 ranks", what);
+    compare(s1, m2, tag);
+    const struct thb_restart cases[] = {
+        {m2, 0, "2 to 1", NULL}, {m2, 4, "2 to 4", NULL}, {m2, 2, "2 to 2", m2}};
+    restarts_match(path, 50, cases, 3, s1, compare, 1);
 }
 
 void thb_matches_serial(const char *path, const char *stem, const int *nps, int nnp, long n,
@@ -287,14 +319,6 @@ void thb_must_run_auto_bricks(const char *path, int np, const char *dir)
         json_object_get(json_object_get(r, "parallel"), "decomposition"));
     cr_assert(dec && strcmp(dec, "bricks") == 0, "%s: decomposition %s", dir,
               dec ? dec : "(none)");
-    json_decref(r);
-}
-
-void thb_assert_restarted_from(const char *dir, long step, const char *tag)
-{
-    json_t *r = thb_result(dir);
-    cr_assert_eq(json_integer_value(json_object_get(r, "restarted_from_step")), step,
-                 "%s: not restarted from step %ld", tag, step);
     json_decref(r);
 }
 

@@ -101,8 +101,14 @@ void thb_matches_serial(const char *path, const char *stem, const int *nps, int 
  * note that the case type is not decomposed. */
 void thb_must_run_auto_bricks(const char *path, int np, const char *dir);
 
-/* The run in dir was restarted from the checkpoint of `step`. */
-void thb_assert_restarted_from(const char *dir, long step, const char *tag);
+/* The checkpoint test of a decomposed case at path (output.checkpoint_every
+ * 50, no `parallel` section): run serially into TEMP/<stem>-ck-serial and
+ * on 2 ranks (thb_must_run_auto_bricks) into TEMP/<stem>-ck-2, compare
+ * them, then restart the 2-rank checkpoint of step 50 serially, on 4 and
+ * on 2 ranks: each restarted from step 50 and checked against the serial
+ * run by `compare`, the 2-rank restart's thermo bitwise the 2-rank run's. */
+void thb_checkpoint_moves(const char *path, const char *stem, thb_check_fn compare,
+                          const char *what);
 
 /* dir/name as text into buf (at most len - 1 bytes; asserts it opens). */
 void thb_read_text(const char *dir, const char *name, char *buf, size_t len);
