@@ -15,7 +15,8 @@
  * (wave-speed fits, arrival times, front metrics, the flyer's final
  * velocity, heats) and every series (region displacements, the profile,
  * the front probes), and the last snapshot (positions, velocities,
- * forces, DPDE internal energies, matched by id) agree with the serial run
+ * forces, DPDE internal energies, matched by id) and the final state
+ * (output.final_state, gathered on rank 0) agree with the serial run
  * to 1e-10 relative on 1, 2 and 4 ranks; the energy-change metrics, being
  * differences of nearly equal total energies, on the total energy's scale;
  * the CNA counts exactly.  A checkpoint written on 2 ranks restarts
@@ -59,8 +60,10 @@ static void bar_case(char *buf, size_t len, const char *output, const char *para
              output, parallel);
 }
 
-#define OUTPUT "output: {thermo_every: 10, snapshot_every: 50}\n"
-#define OUTPUT_CK "output: {thermo_every: 10, snapshot_every: 50, checkpoint_every: 50}\n"
+#define OUTPUT "output: {thermo_every: 10, snapshot_every: 50, final_state: final.xyz}\n"
+#define OUTPUT_CK                                                                                 \
+    "output: {thermo_every: 10, snapshot_every: 50, checkpoint_every: 50, "                       \
+    "final_state: final.xyz}\n"
 
 static const char *const series_cols[] = {"pe_eV",  "ke_eV",     "uint_eV", "etotal_eV",
                                           "temp_K", "press_GPa", NULL};
@@ -171,6 +174,7 @@ static void compare_runs(const char *a, const char *b, const char *tag)
     static const char *const sets[] = {"position", "velocity", "force", "u_internal", NULL};
     static const int ncomp[] = {3, 3, 3, 1};
     thb_compare_snapshot(a, b, "/particles/00000100", sets, ncomp, REL, tag);
+    thb_compare_final_xyz(a, b, "final.xyz", REL, tag);   /* gathered on rank 0 by id */
 }
 
 /* The flyer hit the bar: the wave reached both regions, the flyer slowed,

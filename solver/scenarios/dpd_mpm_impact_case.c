@@ -127,6 +127,7 @@
 #include "scenarios/dpd_mpm_setup.h"
 #include "output/decomp_record.h"
 #include "output/dpd_output.h"
+#include "output/final_state.h"
 #include "scenarios/dpd_setup.h"
 #include "scenarios/dpd_structure.h"
 #include "input/md_system.h"
@@ -1020,15 +1021,8 @@ static int impact_report(void *state, struct sim *s, int rc, struct err *e)
     int rc2 = dpd_output_end(&c->out, run, e);
     if (c->halo[0])
         decomp_record_write(run, c->halo[0], d->p);
-    if (!rc && !rc2) {
-        /* bricks: every rank's particles, gathered on rank 0 in id order */
-        struct particles *all = NULL;
-        if (c->halo[0])
-            rc2 = halo_gather(c->halo[0], d->p, &all, e);
-        if (!rc2 && (!c->halo[0] || all))   /* bricks: rank 0 writes */
-            rc2 = run_write_final_state(run, all ? all : d->p, &d->box, d->step, d->time, e);
-        particles_destroy(&all);
-    }
+    if (!rc && !rc2)   /* bricks: gathered on rank 0 */
+        rc2 = final_state_write(run, c->halo[0], d->p, &d->box, d->step, d->time, e);
     return rc ? rc : rc2;
 }
 
