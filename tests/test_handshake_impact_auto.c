@@ -95,21 +95,9 @@ Test(handshake_impact_auto, computes_the_constants_of_type_elastic, .timeout = 9
                  th_metric_value(ma, "kleinman_zeta") - 5e-4);
 
     /* type: elastic with the same settings and seed: the same numbers */
-    json_t *re = th_run_case(1, "elastic.yaml",
-                             "type: elastic\n"
-                             "seed: 5\n"
-                             "crystal: {lattice: diamond, element: Si, a_min: 5.2, a_max: 5.7, "
-                             "cells: 3}\n"
-                             "potential: {style: sw, file: Si.sw, elements: [Si]}\n"
-                             "elastic: {temperature: 300, " SETTINGS "}\n");
-    json_t *me = json_object_get(re, "metrics");
-    cr_expect_float_eq(th_metric_value(me, "lattice_constant"), a, 1e-12 * a);
-    cr_expect_float_eq(th_metric_value(me, "c11"), c11, 1e-9 * c11);
-    cr_expect_float_eq(th_metric_value(me, "c12"), c12, 1e-9 * c12);
-    cr_expect_float_eq(th_metric_value(me, "c44"), c44, 1e-9 * c44);
-    cr_expect_float_eq(th_metric_value(me, "c44_err"), th_metric_value(ma, "c44_T_err"), 1e-9);
-    cr_expect_float_eq(th_metric_value(me, "thermal_expansion"),
-                       th_metric_value(ma, "thermal_expansion"), 1e-12);
+    th_expect_type_elastic(1, "{lattice: diamond, element: Si, a_min: 5.2, a_max: 5.7, cells: 3}",
+                           "{style: sw, file: Si.sw, elements: [Si]}",
+                           "{temperature: 300, " SETTINGS "}", ma);
 
     /* the same values given as inputs: the same run */
     char target_a[64], elastic[160];
@@ -129,7 +117,6 @@ Test(handshake_impact_auto, computes_the_constants_of_type_elastic, .timeout = 9
                            same[k], x, y);
     }
     json_decref(ra);
-    json_decref(re);
     json_decref(rx);
 }
 
@@ -165,19 +152,24 @@ Test(handshake_impact_auto, refuses_conflicting_and_bad_keys, .timeout = 120)
                    15, "target.handshake.elastic", "leave out c11, c12 and c44");
     expect_refused("cold.yaml", impact_text("0", "# -", fp, "# -"), 18,
                    "target.handshake.thermal.from_potential", "target.temperature > 0");
-    /* bad values */
-    expect_refused("nan.yaml", impact_text("300", "# -", "from_potential: {a_min: 5.2, a_max: "
-                                                         "5.7, tau: .nan}", "# -"),
-                   18, "target.handshake.thermal.from_potential.tau", "must be a number");
-    expect_refused("huge.yaml", impact_text("300", "# -", "from_potential: {a_min: 5.2, a_max: "
-                                                          "5.7, strain: 1e300}", "# -"),
-                   18, "target.handshake.thermal.from_potential.strain", "must be in");
-    expect_refused("negative.yaml", impact_text("300", "# -", "from_potential: {a_min: 5.2, "
-                                                              "a_max: 5.7, cells: -3}", "# -"),
-                   18, "target.handshake.thermal.from_potential.cells", "must be in [2, 20]");
-    expect_refused("duplicate.yaml", impact_text("300", "# -", "from_potential: {a_min: 5.2, "
-                                                               "a_max: 5.7, a_max: 5.8}", "# -"),
-                   18, "a_max", "duplicate key");
+    /* bad values, on the from_potential line */
+    static const struct {
+        const char *name, *from_potential, *key, *what;
+    } bad[] = {
+        {"nan.yaml", "tau: .nan", "from_potential.tau", "must be a number"},
+        {"huge.yaml", "strain: 1e300", "from_potential.strain", "must be in [1e-05, 0.05]"},
+        {"negative.yaml", "cells: -3", "from_potential.cells", "must be in [2, 20]"},
+        {"duplicate.yaml", "a_max: 5.8", "'a_max'", "duplicate key"},
+        {"unknown.yaml", "seed: 3", "from_potential.seed", "unknown key"},
+    };
+    char line[256];
+    for (size_t k = 0; k < sizeof bad / sizeof bad[0]; k++) {
+        snprintf(line, sizeof line, "from_potential: {a_min: 5.2, a_max: 5.7, %s}",
+                 bad[k].from_potential);
+        expect_refused(bad[k].name, impact_text("300", "# -", line, "# -"), 18, bad[k].key,
+                       bad[k].what);
+    }
+    /* the bracket of the 0 K lattice constant */
     expect_refused("bracket.yaml",
                    impact_text("300", "# -", "from_potential: {a_min: 5.7, a_max: 5.2}", "# -"),
                    18, "target.handshake.thermal.from_potential.a_max", "must exceed a_min");
@@ -201,4 +193,37 @@ Test(handshake_impact_auto, example_checks, .timeout = 120)
     char out[4096];
     cr_expect_eq(th_run(argv, out, sizeof out), 0, "%s", out);
     cr_expect(strstr(out, "45060 particles"), "%s", out);
+}
+
+/* `resolve` leaves out what depends on a(T) -- target.a, cluster.a and the
+ * structure analysis' reference lattice constant (defaults to target.a) --
+ * so that the resolved case reads again to the same case. */
+Test(handshake_impact_auto, resolved_case_leaves_out_a_of_T, .timeout = 60)
+{
+    const char *path = th_write_temp(5, "resolve.yaml",
+                                     impact_text("300", "# -",
+                                                 "from_potential: {" FROM_POTENTIAL "}", "# -"));
+    const char *argv[] = {th_solver(), "resolve", path, NULL};
+    static char out[1 << 16], out2[1 << 16];
+    cr_assert_eq(th_run(argv, out, sizeof out), 0, "%s", out);
+    json_error_t je;
+    json_t *doc = json_loads(out, 0, &je);
+    cr_assert_not_null(doc, "%s: %s", je.text, out);
+    json_t *target = json_object_get(doc, "target");
+    cr_expect_null(json_object_get(target, "a"));
+    cr_expect_null(json_object_get(json_object_get(doc, "cluster"), "a"));
+    cr_expect_null(json_object_get(json_object_get(json_object_get(doc, "analysis"), "structure"),
+                                   "lattice_constant"));
+    json_t *fp = json_object_get(json_object_get(json_object_get(target, "handshake"), "thermal"),
+                                 "from_potential");
+    cr_expect_eq(json_integer_value(json_object_get(fp, "cells")), 3);
+    cr_expect_eq(json_integer_value(json_object_get(fp, "repeats")), 1);
+    /* the resolved case resolves to itself */
+    const char *again = th_write_temp(6, "resolved.json", out);
+    const char *argv2[] = {th_solver(), "resolve", again, NULL};
+    cr_assert_eq(th_run(argv2, out2, sizeof out2), 0, "%s", out2);
+    json_t *doc2 = json_loads(out2, 0, &je);
+    cr_expect(json_equal(doc, doc2), "%s\n%s", out, out2);
+    json_decref(doc);
+    json_decref(doc2);
 }

@@ -156,10 +156,12 @@ static int read_spec(struct cfg_obj *root, struct impact_spec *s, struct impact_
         (rc = impact_boundary_read(&to, b)))
         return rc;
     b->temperature = s->temperature;
+    int ca_given;   /* from_potential: cluster.a defaults to a(T), known later */
     if ((rc = cfg_section_required(root, "cluster", &co)) ||
         (rc = cfg_enum(&co, "lattice", impact_lattices[s->tlat], impact_lattices, &s->clat)) ||
         (rc = cfg_string(&co, "element", s->telement, &s->celement)) ||
-        (rc = cfg_real(&co, "a", s->ta, CFG_GT(0), &s->ca)) ||
+        (rc = s->ta > 0 ? cfg_real(&co, "a", s->ta, CFG_GT(0), &s->ca)
+                        : cfg_real_opt(&co, "a", CFG_GT(0), &s->ca, &ca_given)) ||
         (rc = cfg_int(&co, "atoms", CFG_REQUIRED_INT, CFG_RANGE(1, 100000000), &s->natoms)) ||
         (rc = cfg_real(&co, "speed", 10.0, CFG_GE(0), &s->speed)) ||
         (rc = cfg_real(&co, "gap", 0.0, CFG_GE(0), &s->gap)))
@@ -480,8 +482,17 @@ static int impact_read(struct cfg_obj *root, const struct case_common *common, v
     struct impact *c = rc ? NULL : calloc(1, sizeof *c);
     if (!rc && !c)
         rc = err_nomem(root->cfg->err, "impact case");
+    json_t *structure = json_object_get(json_object_get(root->node, "analysis"), "structure");
+    int reference_given = json_object_get(structure, "lattice_constant") != NULL;
     if (!rc)
         rc = md_analysis_read(root, &def, 100, &c->an);
+    /* from_potential: the reference lattice constant of the structure
+     * analysis defaults to target.a = a(T), unknown until the run: the
+     * resolved case leaves it out, as it leaves out target.a (0 K stands
+     * in here; the run's second read at a(T) fills it in) */
+    structure = json_object_get(json_object_get(root->node, "analysis"), "structure");
+    if (!rc && bnd.from_potential && !reference_given)
+        json_object_del(structure, "lattice_constant");
     if (rc || root->cfg->shallow) {
         potential_destroy(&pot);
         impact_boundary_free(&bnd);
