@@ -71,19 +71,9 @@ Test(handshake_thermal_auto, computes_the_constants_of_type_elastic, .timeout = 
     cr_expect_lt(fabs(th_metric_value(ma, "temperature_md_mean") / 300 - 1), 0.06);
 
     /* type: elastic with the same settings and seed: the same numbers */
-    json_t *re = th_run_case(1, "elastic.yaml",
-                             "type: elastic\n"
-                             "seed: 5\n"
-                             "crystal: {lattice: diamond, element: Si, a_min: 5.2, a_max: 5.7, "
-                             "cells: 3}\n"
-                             "potential: {style: sw, file: Si.sw, elements: [Si]}\n"
-                             "elastic: {temperature: 300, " SETTINGS "}\n");
-    json_t *me = json_object_get(re, "metrics");
-    cr_expect_float_eq(th_metric_value(me, "lattice_constant"), a, 1e-12 * a);
-    cr_expect_float_eq(th_metric_value(me, "c11"), c11, 1e-9 * c11);
-    cr_expect_float_eq(th_metric_value(me, "c12"), c12, 1e-9 * c12);
-    cr_expect_float_eq(th_metric_value(me, "c44"), c44, 1e-9 * c44);
-    cr_expect_float_eq(th_metric_value(me, "c11_err"), th_metric_value(ma, "c11_T_err"), 1e-9);
+    th_expect_type_elastic(1, "{lattice: diamond, element: Si, a_min: 5.2, a_max: 5.7, cells: 3}",
+                           "{style: sw, file: Si.sw, elements: [Si]}",
+                           "{temperature: 300, " SETTINGS "}", ma);
 
     /* the same values given as inputs: the same run */
     char thermal[256], elastic[256];
@@ -101,7 +91,6 @@ Test(handshake_thermal_auto, computes_the_constants_of_type_elastic, .timeout = 
                            same[k], x, y);
     }
     json_decref(ra);
-    json_decref(re);
     json_decref(rx);
 }
 
@@ -113,4 +102,59 @@ Test(handshake_thermal_auto, refuses_given_values_beside_from_potential)
     char out[4096];
     cr_expect_neq(th_run(argv, out, sizeof out), 0);
     cr_expect(strstr(out, "thermal.lattice_constant") && strstr(out, "from_potential"), "%s", out);
+}
+
+/* Bad values in from_potential: `check` exits 2 naming file:line (the
+ * thermal section is line 5 of bar_text) and the key. */
+Test(handshake_thermal_auto, refuses_bad_from_potential_values, .timeout = 60)
+{
+    static const struct {
+        const char *name, *from_potential, *key, *what;
+    } bad[] = {
+        {"nan.yaml", "from_potential: {tau: nan}", "thermal.from_potential.tau", "must be a number"},
+        {"huge.yaml", "from_potential: {strain: 1e300}", "thermal.from_potential.strain",
+         "must be in [1e-05, 0.05]"},
+        {"negative.yaml", "from_potential: {cells: -3}", "thermal.from_potential.cells",
+         "must be in [2, 20]"},
+        {"short.yaml", "from_potential: {sample: 5}", "thermal.from_potential.sample",
+         "must be >= 10"},
+        {"duplicate.yaml", "from_potential: {cells: 3, cells: 4}", "'cells'", "duplicate key"},
+    };
+    for (size_t k = 0; k < sizeof bad / sizeof bad[0]; k++) {
+        const char *path = th_write_temp(4, bad[k].name, bar_text(bad[k].from_potential, ""));
+        const char *argv[] = {th_solver(), "check", path, NULL};
+        char out[4096], where[96];
+        snprintf(where, sizeof where, "%s:5:", bad[k].name);
+        int st = th_run(argv, out, sizeof out);
+        cr_expect_eq(st, 2, "%s: exit %d, output: %s", bad[k].name, st, out);
+        cr_expect(strstr(out, where) && strstr(out, bad[k].key) && strstr(out, bad[k].what),
+                  "%s: expected '%s', '%s', '%s' in: %s", bad[k].name, where, bad[k].key,
+                  bad[k].what, out);
+    }
+}
+
+/* cascade-solver info lists the keys of thermal.from_potential with their
+ * defaults (type: elastic's), though the section is optional. */
+Test(handshake_thermal_auto, info_lists_the_from_potential_keys, .timeout = 60)
+{
+    const char *argv[] = {th_solver(), "info", NULL};
+    static char out[1 << 20];
+    cr_assert_eq(th_run(argv, out, sizeof out), 0);
+    json_error_t je;
+    json_t *info = json_loads(out, 0, &je);
+    cr_assert_not_null(info, "%s", je.text);
+    json_t *fp = json_object_get(
+        json_object_get(json_object_get(json_object_get(json_object_get(info, "keys"),
+                                                        "case_types"),
+                                        "handshake_thermal"),
+                        "thermal"),
+        "from_potential");
+    cr_assert(json_is_object(fp), "no thermal.from_potential in the listing");
+    cr_expect_eq(json_integer_value(json_object_get(fp, "cells")), 4);
+    cr_expect_float_eq(json_real_value(json_object_get(fp, "strain")), 0.01, 1e-15);
+    cr_expect_float_eq(json_real_value(json_object_get(fp, "timestep")), 0.002, 1e-15);
+    cr_expect_eq(json_integer_value(json_object_get(fp, "sample")), 6000);
+    cr_expect_eq(json_integer_value(json_object_get(fp, "lattice_iterations")), 3);
+    cr_expect_null(json_object_get(fp, "temperature"), "the case's thermal.temperature");
+    json_decref(info);
 }

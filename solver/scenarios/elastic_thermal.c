@@ -7,6 +7,7 @@
 
 #include "analysis/block_average.h"
 #include "core/units.h"
+#include "output/result.h"
 
 int elastic_thermal_read(struct cfg_obj *o, int with_temperature,
                          struct elastic_thermal_settings *s)
@@ -135,4 +136,35 @@ int elastic_thermal_compute(struct potential *pot, const struct crystal_spec *sp
     out->c_err[1] = c12e;
     out->c_err[2] = sqrt(c11re * c11re + 0.25 * (c11e * c11e + c12e * c12e));
     return 0;
+}
+
+int elastic_thermal_compute_logged(const char *who, struct potential *pot,
+                                   const struct crystal_spec *spec, double a_min, double a_max,
+                                   const struct elastic_thermal_settings *s, struct run *run,
+                                   struct elastic_thermal *out, struct err *e)
+{
+    const double G = UNITS_EVA3_TO_GPA;
+    long per_cell = spec->style == LATTICE_DIAMOND ? 8 : spec->style == LATTICE_BCC ? 2 : 4;
+    run_log(run, "%s: computing a(T) and the constants at %g K (%ld MD steps of %ld atoms, "
+                 "type: elastic's computation)",
+            who, s->md.temperature, elastic_thermal_steps(s),
+            per_cell * spec->cells * spec->cells * spec->cells);
+    int rc = elastic_thermal_compute(pot, spec, a_min, a_max, s, run, out, e);
+    if (!rc)
+        run_log(run, "%s: at %g K a = %.5f Å, C11 = %.2f +- %.2f, C12 = %.2f +- %.2f, "
+                     "C44 = %.2f +- %.2f GPa",
+                who, s->md.temperature, out->a, out->c[0] * G, out->c_err[0] * G,
+                out->c[1] * G, out->c_err[1] * G, out->c[2] * G, out->c_err[2] * G);
+    return rc;
+}
+
+void elastic_thermal_report(const struct elastic_thermal *out,
+                            const struct elastic_thermal_settings *s, struct result *r)
+{
+    const double G = UNITS_EVA3_TO_GPA;
+    result_metric(r, "thermal_expansion", out->a / out->a0 - 1, "1");
+    result_metric(r, "c11_T_err", out->c_err[0] * G, "GPa");
+    result_metric(r, "c12_T_err", out->c_err[1] * G, "GPa");
+    result_metric(r, "c44_T_err", out->c_err[2] * G, "GPa");
+    result_metric(r, "from_potential_md_steps", (double)elastic_thermal_steps(s), "1");
 }

@@ -3,7 +3,8 @@
  * elastic constants at a temperature from MD finite-strain averages -- the
  * computation of `type: elastic` (elastic_case.c), shared with the cases
  * that need the constants at their temperature and compute them themselves
- * (handshake_thermal with `thermal.from_potential`).
+ * (handshake_thermal with `thermal.from_potential`, cluster_impact with
+ * `target.handshake.thermal.from_potential`: impact_from_potential.h).
  *
  * 1. The 0 K lattice constant a0 and constants (crystal.h).
  * 2. The lattice constant at T: a <- a (1 + P / (3 B)) from the mean
@@ -58,5 +59,18 @@ long elastic_thermal_steps(const struct elastic_thermal_settings *s);
 int elastic_thermal_compute(struct potential *pot, const struct crystal_spec *spec, double a_min,
                             double a_max, const struct elastic_thermal_settings *s,
                             struct run *run, struct elastic_thermal *out, struct err *e);
+
+/* The same for a case that needs the values at its temperature (`who`
+ * names it in the log): logs what it is about to run and what it found. */
+int elastic_thermal_compute_logged(const char *who, struct potential *pot,
+                                   const struct crystal_spec *spec, double a_min, double a_max,
+                                   const struct elastic_thermal_settings *s, struct run *run,
+                                   struct elastic_thermal *out, struct err *e);
+
+/* What such a computation gave, into a case's result: thermal_expansion
+ * (a(T) / a0 - 1), c11_T_err, c12_T_err, c44_T_err (GPa) and
+ * from_potential_md_steps (the values used are the case's own metrics). */
+void elastic_thermal_report(const struct elastic_thermal *out,
+                            const struct elastic_thermal_settings *s, struct result *r);
 
 #endif

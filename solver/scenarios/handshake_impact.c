@@ -11,12 +11,12 @@
 #include "couple/handshake.h"
 #include "couple/handshake_thermal.h"
 #include "output/result.h"
+#include "scenarios/impact_from_potential.h"
 
 struct hs_impact {
     double mpm, regions[3], cell, fine, layer;   /* lattice constants */
     long levels;
     int coarsen;                                 /* direction bits x 1, y 2, z 4 */
-    double a;                                    /* Å: target.a */
     enum hs_lattice lattice;                     /* target.lattice */
     struct handshake hs;
     int built;
@@ -102,7 +102,6 @@ int handshake_impact_read(struct cfg_obj *t, struct impact_boundary *b)
         return err_nomem(cfg->err, "handshake boundary");
     b->data = h;   /* freed by handshake_impact_destroy, also on errors */
     h->lattice = (enum hs_lattice)lattice;
-    h->a = json_number_value(json_object_get(t->node, "a"));
     static const double regions_def[3] = {2, 2, 2};
     int ci, rc;
     struct cfg_obj o;
@@ -128,7 +127,9 @@ int handshake_impact_read(struct cfg_obj *t, struct impact_boundary *b)
                        &h->bath.damping_time)) ||
         (rc = cfg_real(&th, "coarse_cell", HS_THERMAL_COARSE_CELL, CFG_GE(0),
                        &h->bath.coarse_cell)) ||
-        (rc = cfg_int(&th, "seed", 1, CFG_GE(0), &seed)) || (rc = cfg_close(&th)))
+        (rc = cfg_int(&th, "seed", 1, CFG_GE(0), &seed)) ||
+        (rc = impact_from_potential_read(&th, temp, &b->from_potential)) ||
+        (rc = cfg_close(&th)))
         return rc;
     h->bath.seed = (uint64_t)seed;
     if ((rc = cfg_section(&o, "elastic", &el)) ||
@@ -141,10 +142,16 @@ int handshake_impact_read(struct cfg_obj *t, struct impact_boundary *b)
     if (given != 0 && given != 3)
         return cfg_error_at(cfg, "target.handshake.elastic",
                             "give all of c11, c12, c44 or none (none: the potential's at 0 K)");
-    if (temp > 0 && given == 0)
+    if (b->from_potential && given != 0)
+        return cfg_error_at(cfg, "target.handshake.elastic",
+                            "target.handshake.thermal.from_potential computes the elastic "
+                            "constants at %g K: leave out c11, c12 and c44",
+                            temp);
+    if (temp > 0 && given == 0 && !b->from_potential)
         return cfg_error_at(cfg, "target.handshake.elastic",
                             "a target at %g K needs the MPM's elastic constants at that "
-                            "temperature: give c11, c12 and c44 (the output of type: elastic)",
+                            "temperature: give c11, c12 and c44 (the output of type: elastic), "
+                            "or thermal.from_potential to compute them here",
                             temp);
     b->peratom = 1;   /* region I gives the MPM its virial stress every step */
     return 0;
@@ -169,7 +176,7 @@ int handshake_impact_prepare(struct impact_boundary *b, const double lo[3], cons
     if (type < 0 || !(lo[0] <= hi[0]))
         return cfg_error_at(cfg, "target.cells", "boundary 'handshake': the target has no atoms");
     struct handshake_crystal cr;
-    double a0, a = h->a;
+    double a0, a = b->a;
     int rc = handshake_crystal_of_lattice(pot, h->lattice, p->type_name[type], 0.9 * a, 1.1 * a,
                                           &cr, &a0, e);
     if (rc) {
@@ -347,6 +354,10 @@ void handshake_impact_report(const struct impact_boundary *b, struct result *r)
         result_metric(r, "bath_coarse_cell", h->bath.coarse_cell, "1");
         result_metric(r, "region_II_fine_energy", fine_II, "eV");
         result_metric(r, "target_temperature_final", T, "K");
+        result_metric(r, "lattice_constant_T", hs->lay.a, "Å");
+        result_metric(r, "from_potential", b->from_potential != NULL, "1");
+        if (b->from_potential)   /* what the computation gave, with its errors */
+            elastic_thermal_report(&b->from_potential->out, &b->from_potential->set, r);
     }
 }
 

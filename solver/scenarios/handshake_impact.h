@@ -24,7 +24,11 @@
  *       elastic: {c11, c12, c44}          GPa, the MPM's constants (at T)
  *       thermal: {damping_time: 0.1, seed: 1}
  * are given: then the target may be at a temperature (target.a = a(T)) and
- * region II is under a Langevin bath (couple/handshake_thermal.h).
+ * region II is under a Langevin bath (couple/handshake_thermal.h).  With
+ *       thermal: {from_potential: {a_min, a_max, ...}}
+ * the case computes a(T) and the constants at T itself instead
+ * (impact_from_potential.h): target.a and elastic then stay out.  The
+ * boundary's target.a is b->a, which the case sets before prepare.
  */
 #ifndef CASCADE_HANDSHAKE_IMPACT_H
 #define CASCADE_HANDSHAKE_IMPACT_H

@@ -71,7 +71,7 @@ _Static_assert(offsetof(struct thermal_case, c) == 0, "hs_case first");
 static int read_from_potential(struct cfg_obj *o, struct thermal_case *w)
 {
     struct cfg_obj fp;
-    int rc = cfg_section_opt(o, "from_potential", &fp, &w->from_potential);
+    int rc = cfg_section_listed(o, "from_potential", &fp, &w->from_potential);
     if (rc || !w->from_potential)
         return rc;
     w->auto_set.md.temperature = w->bath.temperature;
@@ -280,16 +280,8 @@ static int thermal_report(void *state, struct sim *s, int run_rc, struct err *e)
     result_metric(res, "temperature", T0, "K");
     result_metric(res, "lattice_constant_T", c->a, "Å");
     result_metric(res, "from_potential", w->from_potential, "1");
-    if (w->from_potential) {   /* what the computation gave, with its errors */
-        const double G = UNITS_EVA3_TO_GPA;
-        const struct elastic_thermal *r = &w->auto_out;
-        result_metric(res, "thermal_expansion", r->a / r->a0 - 1, "1");
-        result_metric(res, "c11_T_err", r->c_err[0] * G, "GPa");
-        result_metric(res, "c12_T_err", r->c_err[1] * G, "GPa");
-        result_metric(res, "c44_T_err", r->c_err[2] * G, "GPa");
-        result_metric(res, "from_potential_md_steps",
-                      (double)elastic_thermal_steps(&w->auto_set), "1");
-    }
+    if (w->from_potential)   /* what the computation gave, with its errors */
+        elastic_thermal_report(&w->auto_out, &w->auto_set, res);
     result_metric(res, "damping_time", w->bath.damping_time, "ps");
     result_metric(res, "bath_coarse_cell", w->bath.coarse_cell, "1");
     result_metric(res, "equilibrate", w->equilibrate, "ps");
@@ -339,18 +331,10 @@ static int compute_at_temperature(struct thermal_case *w, struct run *run, struc
                                                                   : LATTICE_FCC;
     struct crystal_spec spec = {style, c->element, 0, w->auto_cells};
     struct elastic_thermal *r = &w->auto_out;
-    run_log(run, "handshake_thermal: computing a(T) and the constants at %g K (%ld MD steps "
-                 "of %ld atoms, type: elastic's computation)",
-            s.md.temperature, elastic_thermal_steps(&s),
-            (long)(style == LATTICE_DIAMOND ? 8 : style == LATTICE_BCC ? 2 : 4) * w->auto_cells *
-                w->auto_cells * w->auto_cells);
-    int rc = elastic_thermal_compute(c->md.pot, &spec, c->a_min, c->a_max, &s, run, r, e);
+    int rc = elastic_thermal_compute_logged("handshake_thermal", c->md.pot, &spec, c->a_min,
+                                            c->a_max, &s, run, r, e);
     if (rc)
         return rc;
-    run_log(run, "handshake_thermal: at %g K a = %.5f Å, C11 = %.2f +- %.2f, C12 = %.2f +- %.2f, "
-                 "C44 = %.2f +- %.2f GPa",
-            s.md.temperature, r->a, r->c[0] * G, r->c_err[0] * G, r->c[1] * G,
-            r->c_err[1] * G, r->c[2] * G, r->c_err[2] * G);
     /* rebuild: the potential leaves the old MD for the new bar */
     struct potential *pot = c->md.pot;
     c->md.pot = NULL;

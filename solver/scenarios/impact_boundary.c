@@ -1,6 +1,7 @@
 /* impact_boundary: fixed and damped layers (pure MD); the MPM/MD handshake. */
 #include "scenarios/impact_boundary.h"
 
+#include <stdlib.h>
 #include <string.h>
 
 #include "core/halo.h"
@@ -103,4 +104,6 @@ void impact_boundary_free(struct impact_boundary *b)
     if (b->ops && b->ops->destroy)
         b->ops->destroy(b);
     b->data = NULL;
+    free(b->from_potential);
+    b->from_potential = NULL;
 }

@@ -71,9 +71,15 @@ struct impact_boundary {
     double damped_thickness;  /* Å */
     double damping_time;      /* ps */
     double temperature;       /* K */
+    double a;                 /* Å: target.a (the case sets it before prepare) */
     long nfixed, ndamped;
     int peratom;              /* per-atom virials every step (not just at snapshots) */
     void *data;               /* the treatment's own state */
+    /* target.handshake.thermal.from_potential (impact_from_potential.h),
+     * which the treatment reads and impact_boundary_free frees; the case
+     * hands it to the boundary of its second read at a(T), for the
+     * metrics.  NULL when a(T) is an input. */
+    struct impact_from_potential *from_potential;
 };
 
 struct result;

@@ -6,7 +6,8 @@
  *   target:
  *     lattice: fcc            fcc | bcc | diamond; the top face is (001), normal +z
  *     element: Cu
- *     a: 3.615                Å
+ *     a: 3.615                Å (left out with the handshake's
+ *                             thermal.from_potential: impact_from_potential.h)
  *     cells: [20, 20, 15]     cubic cells along x [100], y [010], z [001]
  *     temperature: 0          K (Maxwell-Boltzmann velocities, and the bath
  *                             of the damped layer)
@@ -71,6 +72,7 @@
 #include "scenarios/case_type.h"
 #include "scenarios/cluster_build.h"
 #include "scenarios/impact_boundary.h"
+#include "scenarios/impact_from_potential.h"
 #include "analysis/md_analysis.h"
 #include "analysis/md_analysis_bricks.h"
 #include "md/md_bricks.h"
@@ -100,6 +102,14 @@ struct impact {
     double center_frac[3];
     double lo[3], hi[3];       /* target extent (atom positions) */
     double a;
+    /* target.handshake.thermal.from_potential: the document before it was
+     * read, with what its second read needs, and that read's case (the
+     * run's) once a(T) and the constants are computed */
+    json_t *doc;
+    char *base_dir;
+    struct case_common common;
+    int tlat;
+    struct impact *at_T;
 };
 
 static const char *const impact_lattices[] = {"fcc", "bcc", "diamond", NULL};
@@ -122,20 +132,36 @@ static int read_spec(struct cfg_obj *root, struct impact_spec *s, struct impact_
     struct cfg_obj to, co;
     int rc;
     static const long cells_def[3] = {20, 20, 15};
+    int a_given = 1;
     if ((rc = cfg_section_required(root, "target", &to)) ||
         (rc = cfg_enum(&to, "lattice", "fcc", impact_lattices, &s->tlat)) ||
-        (rc = cfg_string(&to, "element", NULL, &s->telement)) ||
-        (rc = cfg_real(&to, "a", CFG_REQUIRED, CFG_GT(0), &s->ta)) ||
-        (rc = cfg_ints(&to, "cells", 3, cells_def, CFG_RANGE(1, 10000), s->cells)) ||
+        (rc = cfg_string(&to, "element", NULL, &s->telement)))
+        return rc;
+    /* from_potential computes a(T): target.a stays out (s->ta is then 0
+     * until the potential's 0 K lattice constant is known) */
+    if (impact_from_potential_given(to.node)) {
+        if ((rc = cfg_real_opt(&to, "a", CFG_GT(0), &s->ta, &a_given)))
+            return rc;
+    } else if ((rc = cfg_real(&to, "a", CFG_REQUIRED, CFG_GT(0), &s->ta)))
+        return rc;
+    if (!a_given)
+        s->ta = 0;
+    else if (impact_from_potential_given(to.node))
+        return cfg_error_at(root->cfg, "target.a",
+                            "target.handshake.thermal.from_potential computes the lattice "
+                            "constant at the target's temperature: leave out target.a");
+    if ((rc = cfg_ints(&to, "cells", 3, cells_def, CFG_RANGE(1, 10000), s->cells)) ||
         (rc = cfg_real(&to, "temperature", 0.0, CFG_GE(0), &s->temperature)) ||
         (rc = md_read_max_particles(&to, &s->max_particles)) ||
         (rc = impact_boundary_read(&to, b)))
         return rc;
     b->temperature = s->temperature;
+    int ca_given;   /* from_potential: cluster.a defaults to a(T), known later */
     if ((rc = cfg_section_required(root, "cluster", &co)) ||
         (rc = cfg_enum(&co, "lattice", impact_lattices[s->tlat], impact_lattices, &s->clat)) ||
         (rc = cfg_string(&co, "element", s->telement, &s->celement)) ||
-        (rc = cfg_real(&co, "a", s->ta, CFG_GT(0), &s->ca)) ||
+        (rc = s->ta > 0 ? cfg_real(&co, "a", s->ta, CFG_GT(0), &s->ca)
+                        : cfg_real_opt(&co, "a", CFG_GT(0), &s->ca, &ca_given)) ||
         (rc = cfg_int(&co, "atoms", CFG_REQUIRED_INT, CFG_RANGE(1, 100000000), &s->natoms)) ||
         (rc = cfg_real(&co, "speed", 10.0, CFG_GE(0), &s->speed)) ||
         (rc = cfg_real(&co, "gap", 0.0, CFG_GE(0), &s->gap)))
@@ -304,6 +330,7 @@ static int build(struct impact *c, const struct impact_spec *s, struct potential
     }
     /* what the boundary owns (the handshake: its whole MPM side) and the
      * room its particles need, before the box is cut into bricks */
+    b->a = s->ta;
     if (b->ops->prepare)
         rc = b->ops->prepare(b, c->lo, c->hi, p, tt, &box, pot, common->nthreads, cfg);
     /* bricks or not: each rank builds only its brick's atoms from here */
@@ -384,6 +411,51 @@ static int build(struct impact *c, const struct impact_spec *s, struct potential
     return rc;
 }
 
+/* from_potential: the target at the potential's 0 K lattice constant
+ * for the read (the layout checks and counts are those at a(T)); a
+ * shallow read builds nothing and takes the middle of the bracket. */
+static int lattice_constant_at_0K(struct impact_spec *s, const struct impact_boundary *b,
+                                  struct potential *pot, struct cfg *cfg)
+{
+    const struct impact_from_potential *fp = b->from_potential;
+    if (cfg->shallow)
+        s->ta = 0.5 * (fp->a_min + fp->a_max);
+    else if (impact_from_potential_a0(fp, pot, impact_styles[s->tlat], s->telement, &s->ta,
+                                      cfg->err)) {
+        char msg[ERR_MSG_MAX];
+        snprintf(msg, sizeof msg, "%s", cfg->err->msg);
+        return cfg_error_at(cfg, "target.handshake.thermal.from_potential", "%s", msg);
+    }
+    if (!(s->ca > 0))
+        s->ca = s->ta;   /* cluster.a defaults to the target's */
+    return 0;
+}
+
+/* What the second read of from_potential needs: the document as given
+ * (`given`, taken before this read filled in its defaults; c owns it from
+ * here), its directory, the run's settings. */
+static int keep_document(struct impact *c, json_t *given, const struct cfg *cfg,
+                         const struct case_common *common, const struct impact_spec *s)
+{
+    c->doc = given;
+    c->base_dir = strdup(cfg->base_dir ? cfg->base_dir : ".");
+    c->common = *common;
+    c->common.title = NULL;   /* borrowed from the document */
+    c->tlat = s->tlat;
+    return c->base_dir ? 0 : err_nomem(cfg->err, "case directory");
+}
+
+static void impact_destroy(void *state);
+
+/* The models of a case (the md, its analysis, the boundary). */
+static void release_models(struct impact *c)
+{
+    impact_boundary_free(&c->bnd);
+    if (c->md.p || c->md.halo)   /* a failed read may not have built it */
+        md_free(&c->md);
+    md_analysis_free(&c->an);
+}
+
 static int impact_read(struct cfg_obj *root, const struct case_common *common, void **state)
 {
     struct impact_spec s;
@@ -392,38 +464,50 @@ static int impact_read(struct cfg_obj *root, const struct case_common *common, v
     memset(&bnd, 0, sizeof bnd);
     struct cfg_obj po;
     struct potential *pot = NULL;
+    /* from_potential reads the document again at a(T): as it is given,
+     * before this read fills in its defaults */
+    json_t *given = NULL;
+    if (!root->cfg->shallow &&
+        impact_from_potential_given(json_object_get(root->node, "target")) &&
+        !(given = json_deep_copy(root->node)))
+        return err_nomem(root->cfg->err, "case document");
     int rc = read_spec(root, &s, &bnd);
     if (!rc)
         rc = cfg_section_required(root, "potential", &po);
     if (!rc)
         rc = potential_create(&po, &pot);
-    if (rc) {
-        impact_boundary_free(&bnd);
-        return rc;
-    }
+    if (!rc && bnd.from_potential)
+        rc = lattice_constant_at_0K(&s, &bnd, pot, root->cfg);
     struct structure_params def = {impact_refs[s.tlat], CNA_FIXED, s.ta, 0, 0, 0, 0.15, 1};
-    struct impact *c = calloc(1, sizeof *c);
-    if (!c) {
+    struct impact *c = rc ? NULL : calloc(1, sizeof *c);
+    if (!rc && !c)
+        rc = err_nomem(root->cfg->err, "impact case");
+    json_t *structure = json_object_get(json_object_get(root->node, "analysis"), "structure");
+    int reference_given = json_object_get(structure, "lattice_constant") != NULL;
+    if (!rc)
+        rc = md_analysis_read(root, &def, 100, &c->an);
+    /* from_potential: the reference lattice constant of the structure
+     * analysis defaults to target.a = a(T), unknown until the run: the
+     * resolved case leaves it out, as it leaves out target.a (0 K stands
+     * in here; the run's second read at a(T) fills it in) */
+    structure = json_object_get(json_object_get(root->node, "analysis"), "structure");
+    if (!rc && bnd.from_potential && !reference_given)
+        json_object_del(structure, "lattice_constant");
+    if (rc || root->cfg->shallow) {
         potential_destroy(&pot);
         impact_boundary_free(&bnd);
-        return err_nomem(root->cfg->err, "impact case");
-    }
-    if ((rc = md_analysis_read(root, &def, 100, &c->an))) {
-        potential_destroy(&pot);
-        impact_boundary_free(&bnd);
+        if (c)
+            md_analysis_free(&c->an);
         free(c);
+        json_decref(given);
         return rc;
-    }
-    if (root->cfg->shallow) {
-        potential_destroy(&pot);
-        impact_boundary_free(&bnd);
-        md_analysis_free(&c->an);
-        free(c);
-        return 0;
     }
     c->bnd = bnd;
     c->steps = s.steps;
-    rc = build(c, &s, &pot, root->cfg, common);
+    if (given)   /* c owns it from here */
+        rc = keep_document(c, given, root->cfg, common, &s);
+    if (!rc)
+        rc = build(c, &s, &pot, root->cfg, common);
     if (!rc) {
         double q = 0.25 * s.ta;   /* crater grid a quarter cell off the lattice planes */
         struct md_analysis_opts o = {
@@ -439,15 +523,53 @@ static int impact_read(struct cfg_obj *root, const struct case_common *common, v
     }
     if (rc) {
         /* build() hands the potential to the md (and NULLs pot) at md_init */
-        if (c->md.p || c->md.halo)
-            md_free(&c->md);
         potential_destroy(&pot);
-        impact_boundary_free(&c->bnd);
-        md_analysis_free(&c->an);
-        free(c);
+        impact_destroy(c);
         return rc;
     }
     *state = c;
+    return 0;
+}
+
+/* target.handshake.thermal.from_potential: a(T) and the constants at T by
+ * type: elastic's computation (elastic_thermal.h) with the potential of
+ * the case read at 0 K, then the case read again from its document with
+ * target.a = a(T) and target.handshake.elastic = the constants: the run is
+ * then the run with those numbers given (the structure analysis and the
+ * cluster's lattice constant default to target.a as there).  c->at_T gets
+ * the new case, and the computation's results for its metrics; c keeps
+ * only that case. */
+static int read_at_temperature(struct impact *c, struct run *run, struct err *e)
+{
+    const double G = UNITS_EVA3_TO_GPA;
+    struct impact_from_potential *fp = c->bnd.from_potential;
+    json_t *target = json_object_get(c->doc, "target");
+    json_t *hs = json_object_get(target, "handshake");
+    json_t *th = json_object_get(hs, "thermal");
+    const char *element = json_string_value(json_object_get(target, "element"));
+    int rc = impact_from_potential_compute(fp, c->md.pot, impact_styles[c->tlat], element,
+                                           c->common.seed, c->common.nthreads, run, e);
+    if (rc)
+        return rc;
+    json_t *el = json_pack("{s:f, s:f, s:f}", "c11", fp->out.c[0] * G, "c12", fp->out.c[1] * G,
+                           "c44", fp->out.c[2] * G);
+    if (!el || json_object_del(th, "from_potential") ||
+        json_object_set_new(target, "a", json_real(fp->out.a)) ||
+        json_object_set_new(hs, "elastic", el))
+        return err_nomem(e, "case document at a(T)");
+    /* the case at 0 K has done its part: its memory goes before the next */
+    c->bnd.from_potential = NULL;
+    release_models(c);
+    /* the first read's cfg is gone: errors name the case type */
+    struct cfg cfg = {"cluster_impact (from_potential)", NULL, e, c->base_dir, 0};
+    struct cfg_obj root;
+    void *state = NULL;
+    if ((rc = cfg_root(&cfg, c->doc, &root)) || (rc = impact_read(&root, &c->common, &state))) {
+        free(fp);
+        return rc;
+    }
+    c->at_T = state;
+    c->at_T->bnd.from_potential = fp;   /* for its metrics; it frees it */
     return 0;
 }
 
@@ -669,6 +791,12 @@ static const struct sim_case_ops impact_case_ops = {
 static int impact_run(void *state, struct run *run, struct err *e)
 {
     struct impact *c = state;
+    if (c->doc) {   /* from_potential: the run is that of the case read at a(T) */
+        int rc = read_at_temperature(c, run, e);
+        if (rc)
+            return rc;
+        c = c->at_T;
+    }
     c->md.timers = &run->timers;
     /* the boundary's pre_step before the md's drift, its step after the
      * md's kick: the boundary model first */
@@ -694,16 +822,19 @@ static void impact_destroy(void *state)
     struct impact *c = state;
     if (!c)
         return;
-    impact_boundary_free(&c->bnd);
-    md_free(&c->md);
-    md_analysis_free(&c->an);
+    impact_destroy(c->at_T);
+    release_models(c);
     free(c->restored_rows);
+    json_decref(c->doc);
+    free(c->base_dir);
     free(c);
 }
 
 static long impact_particles(const void *state)
 {
     const struct impact *c = state;
+    if (c && c->at_T)
+        c = c->at_T;
     return c && c->md.p ? md_natoms(&c->md) : 0;
 }
 

@@ -180,6 +180,14 @@ int cfg_section(struct cfg_obj *o, const char *key, struct cfg_obj *child)
     return 0;
 }
 
+int cfg_section_listed(struct cfg_obj *o, const char *key, struct cfg_obj *child, int *present)
+{
+    if (o->cfg->shallow != CFG_DESCRIBE)
+        return cfg_section_opt(o, key, child, present);
+    *present = 1;
+    return cfg_section(o, key, child);
+}
+
 int cfg_section_required(struct cfg_obj *o, const char *key, struct cfg_obj *child)
 {
     int present;

@@ -68,6 +68,9 @@ int cfg_root(struct cfg *c, json_t *doc, struct cfg_obj *root);
 int cfg_section(struct cfg_obj *o, const char *key, struct cfg_obj *child);
 int cfg_section_opt(struct cfg_obj *o, const char *key, struct cfg_obj *child, int *present);
 int cfg_section_required(struct cfg_obj *o, const char *key, struct cfg_obj *child);
+/* cfg_section_opt whose keys a describe read lists all the same (it then
+ * opens the section as if given: *present is 1). */
+int cfg_section_listed(struct cfg_obj *o, const char *key, struct cfg_obj *child, int *present);
 
 /* Scalars.  def = CFG_REQUIRED / CFG_REQUIRED_INT / NULL makes a key required. */
 int cfg_real(struct cfg_obj *o, const char *key, double def, struct cfg_bound b, double *out);

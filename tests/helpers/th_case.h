@@ -17,4 +17,12 @@ json_t *th_run_case(int slot, const char *name, const char *text);
  * (asserts that it is there and a number). */
 double th_metric_value(json_t *m, const char *name);
 
+/* Run `type: elastic` (seed 5) with the crystal section `crystal`, the
+ * potential section `potential` and the elastic section `elastic`, and
+ * expect the values a case that computed them itself (thermal.from_potential)
+ * reports in its metrics m: lattice_constant_T, c11_mpm, c12_mpm, c44_mpm
+ * (to round-off), the errors c11_T_err... and thermal_expansion. */
+void th_expect_type_elastic(int slot, const char *crystal, const char *potential,
+                            const char *elastic, json_t *m);
+
 #endif
