@@ -1,36 +1,45 @@
 #!/bin/sh
 # Cross-check of the isothermal cubic elastic constants at a temperature
 # (our `type: elastic`, solver/scenarios/elastic_case.c) against LAMMPS on
-# the same potential file, by the same route: finite +-strains of a 512-atom
-# periodic diamond crystal at a(T) under a Langevin bath, central
-# differences of time-averaged pressures.  C11 and C12 from a uniaxial
+# the same potential file, by the same route: finite +-strains of a
+# periodic cubic crystal at a(T) under a Langevin bath, central differences
+# of time-averaged pressures: diamond Si (sw, meam: 4^3 cells, 512 atoms)
+# or bcc Fe (fe: Mendelev's Fe_mm.eam.fs, 6^3 cells, 432 atoms, the cells
+# of docs/examples/elastic_fe_300K.yaml).  C11 and C12 from a uniaxial
 # strain along x (sigma_xx and the mean of sigma_yy, sigma_zz); C44 from a
 # tilt shear gamma_xy (sigma_xy) -- not the [110] strain ours uses, so C44
 # is checked by another construction.  The atoms relax their sublattices
-# freely: C44 is the relaxed one.  Not a timing benchmark (bench.sh does not
+# freely: C44 is the relaxed one (diamond; bcc has no internal strain).  Not a timing benchmark (bench.sh does not
 # run it); docs/handshake.md, "Cross-check against LAMMPS", has the numbers.
 #
-#   sh bench/lammps_elastic_T.sh sw|meam A [EPS...]
+#   sh bench/lammps_elastic_T.sh sw|meam|fe A [EPS...]
+#   e.g. SEEDS="1 2 3 4" NEQ=2000 NRUN=6000 NPT=1 sh bench/lammps_elastic_T.sh fe 2.85906
 #
 # A: the lattice constant at T (Å).  EPS: strain amplitudes (default 0.01).
 # Environment: SEEDS (default "1 2"), T (300), NEQ (3000 steps), NRUN (10000
-# steps, sampled every 10), DT (0.001 ps), TDAMP (0.5 ps), JOBS (runs at
-# once, 1), WORK (kept when given; else a temporary directory).
+# steps, sampled every 10), DT (0.001 ps), TDAMP (0.5 ps), CELLS (per edge;
+# 4 for Si, 6 for Fe), NPT (1: also one run per seed at P = 0 under a
+# barostat, for LAMMPS' own a(T); 0), JOBS (runs at once, 1), WORK (kept
+# when given; else a temporary directory).
 # Prints one line per seed and strain and the mean over the seeds with the
 # standard error of their spread (GPa), and the mean pressure of the four
-# runs (P at a to O(eps^2)).
+# runs (P at a to O(eps^2)); with NPT=1 also a(T) per seed (block error)
+# and their mean.
 set -eu
-pot=${1:?usage: lammps_elastic_T.sh sw|meam A [EPS...]}
-a=${2:?usage: lammps_elastic_T.sh sw|meam A [EPS...]}
+pot=${1:?usage: lammps_elastic_T.sh sw|meam|fe A [EPS...]}
+a=${2:?usage: lammps_elastic_T.sh sw|meam|fe A [EPS...]}
 shift 2
 EPS=${*:-0.01}
 ROOT=${ROOT:-$(cd "$(dirname "$0")/.." && pwd)}
 POTDIR=${POTDIR:-/usr/share/lammps/potentials}
+lattice=diamond; element=Si; mass=28.0855; cells=4
 case "$pot" in
     sw) style=sw; file=$POTDIR/Si.sw ;;
     meam) style=meam/spline; file=$POTDIR/Si_1.meam.spline ;;
-    *) echo "lammps_elastic_T.sh: potential sw or meam, not $pot" >&2; exit 2 ;;
+    fe) style=eam/fs; file=$POTDIR/Fe_mm.eam.fs; lattice=bcc; element=Fe; mass=55.845; cells=6 ;;
+    *) echo "lammps_elastic_T.sh: potential sw, meam or fe, not $pot" >&2; exit 2 ;;
 esac
+CELLS=${CELLS:-$cells}; NPT=${NPT:-0}
 SEEDS=${SEEDS:-1 2}
 T=${T:-300}; NEQ=${NEQ:-3000}; NRUN=${NRUN:-10000}; DT=${DT:-0.001}; TDAMP=${TDAMP:-0.5}
 JOBS=${JOBS:-1}
@@ -51,15 +60,18 @@ for seed in $SEEDS; do
             done
         done
     done
+    name=$pot-npt-s$seed
+    if [ "$NPT" = 1 ] && [ ! -s "$WORK/$name.dat" ]; then echo "$name npt 0 $seed" >> "$WORK/runs.txt"; fi
 done
-export WORK ROOT style file a T NEQ NRUN DT TDAMP
+export WORK ROOT style file lattice element mass CELLS a T NEQ NRUN DT TDAMP
 # shellcheck disable=SC2016
 xargs -P "$JOBS" -L 1 sh -c 'cd "$WORK" && lmp -in "$ROOT/bench/lammps_elastic_T.in" \
-    -log none -screen "$WORK/$0.out" -var style "$style" -var file "$file" -var a "$a" \
+    -log none -screen "$WORK/$0.out" -var style "$style" -var file "$file" -var a "$a" -var lattice "$lattice" \
+    -var n "$CELLS" -var element "$element" -var mass "$mass" \
     -var mode "$1" -var eps "$2" -var T "$T" -var seed "$3" -var neq "$NEQ" -var nrun "$NRUN" \
     -var dt "$DT" -var tdamp "$TDAMP" -var out "$0.tmp" >/dev/null && mv "$0.tmp" "$0.dat"' \
     < "$WORK/runs.txt"
-/usr/bin/python3 - "$WORK" "$pot" "$T" "$SEEDS" "$EPS" "$a" <<'EOF'
+/usr/bin/python3 - "$WORK" "$pot" "$T" "$SEEDS" "$EPS" "$a" "$NPT" <<'EOF'
 import math, sys
 work, pot, T, seeds, epss = sys.argv[1], sys.argv[2], float(sys.argv[3]), sys.argv[4].split(), sys.argv[5].split()
 def mean_block(x, nb=10):
@@ -72,7 +84,7 @@ def run(mode, sign, eps, seed):
     rows = [list(map(float, l.split())) for l in open(f"{work}/{pot}-{mode}-{sign}{eps}-s{seed}.dat")
             if l.strip() and not l.startswith('#')]
     col = lambda k: [r[k] for r in rows]
-    # bar -> GPa; the columns: step temp pxx pyy pzz pxy pxz pyz
+    # bar -> GPa; the columns: step temp pxx pyy pzz pxy pxz pyz lx/n
     out = {k: mean_block([v * 1e-4 for v in col(i)]) for k, i in
            (("xx", 2), ("yy", 3), ("zz", 4), ("xy", 5))}
     out["yz2"] = mean_block([0.5e-4 * (r[3] + r[4]) for r in rows])
@@ -98,4 +110,18 @@ for eps in epss:
     (m11, e11), (m12, e12), (m44, e44), (mp, ep) = ms(0), ms(1), ms(2), ms(3)
     print(f"{pot} eps {eps} mean of {n} seeds: C11 {m11:.2f} +- {e11:.2f}  C12 {m12:.2f} +- {e12:.2f}"
           f"  C44 {m44:.2f} +- {e44:.2f} GPa; P {mp:.4f} +- {ep:.4f} GPa at a = {sys.argv[6]} A")
+if sys.argv[7] == "1":
+    al = []
+    for s in seeds:
+        rows = [list(map(float, l.split())) for l in open(f"{work}/{pot}-npt-s{s}.dat")
+                if l.strip() and not l.startswith('#')]
+        m, e = mean_block([r[8] for r in rows])
+        p, pe = mean_block([(r[2] + r[3] + r[4]) / 3e4 for r in rows])
+        tm = mean_block([r[1] for r in rows])[0]
+        al.append(m)
+        print(f"{pot} P = 0 seed {s}: a {m:.5f} +- {e:.5f} A (block error); P {p:.4f} +- {pe:.4f} GPa, T {tm:.1f} K")
+    n = len(al)
+    m = sum(al) / n
+    e = math.sqrt(sum((v - m) ** 2 for v in al) / (n - 1) / n) if n > 1 else float("nan")
+    print(f"{pot} P = 0 mean of {n} seeds: a {m:.5f} +- {e:.5f} A (ours given: {sys.argv[6]} A)")
 EOF
