@@ -33,14 +33,6 @@ if [ ! -x "$FAKE" ]; then
 fi
 . "$ROOT/bench/lib.sh"
 now_ns() { date +%s%N; }
-# seconds taken by a cascade run in $D (fresh database each time)
-run_s() { # run_s STUDY.yaml [extra args]
-    rm -rf "$D/runs" "$D"/cascade.db*
-    t0=$(now_ns)
-    (cd "$D" && "$BIN/cascade" run "$@" --solver "$FAKE" --quiet >/dev/null 2>&1) || true
-    t1=$(now_ns)
-    echo "($t1 - $t0) / 1000000000" | bc -l
-}
 values() { # values N -> [1, 2, ..., N]
     seq -s ', ' 1 "$1" | sed 's/^/[/; s/$/]/'
 }
@@ -54,10 +46,27 @@ values() { # values N -> [1, 2, ..., N]
 # one started: docs/campaign.md, "Claiming ahead").  For
 # scale, the wall-clock cost of one more job (slope from 100 to 400 jobs, one
 # at a time) and of the no-op run alone are printed too.
+#
+# Every campaign here runs in a directory of its own, and the directories
+# are deleted only after the last measurement: on an ext4 file system
+# without a journal (this machine's) the kernel skips, for every new inode,
+# the inodes freed in the last one to two minutes (ext4's recently_deleted
+# check), so deleting the previous round's 2,800 files right before a round
+# made every mkdir, symlink and create of the runner scan past them -- a
+# third of the runner's time in perf, a cost of the bench, not of a
+# campaign (docs/bench.md, "Campaign dispatch, sixth round").
 for n in 100 400; do
     printf 'name: noop%s\nbase: {fake: {action: ok}}\nsweep: {grid: {fake.x: %s}}\n' \
         "$n" "$(values $n)" > "$D/noop$n.yaml"
 done
+rm -rf "$D"/round-* "$D/solo"
+fresh_s() { # fresh_s DIR STUDY.yaml: seconds of a no-op campaign in a new DIR
+    mkdir -p "$1"
+    t0=$(now_ns)
+    (cd "$1" && "$BIN/cascade" run "$D/$2" --solver "$FAKE" --jobs 1 2>&1) > "$1/report"
+    t1=$(now_ns)
+    echo "($t1 - $t0) / 1000000000" | bc -l
+}
 bare_s() { # the no-op job run directly, 300 times
     t0=$(now_ns)
     n=0
@@ -73,22 +82,23 @@ bare_s() { # the no-op job run directly, 300 times
 i=0
 while [ $i -lt "$REPEAT" ]; do
     i=$((i + 1))
-    a=$(run_s noop100.yaml --jobs 1)
-    rm -rf "$D/runs" "$D"/cascade.db*
-    t0=$(now_ns)
-    (cd "$D" && "$BIN/cascade" run noop400.yaml --solver "$FAKE" --jobs 1 2>&1) > "$D/report"
-    sed -n 's/.*runner time per job: \([0-9.]*\) ms.*/\1/p' "$D/report" >> "$D/dispatch"
-    sed -n 's/.*slot idle between jobs: \([0-9.]*\) ms.*/\1/p' "$D/report" >> "$D/idle"
-    t1=$(now_ns)
-    b=$(echo "($t1 - $t0) / 1000000000" | bc -l)
-    if [ ! -f "$D/solo/case.yaml" ]; then
-        mkdir -p "$D/solo"
-        cp "$(ls -d "$D"/runs/noop400/* | head -n1)/current/case.yaml" "$D/solo/case.yaml"
-    fi
-    c=$(bare_s)
+    a=$(fresh_s "$D/round-$i-100" noop100.yaml)
+    b=$(fresh_s "$D/round-$i-400" noop400.yaml)
+    sed -n 's/.*runner time per job: \([0-9.]*\) ms.*/\1/p' "$D/round-$i-400/report" >> "$D/dispatch"
+    sed -n 's/.*slot idle between jobs: \([0-9.]*\) ms.*/\1/p' "$D/round-$i-400/report" >> "$D/idle"
     echo "($b - $a) * 1000 / 300" | bc -l >> "$D/perjob"
+done
+# the bare runs rewrite result.json (a new inode each time, the old one
+# freed) after the campaigns, not between them
+mkdir -p "$D/solo"
+cp "$(ls -d "$D"/round-1-400/runs/noop400/* | head -n1)/current/case.yaml" "$D/solo/case.yaml"
+i=0
+while [ $i -lt "$REPEAT" ]; do
+    i=$((i + 1))
+    c=$(bare_s)
     echo "$c * 1000 / 300" | bc -l >> "$D/bare"
 done
+rm -rf "$D"/round-*
 echo "bench: wall clock: one more no-op job costs $(median < "$D/perjob" | xargs printf '%.2f') ms" \
      "in a campaign; the no-op run alone $(median < "$D/bare" | xargs printf '%.2f') ms" >&2
 bench_line campaign_dispatch_ms "$(median < "$D/dispatch" | xargs printf '%.2f')" ms "target 0.5; $(bench_load)"
