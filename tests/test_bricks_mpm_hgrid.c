@@ -185,3 +185,34 @@ Test(bricks_mpm_hgrid, checkpoint_moves_between_rank_counts, .timeout = 900)
     const char *path = th_write_temp(0, "hgrid_ck.yaml", yaml);
     thb_checkpoint_moves(path, "hgrid", compare_run, "the two-level impact");
 }
+
+/* What stays refused: bricks thinner than 4 finest cells (a given
+ * parallel.grid), naming the case file, line and key, as on a uniform
+ * grid. */
+Test(bricks_mpm_hgrid, thin_bricks_are_refused, .timeout = 300)
+{
+    static char out[16384];
+    const char *thin =
+        "type: mpm\n"
+        "mpm:\n"
+        "  units: metal\n"
+        "  grid:\n"
+        "    cell: 3.615\n"
+        "    cells: [6, 2, 2]\n"
+        "    levels:\n"
+        "      - {coarsen: x, region: {shape: slab, axis: x, lo: 10, hi: 1.0e9}}\n"
+        "  materials:\n"
+        "    - {name: Cu, law: linear_elastic, density: 8.94, E: 120, nu: 0.3}\n"
+        "  bodies:\n"
+        "    - {name: bar, material: Cu, region: {shape: box, lo: [0, 0, 0], hi: [21.69, "
+        "7.23, 7.23]}}\n"
+        "  steps: 5\n"
+        "parallel: {decomposition: bricks, grid: [2, 1, 1]}\n";
+    const char *path = th_write_temp(0, "hthin.yaml", thin);
+    char dir[600];
+    snprintf(dir, sizeof dir, "%s/hthin-2", th_temp_dir());
+    cr_assert_eq(thb_run(path, 2, dir, NULL, out, sizeof out), 2, "%s", out);
+    cr_assert(strstr(out, "hthin.yaml:14:") && strstr(out, "parallel.grid") &&
+                  strstr(out, "thinner than 4 cells"),
+              "%s", out);
+}
