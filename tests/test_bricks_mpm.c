@@ -258,46 +258,12 @@ Test(bricks_mpm, checkpoint_moves_between_rank_counts, .timeout = 900)
     thb_restarts_match(path, 50, cases, 4, s1, compare_impact);
 }
 
-/* A hierarchical grid is not decomposed: asked for bricks it is refused
- * naming the case file, line and key; under `auto` it runs replicated
- * with a note.  Bricks thinner than 4 cells are refused likewise. */
-Test(bricks_mpm, hierarchical_grid_and_thin_bricks_are_refused, .timeout = 300)
+/* Bricks thinner than 4 cells are refused naming the case file, line and
+ * key.  (A hierarchical grid runs on bricks: tests/test_bricks_mpm_hgrid.c.) */
+Test(bricks_mpm, thin_bricks_are_refused, .timeout = 300)
 {
     static char out[16384];
-    const char *hier =
-        "type: mpm\n"
-        "mpm:\n"
-        "  units: metal\n"
-        "  grid:\n"
-        "    cell: 3.615\n"
-        "    cells: [32, 2, 2]\n"
-        "    levels:\n"
-        "      - {coarsen: xyz, region: {shape: slab, axis: x, lo: 60, hi: 1.0e9}}\n"
-        "  materials:\n"
-        "    - {name: Cu, law: linear_elastic, density: 8.94, E: 120, nu: 0.3}\n"
-        "  bodies:\n"
-        "    - {name: bar, material: Cu, region: {shape: box, lo: [0, 0, 0], hi: [115.68, "
-        "7.23, 7.23]}}\n"
-        "  steps: 5\n"
-        "parallel:\n"
-        "  decomposition: bricks\n";
-    const char *path = write_case("hier.yaml", hier);
     char dir[600];
-    snprintf(dir, sizeof dir, "%s/hier-2", th_temp_dir());
-    cr_assert_eq(thb_run(path, 2, dir, NULL, out, sizeof out), 2, "%s", out);
-    cr_assert(strstr(out, "hier.yaml:15:") && strstr(out, "parallel.decomposition") &&
-                  strstr(out, "hierarchical MPM grid"),
-              "%s", out);
-    char autoy[2048];
-    snprintf(autoy, sizeof autoy, "%s", hier);
-    char *p = strstr(autoy, "decomposition: bricks");
-    cr_assert(p);
-    memcpy(p, "decomposition: auto  ", 21);
-    path = write_case("hier_auto.yaml", autoy);
-    snprintf(dir, sizeof dir, "%s/hier-auto-2", th_temp_dir());
-    cr_assert_eq(thb_run(path, 2, dir, NULL, out, sizeof out), 0, "%s", out);
-    cr_assert(strstr(out, "hierarchical MPM grid is not decomposed"), "%s", out);
-
     const char *thin =
         "type: mpm\n"
         "mpm:\n"
@@ -310,7 +276,7 @@ Test(bricks_mpm, hierarchical_grid_and_thin_bricks_are_refused, .timeout = 300)
         "7.23, 7.23]}}\n"
         "  steps: 5\n"
         "parallel: {decomposition: bricks, grid: [2, 1, 1]}\n";
-    path = write_case("thin.yaml", thin);
+    const char *path = write_case("thin.yaml", thin);
     snprintf(dir, sizeof dir, "%s/thin-2", th_temp_dir());
     cr_assert_eq(thb_run(path, 2, dir, NULL, out, sizeof out), 2, "%s", out);
     cr_assert(strstr(out, "thin.yaml:10:") && strstr(out, "parallel.grid") &&

@@ -101,18 +101,6 @@ int mpm_bricks_plan(const struct parallel *par, const struct parallel_settings *
         return 0;
     if (ps->decomposition == DECOMP_AUTO && par->size == 1)
         return 0;
-    if (hierarchical) {
-        if (ps->decomposition == DECOMP_BRICKS)
-            return cfg_error_at(c, "parallel.decomposition",
-                                "a hierarchical MPM grid (mpm.grid.levels) is not decomposed "
-                                "into bricks yet (its hanging nodes across brick faces); use "
-                                "decomposition: replicated or a uniform grid");
-        if (par->rank == 0)
-            fprintf(stderr, "note: a hierarchical MPM grid is not decomposed into bricks yet: "
-                            "each of the %d ranks runs the whole case and rank 0 writes\n",
-                    par->size);
-        return 0;
-    }
     int grid[3] = {1, 1, 1};
     if (ps->grid_given) {
         int grid_rc = parallel_settings_check_grid_ranks(c, ps, par->size);
@@ -145,6 +133,7 @@ int mpm_bricks_plan(const struct parallel *par, const struct parallel_settings *
     if (!b)
         return err_nomem(c->err, "MPM bricks");
     b->par = par;
+    b->whole = hierarchical != 0;
     memcpy(b->grid, grid, sizeof b->grid);
     int nbr[3][2], periodic[3] = {0, 0, 0};
     int rc = parallel_cart(par, grid, periodic, b->coords, nbr, c->err);
@@ -160,6 +149,8 @@ int mpm_bricks_plan(const struct parallel *par, const struct parallel_settings *
         for (int k = 0; k <= grid[d]; k++)   /* equal shares of the cells */
             b->cut[d][k] = (long)((double)g->ncell[d] * k / grid[d] + 0.5);
     }
+    if (b->whole)   /* every rank holds the hierarchical grid's nodes */
+        b->serial_nodes = g->nnodes;
     b->shift = ps->balance == BALANCE_SHIFT;
     if (!rc && rank_of(b, b->coords) != par->rank)
         rc = err_set(c->err, ERR_RUNTIME, "MPM bricks: rank %d sits at brick %d %d %d",
@@ -188,6 +179,7 @@ void mpm_bricks_destroy(struct mpm_bricks **bp)
     free(b->rbuf);
     free(b->pbuf);
     free(b->prbuf);
+    free(b->wbuf);
     free(b);
     *bp = NULL;
 }
@@ -289,9 +281,26 @@ static int reserve_doubles(double **buf, size_t *cap, size_t n, struct err *e)
     return 0;
 }
 
+/* The ranks at coords + o and coords - o of the 26 offsets (-1: none):
+ * whom the points of a link go to and come from. */
+static void link_ranks(struct mpm_bricks *b)
+{
+    for (int k = 0; k < MPM_BRICKS_NBR; k++) {
+        int o[3], to[3], from[3];
+        offset_of(k, o);
+        for (int d = 0; d < 3; d++) {
+            to[d] = b->coords[d] + o[d];
+            from[d] = b->coords[d] - o[d];
+        }
+        b->link[k].rank_to = rank_of(b, to);
+        b->link[k].rank_from = rank_of(b, from);
+    }
+}
+
 static int build_links(struct mpm_bricks *b, const struct mpm_grid *g, struct err *e)
 {
     long nghost_total = 0;
+    link_ranks(b);
     for (int k = 0; k < MPM_BRICKS_NBR; k++) {
         struct mpm_bricks_link *L = &b->link[k];
         int o[3], to[3], from[3];
@@ -300,8 +309,6 @@ static int build_links(struct mpm_bricks *b, const struct mpm_grid *g, struct er
             to[d] = b->coords[d] + o[d];
             from[d] = b->coords[d] - o[d];
         }
-        L->rank_to = rank_of(b, to);
-        L->rank_from = rank_of(b, from);
         long lo[3], hi[3], a, z;
         if (L->rank_to >= 0) {   /* my patch's nodes that brick `to` owns */
             for (int d = 0; d < 3; d++) {
@@ -361,6 +368,37 @@ static int build_links(struct mpm_bricks *b, const struct mpm_grid *g, struct er
 
 /* --- node halo --------------------------------------------------------------- */
 
+/* A hierarchical grid held whole on every rank: the nodes' partial sums
+ * (nc doubles per node, contiguous: stride == nc) summed over the ranks in
+ * place, the same bits on every rank (parallel_sum reduces on rank 0 and
+ * broadcasts), so every rank then updates every node identically (the
+ * forward pass is nothing).  aux_max: the last value of a node (the rigid
+ * body + 1 whose points touch it) is a maximum, not a sum; reduced apart
+ * only when the case has a rigid body (else it is 0 on every rank).  The
+ * buffer is reserved at set-up: the reduction fails on no rank alone. */
+static int whole_sum(struct mpm_bricks *b, double *base, int stride, int nc, int aux_max,
+                     long nnodes, struct err *e)
+{
+    if (stride != nc)
+        return err_set(e, ERR_RUNTIME, "MPM bricks: whole-grid sums of strided values");
+    if (!aux_max || !b->rigid) {
+        parallel_sum(b->par, base, (size_t)nnodes * (size_t)nc);
+        return 0;
+    }
+    if ((size_t)nnodes > b->wcap)
+        return err_set(e, ERR_RUNTIME, "MPM bricks: %ld nodes, aux buffer of %zu", nnodes,
+                       b->wcap);
+    for (long i = 0; i < nnodes; i++) {
+        b->wbuf[i] = base[i * nc + nc - 1];
+        base[i * nc + nc - 1] = 0;
+    }
+    parallel_sum(b->par, base, (size_t)nnodes * (size_t)nc);
+    parallel_max(b->par, b->wbuf, (size_t)nnodes);
+    for (long i = 0; i < nnodes; i++)
+        base[i * nc + nc - 1] = b->wbuf[i];
+    return 0;
+}
+
 /* The values are nc doubles per node at base + stride * i.  reverse: the
  * ghosts' values are added to (aux_max: the last one taken as a maximum,
  * the rigid body of the node) their owners, then zeroed; forward: the
@@ -368,6 +406,8 @@ static int build_links(struct mpm_bricks *b, const struct mpm_grid *g, struct er
 static int node_exchange(struct mpm_bricks *b, double *base, int stride, int nc, int reverse,
                          int aux_max, long nnodes, struct err *e)
 {
+    if (b->whole)
+        return reverse ? whole_sum(b, base, stride, nc, aux_max, nnodes, e) : 0;
     for (int k = 0; k < MPM_BRICKS_NBR; k++) {
         struct mpm_bricks_link *L = &b->link[k];
         if (L->rank_to < 0 && L->rank_from < 0)
@@ -753,6 +793,33 @@ static int shift_cuts(struct mpm_bricks *b, const struct mpm *m, struct err *e)
     return 0;
 }
 
+/* A hierarchical grid: the grid stays whole on every rank; keep this
+ * rank's points and reserve the reduction's buffer. */
+static int distribute_whole(struct mpm_bricks *b, struct mpm *m, struct err *e)
+{
+    link_ranks(b);   /* the points' neighbours; no node lists */
+    b->rigid = 0;
+    for (int k = 0; k < m->nbody; k++)
+        b->rigid |= m->body[k].rigid != 0;
+    int rc = 0;
+    if (b->rigid) {
+        b->wbuf = malloc((size_t)(m->grid.nnodes > 0 ? m->grid.nnodes : 1) * sizeof *b->wbuf);
+        b->wcap = b->wbuf ? (size_t)m->grid.nnodes : 0;
+        if (!b->wbuf)
+            rc = err_nomem(e, "MPM whole-grid sums");
+    }
+    struct mpm_points all = m->pts;
+    if (!rc)
+        rc = mpm_points_init(&m->pts, all.nstate, e);
+    if (!rc) {
+        rc = mpm_bricks_keep_owned(b, m, &all, e);
+        mpm_points_free(&all);
+    } else {
+        m->pts = all;
+    }
+    return mpm_bricks_agree(b, rc, e);
+}
+
 int mpm_bricks_distribute(struct mpm_bricks *b, struct mpm *m, struct err *e)
 {
     if (b->shift) {
@@ -760,6 +827,8 @@ int mpm_bricks_distribute(struct mpm_bricks *b, struct mpm *m, struct err *e)
         if (rc)
             return rc;
     }
+    if (b->whole)
+        return distribute_whole(b, m, e);
     struct mpm_grid *old = &m->grid, patch;
     long pa[3], pb[3], npatch[3];
     for (int d = 0; d < 3; d++) {
@@ -925,7 +994,9 @@ int mpm_bricks_step_update(struct mpm_bricks *b, struct mpm *m, double dt, struc
     s[ns++] = m->ke;
     s[ns++] = m->ke_centred;
     s[ns++] = m->strain;
-    for (int k = 0; k < m->nbody; k++)
+    /* a whole grid's reactions are over all nodes already, the same on every rank */
+    int nreact = b->whole ? 0 : m->nbody;
+    for (int k = 0; k < nreact; k++)
         for (int d = 0; d < 3; d++)
             s[ns++] = m->body[k].reaction[d];
     /* the next step's migration scan, here so that its flags go with the
@@ -941,7 +1012,7 @@ int mpm_bricks_step_update(struct mpm_bricks *b, struct mpm *m, double dt, struc
     m->ke = s[ns++];
     m->ke_centred = s[ns++];
     m->strain = s[ns++];
-    for (int k = 0; k < m->nbody; k++)
+    for (int k = 0; k < nreact; k++)
         for (int d = 0; d < 3; d++)
             m->body[k].reaction[d] = s[ns++];
     m->vmax = mx[0];

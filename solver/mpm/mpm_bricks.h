@@ -36,8 +36,19 @@
  * ghost contributions are added after the owner's own, so the last bits
  * differ from a serial run (docs/parallel.md gives the measured agreement).
  *
- * Hierarchical grids (mpm_hgrid.h) and extra particle sets (the couplings)
- * are not decomposed: mpm_bricks_plan refuses them on bricks.
+ * A hierarchical grid (mpm_hgrid.h) is not cut into patches: its cells
+ * differ in size and a hanging node's shape functions (Guo & Yang Eq. 11)
+ * reach across the faces of cells of two sizes.  On bricks (`whole`) every
+ * rank holds the whole grid; the points are owned and migrate exactly as on
+ * a uniform grid (the cuts are along the finest cells); after every
+ * particle-to-grid pass the nodes' mass, momentum and force (and the MUSL
+ * remap) are summed over all ranks by one reduction whose result has the
+ * same bits on every rank (parallel_sum: reduce then broadcast), so every
+ * rank updates every node identically and the hanging nodes need nothing
+ * across the faces.  Cost: 64 bytes per node of the whole grid per step
+ * (72 with a rigid body, +32 with MUSL), against the points' own work.
+ *
+ * Extra particle sets (the couplings) are not decomposed here.
  */
 #ifndef CASCADE_MPM_BRICKS_H
 #define CASCADE_MPM_BRICKS_H
@@ -70,6 +81,12 @@ struct mpm_bricks {
                                      [cut[d][c], cut[d][c + 1]) */
     int shift;                    /* parallel.balance: shift -- cuts at the points'
                                      quantiles (set when the points are distributed) */
+    int whole;                    /* a hierarchical grid: every rank holds it whole and
+                                     the node sums are allreduced (no patch, no links) */
+    int rigid;                    /* whole: some body is rigid (the nodes' aux is reduced
+                                     as a maximum) */
+    double *wbuf;                 /* whole: the nodes' aux during a reduction */
+    size_t wcap;
     long ncell[3];                /* the serial grid's cells */
     long serial_nodes;            /* the serial grid's node count (with its halo) */
     struct mpm_bricks_link link[MPM_BRICKS_NBR];
@@ -94,9 +111,9 @@ struct mpm_bricks {
  * plan (grid of ranks and cell cuts; the caller owns it) or NULL for a
  * serial or replicated run.  Refuses, naming the case file, line and key,
  * a grid that does not multiply to the rank count or cuts an axis into
- * bricks thinner than 4 cells; a hierarchical grid is refused when bricks
- * are asked for and falls back to replicated data (with a note) under
- * `auto`.  c: the case's cfg (for messages). */
+ * bricks thinner than 4 cells (a hierarchical grid: 4 finest cells); a
+ * hierarchical grid runs with the whole grid on every rank (`whole`).
+ * c: the case's cfg (for messages). */
 int mpm_bricks_plan(const struct parallel *par, const struct parallel_settings *ps,
                     const struct mpm_grid *g, int hierarchical, struct cfg *c,
                     struct mpm_bricks **out);

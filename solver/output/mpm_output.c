@@ -344,7 +344,8 @@ static int grid_snapshot(struct mpm_output *o, struct run *run, struct mpm_case 
 }
 
 /* Bricks: the points of every rank (id order) and the owned nodes of every
- * rank, gathered on rank 0 into the serial layout, which writes them with
+ * rank (a hierarchical grid: rank 0's whole grid), gathered on rank 0 into
+ * the serial layout, which writes them with
  * the serial code (the same datasets as a serial run; the points in id
  * order).  Collective. */
 static int bricks_snapshot(struct mpm_output *o, struct run *run, struct mpm_case *c,
@@ -364,7 +365,10 @@ static int bricks_snapshot(struct mpm_output *o, struct run *run, struct mpm_cas
         return rc;
     struct mpm_grid full;
     memset(&full, 0, sizeof full);
-    if (!rc && c->output_grid) {
+    /* a hierarchical grid is whole on every rank, its nodes summed over
+     * them (mpm_bricks.h): rank 0 writes its own */
+    int gather_grid = c->output_grid && !b->whole;
+    if (!rc && gather_grid) {
         int r0 = 0;
         if (root) {
             long ncell[3] = {b->ncell[0], b->ncell[1], b->ncell[2]};
@@ -379,7 +383,7 @@ static int bricks_snapshot(struct mpm_output *o, struct run *run, struct mpm_cas
         struct mpm_points mine = m->pts;
         struct mpm_grid patch = m->grid;
         m->pts = all;
-        if (c->output_grid)
+        if (gather_grid)
             m->grid = full;
         rc = points_snapshot(o, run, c, e);
         if (!rc && c->output_grid)

@@ -1,0 +1,218 @@
+/*
+ * The MPM on bricks with a hierarchical grid (docs/parallel.md "MPM on
+ * bricks", solver/mpm/mpm_bricks.h `whole`): the points are owned by the
+ * brick of their finest cell and migrate as on a uniform grid; every rank
+ * holds the whole two-level grid and the nodes' mass, momentum and force
+ * (and the MUSL remap) are summed over the ranks after every
+ * particle-to-grid pass, so each rank updates every node (the hanging
+ * nodes too) identically.  A node's sums are the serial terms in another
+ * order (each rank's partial sum, then the ranks'), so the runs agree with
+ * the serial one to round-off: over 100 steps the thermo series, the final
+ * metrics, the points of the last snapshot matched by id (the MPM case's
+ * final state: it has no output.final_state) and the nodes of the last
+ * grid snapshot agree to REL relative.
+ */
+#include <criterion/criterion.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "helpers/th.h"
+#include "helpers/th_bricks.h"
+
+#define REL 1e-10
+#define NPOINTS 2628
+
+/* Two aluminium blocks in head-on impact (800 m/s closing, sideways
+ * velocities) on a 26 x 10 x 10 finest-cell grid whose cells coarsen by 2
+ * in x, y and z beyond x = 0.10 m: block A straddles the level boundary
+ * (hanging nodes at x = 0.10 m), block B sits on coarse cells.  The bricks
+ * of 2 and 4 ranks (cuts at finest cells 13, and 7, 13, 20) cut the coarse
+ * cells and the impact zone, and the points cross them.  A rigid wall W
+ * (its nodes' aux is reduced as a maximum) sits on a rank of its own on
+ * 4 ranks.  `parallel` is appended by each test. */
+static const char *const hgrid_yaml =
+    "title: two cubes on a two-level grid on bricks\n"
+    "type: mpm\n"
+    "mpm:\n"
+    "  units: si\n"
+    "  grid:\n"
+    "    origin: [0, 0, 0]\n"
+    "    cell: 0.01\n"
+    "    cells: [26, 10, 10]\n"
+    "    levels:\n"
+    "      - {coarsen: xyz, region: {shape: slab, axis: x, lo: 0.10, hi: 1.0e9}}\n"
+    "  materials:\n"
+    "    - {name: al, law: linear_elastic, density: 2700, E: 70.0e9, nu: 0.3}\n"
+    "  bodies:\n"
+    "    - {name: A, material: al, velocity: [400, 60, 30],\n"
+    "       region: {shape: box, lo: [0.02, 0.02, 0.02], hi: [0.11, 0.08, 0.08]}}\n"
+    "    - {name: B, material: al, velocity: [-400, -50, 80],\n"
+    "       region: {shape: box, lo: [0.12, 0.02, 0.02], hi: [0.18, 0.08, 0.08]}}\n"
+    "    - {name: W, material: al, rigid: true, velocity: [0, 0, 0],\n"
+    "       region: {shape: box, lo: [0.22, 0.02, 0.02], hi: [0.24, 0.08, 0.08]}}\n"
+    "  algorithm: musl\n"
+    "  steps: 100\n"
+    "  report_steps: [50, 100]\n";
+
+static const char *const series[] = {"ke",   "strain_energy", "etotal", "etotal_centred",
+                                     "px",   "pz",            "vmax",   "dt",
+                                     "time", NULL};
+static const char *const metrics[] = {
+    "points",       "nodes",        "steps_done",   "time",         "timestep_min",
+    "timestep_max", "mass",         "ke_initial",   "ke",           "strain_energy",
+    "etotal",       "vmax",         "von_mises_max", "ke_step_50",  "ke_step_100",
+    "A_velocity_x", "A_velocity_y", "A_velocity_z", "B_velocity_x", "B_velocity_y",
+    "B_velocity_z", "momentum_x",   "momentum_z",   NULL};
+
+static void compare_abs(const char *a, const char *b, const char *const *names, double tol,
+                        const char *tag)
+{
+    json_t *ra = thb_result(a), *rb = thb_result(b);
+    for (int k = 0; names[k]; k++) {
+        double va = thb_metric(ra, names[k]), vb = thb_metric(rb, names[k]);
+        cr_assert_leq(fabs(va - vb), tol, "%s: %s %.17g vs %.17g (tolerance %g)", tag, names[k],
+                      va, vb, tol);
+    }
+    json_decref(ra);
+    json_decref(rb);
+}
+
+/* /grid/<step>/<set> of two runs node by node (every rank holds the same
+ * node numbering, the serial one), to REL of the set's largest magnitude. */
+static void compare_grid(const char *a, const char *b, long step, const char *tag)
+{
+    static const char *const sets[] = {"position", "mass", "velocity", "force", NULL};
+    for (int k = 0; sets[k]; k++) {
+        char name[96];
+        snprintf(name, sizeof name, "/grid/%08ld/%s", step, sets[k]);
+        long na = 0, nb = 0;
+        double *va = thb_read_h5(a, name, H5T_NATIVE_DOUBLE, sizeof(double), &na);
+        double *vb = thb_read_h5(b, name, H5T_NATIVE_DOUBLE, sizeof(double), &nb);
+        cr_assert_eq(na, nb, "%s: %s has %ld vs %ld values", tag, name, na, nb);
+        double scale = 0, worst = 0;
+        for (long i = 0; i < na; i++)
+            scale = fmax(scale, fabs(va[i]));
+        for (long i = 0; i < na; i++)
+            worst = fmax(worst, fabs(va[i] - vb[i]));
+        cr_assert(scale > 0, "%s: %s is all zero", tag, name);
+        cr_assert_leq(worst, REL * scale, "%s: %s differs by %g of %g", tag, name, worst, scale);
+        free(va);
+        free(vb);
+    }
+}
+
+static void compare_run(const char *a, const char *b, const char *tag)
+{
+    thb_compare_series(a, b, series, REL, tag);
+    thb_compare_metrics(a, b, metrics, REL, tag);
+    /* relative energy changes and the wall's reaction (zero: nothing
+     * reaches it) absolutely */
+    static const char *const changes[] = {"energy_change", "energy_change_max",
+                                          "energy_change_centred_max", NULL};
+    compare_abs(a, b, changes, REL, tag);
+    static const char *const wall[] = {"W_force_x", "W_force_y", "W_force_z", NULL};
+    compare_abs(a, b, wall, 1e-6, tag);
+    static const char *const sets[] = {"position", "velocity", "stress", "displacement", NULL};
+    static const int ncomp[] = {3, 3, 6, 3};
+    thb_compare_snapshot(a, b, "/points/00000100", sets, ncomp, REL, tag);
+    compare_grid(a, b, 100, tag);
+}
+
+/* The serial run is a real two-level impact: the grid has fewer nodes
+ * than the 27 x 11 x 11 of the uniform finest grid, the blocks collided
+ * (strain energy at the end) and the closed system kept its energy to a
+ * few per cent (explicit MUSL at the default Courant number). */
+static void measured(const char *dir)
+{
+    json_t *r = thb_result(dir);
+    double nodes = thb_metric(r, "nodes"), strain = thb_metric(r, "strain_energy"),
+           ke0 = thb_metric(r, "ke_initial"), de = thb_metric(r, "energy_change_max");
+    json_decref(r);
+    cr_assert(nodes > 1000 && nodes < 27 * 11 * 11, "nodes %g", nodes);
+    cr_assert_gt(strain, 0.1 * ke0, "strain energy %g J of %g J", strain, ke0);
+    cr_assert_lt(de, 0.05, "energy change %g", de);
+}
+
+/* 1 (bricks asked for), 2 and 4 ranks against the serial run; the points
+ * changed ranks over the 100 steps. */
+Test(bricks_mpm_hgrid, impact_matches_serial_on_1_2_4_ranks, .timeout = 900)
+{
+    char yaml[4096];
+    snprintf(yaml, sizeof yaml,
+             "%soutput: {thermo_every: 10, snapshot_every: 50}\n"
+             "parallel: {decomposition: bricks}\n",
+             hgrid_yaml);
+    const char *path = th_write_temp(0, "hgrid.yaml", yaml);
+    static const int nps[] = {1, 2, 4};
+    thb_matches_serial(path, "hgrid", nps, 3, NPOINTS, measured, compare_run,
+                       "two-level impact");
+    /* the counts per rank at step 0 and at step 100 on 4 ranks differ */
+    char yaml0[4096], d4[600], d40[600];
+    snprintf(yaml0, sizeof yaml0, "%s", yaml);
+    char *st = strstr(yaml0, "steps: 100");
+    cr_assert(st);
+    memcpy(st, "steps: 0  ", 10);
+    snprintf(d4, sizeof d4, "%s/hgrid-4", th_temp_dir());
+    snprintf(d40, sizeof d40, "%s/hgrid-4-step0", th_temp_dir());
+    thb_must_run(th_write_temp(1, "hgrid0.yaml", yaml0), 4, d40, NULL);
+    json_t *r = thb_result(d4), *r0 = thb_result(d40);
+    json_t *per = json_object_get(json_object_get(r, "parallel"), "particles_per_rank");
+    json_t *per0 = json_object_get(json_object_get(r0, "parallel"), "particles_per_rank");
+    cr_assert_eq(json_array_size(per), 4);
+    cr_assert_eq(json_array_size(per0), 4);
+    int moved = 0;
+    for (size_t i = 0; i < 4; i++)
+        moved |= json_integer_value(json_array_get(per, i)) !=
+                 json_integer_value(json_array_get(per0, i));
+    json_decref(r);
+    json_decref(r0);
+    cr_assert(moved, "no point changed its rank in 100 steps");
+}
+
+/* No `parallel` section: `auto` puts the hierarchical grid on bricks (no
+ * note that it is not decomposed).  A checkpoint of step 50 written on 2
+ * ranks restarts serially, on 4 and on 2 ranks and ends where the serial
+ * run does (to REL); on 2 ranks the thermo is the uninterrupted run's
+ * text. */
+Test(bricks_mpm_hgrid, checkpoint_moves_between_rank_counts, .timeout = 900)
+{
+    char yaml[4096];
+    snprintf(yaml, sizeof yaml,
+             "%soutput: {thermo_every: 10, snapshot_every: 50, checkpoint_every: 50}\n",
+             hgrid_yaml);
+    const char *path = th_write_temp(0, "hgrid_ck.yaml", yaml);
+    thb_checkpoint_moves(path, "hgrid", compare_run, "the two-level impact");
+}
+
+/* What stays refused: bricks thinner than 4 finest cells (a given
+ * parallel.grid), naming the case file, line and key, as on a uniform
+ * grid. */
+Test(bricks_mpm_hgrid, thin_bricks_are_refused, .timeout = 300)
+{
+    static char out[16384];
+    const char *thin =
+        "type: mpm\n"
+        "mpm:\n"
+        "  units: metal\n"
+        "  grid:\n"
+        "    cell: 3.615\n"
+        "    cells: [6, 2, 2]\n"
+        "    levels:\n"
+        "      - {coarsen: x, region: {shape: slab, axis: x, lo: 10, hi: 1.0e9}}\n"
+        "  materials:\n"
+        "    - {name: Cu, law: linear_elastic, density: 8.94, E: 120, nu: 0.3}\n"
+        "  bodies:\n"
+        "    - {name: bar, material: Cu, region: {shape: box, lo: [0, 0, 0], hi: [21.69, "
+        "7.23, 7.23]}}\n"
+        "  steps: 5\n"
+        "parallel: {decomposition: bricks, grid: [2, 1, 1]}\n";
+    const char *path = th_write_temp(0, "hthin.yaml", thin);
+    char dir[600];
+    snprintf(dir, sizeof dir, "%s/hthin-2", th_temp_dir());
+    cr_assert_eq(thb_run(path, 2, dir, NULL, out, sizeof out), 2, "%s", out);
+    cr_assert(strstr(out, "hthin.yaml:14:") && strstr(out, "parallel.grid") &&
+                  strstr(out, "thinner than 4 cells"),
+              "%s", out);
+}
