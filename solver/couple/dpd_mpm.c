@@ -96,9 +96,6 @@ int dpd_mpm_init(struct dpd_mpm *c, struct dpd *d, const struct dpd_mpm_grid *g,
                        "forces must reach beyond a cell (Chen 2014, Sec. 3)",
                        g->cell, cutoff);
     int rc = count_classes(c, e);
-    if (!rc && d->p->halo && c->npartner > 0)
-        rc = err_set(e, ERR_INPUT, "the concurrent DPD/MPM model (material points with "
-                                   "partners) is not decomposed into bricks");
     if (rc)
         return rc;
     struct mpm_grid grid;
@@ -123,6 +120,7 @@ void dpd_mpm_free(struct dpd_mpm *c)
 {
     mpm_free(&c->m);
     free(c->partner_point);
+    free(c->point_by_id);
     free(c->f);
     free(c->w);
     free(c->vprev);
@@ -161,36 +159,40 @@ static int cmp_id(const void *a, const void *b)
     return (x[0] > y[0]) - (x[0] < y[0]);
 }
 
-/* Material point index of every partner, from its id. */
+/* Material point index of every partner, from its id (the points' table
+ * by id is built once: the points keep their order). */
 static int map_partners(struct dpd_mpm *c, struct err *e)
 {
     const struct mpm_points *pts = &c->m.pts;
     const struct particles *p = c->d->p;
-    free(c->partner_point);
-    c->partner_point = malloc((size_t)(c->npartner ? c->npartner : 1) * sizeof *c->partner_point);
-    int64_t (*tab)[2] = malloc((size_t)(pts->n ? pts->n : 1) * sizeof *tab);
-    if (!c->partner_point || !tab) {
-        free(tab);
-        return err_nomem(e, "partner map");
+    if (!c->point_by_id) {
+        if (!(c->point_by_id = malloc((size_t)(pts->n ? pts->n : 1) * 2 * sizeof(int64_t))))
+            return err_nomem(e, "partner map");
+        for (long k = 0; k < pts->n; k++) {
+            c->point_by_id[2 * k] = pts->id[k];
+            c->point_by_id[2 * k + 1] = k;
+        }
+        qsort(c->point_by_id, (size_t)pts->n, 2 * sizeof(int64_t), cmp_id);
     }
-    for (long k = 0; k < pts->n; k++) {
-        tab[k][0] = pts->id[k];
-        tab[k][1] = k;
+    if (c->npartner > c->partner_cap) {
+        long cap = c->npartner + 16;
+        long *pp = realloc(c->partner_point, (size_t)cap * sizeof *pp);
+        if (!pp)
+            return err_nomem(e, "partner map");
+        c->partner_point = pp;
+        c->partner_cap = cap;
     }
-    qsort(tab, (size_t)pts->n, sizeof *tab, cmp_id);
-    int rc = 0;
-    for (long k = 0; k < c->npartner && !rc; k++) {
+    for (long k = 0; k < c->npartner; k++) {
         int64_t want[2] = {p->id[c->ncarried + k] - c->partner_id0, 0};
-        const int64_t *hit = pts->n ? bsearch(want, tab, (size_t)pts->n, sizeof *tab, cmp_id)
+        const int64_t *hit = pts->n ? bsearch(want, c->point_by_id, (size_t)pts->n,
+                                              2 * sizeof(int64_t), cmp_id)
                                     : NULL;
         if (!hit)
-            rc = err_set(e, ERR_RUNTIME, "partner %lld has no material point %lld",
-                         (long long)p->id[c->ncarried + k], (long long)want[0]);
-        else
-            c->partner_point[k] = hit[1];
+            return err_set(e, ERR_RUNTIME, "partner %lld has no material point %lld",
+                           (long long)p->id[c->ncarried + k], (long long)want[0]);
+        c->partner_point[k] = (long)hit[1];
     }
-    free(tab);
-    return rc;
+    return 0;
 }
 
 /* Partners take their material points' positions and velocities. */
@@ -223,7 +225,10 @@ int dpd_mpm_prepare(struct dpd_mpm *c, struct err *e)
     int rc = map_partners(c, e);
     if (rc)
         return rc;
-    if (c->npartner > 0 && (rc = mpm_points_enable_fext(&c->m.pts, e)))
+    double npartner = (double)c->npartner;
+    if (c->d->p->halo)   /* bricks: every rank holds the points' external force */
+        halo_sum(c->d->p->halo, &npartner, 1);
+    if (npartner > 0 && (rc = mpm_points_enable_fext(&c->m.pts, e)))
         return rc;
     if ((rc = mpm_prepare(&c->m, e)))
         return rc;
@@ -313,6 +318,59 @@ static void interpolate(const struct dpd_mpm *c, const double *x, double *w, dou
     memcpy(dv, s + 4, 3 * sizeof *s);
 }
 
+/* Bricks with material points (the points whole on every rank): s1, s2
+ * and s3b of this rank's carried particles alone, with the linear stencil
+ * of the uniform grid (the points' share is added after the sum over the
+ * ranks, mpm_map_to_grid without the extra set). */
+static void p2g_carried(struct dpd_mpm *c)
+{
+    struct mpm_grid *g = &c->m.grid;
+    const struct particles *p = c->d->p;
+    for (long i = 0; i < c->ncarried; i++) {
+        struct mpm_stencil st;
+        mpm_stencil_linear(g, p->x + 3 * i, &st);
+        const double M = p->mass[p->type[i]], *v = p->v + 3 * i, *f = c->f + 3 * i;
+        for (int k = 0; k < st.n; k++) {
+            struct mpm_node *nd = &g->node[st.node[k]];
+            const double N = st.w[k];
+            nd->m += N * M;                  /* Chen 2014, Eqs. (s1), (s2) */
+            for (int q = 0; q < 3; q++) {
+                nd->q[q] += N * M * v[q];
+                nd->f[q] += N * f[q];        /* Eq. (s3b) */
+            }
+        }
+    }
+}
+
+/* Likewise s6 and s10 of this rank's carried particles: v_p += dt sum N_i
+ * a_i, and with MUSL their momenta mapped back to the nodes' remap; the
+ * largest squared speed is returned. */
+static double g2p_carried(struct dpd_mpm *c, double dt)
+{
+    struct mpm_grid *g = &c->m.grid;
+    struct particles *p = c->d->p;
+    const int musl = c->m.algorithm == MPM_MUSL;
+    double v2max = 0;
+    for (long i = 0; i < c->ncarried; i++) {
+        struct mpm_stencil st;
+        mpm_stencil_linear(g, p->x + 3 * i, &st);
+        double a[3] = {0, 0, 0}, *v = p->v + 3 * i;
+        for (int k = 0; k < st.n; k++)
+            for (int q = 0; q < 3; q++)
+                a[q] += st.w[k] * g->node[st.node[k]].f[q];   /* Eq. (s6) */
+        for (int q = 0; q < 3; q++)
+            v[q] += a[q] * dt;
+        v2max = fmax(v2max, v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+        if (!musl)
+            continue;
+        const double M = p->mass[p->type[i]];
+        for (int k = 0; k < st.n; k++)   /* Eq. (s10) */
+            for (int q = 0; q < 3; q++)
+                g->r[4 * (long)st.node[k] + q] += st.w[k] * M * v[q];
+    }
+    return v2max;
+}
+
 int dpd_mpm_step_forces(struct dpd_mpm *c, struct err *e)
 {
     struct dpd *d = c->d;
@@ -323,8 +381,9 @@ int dpd_mpm_step_forces(struct dpd_mpm *c, struct err *e)
     int rc = 0;
     /* bricks: particles may migrate at this step's rebuild; the classes
      * come back in order (dpd_fix_class_order) with new counts */
-    if (h && !(rc = dpd_refresh_neighbours(d, e)))
-        rc = count_classes(c, e);
+    if (h && !(rc = dpd_refresh_neighbours(d, e)) && !(rc = count_classes(c, e)) &&
+        c->m.pts.n > 0)
+        rc = map_partners(c, e);   /* the brick's partners, by id */
     if (!rc)
         rc = reserve(c, e);
     if (rc)
@@ -346,6 +405,12 @@ int dpd_mpm_step_forces(struct dpd_mpm *c, struct err *e)
         for (long k = 0; k < c->npartner; k++)
             for (int q = 0; q < 3; q++)
                 m->pts.fext[3 * c->partner_point[k] + q] += c->f[3 * (c->ncarried + k) + q];
+        mpm_points_moved(m);
+    }
+    if (h && m->pts.fext) {   /* the points are whole on every rank: 3 numbers a point */
+        if (c->npartner == 0)
+            memset(m->pts.fext, 0, (size_t)m->pts.n * 3 * sizeof *m->pts.fext);
+        halo_sum(h, m->pts.fext, (int)(3 * m->pts.n));
         mpm_points_moved(m);
     }
     /* rigid bodies: the total pair force on each */
@@ -396,9 +461,21 @@ int dpd_mpm_step_update(struct dpd_mpm *c, struct err *e)
                        msg, d->step);
     }
     mpm_clear_grid(m);
-    mpm_map_to_grid(m, MPM_MAP_ALL);   /* s1, s2, s3a (points), s3b (DPD forces N_i) */
-    if (h)   /* the whole grid on every rank: each rank's particles' share summed */
+    /* bricks with material points: those are on every rank, so their share
+     * enters once, after the sum of the carried particles' shares */
+    const int split = h && m->pts.n > 0;
+    const int nextra = m->nextra;
+    if (split) {
+        p2g_carried(c);
         sum_nodes(h, m);
+        m->nextra = 0;   /* the points alone */
+        mpm_map_to_grid(m, MPM_MAP_ALL);
+        m->nextra = nextra;
+    } else {
+        mpm_map_to_grid(m, MPM_MAP_ALL);   /* s1, s2, s3a (points), s3b (DPD forces N_i) */
+        if (h)   /* the whole grid on every rank: each rank's particles' share summed */
+            sum_nodes(h, m);
+    }
     if (m->timers) {
         timer_stop(m->timers, TIMER_MPM_P2G);
         timer_start(m->timers, TIMER_MPM_GRID);
@@ -408,9 +485,19 @@ int dpd_mpm_step_update(struct dpd_mpm *c, struct err *e)
         timer_stop(m->timers, TIMER_MPM_GRID);
         timer_start(m->timers, TIMER_MPM_G2P);
     }
-    mpm_map_to_particles(m, dt);       /* s6, s10 */
-    if (h && m->algorithm == MPM_MUSL)   /* the remap's nodal momenta, likewise */
-        halo_sum(h, m->grid.r, (int)(4 * m->grid.nnodes));
+    if (split) {   /* the carried particles' remap summed, then the points' added */
+        double v2 = g2p_carried(c, dt);
+        if (m->algorithm == MPM_MUSL)
+            halo_sum(h, m->grid.r, (int)(4 * m->grid.nnodes));
+        m->nextra = 0;
+        mpm_map_to_particles(m, dt);
+        m->nextra = nextra;
+        m->vmax = fmax(m->vmax, sqrt(v2));
+    } else {
+        mpm_map_to_particles(m, dt);       /* s6, s10 */
+        if (h && m->algorithm == MPM_MUSL)   /* the remap's nodal momenta, likewise */
+            halo_sum(h, m->grid.r, (int)(4 * m->grid.nnodes));
+    }
     if (m->algorithm == MPM_MUSL)
         mpm_update_grid_velocity(m);   /* s11 */
     /* DPDE: the work of the D + R forces comes out of the internal energies
@@ -534,6 +621,62 @@ void dpd_mpm_momentum(const struct dpd_mpm *c, double P[3])
 }
 
 /* --- partners ------------------------------------------------------------------ */
+
+/* Material point index of a partner id, or -1. */
+static long point_of(const struct dpd_mpm *c, int64_t partner_id)
+{
+    int64_t want[2] = {partner_id - c->partner_id0, 0};
+    const int64_t *hit = c->m.pts.n && c->point_by_id
+                             ? bsearch(want, c->point_by_id, (size_t)c->m.pts.n,
+                                       2 * sizeof(int64_t), cmp_id)
+                             : NULL;
+    return hit ? (long)hit[1] : -1;
+}
+
+int dpd_mpm_frozen_take(struct dpd_mpm *c, double **byp, int *at, struct err *e)
+{
+    struct particles *p = c->d->p;
+    *byp = NULL;
+    int k = particles_find_field(p, DPD_FP_FROZEN_FIELD);
+    *at = k;
+    if (k < 0 || !p->halo)
+        return 0;
+    double *v = calloc((size_t)(c->m.pts.n ? c->m.pts.n : 1), sizeof *v);
+    if (!v)
+        return err_nomem(e, "frozen partner embedding");
+    const double *fz = particles_field(p, k);
+    for (int i = 0; i < p->n_owned; i++) {
+        long q = (p->mask[i] & c->partner_bit) ? point_of(c, p->id[i]) : -1;
+        if (q >= 0)
+            v[q] = fz[i];   /* one partner a point, on one rank: the sum is exact */
+    }
+    halo_sum(p->halo, v, (int)c->m.pts.n);
+    particles_remove_field(p, DPD_FP_FROZEN_FIELD);
+    *byp = v;
+    return 0;
+}
+
+int dpd_mpm_frozen_put(struct dpd_mpm *c, const double *byp, int at, struct err *e)
+{
+    struct particles *p = c->d->p;
+    if (!byp)
+        return 0;
+    int k = particles_add_field(p, DPD_FP_FROZEN_FIELD, 1, 0, e);
+    if (k < 0)
+        return ERR_RUNTIME;
+    if (at >= 0 && at < k) {   /* back to its place: the fields after it keep their indices */
+        struct particle_field f = p->fields[k];
+        memmove(&p->fields[at + 1], &p->fields[at], (size_t)(k - at) * sizeof f);
+        p->fields[at] = f;
+        k = at;
+    }
+    double *fz = particles_field(p, k);
+    for (int i = 0; i < p->n_owned; i++) {
+        long q = (p->mask[i] & c->partner_bit) ? point_of(c, p->id[i]) : -1;
+        fz[i] = q >= 0 ? byp[q] : 0.0;
+    }
+    return 0;
+}
 
 struct xkey {
     double x;

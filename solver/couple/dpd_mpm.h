@@ -68,15 +68,22 @@
  * that a run and its reference run without the flyer see the same pairs in
  * the same order).  The material points keep their order (no reordering).
  *
- * On MPI bricks (d->p->halo; the grid model without partners: the tensile
- * rod and the flyer/target impact): each rank holds its brick's DPD particles and the whole
- * grid; the nodes' mass, momentum and force (s1-s3b) and the MUSL remap's
- * momenta (s11) are summed over the ranks, so every rank updates the same
- * nodes; the ghosts' velocities, internal energies and w are forwarded and
- * their share of the pair heat returned; body forces, heats and energies
- * are sums.  The class order is restored after every migration
- * (dpd_fix_class_order) and the counts taken again each step.  The
- * concurrent model's partners are refused on bricks (dpd_mpm_init).
+ * On MPI bricks (d->p->halo: the tensile rod, the flyer/target impact and
+ * the concurrent impact): each rank holds its brick's DPD particles (and
+ * partners) and the whole grid; the nodes' mass, momentum and force
+ * (s1-s3b) and the MUSL remap's momenta (s11) are summed over the ranks,
+ * so every rank updates the same nodes; the ghosts' velocities, internal
+ * energies and w are forwarded and their share of the pair heat returned;
+ * body forces, heats and energies are sums.  The class order is restored
+ * after every migration (dpd_fix_class_order) and the counts taken again
+ * each step.  The concurrent model's material points are whole on every
+ * rank and advanced alike by every rank: their share of the nodes (s1-s3a
+ * and their external force; s10) is added on every rank after the sum of
+ * the carried particles' share; a partner is owned by the brick that holds
+ * it, found its point by id after each migration, its frozen F'(rho)
+ * travels as a particle field (DPD_FP_FROZEN_FIELD), and the reaction on
+ * the points (Eq. (3.1)), complete on the partners' owners after the
+ * reverse communication, is summed over the ranks (3 numbers a point).
  */
 #ifndef CASCADE_DPD_MPM_H
 #define CASCADE_DPD_MPM_H
@@ -103,6 +110,10 @@ struct dpd_mpm {
     long ncarried;              /* DPD particles [0, ncarried) follow the grid */
     long npartner;              /* [ncarried, ncarried + npartner): partners */
     long *partner_point;        /* material point index of each partner */
+    long partner_cap;
+    int64_t *point_by_id;       /* 2 per material point: (id, index), by id (the points
+                                   keep their order; on bricks the partners are found
+                                   by id after every migration) */
     struct mpm_extra extra;     /* the carried DPD particles as the grid sees them */
     double *f;                  /* 3 per owned DPD particle: pair forces of the step (eV/Å) */
     double *w;                  /* 3 per owned DPD particle: centred grid velocity (Å/ps) */
@@ -173,6 +184,16 @@ void dpd_mpm_energy(const struct dpd_mpm *c, struct dpd_mpm_energy *en);
 /* Total momentum of the DPD particles (not partners) and the material
  * points (amu Å/ps). */
 void dpd_mpm_momentum(const struct dpd_mpm *c, double P[3]);
+
+/* Bricks: the partners' frozen F'(rho) (DPD_FP_FROZEN_FIELD) is a value
+ * of the set-up, not of the checkpoint (a serial checkpoint has no such
+ * field).  dpd_mpm_frozen_take removes the field and gives every rank all
+ * of it by material point index (*byp, npts values, NULL when there is
+ * no field; collective) and the field's index (*at); dpd_mpm_frozen_put
+ * gives the field back at that index (the other fields keep theirs) to
+ * the partners present, by their ids, after a checkpoint read. */
+int dpd_mpm_frozen_take(struct dpd_mpm *c, double **byp, int *at, struct err *e);
+int dpd_mpm_frozen_put(struct dpd_mpm *c, const double *byp, int at, struct err *e);
 
 /* Passive partners for a concurrent model: append to p a copy (type 0,
  * mask `bit`, id = id0 + point id) of every point x[k] (k < n, ids id[k])

@@ -71,6 +71,9 @@ struct dpd_settings {
 };
 
 #define DPD_MAX_BODIES 4
+/* Particle field of the passive partners' frozen F'(rho) on MPI bricks
+ * (freeze_passive_fp; dpd_conservative.c). */
+#define DPD_FP_FROZEN_FIELD "dpd_fp_frozen"
 
 enum dpd_body_kind { DPD_BODY_PRESCRIBED, DPD_BODY_FREE };
 
@@ -135,7 +138,8 @@ struct dpd {
     int freeze_passive_fp;      /* passive partners' F'(rho) fixed at their first force
                                  * evaluation (dpd_conservative.c: the interface forces
                                  * are then conservative) */
-    double *fp_frozen;          /* per owned particle, from that evaluation (owned) */
+    double *fp_frozen;          /* per owned particle, from that evaluation (owned); on
+                                 * bricks the particle field DPD_FP_FROZEN_FIELD instead */
     int n_frozen;
     int cap;
     struct thread_accum acc_rho, acc_f, acc_pe, acc_vir;

@@ -109,7 +109,22 @@ int dpd_conservative(struct dpd *d, struct err *e)
      * start value, so the change to the force is second order in the
      * density change. */
     const int freeze = pm && d->freeze_passive_fp;
-    if (freeze) {
+    if (freeze && p->halo) {
+        /* Bricks: the partners migrate between ranks and change index, so
+         * the frozen F'(rho_P) travels with them as a particle field
+         * (DPD_FP_FROZEN_FIELD), taken at the same first evaluation. */
+        int k = particles_find_field(p, DPD_FP_FROZEN_FIELD);
+        if (k < 0) {
+            if ((k = particles_add_field(p, DPD_FP_FROZEN_FIELD, 1, 0, e)) < 0)
+                return ERR_RUNTIME;
+            memcpy(particles_field(p, k), d->fp, (size_t)p->n_owned * sizeof *d->fp);
+        }
+        const double *fz = particles_field(p, k);
+        for (int i = 0; i < p->n_owned; i++)
+            if (p->mask[i] & pm)
+                d->fp[i] = fz[i];
+        ghost_forward(p, d->fp, 1);
+    } else if (freeze) {
         if (!d->fp_frozen) {
             d->n_frozen = p->n_owned;
             d->fp_frozen = malloc((size_t)(d->n_frozen ? d->n_frozen : 1) * sizeof *d->fp_frozen);

@@ -383,10 +383,20 @@ static int dpd_mpm_model_checkpoint_read(void *self, struct ckpt *ck, struct err
         snprintf(sub, sizeof sub, "%s/box", base);
         rc = ckpt_get_box(ck, sub, &d->box);
     }
+    /* bricks: the partners' frozen F'(rho) is the set-up's, not the
+     * checkpoint's (a serial checkpoint has none): kept aside by point and
+     * given back to the particles read */
+    double *frozen = NULL;
+    int frozen_at = -1;
+    if (!rc)
+        rc = dpd_mpm_frozen_take(c, &frozen, &frozen_at, e);
     if (!rc) {
         snprintf(sub, sizeof sub, "%s/particles", base);
         rc = ckpt_get_particles(ck, sub, d->p);
     }
+    if (!rc)
+        rc = dpd_mpm_frozen_put(c, frozen, frozen_at, e);
+    free(frozen);
     /* the classes [carried | partners | bodies] are positions in this order */
     long nall = h ? (long)(cnt[0] + cnt[1]) : n;
     for (int b = 0; h && b < d->nbodies; b++)

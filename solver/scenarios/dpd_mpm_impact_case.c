@@ -84,13 +84,17 @@
  * structure analysis are the case's after_step hook, and they go into the
  * checkpoints (output.checkpoint_every, run --restart).
  *
- * Under mpirun dpd_grid_impact runs on bricks (docs/dpd_mpm.md "Under
- * MPI"; impact_bricks): each run's DPD particles on its own halo over the
- * same bricks, its grid whole on every rank with the node sums over the
- * ranks (couple/dpd_mpm.c), the free flyer's force a sum over the ranks;
- * the region means, profiles, front probes, CNA counts and internal
+ * Under mpirun both types run on bricks (docs/dpd_mpm.md "Under MPI";
+ * impact_bricks): each run's DPD particles on its own halo over the same
+ * bricks, its grid whole on every rank with the node sums over the ranks
+ * (couple/dpd_mpm.c), the free flyer's force a sum over the ranks; the
+ * region means, profiles, front probes, CNA counts and internal
  * temperature are sums, the final state is gathered on rank 0.  The
- * concurrent model is not decomposed (dpd_mpm_parallel_check).
+ * concurrent model's partners are made before the split (add_partners)
+ * and are DPD particles of the bricks; its material points stay whole on
+ * every rank (the coupling adds their share of the nodes once), so the
+ * means, profiles and probes add the points' share once, after the sums
+ * over the ranks; rank 0 writes their snapshots.
  *
  * Metrics (besides dpd_impact's wave_speed and its companions,
  * wave_speed_threshold, arrival_time_1/2,
@@ -202,6 +206,7 @@ struct impact_case {
     double c11, c12, rho;         /* eV/Å^3, amu/Å^3: the DPD material (reference speeds) */
     struct impact_front front;    /* probes of the threshold-free wave speed */
     long n_target, n_flyer, nodes;
+    long npartners[MAX_RUNS];     /* partners of each run (on bricks over the ranks) */
     struct dpd_structure st;      /* CNA of the flyer run's DPD particles (Fig. 4) */
     /* on the engine: one model instance per run */
     struct dpd_mpm_model model[MAX_RUNS];
@@ -269,10 +274,10 @@ static void coupled_free(struct coupled *m)
     memset(m, 0, sizeof *m);
 }
 
-/* One run over the DPD particles p (taken), with the flyer's particles
- * (mask DPD_FLYER_BIT) made a rigid body when `flyer` (on bricks on every
- * rank, also those that hold none of them), and the material points `pts`
- * (NULL: none). */
+/* One run over the DPD particles p (taken; with their partners already
+ * added, add_partners), with the flyer's particles (mask DPD_FLYER_BIT)
+ * made a rigid body when `flyer` (on bricks on every rank, also those that
+ * hold none of them), and the material points `pts` (NULL: none). */
 static int coupled_build(struct coupled *m, struct particles *p, int flyer,
                          const struct points *pts, const struct impact_case *ic,
                          const struct dpd_input *in, const struct box *box,
@@ -280,15 +285,7 @@ static int coupled_build(struct coupled *m, struct particles *p, int flyer,
                          struct err *e)
 {
     memset(m, 0, sizeof *m);
-    long added = 0;
     int rc = 0;
-    if (pts && pts->n > 0)
-        rc = dpd_mpm_partners_create(p, p->n_owned, pts->n, pts->x, pts->id, pts->range,
-                                     PARTNER_BIT, PARTNER_ID0, &added, e);
-    if (rc) {
-        particles_destroy(&p);
-        return rc;
-    }
     m->has_d = 1;
     if ((rc = dpd_build(in, p, box, common, e, &m->d)))
         return rc;
@@ -400,20 +397,56 @@ static int check_points_per_cell(struct cfg_obj *root, double cell, const struct
 
 static void impact_destroy(void *state);
 
+/* The passive partners of the material points `pts` (NULL: none) near the
+ * DPD particles of p: before p is split over bricks, so that a point near
+ * a DPD particle of another brick gets its partner too. */
+static int add_partners(struct particles *p, const struct points *pts, struct err *e)
+{
+    long added = 0;
+    if (!pts || pts->n == 0)
+        return 0;
+    return dpd_mpm_partners_create(p, p->n_owned, pts->n, pts->x, pts->id, pts->range,
+                                   PARTNER_BIT, PARTNER_ID0, &added, e);
+}
+
 /* Under mpirun, for dpd_grid_impact (docs/dpd_mpm.md "Under MPI"): the
  * flyer run's particles p keep their brick's share of the DPD halo
  * (dpd_bricks without the sweep's reach: the grid model has no Shardlow
  * sweep), every other run its own of a halo over the same bricks, so that
  * a run and its reference run hold the same material on each rank.  Every
- * rank built all particles; the grid stays whole on every rank.  No-op
- * serially, replicated, and for the concurrent model (refused on bricks by
- * dpd_mpm_parallel_check). */
+ * rank built all particles (with the partners); the grid, and for
+ * dpd_mpm_impact the material points, stay whole on every rank.  No-op
+ * serially and replicated. */
 static int impact_bricks(struct impact_case *c, int r, struct particles *p,
                          const struct dpd_input *in, const struct box *box,
                          const struct case_common *common, struct cfg *cfg)
 {
-    if (c->concurrent)
-        return 0;
+    if (r == 0 && c->concurrent) {
+        /* The DPD halo holds only the DPD part (with the partners), not the
+         * system box of the whole target, and its reference run holds that
+         * part without the flyer: the bricks are planned on that extent
+         * (less a skin for the surfaces' relaxation), so that `auto` takes
+         * bricks only where they stay thicker than the interaction range
+         * in every run (a note and replicated data otherwise).  That range
+         * is the cell sweep's reach (sweep 1): the DPD model's first ghost
+         * build, in dpd_build before dpd_mpm_order marks the particles as
+         * moved by the grid, takes it. */
+        struct box plan = *box;
+        for (int d = 0; d < 3; d++) {
+            double lo = INFINITY, hi = -INFINITY;
+            for (int i = 0; i < p->n_owned; i++) {
+                if (p->mask[i] & DPD_FLYER_BIT)
+                    continue;
+                lo = fmin(lo, p->x[3 * i + d]);
+                hi = fmax(hi, p->x[3 * i + d]);
+            }
+            if (box->bc[d] == BOUNDARY_PERIODIC || !(hi - lo > 2 * in->skin))
+                continue;
+            plan.lo[d] = lo + in->skin;
+            plan.hi[d] = hi - in->skin;
+        }
+        return dpd_bricks(in, &plan, p, common, cfg, 1, &c->halo[0]);
+    }
     if (r == 0)
         return dpd_bricks(in, box, p, common, cfg, 0, &c->halo[0]);
     if (!c->halo[0])
@@ -441,10 +474,8 @@ static int impact_read(struct cfg_obj *root, const struct case_common *common, v
     if (!c)
         return err_nomem(root->cfg->err, "impact case");
     c->concurrent = concurrent;
-    /* the concurrent model is not decomposed; dpd_grid_impact is (impact_bricks) */
-    int rc = concurrent ? dpd_mpm_parallel_check(root->cfg, common, "dpd_mpm_impact") : 0;
-    if (!rc)
-        rc = md_system_read(root, common->seed, &p, &box, &info);
+    /* both types run on bricks (impact_bricks) */
+    int rc = md_system_read(root, common->seed, &p, &box, &info);
     if (!rc)
         rc = dpd_section_read(root, DPD_ENERGY, &in);
     if (!rc)
@@ -558,6 +589,8 @@ static int impact_read(struct cfg_obj *root, const struct case_common *common, v
         if (r == 0)
             c->n_flyer = nf;
         if (!rc)
+            rc = add_partners(src[r], use[r], e);
+        if (!rc)
             rc = impact_bricks(c, r, src[r], &in, &box, common, root->cfg);
         if (!rc) {
             rc = coupled_build(&c->r[r], src[r], flyer[r], use[r], c, &in, &box, common, &g, e);
@@ -582,6 +615,12 @@ static int impact_read(struct cfg_obj *root, const struct case_common *common, v
         return rc;
     }
     c->nodes = c->r[0].c.m.grid.nnodes;
+    for (int r = 0; r < c->nruns; r++) {   /* bricks: each rank holds its brick's partners */
+        double np = (double)c->r[r].c.npartner;
+        if (c->halo[r])
+            halo_sum(c->halo[r], &np, 1);
+        c->npartners[r] = lround(np);
+    }
     *state = c;
     return 0;
 }
@@ -608,6 +647,9 @@ static double slab_mean(const struct coupled *m, int ax, double lo, double hi, l
     double md = displacement_slab_mean(m->d.p, &m->d.box, m->xref, ax, lo, hi,
                                        DPD_FLYER_BIT | PARTNER_BIT, &nd);
     double s[2] = {nd ? md * nd : 0.0, (double)nd};   /* sum, count */
+    if (m->d.p->halo)   /* bricks: each rank's particles; the points (whole on
+                           every rank) are added once, after the sum */
+        halo_sum(m->d.p->halo, s, 2);
     const struct mpm_points *pts = &m->c.m.pts;
     for (long k = 0; k < pts->n; k++) {
         double r = pts->x0[3 * k + ax];
@@ -616,8 +658,6 @@ static double slab_mean(const struct coupled *m, int ax, double lo, double hi, l
         s[0] += pts->x[3 * k + ax] - r;
         s[1] += 1;
     }
-    if (m->d.p->halo)   /* bricks: each rank's particles (no material points) */
-        halo_sum(m->d.p->halo, s, 2);
     long n = lround(s[1]);
     if (count)
         *count = n;
@@ -632,6 +672,10 @@ static void profile(const struct coupled *m, int ax, double origin, double w, in
     /* the carried DPD particles: neither the flyer nor partners */
     displacement_profile_sums(m->d.p, &m->d.box, m->xref, ax, origin, w, nbins,
                               DPD_FLYER_BIT | PARTNER_BIT, out, cnt);
+    if (m->d.p->halo) {   /* bricks: each rank's particles; then the points once */
+        halo_sum(m->d.p->halo, out, nbins);
+        halo_sum(m->d.p->halo, cnt, nbins);
+    }
     const struct mpm_points *pts = &m->c.m.pts;
     for (long q = 0; q < pts->n; q++) {
         int k = (int)floor((pts->x0[3 * q + ax] - origin) / w);
@@ -639,10 +683,6 @@ static void profile(const struct coupled *m, int ax, double origin, double w, in
             continue;
         out[k] += pts->x[3 * q + ax] - pts->x0[3 * q + ax];
         cnt[k] += 1;
-    }
-    if (m->d.p->halo) {   /* bricks: each rank's particles */
-        halo_sum(m->d.p->halo, out, nbins);
-        halo_sum(m->d.p->halo, cnt, nbins);
     }
     for (int k = 0; k < nbins; k++)
         out[k] = cnt[k] > 0 ? out[k] / cnt[k] : NAN;
@@ -819,7 +859,7 @@ static void impact_metrics(struct impact_case *c, struct run *run, const struct 
     const struct points *pts = &c->pts;
     double cl = sqrt(pts->c11 / pts->rho * UNITS_FTM2V);   /* Å/ps */
     result_metric(res, "material_points", (double)m->c.m.pts.n, "1");
-    result_metric(res, "partners", (double)m->c.npartner, "1");
+    result_metric(res, "partners", (double)c->npartners[0], "1");
     result_metric(res, "c11", pts->c11 * UNITS_EVA3_TO_GPA, "GPa");
     result_metric(res, "c12", pts->c12 * UNITS_EVA3_TO_GPA, "GPa");
     result_metric(res, "c44", pts->c44 * UNITS_EVA3_TO_GPA, "GPa");
@@ -890,10 +930,18 @@ static void front_sample(struct impact_case *c, double t)
         impact_front_add(f, r, p->fields[m->xref].data, p->v, p->mask,
                          DPD_FLYER_BIT | PARTNER_BIT, p->n_owned);
         const struct mpm_points *pts = &m->c.m.pts;
-        impact_front_add(f, r, pts->x0, pts->v, NULL, 0, pts->n);
+        if (!c->halo[0])
+            impact_front_add(f, r, pts->x0, pts->v, NULL, 0, pts->n);
     }
-    if (c->halo[0])   /* bricks: each rank added its own particles */
+    if (c->halo[0]) {   /* bricks: each rank added its own particles; the
+                           points (whole on every rank) are added once after */
         impact_front_sum_ranks(f, c->halo[0]);
+        for (int r = 0; r < 2 && r < c->nruns; r++) {
+            const struct mpm_points *pts = &c->r[r].c.m.pts;
+            if (c->r[r].has_c)
+                impact_front_add(f, r, pts->x0, pts->v, NULL, 0, pts->n);
+        }
+    }
     impact_front_end(f, t, c->has_ref);
 }
 
@@ -1165,7 +1213,7 @@ static long impact_particles(const void *state)
     long n = 0;
     for (int r = 0; r < c->nruns; r++)
         if (c->r[r].has_c)
-            n += dpd_nparticles(&c->r[r].d) - c->r[r].c.npartner + c->r[r].c.m.pts.n;
+            n += dpd_nparticles(&c->r[r].d) - c->npartners[r] + c->r[r].c.m.pts.n;
     return n;
 }
 
@@ -1188,4 +1236,5 @@ const struct case_type dpd_mpm_impact_case_type = {
     "concurrent DPD/MPM flyer/target impact: wave across the interface, reflection",
     concurrent_impact_read, impact_run, impact_destroy, impact_particles, impact_steps,
     .checkpoints = 1,
+    .decomposes = 1,
 };

@@ -4,7 +4,6 @@
 #include <math.h>
 
 #include "core/halo.h"
-#include "core/parallel.h"
 
 int dpd_mpm_grid_read(struct cfg_obj *root, double cutoff, struct dpd_mpm_grid_keys *k)
 {
@@ -57,21 +56,4 @@ void dpd_mpm_grid_place(const struct particles *p, uint32_t exclude, const doubl
         if (g->ncell[d] < 1)
             g->ncell[d] = 1;
     }
-}
-
-int dpd_mpm_parallel_check(struct cfg *c, const struct case_common *common, const char *type)
-{
-    const struct parallel *par = common->par;
-    const struct parallel_settings *ps = &common->parallel;
-    if (!par || !par->mpi || !(ps->decomposition == DECOMP_BRICKS || ps->grid_given))
-        return 0;
-    return cfg_error_at(c, ps->decomposition == DECOMP_BRICKS ? "parallel.decomposition"
-                                                               : "parallel.grid",
-                        "case type %s is not decomposed into bricks yet (the material points' "
-                        "partners and the all-DPD comparison runs are not split over ranks; "
-                        "dpd_grid_impact, dpd_grid_tensile, dpd_impact and dpd_tensile are); "
-                        "use decomposition: "
-                        "replicated (or auto): each rank then runs the whole case and rank 0 "
-                        "writes",
-                        type);
 }

@@ -38,16 +38,5 @@ void dpd_mpm_grid_place(const struct particles *p, uint32_t exclude, const doubl
                         const double hi[3], const struct dpd_mpm_grid_keys *k,
                         struct dpd_mpm_grid *g);
 
-/* The `parallel` section under mpirun (docs/parallel.md, docs/dpd_mpm.md
- * "Under MPI").  The concurrent impact (dpd_mpm_impact) is not decomposed
- * into bricks yet: the material points' partners (DPD copies of points)
- * and the all-DPD comparison runs are not split over ranks (the
- * grid-carried tensile rod and impact are: dpd_grid_tensile and
- * dpd_grid_impact do not call this).  A case that asks for
- * bricks (decomposition: bricks, or a grid) is refused naming that key
- * (ERR_INPUT through cfg_error_at); auto and replicated pass, and each
- * rank then runs the whole case (main.c notes it under auto).  `type`
- * names the case type in the message.  No-op without mpirun. */
-int dpd_mpm_parallel_check(struct cfg *c, const struct case_common *common, const char *type);
 
 #endif
