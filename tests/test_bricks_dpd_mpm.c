@@ -22,6 +22,9 @@
  * ranks restarts serially and on 4 (to the same tolerances) and on 2
  * (bitwise); a serial one restarts on 2.  `auto` takes bricks when the DPD
  * part is long enough, else replicated data (the serial run bitwise).
+ * No partner crosses a brick face during these runs (the faces move only
+ * as the flyer closes the box): the lookup by id after a migration runs
+ * at the set-up and after the checkpoint reads only.
  */
 #include <criterion/criterion.h>
 #include <jansson.h>

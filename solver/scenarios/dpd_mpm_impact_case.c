@@ -428,9 +428,11 @@ static int impact_bricks(struct impact_case *c, int r, struct particles *p,
          * (less a skin for the surfaces' relaxation), so that `auto` takes
          * bricks only where they stay thicker than the interaction range
          * in every run (a note and replicated data otherwise).  That range
-         * is the cell sweep's reach (sweep 1): the DPD model's first ghost
-         * build, in dpd_build before dpd_mpm_order marks the particles as
-         * moved by the grid, takes it. */
+         * is the cell sweep's reach where it has one (sweep 1): the DPD
+         * model's first ghost build, in dpd_build before dpd_mpm_order
+         * marks the particles as moved by the grid, takes it (a periodic
+         * axis shorter than 3 r_d has none: that build then takes the
+         * list's range, and so does the plan). */
         struct box plan = *box;
         for (int d = 0; d < 3; d++) {
             double lo = INFINITY, hi = -INFINITY;
@@ -445,7 +447,8 @@ static int impact_bricks(struct impact_case *c, int r, struct particles *p,
             plan.lo[d] = lo + in->skin;
             plan.hi[d] = hi - in->skin;
         }
-        return dpd_bricks(in, &plan, p, common, cfg, 1, &c->halo[0]);
+        int reach = dpd_sweep_cells_range(&plan, in->set.cutoff, in->skin) > 0;
+        return dpd_bricks(in, &plan, p, common, cfg, reach, &c->halo[0]);
     }
     if (r == 0)
         return dpd_bricks(in, box, p, common, cfg, 0, &c->halo[0]);
