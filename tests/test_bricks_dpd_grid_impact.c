@@ -84,19 +84,13 @@ static int is_difference(const char *name)
     return 0;
 }
 
-static json_t *series_values(json_t *r, const char *name)
-{
-    json_t *s = json_object_get(json_object_get(r, "series"), name);
-    return json_is_object(s) ? json_object_get(s, "values") : s;
-}
-
 /* Every metric of a in b: null in both, or to REL relative; the energy
  * changes to REL of the total energy e0 (eV). */
 static void compare_metrics(json_t *ra, json_t *rb, const char *tag)
 {
     json_t *ma = json_object_get(ra, "metrics"), *mb = json_object_get(rb, "metrics");
     cr_assert_gt(json_object_size(ma), 40, "%s: %zu metrics", tag, json_object_size(ma));
-    double e0 = fabs(json_number_value(json_array_get(series_values(ra, "etotal"), 1)));
+    double e0 = fabs(json_number_value(json_array_get(thb_series_values(ra, "etotal"), 1)));
     double ke0 = json_number_value(json_object_get(json_object_get(ma, "impact_energy"), "value"));
     cr_assert_gt(e0, 1e3, "%s: total energy %g eV", tag, e0);
     cr_assert_gt(ke0, 1.0, "%s: impact energy %g eV", tag, ke0);
@@ -129,40 +123,12 @@ static void compare_metrics(json_t *ra, json_t *rb, const char *tag)
     }
 }
 
-/* Every series of a in b, to REL of its largest magnitude (the same
- * nulls). */
-static void compare_series(json_t *ra, json_t *rb, const char *tag)
-{
-    json_t *sa = json_object_get(ra, "series");
-    cr_assert_gt(json_object_size(sa), 10, "%s: %zu series", tag, json_object_size(sa));
-    const char *name;
-    json_t *s;
-    json_object_foreach(sa, name, s)
-    {
-        json_t *va = series_values(ra, name), *vb = series_values(rb, name);
-        cr_assert(json_is_array(va) && json_is_array(vb), "%s: series %s missing", tag, name);
-        size_t n = json_array_size(va);
-        cr_assert_eq(n, json_array_size(vb), "%s: series %s length", tag, name);
-        double scale = 0;
-        for (size_t q = 0; q < n; q++)
-            scale = fmax(scale, fabs(json_number_value(json_array_get(va, q))));
-        for (size_t q = 0; q < n; q++) {
-            json_t *xa = json_array_get(va, q), *xb = json_array_get(vb, q);
-            cr_assert_eq(json_is_null(xa), json_is_null(xb), "%s: %s[%zu] null in one run",
-                         tag, name, q);
-            double x = json_number_value(xa), y = json_number_value(xb);
-            cr_assert_leq(fabs(x - y), REL * scale + 1e-12 * fabs(x),
-                          "%s: %s[%zu] %.17g vs %.17g", tag, name, q, x, y);
-        }
-    }
-}
-
 static void compare_runs(const char *a, const char *b, const char *tag)
 {
     thb_compare_series(a, b, series_cols, REL, tag);
     json_t *ra = thb_result(a), *rb = thb_result(b);
     compare_metrics(ra, rb, tag);
-    compare_series(ra, rb, tag);
+    thb_compare_result_series(ra, rb, 11, REL, tag);
     /* the CNA counts are counts: the same classes */
     static const char *const counts[] = {"cna_fcc", "cna_hcp", "cna_other", "cna_fcc_start",
                                          NULL};

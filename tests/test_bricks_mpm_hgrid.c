@@ -79,29 +79,7 @@ static void compare_abs(const char *a, const char *b, const char *const *names, 
     json_decref(rb);
 }
 
-/* /grid/<step>/<set> of two runs node by node (every rank holds the same
- * node numbering, the serial one), to REL of the set's largest magnitude. */
-static void compare_grid(const char *a, const char *b, long step, const char *tag)
-{
-    static const char *const sets[] = {"position", "mass", "velocity", "force", NULL};
-    for (int k = 0; sets[k]; k++) {
-        char name[96];
-        snprintf(name, sizeof name, "/grid/%08ld/%s", step, sets[k]);
-        long na = 0, nb = 0;
-        double *va = thb_read_h5(a, name, H5T_NATIVE_DOUBLE, sizeof(double), &na);
-        double *vb = thb_read_h5(b, name, H5T_NATIVE_DOUBLE, sizeof(double), &nb);
-        cr_assert_eq(na, nb, "%s: %s has %ld vs %ld values", tag, name, na, nb);
-        double scale = 0, worst = 0;
-        for (long i = 0; i < na; i++)
-            scale = fmax(scale, fabs(va[i]));
-        for (long i = 0; i < na; i++)
-            worst = fmax(worst, fabs(va[i] - vb[i]));
-        cr_assert(scale > 0, "%s: %s is all zero", tag, name);
-        cr_assert_leq(worst, REL * scale, "%s: %s differs by %g of %g", tag, name, worst, scale);
-        free(va);
-        free(vb);
-    }
-}
+static const char *const grid_sets[] = {"position", "mass", "velocity", "force", NULL};
 
 static void compare_run(const char *a, const char *b, const char *tag)
 {
@@ -117,7 +95,7 @@ static void compare_run(const char *a, const char *b, const char *tag)
     static const char *const sets[] = {"position", "velocity", "stress", "displacement", NULL};
     static const int ncomp[] = {3, 3, 6, 3};
     thb_compare_snapshot(a, b, "/points/00000100", sets, ncomp, REL, tag);
-    compare_grid(a, b, 100, tag);
+    thb_compare_grid(a, b, 100, grid_sets, REL, tag);
 }
 
 /* The serial run is a real two-level impact: the grid has fewer nodes

@@ -459,3 +459,59 @@ void thb_compare_final_xyz(const char *a, const char *b, const char *name, doubl
     free(la);
     free(lb);
 }
+
+json_t *thb_series_values(json_t *res, const char *name)
+{
+    json_t *s = json_object_get(json_object_get(res, "series"), name);
+    return json_is_object(s) ? json_object_get(s, "values") : s;
+}
+
+void thb_compare_result_series(json_t *ra, json_t *rb, size_t min_series, double rel,
+                               const char *tag)
+{
+    json_t *sa = json_object_get(ra, "series");
+    cr_assert_geq(json_object_size(sa), min_series, "%s: %zu series", tag,
+                  json_object_size(sa));
+    const char *name;
+    json_t *s;
+    json_object_foreach(sa, name, s)
+    {
+        json_t *va = thb_series_values(ra, name), *vb = thb_series_values(rb, name);
+        cr_assert(json_is_array(va) && json_is_array(vb), "%s: series %s missing", tag, name);
+        size_t n = json_array_size(va);
+        cr_assert_eq(n, json_array_size(vb), "%s: series %s length", tag, name);
+        double scale = 0;
+        for (size_t q = 0; q < n; q++)
+            scale = fmax(scale, fabs(json_number_value(json_array_get(va, q))));
+        for (size_t q = 0; q < n; q++) {
+            json_t *xa = json_array_get(va, q), *xb = json_array_get(vb, q);
+            cr_assert_eq(json_is_null(xa), json_is_null(xb), "%s: %s[%zu] null in one run",
+                         tag, name, q);
+            double x = json_number_value(xa), y = json_number_value(xb);
+            cr_assert_leq(fabs(x - y), rel * scale + 1e-12 * fabs(x),
+                          "%s: %s[%zu] %.17g vs %.17g", tag, name, q, x, y);
+        }
+    }
+}
+
+void thb_compare_grid(const char *a, const char *b, long step, const char *const *sets,
+                      double rel, const char *tag)
+{
+    for (int k = 0; sets[k]; k++) {
+        char name[96];
+        snprintf(name, sizeof name, "/grid/%08ld/%s", step, sets[k]);
+        long na = 0, nb = 0;
+        double *va = thb_read_h5(a, name, H5T_NATIVE_DOUBLE, sizeof(double), &na);
+        double *vb = thb_read_h5(b, name, H5T_NATIVE_DOUBLE, sizeof(double), &nb);
+        cr_assert_eq(na, nb, "%s: %s has %ld vs %ld values", tag, name, na, nb);
+        double scale = 0, worst = 0;
+        for (long i = 0; i < na; i++)
+            scale = fmax(scale, fabs(va[i]));
+        for (long i = 0; i < na; i++)
+            worst = fmax(worst, fabs(va[i] - vb[i]));
+        cr_assert(scale > 0, "%s: %s is all zero", tag, name);
+        cr_assert_leq(worst, rel * scale, "%s: %s differs by %g of %g", tag, name, worst, scale);
+        free(va);
+        free(vb);
+    }
+}

@@ -37,6 +37,19 @@ void thb_compare_series_floor(const char *a, const char *b, const char *const *c
 
 json_t *thb_result(const char *dir);
 double thb_metric(json_t *res, const char *name);
+/* The values of result.json's series `name` (an object's "values" or the
+ * array itself; NULL when absent). */
+json_t *thb_series_values(json_t *res, const char *name);
+/* Every series of result ra in rb (at least min_series of them), each to
+ * rel of its largest magnitude plus 1e-12 relative, nulls in the same
+ * places. */
+void thb_compare_result_series(json_t *ra, json_t *rb, size_t min_series, double rel,
+                               const char *tag);
+/* /grid/<step>/<set> of two runs' fields.h5 node by node (the same node
+ * numbering), to rel of each set's largest magnitude, for each NULL-ended
+ * set; no set may be all zero. */
+void thb_compare_grid(const char *a, const char *b, long step, const char *const *sets,
+                      double rel, const char *tag);
 
 /* Metrics of two runs agree to rel relative (plus 1e-12 for the printed
  * digits), for each NULL-ended name. */
