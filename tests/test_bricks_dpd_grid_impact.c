@@ -184,3 +184,19 @@ Test(bricks_dpd_grid_impact, checkpoint_moves_between_rank_counts, .timeout = 90
     thb_checkpoint_moves(th_write_temp(0, "gbar_ck.yaml", yaml), "gbar", compare_runs,
                          "grid impact");
 }
+
+/* An 8-cell bar (58 Å) on 4 ranks: its bricks would be thinner than the
+ * DPD model's first ghost build takes (the cell sweep's reach, 17.27 Å,
+ * before the grid marks the particles), so `auto` must fall back to
+ * replicated data with a note -- before 2026-11-28 it planned on the
+ * list's range, took bricks and stopped ("the box shrank"). */
+Test(bricks_dpd_grid_impact, short_bar_replicates_under_auto, .timeout = 600)
+{
+    th_write_temp(2, "cg.yaml", PARAMS);
+    char yaml[4096];
+    bar_case(yaml, sizeof yaml, "output: {thermo_every: 10}\n", "");
+    char *cells = strstr(yaml, "cells: [12, 3, 3]");
+    cr_assert_not_null(cells);
+    memcpy(cells, "cells: [ 8, 3, 3]", 17);
+    thb_short_replicates(th_write_temp(0, "gshort.yaml", yaml), 4, "gshort");
+}

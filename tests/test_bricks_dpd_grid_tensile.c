@@ -127,3 +127,17 @@ Test(bricks_dpd_grid_tensile, checkpoint_moves_between_rank_counts, .timeout = 6
     thb_checkpoint_moves(th_write_temp(0, "rod_ck.yaml", yaml), "rod", compare_runs,
                          "grid tensile");
 }
+
+/* An 8-cell rod (58 Å) on 4 ranks: too short for bricks at the reach the
+ * first ghost build takes (17.27 Å), so `auto` falls back to replicated
+ * data with a note (it stopped with "the box shrank" before 2026-11-28). */
+Test(bricks_dpd_grid_tensile, short_rod_replicates_under_auto, .timeout = 600)
+{
+    th_write_temp(2, "cg.yaml", PARAMS);
+    char yaml[4096];
+    rod_case(yaml, sizeof yaml, "output: {thermo_every: 10}\n", "");
+    char *cells = strstr(yaml, "cells: [12, 3, 3]");
+    cr_assert_not_null(cells);
+    memcpy(cells, "cells: [ 8, 3, 3]", 17);
+    thb_short_replicates(th_write_temp(0, "rshort.yaml", yaml), 4, "rshort");
+}

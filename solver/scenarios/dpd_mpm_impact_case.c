@@ -421,37 +421,17 @@ static int impact_bricks(struct impact_case *c, int r, struct particles *p,
                          const struct dpd_input *in, const struct box *box,
                          const struct case_common *common, struct cfg *cfg)
 {
-    if (r == 0 && c->concurrent) {
-        /* The DPD halo holds only the DPD part (with the partners), not the
-         * system box of the whole target, and its reference run holds that
-         * part without the flyer: the bricks are planned on that extent
-         * (less a skin for the surfaces' relaxation), so that `auto` takes
-         * bricks only where they stay thicker than the interaction range
-         * in every run (a note and replicated data otherwise).  That range
-         * is the cell sweep's reach where it has one (sweep 1): the DPD
-         * model's first ghost build, in dpd_build before dpd_mpm_order
-         * marks the particles as moved by the grid, takes it (a periodic
-         * axis shorter than 3 r_d has none: that build then takes the
-         * list's range, and so does the plan). */
-        struct box plan = *box;
-        for (int d = 0; d < 3; d++) {
-            double lo = INFINITY, hi = -INFINITY;
-            for (int i = 0; i < p->n_owned; i++) {
-                if (p->mask[i] & DPD_FLYER_BIT)
-                    continue;
-                lo = fmin(lo, p->x[3 * i + d]);
-                hi = fmax(hi, p->x[3 * i + d]);
-            }
-            if (box->bc[d] == BOUNDARY_PERIODIC || !(hi - lo > 2 * in->skin))
-                continue;
-            plan.lo[d] = lo + in->skin;
-            plan.hi[d] = hi - in->skin;
-        }
-        int reach = dpd_sweep_cells_range(&plan, in->set.cutoff, in->skin) > 0;
-        return dpd_bricks(in, &plan, p, common, cfg, reach, &c->halo[0]);
+    if (r == 0) {
+        /* The DPD halo holds only the DPD part (for dpd_mpm_impact with
+         * the partners, not the material points), and the reference run
+         * holds it without the flyer: the bricks are planned on that
+         * extent (dpd_bricks_plan_box), so that `auto` takes bricks only
+         * where they stay thicker than the interaction range in every run
+         * (a note and replicated data otherwise). */
+        struct box plan;
+        dpd_bricks_plan_box(box, p, DPD_FLYER_BIT, in->skin, &plan);
+        return dpd_bricks(in, &plan, p, common, cfg, 0, &c->halo[0]);
     }
-    if (r == 0)
-        return dpd_bricks(in, box, p, common, cfg, 0, &c->halo[0]);
     if (!c->halo[0])
         return 0;
     struct err *e = cfg->err;

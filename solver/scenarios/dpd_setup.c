@@ -102,7 +102,12 @@ int dpd_bricks(const struct dpd_input *in, const struct box *box, struct particl
 {
     double rd = in->set.cutoff, reach = dpd_sweep_cells_range(box, rd, in->skin);
     double range = fmax(in->prm.sc.rc, rd) + in->skin;
-    if (sweep)
+    /* Without a sweep too: the DPD model's first ghost build (dpd_init,
+     * before a grid model marks its particles as carried by the grid)
+     * takes the sweep's reach where the box has one, so a plan on the
+     * list's range alone let `auto` take bricks that build then refused
+     * ("the box shrank") instead of falling back to replicated data. */
+    if (sweep || reach > 0)
         range = fmax(range, reach);
     int rc = md_bricks_plan(common->par, &common->parallel, box, range, cfg, out);
     if (rc || !*out)
@@ -115,4 +120,23 @@ int dpd_bricks(const struct dpd_input *in, const struct box *box, struct particl
     p->halo = *out;
     p->par = NULL;   /* no replicated sums: each rank owns its brick */
     return halo_distribute(*out, p, cfg->err);
+}
+
+void dpd_bricks_plan_box(const struct box *box, const struct particles *p, uint32_t skip,
+                         double skin, struct box *plan)
+{
+    *plan = *box;
+    for (int d = 0; d < 3; d++) {
+        double lo = INFINITY, hi = -INFINITY;
+        for (int i = 0; i < p->n_owned; i++) {
+            if (p->mask[i] & skip)
+                continue;
+            lo = fmin(lo, p->x[3 * i + d]);
+            hi = fmax(hi, p->x[3 * i + d]);
+        }
+        if (box->bc[d] == BOUNDARY_PERIODIC || !(hi - lo > 2 * skin))
+            continue;
+        plan->lo[d] = lo + skin;
+        plan->hi[d] = hi - skin;
+    }
 }

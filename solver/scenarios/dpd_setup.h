@@ -63,11 +63,20 @@ int dpd_init_velocities(const struct dpd_input *in, struct particles *p,
  * the list (cutoff + skin) and, with `sweep` (the DPD step sweeps pairs;
  * not the grid-carried models), the cell sweep's reach
  * (dpd_sweep_cells_range): a periodic axis shorter than 3 r_d is then
- * refused naming `parallel`.  *out
- * NULL: serial or replicated data. */
+ * refused naming `parallel`.  Without `sweep` the bricks are still planned
+ * on that reach where the box has one (the model's first ghost build
+ * takes it).  *out NULL: serial or replicated data. */
 int dpd_bricks(const struct dpd_input *in, const struct box *box, struct particles *p,
                const struct case_common *common, struct cfg *cfg, int sweep,
                struct halo **out);
+
+/* The box to plan a body's bricks on: *box with each axis that is not
+ * periodic cut to the extent of the particles without a bit of `skip`,
+ * less `skin` at both ends -- the box the first ghost build shrink-wraps
+ * to, or nearly (the surfaces relax by less than the skin), so that
+ * `auto` takes bricks only where they stay thicker than the range. */
+void dpd_bricks_plan_box(const struct box *box, const struct particles *p, uint32_t skip,
+                         double skin, struct box *plan);
 
 int dpd_build(const struct dpd_input *in, struct particles *p, const struct box *box,
               const struct case_common *common, struct err *e, struct dpd *d);

@@ -80,8 +80,12 @@ int dpd_tensile_read(struct cfg_obj *root, const struct case_common *common, str
             p->v[3 * i + axis] += v * (2 * p->x[3 * i + axis] - xlo - xhi) / (xhi - xlo);
     }
     /* bricks: each rank keeps its brick's particles, drawn and marked over
-     * all of them (the grid-carried rod has no sweep) */
-    if (halo && (rc = dpd_bricks(&in, &box, p, common, root->cfg, sweep, halo))) {
+     * all of them (the grid-carried rod has no sweep, and is planned on
+     * the rod's extent: dpd_bricks_plan_box) */
+    struct box plan = box;
+    if (!sweep)
+        dpd_bricks_plan_box(&box, p, 0, in.skin, &plan);
+    if (halo && (rc = dpd_bricks(&in, &plan, p, common, root->cfg, sweep, halo))) {
         particles_destroy(&p);
         return rc;
     }

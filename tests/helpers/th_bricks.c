@@ -515,3 +515,21 @@ void thb_compare_grid(const char *a, const char *b, long step, const char *const
         free(vb);
     }
 }
+
+void thb_short_replicates(const char *path, int np, const char *stem)
+{
+    static char out[16384], ta[1 << 18], tb[1 << 18];
+    char d0[600], dk[600], want[64];
+    snprintf(d0, sizeof d0, "%s/%s-serial", th_temp_dir(), stem);
+    snprintf(dk, sizeof dk, "%s/%s-%d", th_temp_dir(), stem, np);
+    thb_must_run(path, 0, d0, NULL);
+    cr_assert_eq(thb_run(path, np, dk, NULL, out, sizeof out), 0, "%s on %d ranks:\n%s", stem,
+                 np, out);
+    snprintf(want, sizeof want, "has no grid of %d bricks", np);
+    cr_assert(strstr(out, want), "%s: no note '%s'\n%s", stem, want, out);
+    thb_read_text(d0, "thermo.csv", ta, sizeof ta);
+    thb_read_text(dk, "thermo.csv", tb, sizeof tb);
+    const char *xa = strchr(ta, '\n'), *xb = strchr(tb, '\n');
+    cr_assert(xa && xb && strlen(xa) > 50, "%s: thermo.csv too short", stem);
+    cr_assert_str_eq(xa, xb, "%s: thermo.csv on %d ranks differs from the serial one", stem, np);
+}

@@ -126,6 +126,11 @@ void thb_checkpoint_moves(const char *path, const char *stem, thb_check_fn compa
 /* dir/name as text into buf (at most len - 1 bytes; asserts it opens). */
 void thb_read_text(const char *dir, const char *name, char *buf, size_t len);
 
+/* A case too short for np bricks, run serially and on np ranks under
+ * `auto`: the np-rank run says so (the planner's note) and runs replicated,
+ * its thermo.csv the serial one below the header, bitwise. */
+void thb_short_replicates(const char *path, int np, const char *stem);
+
 /* result.json's parallel record: np ranks whose counts add up to n, the
  * imbalance their max over mean, a grid of np bricks. */
 void thb_check_parallel_record(const char *dir, int np, long n);
