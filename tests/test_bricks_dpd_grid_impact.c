@@ -68,66 +68,11 @@ static void bar_case(char *buf, size_t len, const char *output, const char *para
 static const char *const series_cols[] = {"pe_eV",  "ke_eV",     "uint_eV", "etotal_eV",
                                           "temp_K", "press_GPa", NULL};
 
-/* Energy changes (eV, or over |E| or the impact energy): differences of
- * nearly equal total energies, compared on the total energy's scale;
- * momentum_change is zero to round-off (a free flyer). */
-static const char *const differences[] = {"energy_drift", "energy_deviation_max",
-                                          "energy_deviation_max_abs",
-                                          "energy_error_impact_fraction", "momentum_change",
-                                          NULL};
-
-static int is_difference(const char *name)
-{
-    for (int k = 0; differences[k]; k++)
-        if (strcmp(name, differences[k]) == 0)
-            return 1;
-    return 0;
-}
-
-/* Every metric of a in b: null in both, or to REL relative; the energy
- * changes to REL of the total energy e0 (eV). */
-static void compare_metrics(json_t *ra, json_t *rb, const char *tag)
-{
-    json_t *ma = json_object_get(ra, "metrics"), *mb = json_object_get(rb, "metrics");
-    cr_assert_gt(json_object_size(ma), 40, "%s: %zu metrics", tag, json_object_size(ma));
-    double e0 = fabs(json_number_value(json_array_get(thb_series_values(ra, "etotal"), 1)));
-    double ke0 = json_number_value(json_object_get(json_object_get(ma, "impact_energy"), "value"));
-    cr_assert_gt(e0, 1e3, "%s: total energy %g eV", tag, e0);
-    cr_assert_gt(ke0, 1.0, "%s: impact energy %g eV", tag, ke0);
-    const char *k;
-    json_t *v;
-    json_object_foreach(ma, k, v)
-    {
-        json_t *u = json_object_get(v, "value");
-        json_t *w = json_object_get(json_object_get(mb, k), "value");
-        cr_assert(u && w, "%s: metric %s missing", tag, k);
-        cr_assert_eq(json_is_null(u), json_is_null(w), "%s: metric %s null in one run", tag, k);
-        if (json_is_null(u))
-            continue;
-        double x = json_number_value(u), y = json_number_value(w), tol;
-        if (strcmp(k, "momentum_change") == 0) {
-            /* round-off of the total momentum, against the flyer's */
-            double pf = FLYER_N * PARTICLE_MASS * FLYER_VELOCITY;
-            cr_assert_leq(fmax(x, y), REL * pf, "%s: momentum_change %g, %g", tag, x, y);
-            continue;
-        }
-        if (!is_difference(k))
-            tol = REL * fabs(x) + 1e-12 * fabs(x);
-        else if (strcmp(k, "energy_deviation_max_abs") == 0)
-            tol = REL * e0;
-        else if (strcmp(k, "energy_error_impact_fraction") == 0)
-            tol = REL * e0 / ke0;
-        else   /* over |E| */
-            tol = REL;
-        cr_assert_leq(fabs(x - y), tol, "%s: metric %s %.17g vs %.17g", tag, k, x, y);
-    }
-}
-
 static void compare_runs(const char *a, const char *b, const char *tag)
 {
     thb_compare_series(a, b, series_cols, REL, tag);
     json_t *ra = thb_result(a), *rb = thb_result(b);
-    compare_metrics(ra, rb, tag);
+    thb_compare_impact_metrics(ra, rb, FLYER_N * PARTICLE_MASS * FLYER_VELOCITY, REL, tag);
     thb_compare_result_series(ra, rb, 11, REL, tag);
     /* the CNA counts are counts: the same classes */
     static const char *const counts[] = {"cna_fcc", "cna_hcp", "cna_other", "cna_fcc_start",

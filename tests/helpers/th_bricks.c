@@ -533,3 +533,69 @@ void thb_short_replicates(const char *path, int np, const char *stem)
     cr_assert(xa && xb && strlen(xa) > 50, "%s: thermo.csv too short", stem);
     cr_assert_str_eq(xa, xb, "%s: thermo.csv on %d ranks differs from the serial one", stem, np);
 }
+
+static int is_energy_change(const char *name)
+{
+    static const char *const changes[] = {"energy_drift", "energy_deviation_max",
+                                          "energy_deviation_max_abs",
+                                          "energy_error_impact_fraction", NULL};
+    for (int k = 0; changes[k]; k++)
+        if (strcmp(name, changes[k]) == 0)
+            return 1;
+    return 0;
+}
+
+void thb_compare_impact_metrics(json_t *ra, json_t *rb, double flyer_p, double rel,
+                                const char *tag)
+{
+    json_t *ma = json_object_get(ra, "metrics"), *mb = json_object_get(rb, "metrics");
+    cr_assert_gt(json_object_size(ma), 40, "%s: %zu metrics", tag, json_object_size(ma));
+    double e0 = fabs(json_number_value(json_array_get(thb_series_values(ra, "etotal"), 1)));
+    double ke0 = json_number_value(json_object_get(json_object_get(ma, "impact_energy"), "value"));
+    cr_assert_gt(e0, 1e3, "%s: total energy %g eV", tag, e0);
+    cr_assert_gt(ke0, 1.0, "%s: impact energy %g eV", tag, ke0);
+    const char *k;
+    json_t *v;
+    int compared = 0;
+    json_object_foreach(ma, k, v)
+    {
+        json_t *u = json_object_get(v, "value");
+        json_t *w = json_object_get(json_object_get(mb, k), "value");
+        cr_assert(u && w, "%s: metric %s missing", tag, k);
+        cr_assert_eq(json_is_null(u), json_is_null(w), "%s: metric %s null in one run", tag, k);
+        if (json_is_null(u))
+            continue;
+        double x = json_number_value(u), y = json_number_value(w), tol;
+        compared++;
+        if (strcmp(k, "momentum_change") == 0) {
+            cr_assert_leq(fmax(x, y), rel * flyer_p, "%s: momentum_change %g, %g", tag, x, y);
+            continue;
+        }
+        if (!is_energy_change(k))
+            tol = rel * fabs(x) + 1e-12 * fabs(x);
+        else if (strcmp(k, "energy_deviation_max_abs") == 0)
+            tol = rel * e0;
+        else if (strcmp(k, "energy_error_impact_fraction") == 0)
+            tol = rel * e0 / ke0;
+        else   /* over |E| */
+            tol = rel;
+        cr_assert_leq(fabs(x - y), tol, "%s: metric %s %.17g vs %.17g", tag, k, x, y);
+    }
+    cr_assert_gt(compared, 40, "%s: %d metrics compared", tag, compared);
+}
+
+void thb_assert_ranks_changed(const char *dir, const char *dir_step0, int np)
+{
+    json_t *r = thb_result(dir), *r0 = thb_result(dir_step0);
+    json_t *per = json_object_get(json_object_get(r, "parallel"), "particles_per_rank");
+    json_t *per0 = json_object_get(json_object_get(r0, "parallel"), "particles_per_rank");
+    cr_assert_eq(json_array_size(per), (size_t)np);
+    cr_assert_eq(json_array_size(per0), (size_t)np);
+    int moved = 0;
+    for (int i = 0; i < np; i++)
+        moved |= json_integer_value(json_array_get(per, (size_t)i)) !=
+                 json_integer_value(json_array_get(per0, (size_t)i));
+    json_decref(r);
+    json_decref(r0);
+    cr_assert(moved, "no particle changed its rank (%s against %s)", dir, dir_step0);
+}

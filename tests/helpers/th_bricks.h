@@ -40,6 +40,18 @@ double thb_metric(json_t *res, const char *name);
 /* The values of result.json's series `name` (an object's "values" or the
  * array itself; NULL when absent). */
 json_t *thb_series_values(json_t *res, const char *name);
+/* Some particle changed its rank: the per-rank counts of run `dir` (np
+ * ranks) differ from those of the same case at step 0 (`dir_step0`). */
+void thb_assert_ranks_changed(const char *dir, const char *dir_step0, int np);
+/* Every metric of an impact's result ra in rb (more than 40 of them): null
+ * in both, or to rel relative; the energy changes (energy_drift,
+ * energy_deviation_max over |E|, energy_deviation_max_abs in eV,
+ * energy_error_impact_fraction over the impact energy: differences of
+ * nearly equal total energies) to rel of the total energy, the
+ * momentum_change (round-off of the total momentum) below rel of the
+ * flyer's momentum flyer_p (amu Å/ps). */
+void thb_compare_impact_metrics(json_t *ra, json_t *rb, double flyer_p, double rel,
+                                const char *tag);
 /* Every series of result ra in rb (at least min_series of them), each to
  * rel of its largest magnitude plus 1e-12 relative, nulls in the same
  * places. */
