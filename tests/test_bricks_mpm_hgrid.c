@@ -66,19 +66,6 @@ static const char *const metrics[] = {
     "A_velocity_x", "A_velocity_y", "A_velocity_z", "B_velocity_x", "B_velocity_y",
     "B_velocity_z", "momentum_x",   "momentum_z",   NULL};
 
-static void compare_abs(const char *a, const char *b, const char *const *names, double tol,
-                        const char *tag)
-{
-    json_t *ra = thb_result(a), *rb = thb_result(b);
-    for (int k = 0; names[k]; k++) {
-        double va = thb_metric(ra, names[k]), vb = thb_metric(rb, names[k]);
-        cr_assert_leq(fabs(va - vb), tol, "%s: %s %.17g vs %.17g (tolerance %g)", tag, names[k],
-                      va, vb, tol);
-    }
-    json_decref(ra);
-    json_decref(rb);
-}
-
 static const char *const grid_sets[] = {"position", "mass", "velocity", "force", NULL};
 
 static void compare_run(const char *a, const char *b, const char *tag)
@@ -89,9 +76,9 @@ static void compare_run(const char *a, const char *b, const char *tag)
      * reaches it) absolutely */
     static const char *const changes[] = {"energy_change", "energy_change_max",
                                           "energy_change_centred_max", NULL};
-    compare_abs(a, b, changes, REL, tag);
+    thb_compare_metrics_abs(a, b, changes, REL, tag);
     static const char *const wall[] = {"W_force_x", "W_force_y", "W_force_z", NULL};
-    compare_abs(a, b, wall, 1e-6, tag);
+    thb_compare_metrics_abs(a, b, wall, 1e-6, tag);
     static const char *const sets[] = {"position", "velocity", "stress", "displacement", NULL};
     static const int ncomp[] = {3, 3, 6, 3};
     thb_compare_snapshot(a, b, "/points/00000100", sets, ncomp, REL, tag);

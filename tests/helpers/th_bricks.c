@@ -599,3 +599,16 @@ void thb_assert_ranks_changed(const char *dir, const char *dir_step0, int np)
     json_decref(r0);
     cr_assert(moved, "no particle changed its rank (%s against %s)", dir, dir_step0);
 }
+
+void thb_compare_metrics_abs(const char *a, const char *b, const char *const *names,
+                             double tol, const char *tag)
+{
+    json_t *ra = thb_result(a), *rb = thb_result(b);
+    for (int k = 0; names[k]; k++) {
+        double va = thb_metric(ra, names[k]), vb = thb_metric(rb, names[k]);
+        cr_assert_leq(fabs(va - vb), tol, "%s: %s %.17g vs %.17g (tolerance %g)", tag, names[k],
+                      va, vb, tol);
+    }
+    json_decref(ra);
+    json_decref(rb);
+}

@@ -40,6 +40,10 @@ double thb_metric(json_t *res, const char *name);
 /* The values of result.json's series `name` (an object's "values" or the
  * array itself; NULL when absent). */
 json_t *thb_series_values(json_t *res, const char *name);
+/* Metrics of two runs agree to tol absolutely (metrics that are zero in
+ * exact arithmetic, or changes on their own scale), each NULL-ended name. */
+void thb_compare_metrics_abs(const char *a, const char *b, const char *const *names,
+                             double tol, const char *tag);
 /* Some particle changed its rank: the per-rank counts of run `dir` (np
  * ranks) differ from those of the same case at step 0 (`dir_step0`). */
 void thb_assert_ranks_changed(const char *dir, const char *dir_step0, int np);
