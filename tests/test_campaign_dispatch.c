@@ -264,8 +264,18 @@ static pid_t run_until_claimed_ahead(const char *dir, char *ahead_dir, size_t le
     ct_text(db, "SELECT run_dir FROM runs ORDER BY id LIMIT 1 OFFSET 1", ahead_dir, len);
     cr_assert_eq(ct_int(db, "SELECT count(*) FROM leases"), 2);
     sqlite3_close(db);
-    char names[512];
-    listing(ahead_dir, names, sizeof names);
+    /* the claim is committed before its directory is written (runner.c
+     * claim_entry): wait for the directory, not only for the row */
+    char names[512] = "";
+    struct stat sb;
+    for (int i = 0; i < 2000 && stat(ahead_dir, &sb) != 0; i++)
+        usleep(10000);
+    for (int i = 0; i < 2000; i++) {
+        listing(ahead_dir, names, sizeof names);
+        if (names[0])
+            break;
+        usleep(10000);
+    }
     cr_assert_str_eq(names, "case.yaml", "the job claimed ahead was started: %s holds %s",
                      ahead_dir, names);
     return pid;
