@@ -467,7 +467,13 @@ static int claim_body(struct store *st, long long job_id, const char *job_dir,
         return rc;   /* committed all the same: keeps a reaped lease reaped */
     s = q(st, Q_NEXT_ATTEMPT);
     sqlite3_bind_int64(s, 1, job_id);
-    sqlite3_step(s);
+    /* an I/O error here would read as attempt 0: a run row and a
+     * directory no attempt numbering has */
+    if (sqlite3_step(s) != SQLITE_ROW) {
+        rc = db_fail(db, e, "numbering the next attempt");
+        sqlite3_reset(s);
+        return rc;
+    }
     *attempt = sqlite3_column_int(s, 0);
     sqlite3_reset(s);
     launch_attempt_dir(job_dir, *attempt, run_dir, run_dir_len);
