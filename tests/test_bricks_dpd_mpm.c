@@ -118,7 +118,7 @@ static void crossing_case(char *buf, size_t len, const char *output, const char 
  * advances (by half its advance for the middle face, a quarter for the
  * upper one of 4 bricks), while the partners, copies of material points,
  * barely move in the run.  A 12 x 3 x 3-cell bar: 8 planes of DPD
- * particles (144, to 25.48 Å), the material points (288) from 29.12 Å,
+ * particles (144, to 25.48 Å), the material points (288) from 29.11 Å,
  * partners out to 48 Å from the DPD particles (`partner_range`: 13 planes,
  * 234 partners, to 72.79 Å; the default two cutoffs give 6 planes, and no
  * uniform face of bricks at least 17.27 Å wide can then fall among them),

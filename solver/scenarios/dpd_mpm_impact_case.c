@@ -94,7 +94,9 @@
  * and are DPD particles of the bricks; its material points stay whole on
  * every rank (the coupling adds their share of the nodes once), so the
  * means, profiles and probes add the points' share once, after the sums
- * over the ranks; rank 0 writes their snapshots.
+ * over the ranks; rank 0 writes their snapshots.  result.json's parallel
+ * record counts the partners that crossed a brick face during the steps
+ * (partner_migrations, partner_migrations_reference: dpd_mpm_partner_moves).
  *
  * Metrics (besides dpd_impact's wave_speed and its companions,
  * wave_speed_threshold, arrival_time_1/2,
