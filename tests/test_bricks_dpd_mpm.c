@@ -32,7 +32,8 @@
  * one to the same tolerances -- the lookup of the partners' points by id
  * after a migration and their frozen F'(rho) travelling with them, under
  * the interface forces.  (Checked that it can fail: zeroing an arriving
- * partner's frozen F'(rho) moves final positions by 5 Å.)
+ * partner's frozen F'(rho) moves final positions by 5 Å, and the test
+ * fails at the thermo series.)
  */
 #include <criterion/criterion.h>
 #include <jansson.h>
