@@ -22,9 +22,18 @@
  * ranks restarts serially and on 4 (to the same tolerances) and on 2
  * (bitwise); a serial one restarts on 2.  `auto` takes bricks when the DPD
  * part is long enough, else replicated data (the serial run bitwise).
- * No partner crosses a brick face during these runs (the faces move only
- * as the flyer closes the box): the lookup by id after a migration runs
- * at the set-up and after the checkpoint reads only.
+ * In those runs no partner crosses a brick face (the faces stay among
+ * the DPD particles; result.json's parallel.partner_migrations says 0).
+ * partners_cross_brick_faces_on_2_and_4_ranks places the faces among
+ * the partners (partner_crossing_case): the flyer's advance moves the
+ * faces across a plane of partners within the cutoff of the DPD
+ * particles, the solver counts the partners that migrated (must be some:
+ * measured 18 on 2 ranks, 36 on 4), and the runs agree with the serial
+ * one to the same tolerances -- the lookup of the partners' points by id
+ * after a migration and their frozen F'(rho) travelling with them, under
+ * the interface forces.  (Checked that it can fail: zeroing an arriving
+ * partner's frozen F'(rho) moves final positions by 5 Å, and the test
+ * fails at the thermo series.)
  */
 #include <criterion/criterion.h>
 #include <jansson.h>
@@ -55,8 +64,10 @@
  * beyond; the all-DPD comparison run and both reference runs make four
  * coupled simulations.  `steps` time steps of 5 fs, the rigid flyer at
  * the default 5 Å/ps. */
-static void concurrent_case(char *buf, size_t len, int cells, double iface, const char *regions,
-                            double monitor, long steps, const char *output, const char *parallel)
+static void concurrent_case_with(char *buf, size_t len, int cells, double iface,
+                                 const char *regions, double monitor, long steps,
+                                 const char *output, const char *parallel,
+                                 const char *impact_extra, const char *concurrent_extra)
 {
     snprintf(buf, len,
              "type: dpd_mpm_impact\nseed: 3\nsystem:\n"
@@ -65,11 +76,19 @@ static void concurrent_case(char *buf, size_t len, int cells, double iface, cons
              "dpd:\n  parameters: cg.yaml\n  timestep: 0.005\n  steps: %ld\n"
              "  initial_temperature: 100\n"
              "impact:\n  regions: %s\n  sample_every: 3\n"
-             "  arrival_threshold: 0.002\n  profile_times: [0.25]\n"
+             "  arrival_threshold: 0.002\n  profile_times: [0.25]\n%s"
              "grid:\n  cell: 4.0\n"
-             "concurrent:\n  dpd: [-10, %g]\n  mpm: [%g, 200]\n  monitor: %g\n"
+             "concurrent:\n  dpd: [-10, %g]\n  mpm: [%g, 200]\n  monitor: %g\n%s"
              "%s%s",
-             cells, steps, regions, iface, iface, monitor, output, parallel);
+             cells, steps, regions, impact_extra, iface, iface, monitor, concurrent_extra, output,
+             parallel);
+}
+
+static void concurrent_case(char *buf, size_t len, int cells, double iface, const char *regions,
+                            double monitor, long steps, const char *output, const char *parallel)
+{
+    concurrent_case_with(buf, len, cells, iface, regions, monitor, steps, output, parallel, "",
+                         "");
 }
 
 /* The bricks case: a 16-cell bar (116 Å), 62 Å of DPD particles -- the
@@ -93,6 +112,31 @@ static void crossing_case(char *buf, size_t len, const char *output, const char 
     concurrent_case(buf, len, 12, 20, "[8.0, 26.0]", 10, 100, output, parallel);
 }
 
+/* Partners that cross brick faces (docs/dpd_mpm.md "Under MPI").  The
+ * bricks are fixed fractions of the flyer run's box, shrink-wrapped at
+ * every list rebuild to the DPD particles, partners and flyer: its low end
+ * is the flyer's back face, so the faces move up the bar as the flyer
+ * advances (by half its advance for the middle face, a quarter for the
+ * upper one of 4 bricks), while the partners, copies of material points,
+ * barely move in the run.  A 12 x 3 x 3-cell bar: 8 planes of DPD
+ * particles (144, to 25.48 Å), the material points (288) from 29.11 Å,
+ * partners out to 48 Å from the DPD particles (`partner_range`: 13 planes,
+ * 234 partners, to 72.79 Å; the default two cutoffs give 6 planes, and no
+ * uniform face of bricks at least 17.27 Å wide can then fall among them),
+ * the 72-particle flyer 0.4 Å off the face (its back at -14.96 Å): the
+ * face of 2 bricks (the middle one of 4) starts at 28.91 Å, 0.2 Å below
+ * the first plane of partners (3.64 Å from the DPD particles: well within
+ * the cutoff, so they carry the interface forces of Eq. (3.1)), the upper
+ * face of 4 bricks at 50.85 Å, 0.1 Å below the partners at 50.95 Å.  No
+ * all-DPD comparison runs (`compare: false`: they have no partners).
+ * 100 steps; 450 DPD particles in the flyer run. */
+static void partner_crossing_case(char *buf, size_t len, const char *parallel)
+{
+    concurrent_case_with(buf, len, 12, 27, "[8.0, 20.0]", 15, 100, OUTPUT, parallel,
+                         "  gap: 0.4\n", "  partner_range: 48\n  compare: false\n");
+}
+#define CROSSING_N 450
+#define CROSSING_PARTNERS 234
 
 static const char *const series_cols[] = {"pe_eV",  "ke_eV",     "uint_eV", "etotal_eV",
                                           "temp_K", "press_GPa", NULL};
@@ -137,6 +181,18 @@ static void assert_measured(const char *dir)
     json_decref(r);
 }
 
+/* result.json's parallel.partner_migrations of a brick run: the flyer
+ * run's partners that a migration moved to another rank during the steps. */
+static long partner_migrations(const char *dir)
+{
+    json_t *r = thb_result(dir);
+    json_t *v = json_object_get(json_object_get(r, "parallel"), "partner_migrations");
+    cr_assert(json_is_integer(v), "%s: no parallel.partner_migrations", dir);
+    long n = (long)json_integer_value(v);
+    json_decref(r);
+    return n;
+}
+
 Test(bricks_dpd_mpm, concurrent_impact_matches_serial_on_1_2_4_ranks, .timeout = 900)
 {
     th_write_temp(2, "cg.yaml", PARAMS);
@@ -146,6 +202,52 @@ Test(bricks_dpd_mpm, concurrent_impact_matches_serial_on_1_2_4_ranks, .timeout =
     static const int nps[] = {1, 2, 4};
     thb_matches_serial(path, "conc", nps, 3, BRICKS_N, assert_measured, compare_runs,
                        "concurrent impact");
+    /* here no partner crosses a face (the faces stay among the DPD
+     * particles; partners_cross_brick_faces_on_2_and_4_ranks below has
+     * crossings): the count says 0, it is not a constant */
+    for (int k = 0; k < 3; k++) {
+        char dk[600];
+        snprintf(dk, sizeof dk, "%s/conc-%d", th_temp_dir(), nps[k]);
+        cr_assert_eq(partner_migrations(dk), 0, "%s", dk);
+    }
+}
+
+/* Partners cross brick faces during the run (partner_crossing_case): on 2
+ * and 4 ranks the solver counts the migrations of the flyer run's
+ * partners (must be some: the lookup of their points by id after a
+ * migration and their frozen F'(rho) travelling with them are then used
+ * with interface forces acting), and the thermo series, every metric and
+ * series, the last snapshots of the DPD particles and the material points
+ * and the final state agree with the serial run to REL (energy changes on
+ * the total energy's scale), as in the tests above. */
+Test(bricks_dpd_mpm, partners_cross_brick_faces_on_2_and_4_ranks, .timeout = 900)
+{
+    th_write_temp(2, "cg.yaml", PARAMS);
+    char yaml[4096];
+    partner_crossing_case(yaml, sizeof yaml, "parallel: {decomposition: bricks}\n");
+    const char *path = th_write_temp(0, "pcross.yaml", yaml);
+    char d0[600], dk[600];
+    snprintf(d0, sizeof d0, "%s/pcross-serial", th_temp_dir());
+    thb_must_run(path, 0, d0, NULL);
+    json_t *r = thb_result(d0);
+    cr_assert_gt(thb_metric(r, "displacement_max_1"), 0.05, "no wave at region 1");
+    cr_assert_eq(thb_metric(r, "partners"), CROSSING_PARTNERS);
+    cr_assert_eq(thb_metric(r, "material_points"), 288);
+    cr_assert_null(json_object_get(r, "parallel"), "a serial run has no parallel record");
+    json_decref(r);
+    static const int nps[] = {2, 4};
+    for (int k = 0; k < 2; k++) {
+        snprintf(dk, sizeof dk, "%s/pcross-%d", th_temp_dir(), nps[k]);
+        thb_must_run(path, nps[k], dk, NULL);
+        long moved = partner_migrations(dk);
+        /* measured: 18 on 2 ranks (the first plane of partners at the
+         * rebuild of step 19), 36 on 4 (that plane and the one at 50.95 Å) */
+        cr_assert_gt(moved, 0, "%s: no partner crossed a brick face on %d ranks", dk, nps[k]);
+        char tag[128];
+        snprintf(tag, sizeof tag, "partners crossing on %d ranks", nps[k]);
+        compare_runs(d0, dk, tag);
+        thb_check_parallel_record(dk, nps[k], CROSSING_N);
+    }
 }
 
 /* The wave crosses the interface into the material points within the

@@ -121,6 +121,7 @@ void dpd_mpm_free(struct dpd_mpm *c)
     mpm_free(&c->m);
     free(c->partner_point);
     free(c->point_by_id);
+    free(c->partner_was_here);
     free(c->f);
     free(c->w);
     free(c->vprev);
@@ -157,6 +158,17 @@ static int cmp_id(const void *a, const void *b)
 {
     const int64_t *x = a, *y = b;
     return (x[0] > y[0]) - (x[0] < y[0]);
+}
+
+/* Material point index of a partner id, or -1. */
+static long point_of(const struct dpd_mpm *c, int64_t partner_id)
+{
+    int64_t want[2] = {partner_id - c->partner_id0, 0};
+    const int64_t *hit = c->m.pts.n && c->point_by_id
+                             ? bsearch(want, c->point_by_id, (size_t)c->m.pts.n,
+                                       2 * sizeof(int64_t), cmp_id)
+                             : NULL;
+    return hit ? (long)hit[1] : -1;
 }
 
 /* Material point index of every partner, from its id (the points' table
@@ -371,6 +383,43 @@ static double g2p_carried(struct dpd_mpm *c, double dt)
     return v2max;
 }
 
+/* Bricks, the partner-crossing diagnostic (dpd_mpm_partner_moves): mark
+ * the points whose partner this rank owns before the step's migration, by
+ * the partners' ids (the counts and the map of the last step may be stale
+ * after a checkpoint read) ... */
+static int mark_partners_here(struct dpd_mpm *c, struct err *e)
+{
+    const struct particles *p = c->d->p;
+    if (!c->partner_was_here &&
+        !(c->partner_was_here = calloc((size_t)c->m.pts.n, sizeof *c->partner_was_here)))
+        return err_nomem(e, "partner crossings");
+    for (int i = 0; i < p->n_owned; i++) {
+        long q = (p->mask[i] & c->partner_bit) ? point_of(c, p->id[i]) : -1;
+        if (q >= 0)
+            c->partner_was_here[q] = 1;
+    }
+    return 0;
+}
+
+/* ... and after it count the partners this rank holds that another rank
+ * held before: the partners that crossed a brick face into this brick. */
+static void count_partner_arrivals(struct dpd_mpm *c)
+{
+    for (long k = 0; k < c->npartner; k++)
+        c->partner_arrivals += !c->partner_was_here[c->partner_point[k]];
+    memset(c->partner_was_here, 0, (size_t)c->m.pts.n);
+}
+
+long dpd_mpm_partner_moves(const struct dpd_mpm *c)
+{
+    const struct halo *h = c->d->p->halo;
+    if (!h)
+        return 0;
+    double n = (double)c->partner_arrivals;
+    halo_sum(h, &n, 1);
+    return lround(n);
+}
+
 int dpd_mpm_step_forces(struct dpd_mpm *c, struct err *e)
 {
     struct dpd *d = c->d;
@@ -381,9 +430,11 @@ int dpd_mpm_step_forces(struct dpd_mpm *c, struct err *e)
     int rc = 0;
     /* bricks: particles may migrate at this step's rebuild; the classes
      * come back in order (dpd_fix_class_order) with new counts */
-    if (h && !(rc = dpd_refresh_neighbours(d, e)) && !(rc = count_classes(c, e)) &&
-        c->m.pts.n > 0)
-        rc = map_partners(c, e);   /* the brick's partners, by id */
+    if (h && c->m.pts.n > 0)
+        rc = mark_partners_here(c, e);
+    if (!rc && h && !(rc = dpd_refresh_neighbours(d, e)) && !(rc = count_classes(c, e)) &&
+        c->m.pts.n > 0 && !(rc = map_partners(c, e)))   /* the brick's partners, by id */
+        count_partner_arrivals(c);
     if (!rc)
         rc = reserve(c, e);
     if (rc)
@@ -621,17 +672,6 @@ void dpd_mpm_momentum(const struct dpd_mpm *c, double P[3])
 }
 
 /* --- partners ------------------------------------------------------------------ */
-
-/* Material point index of a partner id, or -1. */
-static long point_of(const struct dpd_mpm *c, int64_t partner_id)
-{
-    int64_t want[2] = {partner_id - c->partner_id0, 0};
-    const int64_t *hit = c->m.pts.n && c->point_by_id
-                             ? bsearch(want, c->point_by_id, (size_t)c->m.pts.n,
-                                       2 * sizeof(int64_t), cmp_id)
-                             : NULL;
-    return hit ? (long)hit[1] : -1;
-}
 
 int dpd_mpm_frozen_take(struct dpd_mpm *c, double **byp, int *at, struct err *e)
 {

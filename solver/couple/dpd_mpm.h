@@ -114,6 +114,12 @@ struct dpd_mpm {
     int64_t *point_by_id;       /* 2 per material point: (id, index), by id (the points
                                    keep their order; on bricks the partners are found
                                    by id after every migration) */
+    unsigned char *partner_was_here;   /* bricks: 1 per material point, scratch of
+                                   dpd_mpm_step_forces: its partner was this rank's
+                                   before the step's migration */
+    long partner_arrivals;      /* bricks: partners that a migration of a step brought to
+                                   this rank (from another brick), since the set-up or the
+                                   checkpoint read: a diagnostic (dpd_mpm_partner_moves) */
     struct mpm_extra extra;     /* the carried DPD particles as the grid sees them */
     double *f;                  /* 3 per owned DPD particle: pair forces of the step (eV/Å) */
     double *w;                  /* 3 per owned DPD particle: centred grid velocity (Å/ps) */
@@ -180,6 +186,16 @@ int dpd_mpm_step_forces(struct dpd_mpm *c, struct err *e);
 int dpd_mpm_step_update(struct dpd_mpm *c, struct err *e);
 
 void dpd_mpm_energy(const struct dpd_mpm *c, struct dpd_mpm_energy *en);
+
+/* Bricks: how many times a partner crossed a brick face during the steps
+ * since the set-up (or a checkpoint read) -- partners that the migration
+ * at a step's list rebuild moved to another rank, summed over the ranks
+ * (collective); 0 serially and replicated.  The set-up's distribution and
+ * a checkpoint read's are not migrations of a step and are not counted.
+ * A diagnostic: it proves that the lookup of the partners' points by id
+ * after a migration (and their frozen F'(rho) travelling with them) was
+ * exercised. */
+long dpd_mpm_partner_moves(const struct dpd_mpm *c);
 
 /* Total momentum of the DPD particles (not partners) and the material
  * points (amu Å/ps). */

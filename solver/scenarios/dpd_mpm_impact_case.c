@@ -94,7 +94,9 @@
  * and are DPD particles of the bricks; its material points stay whole on
  * every rank (the coupling adds their share of the nodes once), so the
  * means, profiles and probes add the points' share once, after the sums
- * over the ranks; rank 0 writes their snapshots.
+ * over the ranks; rank 0 writes their snapshots.  result.json's parallel
+ * record counts the partners that crossed a brick face during the steps
+ * (partner_migrations, partner_migrations_reference: dpd_mpm_partner_moves).
  *
  * Metrics (besides dpd_impact's wave_speed and its companions,
  * wave_speed_threshold, arrival_time_1/2,
@@ -1050,8 +1052,19 @@ static int impact_report(void *state, struct sim *s, int rc, struct err *e)
         return rc;
     c->out_open = 0;
     int rc2 = dpd_output_end(&c->out, run, e);
-    if (c->halo[0])
+    if (c->halo[0]) {
         decomp_record_write(run, c->halo[0], d->p);
+        /* the partners that crossed a brick face during the steps, in the
+         * flyer run and its reference run (a diagnostic: the lookup of
+         * their points by id after a migration ran; collective) */
+        static const char *const key[2] = {"partner_migrations", "partner_migrations_reference"};
+        json_t *par = json_object_get(run->result.root, "parallel");
+        for (int r = 0; c->concurrent && r < 2 && c->r[r].has_c; r++) {
+            long moves = dpd_mpm_partner_moves(&c->r[r].c);
+            if (par)
+                json_object_set_new(par, key[r], json_integer((json_int_t)moves));
+        }
+    }
     if (!rc && !rc2)   /* bricks: gathered on rank 0 */
         rc2 = final_state_write(run, c->halo[0], d->p, &d->box, d->step, d->time, e);
     return rc ? rc : rc2;
