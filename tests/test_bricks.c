@@ -325,6 +325,16 @@ Test(bricks, bad_grid_names_file_and_line, .timeout = 300)
     cr_assert(strstr(out, "badbal.yaml:8:") && strstr(out, "parallel.balance") &&
                   strstr(out, "shift"),
               "%s", out);
+    /* a case type that keeps equal bricks refuses the key instead of
+     * ignoring it (dpd: the faces never move) */
+    path = th_write_temp(7, "dpdbal.yaml",
+                         "type: dpd\ndpd:\n  parameters: cu_cg.params\n"
+                         "parallel:\n  decomposition: bricks\n  balance: shift\n");
+    const char *a5[] = {th_solver(), "check", path, NULL};
+    cr_assert_eq(th_run(a5, out, sizeof out), 2, "%s", out);
+    cr_assert(strstr(out, "dpdbal.yaml:6:") && strstr(out, "parallel.balance") &&
+                  strstr(out, "'dpd' does not move its brick faces"),
+              "%s", out);
 }
 
 /* A case type that is not decomposed runs whole on every rank, and says so */

@@ -64,6 +64,14 @@ int case_resolve(struct case_doc *cd, int shallow, int nthreads, const struct pa
                             "case type '%s' does not write checkpoints yet (it does not run on "
                             "the engine, engine/sim.h)",
                             out->type->name);
+    /* a key that a case type would ignore is refused: the user asked for
+     * moved faces and would get equal bricks without a word */
+    if (out->common.parallel.balance != BALANCE_NONE && !out->type->balances)
+        return cfg_error_at(&cfg, "parallel.balance",
+                            "case type '%s' does not move its brick faces: balance: shift "
+                            "runs with md, cluster_impact, mpm and the handshake cases "
+                            "(docs/parallel.md); remove the key",
+                            out->type->name);
     out->common.seed = (uint64_t)seed;
     out->common.nthreads = nthreads;
     out->common.par = par;

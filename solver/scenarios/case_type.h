@@ -48,6 +48,9 @@ struct case_type {
     /* Splits its particles over the ranks in bricks (`parallel` section);
      * other types run replicated data under mpirun. */
     int decomposes;
+    /* Moves its brick faces with `parallel.balance: shift`; the other
+     * types refuse the key rather than ignore it. */
+    int balances;
 };
 
 extern const struct case_type *const case_types[];   /* NULL-terminated */

@@ -324,4 +324,5 @@ const struct case_type handshake_packet_case_type = {
     packet_read, packet_run, hs_case_destroy, hs_case_particles, hs_case_steps,
     .checkpoints = 1,
     .decomposes = 1,
+    .balances = 1,
 };

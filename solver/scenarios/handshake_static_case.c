@@ -218,4 +218,5 @@ const struct case_type handshake_static_case_type = {
     static_read, static_run, hs_case_destroy, hs_case_particles, hs_case_steps,
     .checkpoints = 1,
     .decomposes = 1,
+    .balances = 1,
 };

@@ -377,4 +377,5 @@ const struct case_type handshake_thermal_case_type = {
     thermal_read, thermal_run, thermal_destroy, hs_case_particles, hs_case_steps,
     .checkpoints = 0,   /* the block sums are not stored: docs/handshake.md, Limits */
     .decomposes = 1,    /* the MD on bricks, the MPM whole (docs/parallel.md) */
+    .balances = 1,
 };

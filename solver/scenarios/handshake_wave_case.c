@@ -503,4 +503,5 @@ const struct case_type handshake_wave_case_type = {
     wave_read, wave_run, wave_destroy, hs_case_particles, hs_case_steps,
     .checkpoints = 1,
     .decomposes = 1,
+    .balances = 1,
 };

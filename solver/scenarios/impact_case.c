@@ -843,4 +843,5 @@ const struct case_type impact_case_type = {
     impact_read, impact_run, impact_destroy, impact_particles, NULL,
     .checkpoints = 1,
     .decomposes = 1,
+    .balances = 1,
 };

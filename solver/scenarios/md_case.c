@@ -362,4 +362,5 @@ const struct case_type md_case_type = {
     md_case_read, md_case_run, md_case_destroy, md_case_particles, md_case_steps,
     .checkpoints = 1,
     .decomposes = 1,
+    .balances = 1,
 };

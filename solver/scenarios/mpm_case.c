@@ -319,4 +319,5 @@ const struct case_type mpm_case_type = {
     mpm_type_read, mpm_type_run, mpm_type_destroy, mpm_type_particles, mpm_type_steps,
     .checkpoints = 1,
     .decomposes = 1,
+    .balances = 1,
 };
