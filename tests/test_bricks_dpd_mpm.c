@@ -94,7 +94,7 @@ static void concurrent_case(char *buf, size_t len, int cells, double iface, cons
 
 /* The bricks case: a 25-cell bar (182 Å), 125 Å of DPD particles -- the
  * DPD halo (with the partners, 33.5 Å deep into the points, and the
- * flyer) is then 139.1 Å long, enough for 8 bricks of the 17.3 Å
+ * flyer) is then 143.6 Å long, enough for 8 bricks of the 17.3 Å
  * interaction range along the bar (its 16 Å cross-section takes one
  * brick; a 24-cell bar with 120 Å of DPD particles gives 136.3 Å, too
  * short for 8); regions 8 and 26 Å from the face (both reached in the
