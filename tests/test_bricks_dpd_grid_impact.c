@@ -17,7 +17,8 @@
  * the front probes), and the last snapshot (positions, velocities,
  * forces, DPDE internal energies, matched by id) and the final state
  * (output.final_state, gathered on rank 0) agree with the serial run
- * to 1e-10 relative on 1, 2 and 4 ranks; the energy-change metrics, being
+ * to 1e-10 relative on 1, 2, 4 and 8 ranks (8 bricks along the bar,
+ * oversubscribed); the energy-change metrics, being
  * differences of nearly equal total energies, on the total energy's scale;
  * the CNA counts exactly.  A checkpoint written on 2 ranks restarts
  * serially and on 4 (to the same tolerances) and on 2 (bitwise).
@@ -32,7 +33,7 @@
 #include "helpers/th_bricks.h"
 
 #define REL 1e-10
-#define BAR_N 432
+#define BAR_N 720
 #define FLYER_N 72
 #define PARTICLE_MASS 508.368   /* amu */
 #define FLYER_VELOCITY 5.0      /* Å/ps, the default */
@@ -41,16 +42,19 @@
     "element: Cu\nepsilon: 0.093945\nc: 37.8271\nn: 9\nm: 6\na: 7.23\ncutoff: 10.845\n"          \
     "mass: 508.368\natoms_per_particle: 8\nlattice_constant: 7.2786\n"
 
-/* The 12 x 3 x 3-cell bar (432 particles, 87 Å, free surfaces) at 100 K,
+/* The 20 x 3 x 3-cell bar (720 particles, 146 Å, free surfaces) at 100 K,
  * DPDE on a 4 Å grid, hit by a free 4-plane flyer (72 particles) at
  * 5 Å/ps, with the reference run; regions 6 and 14 Å from the face (the
  * wave reaches both within the 0.5 ps), a profile at 0.25 ps, CNA at the
- * snapshots: 100 steps of 5 fs. */
+ * snapshots: 100 steps of 5 fs.  20 cells so that the DPD halo's box
+ * (139.9 Å along the bar with the flyer) takes 8 bricks of the 17.27 Å
+ * interaction range; 12 cells (81.7 Å) took only 4, and the 16 Å
+ * cross-section takes one brick. */
 static void bar_case(char *buf, size_t len, const char *output, const char *parallel)
 {
     snprintf(buf, len,
              "type: dpd_grid_impact\nseed: 3\nsystem:\n"
-             "  lattice: {style: fcc, a: 7.2786, cells: [12, 3, 3]}\n"
+             "  lattice: {style: fcc, a: 7.2786, cells: [20, 3, 3]}\n"
              "  element: Cu\n  boundary: [free, free, free]\n"
              "dpd:\n  parameters: cg.yaml\n  timestep: 0.005\n  steps: 100\n"
              "  initial_temperature: 100\n"
@@ -105,15 +109,20 @@ static void assert_impact(const char *dir)
     json_decref(r);
 }
 
-Test(bricks_dpd_grid_impact, matches_serial_on_1_2_4_ranks, .timeout = 900)
+Test(bricks_dpd_grid_impact, matches_serial_on_1_2_4_8_ranks, .timeout = 900)
 {
     th_write_temp(2, "cg.yaml", PARAMS);
     char yaml[2048];
     bar_case(yaml, sizeof yaml, OUTPUT, "parallel: {decomposition: bricks}\n");
     const char *path = th_write_temp(0, "gbar.yaml", yaml);
-    static const int nps[] = {1, 2, 4};
-    thb_matches_serial(path, "gbar", nps, 3, BAR_N + FLYER_N, assert_impact, compare_runs,
+    static const int nps[] = {1, 2, 4, 8};
+    thb_matches_serial(path, "gbar", nps, 4, BAR_N + FLYER_N, assert_impact, compare_runs,
                        "grid impact");
+    for (int k = 0; k < 4; k++) {   /* bricks along the bar, on 8 ranks too */
+        char dk[600];
+        snprintf(dk, sizeof dk, "%s/gbar-%d", th_temp_dir(), nps[k]);
+        thb_assert_bricks(dk, nps[k], (int[3]){nps[k], 1, 1});
+    }
 }
 
 /* Without a `parallel` section (auto) 2 ranks take bricks, with no note
@@ -140,7 +149,7 @@ Test(bricks_dpd_grid_impact, short_bar_replicates_under_auto, .timeout = 600)
     th_write_temp(2, "cg.yaml", PARAMS);
     char yaml[4096];
     bar_case(yaml, sizeof yaml, "output: {thermo_every: 10}\n", "");
-    char *cells = strstr(yaml, "cells: [12, 3, 3]");
+    char *cells = strstr(yaml, "cells: [20, 3, 3]");
     cr_assert_not_null(cells);
     memcpy(cells, "cells: [ 8, 3, 3]", 17);
     thb_short_replicates(th_write_temp(0, "gshort.yaml", yaml), 4, "gshort");

@@ -15,7 +15,8 @@
  * steps the thermo series, every metric and series of result.json, the
  * last snapshot of the DPD particles and of the material points (by id)
  * and the final state (gathered on rank 0, by id) agree with the serial
- * run to 1e-10 relative on 1, 2 and 4 ranks; the energy-change metrics,
+ * run to 1e-10 relative on 1, 2, 4 and 8 ranks (8 bricks along the bar,
+ * oversubscribed); the energy-change metrics,
  * differences of nearly equal total energies, on the total energy's
  * scale (1e-10 of it), the total momentum's change (round-off) on the
  * flyer's momentum's; the CNA counts exactly.  A checkpoint written on 2
@@ -91,17 +92,19 @@ static void concurrent_case(char *buf, size_t len, int cells, double iface, cons
                          "");
 }
 
-/* The bricks case: a 16-cell bar (116 Å), 62 Å of DPD particles -- the
+/* The bricks case: a 25-cell bar (182 Å), 125 Å of DPD particles -- the
  * DPD halo (with the partners, 33.5 Å deep into the points, and the
- * reference run without the flyer) long enough for 4 bricks of the 17.3 Å
- * interaction range; regions 8 and 26 Å from the face (both reached in
- * the 0.5 ps).  504 DPD particles in the flyer run (324 of the target,
- * the 72 of the flyer, 108 partners), 252 material points. */
+ * flyer) is then 143.6 Å long, enough for 8 bricks of the 17.3 Å
+ * interaction range along the bar (its 16 Å cross-section takes one
+ * brick; a 24-cell bar with 120 Å of DPD particles gives 136.3 Å, too
+ * short for 8); regions 8 and 26 Å from the face (both reached in the
+ * 0.5 ps).  810 DPD particles in the flyer run (630 of the target, the 72
+ * of the flyer, 108 partners), 270 material points. */
 static void bricks_case(char *buf, size_t len, const char *output, const char *parallel)
 {
-    concurrent_case(buf, len, 16, 62, "[8.0, 26.0]", 15, 100, output, parallel);
+    concurrent_case(buf, len, 25, 125, "[8.0, 26.0]", 15, 100, output, parallel);
 }
-#define BRICKS_N 504
+#define BRICKS_N 810
 #define FLYER_N 72
 
 /* The wave across the interface: a 12-cell bar with 20 Å of DPD
@@ -193,22 +196,23 @@ static long partner_migrations(const char *dir)
     return n;
 }
 
-Test(bricks_dpd_mpm, concurrent_impact_matches_serial_on_1_2_4_ranks, .timeout = 900)
+Test(bricks_dpd_mpm, concurrent_impact_matches_serial_on_1_2_4_8_ranks, .timeout = 900)
 {
     th_write_temp(2, "cg.yaml", PARAMS);
     char yaml[4096];
     bricks_case(yaml, sizeof yaml, OUTPUT, "parallel: {decomposition: bricks}\n");
     const char *path = th_write_temp(0, "conc.yaml", yaml);
-    static const int nps[] = {1, 2, 4};
-    thb_matches_serial(path, "conc", nps, 3, BRICKS_N, assert_measured, compare_runs,
+    static const int nps[] = {1, 2, 4, 8};
+    thb_matches_serial(path, "conc", nps, 4, BRICKS_N, assert_measured, compare_runs,
                        "concurrent impact");
     /* here no partner crosses a face (the faces stay among the DPD
      * particles; partners_cross_brick_faces_on_2_and_4_ranks below has
      * crossings): the count says 0, it is not a constant */
-    for (int k = 0; k < 3; k++) {
+    for (int k = 0; k < 4; k++) {
         char dk[600];
         snprintf(dk, sizeof dk, "%s/conc-%d", th_temp_dir(), nps[k]);
         cr_assert_eq(partner_migrations(dk), 0, "%s", dk);
+        thb_assert_bricks(dk, nps[k], (int[3]){nps[k], 1, 1});   /* all along the bar */
     }
 }
 

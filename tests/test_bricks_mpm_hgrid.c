@@ -10,7 +10,8 @@
  * the serial one to round-off: over 100 steps the thermo series, the final
  * metrics, the points of the last snapshot matched by id (the MPM case's
  * final state: it has no output.final_state) and the nodes of the last
- * grid snapshot agree to REL relative.
+ * grid snapshot agree to REL relative, on 1, 2, 4 and 8 ranks
+ * (oversubscribed).
  */
 #include <criterion/criterion.h>
 #include <math.h>
@@ -29,7 +30,9 @@
  * in x, y and z beyond x = 0.10 m: block A straddles the level boundary
  * (hanging nodes at x = 0.10 m), block B sits on coarse cells.  The bricks
  * of 2 and 4 ranks (cuts at finest cells 13, and 7, 13, 20) cut the coarse
- * cells and the impact zone, and the points cross them.  A rigid wall W
+ * cells and the impact zone, and the points cross them; 8 ranks take a
+ * 4 x 1 x 2 grid (the planner's: bricks at least 4 finest cells wide),
+ * cutting the blocks across z as well.  A rigid wall W
  * (its nodes' aux is reduced as a maximum) sits on a rank of its own on
  * 4 ranks.  `parallel` is appended by each test. */
 static const char *const hgrid_yaml =
@@ -100,9 +103,9 @@ static void measured(const char *dir)
     cr_assert_lt(de, 0.05, "energy change %g", de);
 }
 
-/* 1 (bricks asked for), 2 and 4 ranks against the serial run; the points
- * changed ranks over the 100 steps. */
-Test(bricks_mpm_hgrid, impact_matches_serial_on_1_2_4_ranks, .timeout = 900)
+/* 1 (bricks asked for), 2, 4 and 8 ranks against the serial run, each on
+ * bricks; the points changed ranks over the 100 steps on 4 and 8. */
+Test(bricks_mpm_hgrid, impact_matches_serial_on_1_2_4_8_ranks, .timeout = 900)
 {
     char yaml[4096];
     snprintf(yaml, sizeof yaml,
@@ -110,19 +113,26 @@ Test(bricks_mpm_hgrid, impact_matches_serial_on_1_2_4_ranks, .timeout = 900)
              "parallel: {decomposition: bricks}\n",
              hgrid_yaml);
     const char *path = th_write_temp(0, "hgrid.yaml", yaml);
-    static const int nps[] = {1, 2, 4};
-    thb_matches_serial(path, "hgrid", nps, 3, NPOINTS, measured, compare_run,
+    static const int nps[] = {1, 2, 4, 8};
+    thb_matches_serial(path, "hgrid", nps, 4, NPOINTS, measured, compare_run,
                        "two-level impact");
-    /* the counts per rank at step 0 and at step 100 on 4 ranks differ */
-    char yaml0[4096], d4[600], d40[600];
+    char yaml0[4096], dk[600], dk0[600];
+    for (int k = 0; k < 4; k++) {
+        snprintf(dk, sizeof dk, "%s/hgrid-%d", th_temp_dir(), nps[k]);
+        thb_assert_bricks(dk, nps[k], NULL);
+    }
+    /* the counts per rank at step 0 and at step 100 on 4 and 8 ranks differ */
     snprintf(yaml0, sizeof yaml0, "%s", yaml);
     char *st = strstr(yaml0, "steps: 100");
     cr_assert(st);
     memcpy(st, "steps: 0  ", 10);
-    snprintf(d4, sizeof d4, "%s/hgrid-4", th_temp_dir());
-    snprintf(d40, sizeof d40, "%s/hgrid-4-step0", th_temp_dir());
-    thb_must_run(th_write_temp(1, "hgrid0.yaml", yaml0), 4, d40, NULL);
-    thb_assert_ranks_changed(d4, d40, 4);
+    const char *path0 = th_write_temp(1, "hgrid0.yaml", yaml0);
+    for (int np = 4; np <= 8; np += 4) {
+        snprintf(dk, sizeof dk, "%s/hgrid-%d", th_temp_dir(), np);
+        snprintf(dk0, sizeof dk0, "%s/hgrid-%d-step0", th_temp_dir(), np);
+        thb_must_run(path0, np, dk0, NULL);
+        thb_assert_ranks_changed(dk, dk0, np);
+    }
 }
 
 /* No `parallel` section: `auto` puts the hierarchical grid on bricks (no

@@ -210,6 +210,20 @@ void thb_check_parallel_record(const char *dir, int np, long n)
     json_decref(r);
 }
 
+void thb_assert_bricks(const char *dir, int np, const int *grid)
+{
+    json_t *r = thb_result(dir);
+    json_t *par = json_object_get(r, "parallel");
+    const char *dec = json_string_value(json_object_get(par, "decomposition"));
+    cr_assert(dec && strcmp(dec, "bricks") == 0, "%s: decomposition %s", dir,
+              dec ? dec : "(none)");
+    cr_assert_eq(json_integer_value(json_object_get(par, "ranks")), np, "%s: ranks", dir);
+    for (size_t d = 0; grid && d < 3; d++)
+        cr_assert_eq(json_integer_value(json_array_get(json_object_get(par, "grid"), d)),
+                     grid[d], "%s: grid[%zu]", dir, d);
+    json_decref(r);
+}
+
 /* mkdir dir, copy file from into to. */
 int thb_mkdir_copy(const char *from, const char *dir, const char *to)
 {

@@ -151,4 +151,9 @@ void thb_short_replicates(const char *path, int np, const char *stem);
  * imbalance their max over mean, a grid of np bricks. */
 void thb_check_parallel_record(const char *dir, int np, long n);
 
+/* A run in dir went on bricks: result.json's parallel.decomposition is
+ * "bricks" on np ranks, and, when grid is not NULL, its brick grid is
+ * grid[0] x grid[1] x grid[2]. */
+void thb_assert_bricks(const char *dir, int np, const int *grid);
+
 #endif
