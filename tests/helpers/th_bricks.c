@@ -328,12 +328,7 @@ void thb_must_run_auto_bricks(const char *path, int np, const char *dir)
     static char out[16384];
     cr_assert_eq(thb_run(path, np, dir, NULL, out, sizeof out), 0, "%s", out);
     cr_assert_null(strstr(out, "not decomposed"), "%s", out);
-    json_t *r = thb_result(dir);
-    const char *dec = json_string_value(
-        json_object_get(json_object_get(r, "parallel"), "decomposition"));
-    cr_assert(dec && strcmp(dec, "bricks") == 0, "%s: decomposition %s", dir,
-              dec ? dec : "(none)");
-    json_decref(r);
+    thb_assert_bricks(dir, np, NULL);
 }
 
 void thb_read_text(const char *dir, const char *name, char *buf, size_t len)
