@@ -54,7 +54,7 @@ static const char *const hs_yaml =
     "md: {timestep: 0.001, steps: 100}\n"
     "analysis: {every: 20, structure: {method: fixed}}\n"
     "output: {thermo_every: 10, snapshot_every: 50%s}\n"
-    "parallel: {decomposition: bricks}\n";
+    "parallel: {decomposition: bricks%s}\n";
 
 static const char *const thermo_cols[] = {"pe_eV",   "ke_eV",   "etotal_eV", "temp_K",
                                           "press_GPa", "pxx_GPa", "pyy_GPa",   "pzz_GPa",
@@ -96,12 +96,19 @@ static const char *const hs_thermal =
     "    elastic: {c11: 164.20, c12: 119.25, c44: 68.27}\n"
     "    thermal: {damping_time: 0.1, coarse_cell: 1, seed: 3}\n";
 
-static const char *write_target(const char *name, int thermal, const char *extra_output)
+/* parallel: extra keys of the parallel section ("" none). */
+static const char *write_target_on(const char *name, int thermal, const char *extra_output,
+                                   const char *parallel)
 {
     static char yaml[4096];
     snprintf(yaml, sizeof yaml, hs_yaml, thermal ? "3.63176" : "3.615",
-             thermal ? hs_thermal : hs_athermal, extra_output);
+             thermal ? hs_thermal : hs_athermal, extra_output, parallel);
     return th_write_temp(0, name, yaml);
+}
+
+static const char *write_target(const char *name, int thermal, const char *extra_output)
+{
+    return write_target_on(name, thermal, extra_output, "");
 }
 
 static const char *write_case(const char *name, const char *extra_output)
@@ -229,4 +236,40 @@ Test(bricks_handshake, thermal_checkpoint_moves_between_1_and_2_ranks, .timeout 
     const struct thb_restart cases[] = {{m2, 0, "thermal 2 to 1", NULL},
                                         {s1, 2, "thermal 1 to 2", NULL}};
     thb_restarts_match(path, 50, cases, 2, s1, compare_thermal);
+}
+
+/* Bricks across z (grid 1 x 1 x 2): the box's free top shrink-wraps as the
+ * cluster comes down, so the cut moves, and copies of the side bands
+ * migrate to the lower brick while their material points stay on the rank
+ * they were dealt to: those copies' rows come by the all-to-all
+ * (handshake_bricks.h).  The parallel record shows the points divided
+ * over the ranks and such copies; the run matches the serial one, at 0 K
+ * and with the bath at 300 K (which takes the points' velocities from the
+ * same rows). */
+Test(bricks_handshake, copies_apart_from_their_points_match_serial, .timeout = 900)
+{
+    for (int thermal = 0; thermal < 2; thermal++) {
+        const char *path = write_target_on(thermal ? "hs_zt.yaml" : "hs_z.yaml", thermal, "",
+                                           ", grid: [1, 1, 2]");
+        char s1[600], m2[600];
+        serial_and_2_ranks(path, thermal ? "hs-zt" : "hs-z", s1, m2, sizeof s1,
+                           thermal ? compare_thermal : compare_hs);
+        json_t *r = thb_result(m2);
+        json_t *par = json_object_get(r, "parallel");
+        cr_assert_not_null(par);
+        json_t *g = json_object_get(par, "grid");
+        cr_assert_eq(json_integer_value(json_array_get(g, 2)), 2);
+        long remote = (long)json_integer_value(json_object_get(par, "handshake_remote_copies_max"));
+        cr_assert_gt(remote, 0, "no copy's point was on another rank (thermal %d)", thermal);
+        long npts = (long)thb_metric(r, "mpm_points"), sum = 0;
+        json_t *per = json_object_get(par, "mpm_points_per_rank");
+        cr_assert_eq((long)json_array_size(per), 2);
+        for (size_t k = 0; k < 2; k++) {
+            long n = (long)json_integer_value(json_array_get(per, k));
+            cr_assert(n > 0 && n < npts, "rank %zu holds %ld of %ld points", k, n, npts);
+            sum += n;
+        }
+        cr_assert_eq(sum, npts, "points per rank add up to %ld, not %ld", sum, npts);
+        json_decref(r);
+    }
 }

@@ -200,6 +200,15 @@ int decomp_coord(const struct decomp *dc, int d, double x)
     return (int)q;
 }
 
+int decomp_owner(const struct decomp *dc, const double x[3])
+{
+    int c[3];
+    for (int d = 0; d < 3; d++)
+        c[d] = decomp_coord(dc, d, x[d]);
+    /* MPI_Cart_create without reordering: row-major, the last axis fastest */
+    return (c[0] * dc->grid[1] + c[1]) * dc->grid[2] + c[2];
+}
+
 int decomp_owns(const struct decomp *dc, const double x[3])
 {
     for (int d = 0; d < 3; d++)

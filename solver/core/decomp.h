@@ -72,4 +72,8 @@ int decomp_coord(const struct decomp *dc, int d, double x);
 /* 1 when x lies in this rank's brick. */
 int decomp_owns(const struct decomp *dc, const double x[3]);
 
+/* The rank whose brick holds x (positions beyond the box clamp to the
+ * nearest brick, as decomp_coord). */
+int decomp_owner(const struct decomp *dc, const double x[3]);
+
 #endif

@@ -323,3 +323,29 @@ int parallel_scatter_bytes(const struct parallel *par, const void *sbuf, const l
     free(displs);
     return 0;
 }
+
+int parallel_alltoall_int(const struct parallel *par, const int *send, int *recv, struct err *e)
+{
+    (void)e;
+    if (!par || par->size <= 1 || !par->mpi) {
+        recv[0] = send[0];
+        return 0;
+    }
+    MPI_Alltoall(send, 1, MPI_INT, recv, 1, MPI_INT, MPI_COMM_WORLD);
+    return 0;
+}
+
+int parallel_alltoallv_bytes(const struct parallel *par, const void *sbuf, const int *scount,
+                             const int *sdispl, void *rbuf, const int *rcount, const int *rdispl,
+                             struct err *e)
+{
+    (void)e;
+    if (!par || par->size <= 1 || !par->mpi) {
+        if (scount[0] > 0)
+            memcpy((char *)rbuf + rdispl[0], (const char *)sbuf + sdispl[0], (size_t)scount[0]);
+        return 0;
+    }
+    MPI_Alltoallv(sbuf, scount, sdispl, MPI_BYTE, rbuf, rcount, rdispl, MPI_BYTE,
+                  MPI_COMM_WORLD);
+    return 0;
+}

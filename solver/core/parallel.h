@@ -87,4 +87,15 @@ int parallel_bcast_bytes(const struct parallel *par, void *buf, size_t n, struct
 int parallel_scatter_bytes(const struct parallel *par, const void *sbuf, const long *bytes,
                            void *rbuf, struct err *e);
 
+/* recv[r] = what rank r put in its send[me] (one int per pair of ranks). */
+int parallel_alltoall_int(const struct parallel *par, const int *send, int *recv, struct err *e);
+
+/* Blocks of bytes to every rank at once: scount[r] bytes from sbuf +
+ * sdispl[r] go to rank r, which receives them at its rbuf + rdispl[me]
+ * (rcount, rdispl: what each rank sends here, from parallel_alltoall_int).
+ * Serial: the rank's own block is copied. */
+int parallel_alltoallv_bytes(const struct parallel *par, const void *sbuf, const int *scount,
+                             const int *sdispl, void *rbuf, const int *rcount, const int *rdispl,
+                             struct err *e);
+
 #endif

@@ -201,12 +201,17 @@ int hs_sublattice(const struct handshake_layout *L, const double axes[3][3],
 void hs_internal_shift(const struct handshake_layout *L, const double axes[3][3], double zeta,
                        int sublattice, const double F[9], double dx[3]);
 
+/* Doubles in a copy's row (struct handshake's link_row): position x[3]
+ * (where the copy sits: the point's position plus diamond's internal
+ * shift, wrapped), the point's velocity v[3] and its strain energy eint. */
+#define HS_LINK_ROW 7
+
 struct hs_thermal;
 struct hs_bricks;
 struct handshake;
 
 /* Point the MPM's extra set at the n region I rows of xI, vI, mI, sI and
- * volI (serial: this rank's atoms; on bricks: every rank's, in id order). */
+ * volI (this rank's atoms; on bricks the node sums add the others'). */
 void hs_extra_region_i(struct handshake *hs, long n);
 
 struct handshake {
@@ -229,10 +234,15 @@ struct handshake {
     /* MD copies of regions II and III: MD particle -> MPM point */
     long nlink;
     int *link_md;
-    long *link_pt;
+    long *link_pt;             /* the point's index among the points of all ranks */
+    double *link_row;          /* HS_LINK_ROW per copy: its point's row (position where
+                                  the copy goes, velocity, strain energy), refreshed
+                                  after every MPM step (handshake_bricks.h) */
+    long npoints;              /* material points of all ranks (on bricks each rank
+                                  holds its share in mpm.pts) */
     long seen_builds;          /* md->nrebuilds when the index lists were made */
-    struct hs_bricks *bricks;  /* MD on bricks: region I of all ranks (handshake_bricks.h);
-                                  NULL otherwise */
+    struct hs_bricks *bricks;  /* MD on bricks: the points' owners and the copies' rows
+                                  (handshake_bricks.h); NULL otherwise */
     long natoms;               /* MD atoms (core, I and fixed) */
     long counts[6];            /* per enum hs_region: atoms (0, 1, 5) or points */
     long ncopies;              /* MD copies of the lattice-site points of II, III */
@@ -258,8 +268,9 @@ int handshake_create(struct handshake *hs, const struct handshake_layout *L,
 
 /* handshake_create in two halves, for a case on MPI bricks (core/halo.h)
  * that builds the MPM before it knows its brick and its atoms after:
- * handshake_build_mpm is the MPM side (grid, material, every point: the
- * MPM is whole on every rank), handshake_add_particles the MD side over
+ * handshake_build_mpm is the MPM side (grid, material, every point; on
+ * bricks handshake_connect then keeps this rank's share of the points,
+ * handshake_bricks.h), handshake_add_particles the MD side over
  * the case's own atoms in *p.  With a halo, *p holds the rank's atoms,
  * only the copies whose point lies in the rank's brick are appended (ids
  * as in a serial build), and the counts of atoms and copies are the sums
@@ -282,7 +293,8 @@ int handshake_setup(struct handshake *hs, struct md *md, const struct handshake_
 void handshake_md_box(const struct handshake_layout *L, struct box *box);
 
 /* handshake_setup on MPI bricks (core/halo.h; docs/parallel.md, "How the
- * handshake bar cases run on bricks"): the MPM side whole on every rank,
+ * handshake bar cases run on bricks"): the MPM side built whole on every
+ * rank (handshake_connect deals its points out, handshake_bricks.h),
  * the atoms of B whose sites lie in this rank's brick and the copies whose
  * points lie in it (ids of a serial build), md_adopt and md_init over them
  * (the box of handshake_md_box; with `balance` the cuts shifted to even
@@ -314,8 +326,10 @@ int handshake_crystal_from_potential(struct potential *pot, const char *element,
                                      struct err *e);
 
 /* Tie the handshake to the md that now owns the particles: freeze the
- * copies, switch on per-atom virials, keep the particle order, find the
- * index lists and attach region I to the MPM; recomputes the forces. */
+ * copies, switch on per-atom virials, keep the particle order, on bricks
+ * keep this rank's share of the material points (handshake_bricks.h),
+ * find the index lists and attach region I to the MPM; recomputes the
+ * forces.  Collective on bricks. */
 int handshake_connect(struct handshake *hs, struct md *md, struct err *e);
 
 /* One coupled step (see the top of this file): MPM from t to t+dt, regions
@@ -342,6 +356,9 @@ void handshake_finish_step(struct handshake *hs);
  * at the next step, as the MD rebuilds its lists (md->rebuild_next).  The
  * cluster-impact boundary can use these with the MD model's checkpoint. */
 int handshake_checkpoint_write(const struct handshake *hs, struct ckpt *ck, const char *group);
+/* Before rank 0 writes, on every rank (collective on bricks: the points of
+ * every rank to rank 0, released by the sync after the write). */
+int handshake_checkpoint_collect(struct handshake *hs, struct err *e);
 int handshake_checkpoint_read(struct handshake *hs, struct ckpt *ck, const char *group);
 void handshake_checkpoint_sync(struct handshake *hs);
 

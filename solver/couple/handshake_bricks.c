@@ -1,36 +1,95 @@
-/* handshake_bricks: region I of every rank to the whole MPM on every rank
- * (handshake_bricks.h). */
+/* handshake_bricks: the handshake's material points dealt out over the
+ * ranks of the MD's bricks, the grid whole (handshake_bricks.h). */
 #include "couple/handshake_bricks.h"
 
+#include <limits.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "core/halo.h"
 #include "core/parallel.h"
-
-enum { ROW = 12 };   /* x[3], v[3], stress[6] */
+#include "mpm/mpm_bricks.h"
 
 struct hs_bricks {
-    long nall;         /* region I atoms of all ranks */
-    long *pos;         /* rank 0: id-order place of each gathered row */
-    double *rows;      /* ROW x nall: the rows of all ranks in id order */
-    double *send;      /* ROW x hs->nI: this rank's rows */
+    struct mpm_bricks *mb;    /* the MPM step: grid whole, fixed owners */
+    const struct parallel *par;
+    int rank, nranks;
+    long npoints;             /* points of all ranks */
+    int32_t *owner;           /* per point of all ranks: the rank that holds it */
+    int32_t *local;           /* per point of all ranks: its index here, -1 elsewhere */
+    /* the rows of the copies whose point another rank holds */
+    int *scount, *sdispl;     /* bytes to each rank (rows of my points) */
+    int *rcount, *rdispl;     /* bytes from each rank (rows of my copies) */
+    int32_t *send_pt;         /* my points whose rows go out, grouped by rank */
+    long nsend;
+    long *recv_link;          /* the link of each row that comes in, grouped by rank */
+    long nrecv;
+    int any_remote;           /* some rank has such a copy (else no all-to-all) */
+    long remote_max;          /* the most such copies of all ranks at any rebuild */
+    double *sbuf, *rbuf;
+    struct mpm_points gathered;   /* rank 0, from a checkpoint's collect to its sync */
+    int have_gathered;
 };
 
-struct id_mass {
-    int64_t id;
-    double mass;
-};
-
-static int by_id(const void *a, const void *b)
+static const struct halo *halo_of(const struct handshake *hs)
 {
-    int64_t x = ((const struct id_mass *)a)->id, y = ((const struct id_mass *)b)->id;
-    return (x > y) - (x < y);
+    return hs->md->halo;
 }
 
-static const struct parallel *par_of(const struct handshake *hs)
+int hs_bricks_distribute(struct handshake *hs, struct err *e)
 {
-    return hs->md->halo->dc.par;
+    const struct halo *h = halo_of(hs);
+    struct mpm *m = &hs->mpm;
+    long n = m->pts.n;   /* every rank built every point */
+    struct hs_bricks *b = calloc(1, sizeof *b);
+    hs->bricks = b;
+    unsigned char *keep = malloc((size_t)(n > 0 ? n : 1));
+    int rc = b && keep ? 0 : err_nomem(e, "handshake bricks");
+    if (b) {
+        b->par = h->dc.par;
+        b->rank = b->par ? b->par->rank : 0;
+        b->nranks = b->par ? b->par->size : 1;
+        b->npoints = n;
+        size_t nr = (size_t)b->nranks;
+        b->owner = malloc((size_t)(n > 0 ? n : 1) * sizeof *b->owner);
+        b->local = malloc((size_t)(n > 0 ? n : 1) * sizeof *b->local);
+        b->scount = calloc(nr, sizeof *b->scount);
+        b->sdispl = calloc(nr, sizeof *b->sdispl);
+        b->rcount = calloc(nr, sizeof *b->rcount);
+        b->rdispl = calloc(nr, sizeof *b->rdispl);
+        if (!rc && (!b->owner || !b->local || !b->scount || !b->sdispl || !b->rcount ||
+                    !b->rdispl))
+            rc = err_nomem(e, "handshake bricks");
+        if (!rc && n > INT32_MAX)
+            rc = err_set(e, ERR_RUNTIME, "handshake: %ld material points, more than 2^31", n);
+    }
+    /* the rank whose MD brick holds the point's initial position: a copy
+     * of region II or III starts where its point is */
+    long mine = 0;
+    for (long q = 0; !rc && q < n; q++) {
+        int o = decomp_owner(&h->dc, m->pts.x0 + 3 * q);
+        b->owner[q] = o;
+        keep[q] = (unsigned char)(o == b->rank);
+        b->local[q] = keep[q] ? (int32_t)mine++ : -1;
+    }
+    rc = halo_agree(h, rc, e);
+    if (!rc) {
+        struct mpm_points all = m->pts;
+        rc = mpm_points_init(&m->pts, all.nstate, e);
+        if (!rc)
+            rc = mpm_bricks_keep_marked(m, &all, keep, e);
+        if (rc) {   /* keep the whole set rather than a half-made one */
+            mpm_points_free(&m->pts);
+            m->pts = all;
+        } else {
+            mpm_points_free(&all);
+        }
+        rc = halo_agree(h, rc, e);
+    }
+    free(keep);
+    if (!rc)
+        rc = mpm_bricks_create_fixed(b->par, m, &b->mb, e);
+    return rc;
 }
 
 static int grow(void **p, size_t bytes)
@@ -44,111 +103,206 @@ static int grow(void **p, size_t bytes)
 
 int hs_bricks_index(struct handshake *hs, struct err *e)
 {
-    const struct halo *h = hs->md->halo;
-    const struct parallel *par = par_of(hs);
-    const struct particles *p = hs->md->p;
-    int root = !par || par->rank == 0;
+    const struct halo *h = halo_of(hs);
     struct hs_bricks *b = hs->bricks;
-    if (!b && !(b = hs->bricks = calloc(1, sizeof *b)))
-        return halo_agree(h, err_nomem(e, "handshake bricks"), e);
-    double n = (double)hs->nI;
-    halo_sum(h, &n, 1);
-    long nall = (long)n;
-    /* this rank's ids and masses to rank 0, which sorts them by id */
-    struct id_mass *mine = malloc((size_t)(hs->nI > 0 ? hs->nI : 1) * sizeof *mine);
-    int rc = mine ? 0 : err_nomem(e, "handshake region I ids");
-    for (long k = 0; mine && k < hs->nI; k++) {
-        int i = hs->idxI[k];
-        mine[k].id = p->id[i];
-        mine[k].mass = p->mass[p->type[i]];
-    }
-    size_t sz = (size_t)(nall > 0 ? nall : 1);
-    if (grow((void **)&hs->xI, 3 * sz * sizeof(double)) ||
-        grow((void **)&hs->vI, 3 * sz * sizeof(double)) ||
-        grow((void **)&hs->sI, 6 * sz * sizeof(double)) ||
-        grow((void **)&hs->mI, sz * sizeof(double)) ||
-        grow((void **)&hs->volI, sz * sizeof(double)) ||
-        grow((void **)&b->rows, ROW * sz * sizeof(double)) ||
-        grow((void **)&b->send, ROW * (size_t)(hs->nI > 0 ? hs->nI : 1) * sizeof(double)) ||
-        (root && grow((void **)&b->pos, sz * sizeof(long))))
-        rc = rc ? rc : err_nomem(e, "handshake region I of all ranks");
-    if ((rc = halo_agree(h, rc, e))) {
-        free(mine);
-        return rc;
-    }
-    void *all = NULL;
-    size_t bytes = 0;
-    rc = parallel_gather_bytes(par, mine, (size_t)hs->nI * sizeof *mine, &all, &bytes, e);
-    free(mine);
-    if (!rc && root) {
-        struct id_mass *im = all;
-        if ((long)(bytes / sizeof *im) != nall) {
-            rc = err_set(e, ERR_RUNTIME, "handshake: gathered %zu region I atoms, expected %ld",
-                         bytes / sizeof *im, nall);
-        } else {
-            /* the place of gathered row r in id order: sort (id, r) pairs,
-             * the mass field carrying r while sorting */
-            struct id_mass *order = malloc(sz * sizeof *order);
-            if (!order)
-                rc = err_nomem(e, "handshake region I order");
-            for (long r = 0; order && r < nall; r++) {
-                order[r].id = im[r].id;
-                order[r].mass = (double)r;
-            }
-            if (order) {
-                qsort(order, (size_t)nall, sizeof *order, by_id);
-                for (long k = 0; k < nall; k++) {
-                    long r = (long)order[k].mass;
-                    b->pos[r] = k;
-                    hs->mI[k] = im[r].mass;
-                }
-            }
-            free(order);
+    const int nr = b->nranks;
+    const long rowb = HS_LINK_ROW * (long)sizeof(double);
+    /* my requests: the copies whose point is elsewhere, grouped by owner */
+    int *req = calloc((size_t)nr, sizeof *req), *got = calloc((size_t)nr, sizeof *got);
+    int *at = calloc((size_t)nr, sizeof *at);
+    int rc = req && got && at ? 0 : err_nomem(e, "handshake copies' plan");
+    long nreq = 0;
+    for (long k = 0; !rc && k < hs->nlink; k++) {
+        long q = hs->link_pt[k];
+        if (b->local[q] < 0) {
+            req[b->owner[q]]++;
+            nreq++;
         }
     }
-    free(all);
-    if ((rc = halo_agree(h, rc, e)))
+    int64_t *qs = NULL, *theirs = NULL;
+    if (!rc && (grow((void **)&b->recv_link, (size_t)nreq * sizeof *b->recv_link) ||
+                !(qs = malloc((size_t)(nreq > 0 ? nreq : 1) * sizeof *qs))))
+        rc = err_nomem(e, "handshake copies' plan");
+    if (!rc && (long)nreq * rowb > INT_MAX)
+        rc = err_set(e, ERR_RUNTIME, "handshake: %ld copies' rows exceed MPI's int count", nreq);
+    for (int r = 0, s = 0; !rc && r < nr; r++) {
+        at[r] = s;
+        s += req[r];
+    }
+    for (long k = 0; !rc && k < hs->nlink; k++) {
+        long q = hs->link_pt[k];
+        if (b->local[q] >= 0)
+            continue;
+        int j = at[b->owner[q]]++;
+        qs[j] = q;
+        b->recv_link[j] = k;
+    }
+    b->nrecv = nreq;
+    rc = halo_agree(h, rc, e);
+    /* what every rank asks of me */
+    if (!rc)
+        rc = parallel_alltoall_int(b->par, req, got, e);
+    long nsend = 0;
+    for (int r = 0; !rc && r < nr; r++)
+        nsend += got[r];
+    if (!rc && (grow((void **)&b->send_pt, (size_t)nsend * sizeof *b->send_pt) ||
+                !(theirs = malloc((size_t)(nsend > 0 ? nsend : 1) * sizeof *theirs))))
+        rc = err_nomem(e, "handshake copies' plan");
+    if (!rc && nsend * rowb > INT_MAX)
+        rc = err_set(e, ERR_RUNTIME, "handshake: %ld points' rows exceed MPI's int count", nsend);
+    rc = halo_agree(h, rc, e);
+    /* the requested point numbers, in bytes */
+    int *sc = b->scount, *sd = b->sdispl, *rcn = b->rcount, *rd = b->rdispl;
+    if (!rc) {
+        int so = 0, ro = 0;
+        for (int r = 0; r < nr; r++) {
+            sc[r] = req[r] * (int)sizeof(int64_t);
+            sd[r] = so;
+            so += sc[r];
+            rcn[r] = got[r] * (int)sizeof(int64_t);
+            rd[r] = ro;
+            ro += rcn[r];
+        }
+        rc = parallel_alltoallv_bytes(b->par, qs, sc, sd, theirs, rcn, rd, e);
+    }
+    for (long j = 0; !rc && j < nsend; j++) {
+        long q = (long)theirs[j];
+        if (q < 0 || q >= b->npoints || b->local[q] < 0)
+            rc = err_set(e, ERR_RUNTIME, "handshake: rank %d asked for material point %ld, "
+                                         "which it does not hold",
+                         b->rank, q + 1);
+        else
+            b->send_pt[j] = b->local[q];
+    }
+    b->nsend = nsend;
+    /* from here on the counts are the rows' bytes: mine out, my copies' in */
+    if (!rc) {
+        int so = 0, ro = 0;
+        for (int r = 0; r < nr; r++) {
+            sc[r] = got[r] * (int)rowb;
+            sd[r] = so;
+            so += sc[r];
+            rcn[r] = req[r] * (int)rowb;
+            rd[r] = ro;
+            ro += rcn[r];
+        }
+        if (grow((void **)&b->sbuf, (size_t)(nsend * rowb)) ||
+            grow((void **)&b->rbuf, (size_t)(nreq * rowb)))
+            rc = err_nomem(e, "handshake copies' rows");
+    }
+    free(req);
+    free(got);
+    free(at);
+    free(qs);
+    free(theirs);
+    rc = halo_agree(h, rc, e);
+    if (!rc) {
+        double any = (double)nreq;
+        halo_sum(h, &any, 1);
+        b->any_remote = any > 0;
+        if ((long)any > b->remote_max)
+            b->remote_max = (long)any;
+    }
+    return rc;
+}
+
+int hs_bricks_link_rows(struct handshake *hs, struct err *e)
+{
+    struct hs_bricks *b = hs->bricks;
+    for (long k = 0; k < hs->nlink; k++) {
+        int32_t l = b->local[hs->link_pt[k]];
+        if (l >= 0)
+            handshake_point_row(hs, l, hs->link_row + HS_LINK_ROW * k);
+    }
+    if (!b->any_remote)
+        return 0;
+    for (long j = 0; j < b->nsend; j++)
+        handshake_point_row(hs, b->send_pt[j], b->sbuf + HS_LINK_ROW * j);
+    int rc = parallel_alltoallv_bytes(b->par, b->sbuf, b->scount, b->sdispl, b->rbuf, b->rcount,
+                                      b->rdispl, e);
+    if (rc)
         return rc;
-    if ((rc = parallel_bcast_bytes(par, hs->mI, (size_t)nall * sizeof(double), e)))
-        return rc;
-    for (long k = 0; k < nall; k++)
-        hs->volI[k] = hs->omega0;
-    b->nall = nall;
-    hs_extra_region_i(hs, nall);
+    for (long j = 0; j < b->nrecv; j++)
+        memcpy(hs->link_row + HS_LINK_ROW * b->recv_link[j], b->rbuf + HS_LINK_ROW * j,
+               HS_LINK_ROW * sizeof(double));
     return 0;
 }
 
-int hs_bricks_gather(struct handshake *hs, struct err *e)
+int hs_bricks_mpm_step(struct handshake *hs, double dt, struct err *e)
 {
-    const struct parallel *par = par_of(hs);
+    struct mpm_bricks *mb = hs->bricks->mb;
+    int rc = mpm_bricks_step_map(mb, &hs->mpm, e);
+    return rc ? rc : mpm_bricks_step_update(mb, &hs->mpm, dt, e);
+}
+
+int hs_bricks_mpm_prepare(struct handshake *hs, struct err *e)
+{
+    return mpm_bricks_prepare(hs->bricks->mb, &hs->mpm, e);
+}
+
+int hs_bricks_map_forces(struct handshake *hs, struct err *e)
+{
+    return mpm_bricks_map_initial(hs->bricks->mb, &hs->mpm, e);
+}
+
+void hs_bricks_mpm_totals(const struct handshake *hs, struct mpm_totals *t)
+{
+    mpm_bricks_totals(hs->bricks->mb, &hs->mpm, t);
+}
+
+int hs_bricks_gather_points(struct handshake *hs, struct mpm_points *all, struct err *e)
+{
+    return mpm_bricks_gather_points(hs->bricks->mb, &hs->mpm.pts, all, e);
+}
+
+int hs_bricks_keep_points(struct handshake *hs, const struct mpm_points *all, struct err *e)
+{
     struct hs_bricks *b = hs->bricks;
-    int root = !par || par->rank == 0;
-    for (long k = 0; k < hs->nI; k++) {
-        double *row = b->send + ROW * k;
-        handshake_region_I_row(hs, hs->idxI[k], row, row + 3, row + 6);
+    unsigned char *keep = malloc((size_t)(all->n > 0 ? all->n : 1));
+    int rc = keep ? 0 : err_nomem(e, "handshake points");
+    if (!rc && all->n != b->npoints)
+        rc = err_set(e, ERR_INPUT, "handshake: %ld material points read, the case has %ld",
+                     all->n, b->npoints);
+    for (long q = 0; !rc && q < all->n; q++) {
+        if (all->id[q] != q + 1) {   /* the order of the build, which the owners follow */
+            rc = err_set(e, ERR_INPUT, "handshake: material point %ld has id %lld", q + 1,
+                         (long long)all->id[q]);
+            break;
+        }
+        keep[q] = (unsigned char)(b->owner[q] == b->rank);
     }
-    void *all = NULL;
-    size_t bytes = 0;
-    int rc = parallel_gather_bytes(par, b->send, (size_t)hs->nI * ROW * sizeof(double), &all,
-                                   &bytes, e);
-    if (!rc && root) {
-        const double *in = all;
-        for (long r = 0; r < b->nall; r++)
-            memcpy(b->rows + ROW * b->pos[r], in + ROW * r, ROW * sizeof(double));
-    }
-    free(all);
-    rc = halo_agree(hs->md->halo, rc, e);
     if (!rc)
-        rc = parallel_bcast_bytes(par, b->rows, (size_t)b->nall * ROW * sizeof(double), e);
-    if (rc)
-        return rc;
-    for (long k = 0; k < b->nall; k++) {
-        const double *row = b->rows + ROW * k;
-        memcpy(hs->xI + 3 * k, row, 3 * sizeof(double));
-        memcpy(hs->vI + 3 * k, row + 3, 3 * sizeof(double));
-        memcpy(hs->sI + 6 * k, row + 6, 6 * sizeof(double));
+        rc = mpm_bricks_keep_marked(&hs->mpm, all, keep, e);
+    free(keep);
+    return halo_agree(halo_of(hs), rc, e);
+}
+
+int hs_bricks_checkpoint_collect(struct handshake *hs, struct err *e)
+{
+    struct hs_bricks *b = hs->bricks;
+    hs_bricks_checkpoint_release(hs);
+    int rc = hs_bricks_gather_points(hs, &b->gathered, e);
+    b->have_gathered = 1;   /* initialised (empty off rank 0) even on a failure */
+    return rc;
+}
+
+const struct mpm_points *hs_bricks_checkpoint_points(const struct handshake *hs)
+{
+    return hs->bricks && hs->bricks->have_gathered ? &hs->bricks->gathered : NULL;
+}
+
+void hs_bricks_checkpoint_release(struct handshake *hs)
+{
+    struct hs_bricks *b = hs->bricks;
+    if (b && b->have_gathered) {
+        mpm_points_free(&b->gathered);
+        b->have_gathered = 0;
     }
-    return 0;
+}
+
+long hs_bricks_remote_copies_max(const struct handshake *hs)
+{
+    return hs->bricks ? hs->bricks->remote_max : 0;
 }
 
 void hs_bricks_free(struct handshake *hs)
@@ -156,9 +310,19 @@ void hs_bricks_free(struct handshake *hs)
     struct hs_bricks *b = hs->bricks;
     if (!b)
         return;
-    free(b->pos);
-    free(b->rows);
-    free(b->send);
+    mpm_bricks_destroy(&b->mb);
+    free(b->owner);
+    free(b->local);
+    free(b->scount);
+    free(b->sdispl);
+    free(b->rcount);
+    free(b->rdispl);
+    free(b->send_pt);
+    free(b->recv_link);
+    free(b->sbuf);
+    free(b->rbuf);
+    if (b->have_gathered)
+        mpm_points_free(&b->gathered);
     free(b);
     hs->bricks = NULL;
 }

@@ -1,41 +1,82 @@
 /*
- * handshake_bricks: the handshake band when the MD runs on MPI bricks
- * (core/halo.h; docs/parallel.md, docs/handshake.md "Under MPI").
+ * handshake_bricks: the handshake's MPM side on the ranks of the MD's
+ * bricks (core/halo.h; docs/parallel.md "How the handshake runs on
+ * bricks", docs/handshake.md "Under MPI").
  *
- * The scheme: the MD atoms (target, cluster, and the MD copies of regions
- * II and III, which are ordinary owned or ghost particles) are decomposed
- * like any MD system; the MPM side of the handshake (grid and every
- * material point) is whole and identical on every rank.  The band needs
- * two exchanges:
+ * The MD atoms (target, cluster, and the MD copies of regions II and III,
+ * which are ordinary owned or ghost particles) are decomposed like any MD
+ * system.  The MPM side is decomposed as mpm_bricks' fixed-owner mode
+ * (mpm/mpm_bricks.h): the hierarchical grid is whole on every rank, the
+ * material points are dealt out once and never move between ranks, and
+ * after every particle-to-grid pass the nodes' sums are reduced over the
+ * ranks, so every rank updates every node alike (Guo & Yang's hanging
+ * nodes, Eq. (11), need nothing across brick faces).  A point goes to the
+ * rank whose MD brick holds its initial position (clamped into the MD
+ * box), so a point of region II or III and its MD copy start on the same
+ * rank.
  *
- *   region I -> MPM   every step each rank packs the rows of its own region
- *                     I atoms (position, velocity, virial stress: 12
- *                     doubles), rank 0 gathers them and puts them in id
- *                     order, and broadcasts the whole set; every rank then
- *                     runs the same MPM step on the same input, so the MPM
- *                     state stays identical on every rank (and independent
- *                     of the rank count) without a reduction of nodal sums;
- *   MPM -> II/III     local: each rank places the copies it owns on their
- *                     points (the MPM is whole on every rank); the copies'
- *                     ghosts follow by the MD's forward communication.
+ *   region I -> MPM   each rank maps its own region I atoms (its local
+ *                     extra set, as in a serial run); the reduction of the
+ *                     node sums adds the other ranks' atoms.  Nothing is
+ *                     gathered or broadcast.
+ *   MPM -> II/III     each copy takes its point's row (position with the
+ *                     internal shift, wrapped; velocity; strain energy);
+ *                     a copy whose point another rank holds (the copy
+ *                     migrated with the MD, or the cuts moved) gets the row
+ *                     from that rank in one all-to-all a step, planned at
+ *                     each neighbour-list rebuild (hs_bricks_index).
  *
- * The id order of region I is found at every neighbour-list rebuild (when
- * atoms migrate), with the atoms' masses: hs_bricks_index.  Both
- * functions are collective over the ranks of hs->md->halo.
+ * Round-off: the node sums are the ranks' partial sums added on rank 0
+ * (parallel_sum), not the serial order, so the MPM agrees with the serial
+ * run to round-off, not bitwise (docs/parallel.md gives the measured
+ * agreement).  All functions with a halo are collective over its ranks.
  */
 #ifndef CASCADE_HANDSHAKE_BRICKS_H
 #define CASCADE_HANDSHAKE_BRICKS_H
 
 #include "couple/handshake.h"
+#include "mpm/mpm.h"
 
-/* After the local lists of region I (hs->idxI, hs->nI) are made: the
- * place of every region I atom of every rank in id order, the extra set
- * of the MPM sized for all of them, their masses and volumes. */
+/* Deal the material points out by the MD's bricks (every rank built all
+ * of them) and switch the MPM step to the whole grid with fixed owners.
+ * Called once, by handshake_connect, after md_init. */
+int hs_bricks_distribute(struct handshake *hs, struct err *e);
+
+/* After the local lists of region I and the copies are made (at every
+ * neighbour-list rebuild): which copies' points another rank holds, and
+ * the all-to-all that brings their rows. */
 int hs_bricks_index(struct handshake *hs, struct err *e);
 
-/* Region I of every rank into the MPM's extra set (hs->xI, vI, sI), in id
- * order, on every rank. */
-int hs_bricks_gather(struct handshake *hs, struct err *e);
+/* Fill hs->link_row for every copy of this rank: from its point here, or
+ * received from the rank that holds it. */
+int hs_bricks_link_rows(struct handshake *hs, struct err *e);
+
+/* The MPM side's collectives on bricks. */
+int hs_bricks_mpm_step(struct handshake *hs, double dt, struct err *e);
+int hs_bricks_mpm_prepare(struct handshake *hs, struct err *e);
+int hs_bricks_map_forces(struct handshake *hs, struct err *e);
+void hs_bricks_mpm_totals(const struct handshake *hs, struct mpm_totals *t);
+
+/* Every rank's points, sorted by id, into *all on rank 0 (an empty set
+ * elsewhere; the caller frees it). */
+int hs_bricks_gather_points(struct handshake *hs, struct mpm_points *all, struct err *e);
+
+/* From a whole set of points (a checkpoint read on every rank, in id
+ * order), keep this rank's, as hs_bricks_distribute dealt them. */
+int hs_bricks_keep_points(struct handshake *hs, const struct mpm_points *all, struct err *e);
+
+/* Checkpoints on bricks: the collect (collective, before rank 0 writes)
+ * gathers every rank's points on rank 0; the write stores those
+ * (hs_bricks_checkpoint_points: NULL off rank 0 or before a collect); the
+ * sync after the write releases them. */
+int hs_bricks_checkpoint_collect(struct handshake *hs, struct err *e);
+const struct mpm_points *hs_bricks_checkpoint_points(const struct handshake *hs);
+void hs_bricks_checkpoint_release(struct handshake *hs);
+
+/* The most copies, over all ranks, whose point another rank held, at any
+ * neighbour-list rebuild so far (a diagnostic: the all-to-all of the
+ * copies' rows ran when it is not 0). */
+long hs_bricks_remote_copies_max(const struct handshake *hs);
 
 void hs_bricks_free(struct handshake *hs);
 
@@ -43,5 +84,9 @@ void hs_bricks_free(struct handshake *hs);
  * into the grid, velocity, stress (eV/Å^3). */
 void handshake_region_I_row(const struct handshake *hs, int i, double x[3], double v[3],
                             double s[6]);
+
+/* The row of this rank's material point with local index q (see
+ * HS_LINK_ROW). */
+void handshake_point_row(const struct handshake *hs, long q, double row[HS_LINK_ROW]);
 
 #endif

@@ -423,6 +423,7 @@ int handshake_build_mpm(struct handshake *hs, const struct handshake_layout *L,
         uint32_t mk = m->pts.mask[q];
         hs->counts[mk & HS_MASK_II ? HS_II : mk & HS_MASK_III ? HS_III : HS_MPM]++;
     }
+    hs->npoints = m->pts.n;   /* on bricks each rank keeps a share later (handshake_connect) */
     return 0;
 }
 

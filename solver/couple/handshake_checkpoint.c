@@ -2,11 +2,14 @@
  * in a checkpoint (handshake.h). */
 #include <string.h>
 
+#include "core/halo.h"
 #include "couple/handshake.h"
+#include "couple/handshake_bricks.h"
 #include "couple/handshake_thermal.h"
 
 /* Every per-point array, in the stored order (the handshake never reorders
- * its points: their indices are the links of the MD copies). */
+ * its points: their indices are the links of the MD copies; on bricks the
+ * points of every rank, gathered in id order, which is that order). */
 static int put_points(struct ckpt *ck, const struct mpm_points *pt)
 {
     long n = pt->n;
@@ -81,7 +84,43 @@ int handshake_checkpoint_write(const struct handshake *hs, struct ckpt *ck, cons
     if (!rc && hs->thermal) rc = ckpt_put_double(ck, "bath_heat", hs->thermal->heat);
     if (!rc && hs->thermal) rc = ckpt_put_long(ck, "bath_step", hs->thermal->step);
     if (!rc && hs->thermal) rc = ckpt_put_double(ck, "bath_heat_copies", hs->thermal->heat_copies);
-    if (!rc) rc = put_points(ck, &m->pts);
+    /* bricks: every rank's points, gathered by handshake_checkpoint_collect */
+    const struct mpm_points *pts = hs->bricks ? hs_bricks_checkpoint_points(hs) : &m->pts;
+    if (!rc && !pts)
+        rc = err_set(ck->e, ERR_RUNTIME, "handshake: checkpoint written before its points were "
+                                         "collected");
+    if (!rc) rc = put_points(ck, pts);
+    return rc;
+}
+
+int handshake_checkpoint_collect(struct handshake *hs, struct err *e)
+{
+    return hs->bricks ? hs_bricks_checkpoint_collect(hs, e) : 0;
+}
+
+/* Bricks: every rank reads the whole set (as the file stores it) and keeps
+ * its share, as handshake_connect dealt the points out.  rc: the reads
+ * before; collective. */
+static int get_points_bricks(struct handshake *hs, struct ckpt *ck, int rc)
+{
+    const struct halo *h = hs->md->halo;
+    struct mpm_points all;
+    const struct mpm_points *mine = &hs->mpm.pts;
+    int have = 0;
+    if (!(rc = halo_agree(h, rc, ck->e))) {
+        rc = mpm_points_init(&all, mine->nstate, ck->e);
+        have = !rc;
+    }
+    if (!rc) rc = mpm_points_reserve(&all, hs->npoints > 0 ? hs->npoints : 1, ck->e);
+    if (!rc && mine->fext) rc = mpm_points_enable_fext(&all, ck->e);
+    if (!rc) {
+        all.n = hs->npoints;
+        rc = get_points(ck, &all);
+    }
+    if (!(rc = halo_agree(h, rc, ck->e)))
+        rc = hs_bricks_keep_points(hs, &all, ck->e);
+    if (have)
+        mpm_points_free(&all);
     return rc;
 }
 
@@ -102,6 +141,8 @@ int handshake_checkpoint_read(struct handshake *hs, struct ckpt *ck, const char 
     if (!rc && hs->thermal) rc = ckpt_get_double(ck, "bath_heat", &hs->thermal->heat);
     if (!rc && hs->thermal) rc = ckpt_get_long(ck, "bath_step", &hs->thermal->step);
     if (!rc && hs->thermal) rc = ckpt_get_double(ck, "bath_heat_copies", &hs->thermal->heat_copies);
+    if (hs->bricks)
+        return get_points_bricks(hs, ck, rc);
     if (!rc) rc = get_points(ck, &m->pts);
     return rc;
 }
@@ -114,4 +155,5 @@ void handshake_checkpoint_sync(struct handshake *hs)
      * order, not the order of the build) */
     mpm_points_moved(&hs->mpm);
     hs->seen_builds = -1;
+    hs_bricks_checkpoint_release(hs);   /* bricks: rank 0's gathered points */
 }

@@ -21,7 +21,7 @@ int hs_profile_init(struct hs_profile *pr, const struct handshake *hs, int axis,
         pr->nbins = 1;
     pr->md = calloc((size_t)pr->nbins, sizeof *pr->md);
     pr->mpm = calloc((size_t)pr->nbins, sizeof *pr->mpm);
-    pr->sums = malloc((size_t)pr->nbins * HS_SLAB_SUMS * sizeof *pr->sums);
+    pr->sums = malloc((size_t)pr->nbins * HS_SLAB_SUMS_MPM * sizeof *pr->sums);
     if (!pr->md || !pr->mpm || !pr->sums) {
         hs_profile_free(pr);
         return err_nomem(e, "handshake profile");
@@ -67,6 +67,37 @@ static void sum_md_slabs(struct hs_profile *pr, const struct halo *h)
             s->stress[c] = b[1 + c];
         s->u = b[7];
         s->v = b[8];
+    }
+}
+
+/* Bricks: each rank summed the material points it holds (the handshake's
+ * points are dealt out over the ranks, handshake_bricks.h); the MPM slabs'
+ * sums over the ranks, before the means.  Collective. */
+static void sum_mpm_slabs(struct hs_profile *pr, const struct halo *h)
+{
+    double *buf = pr->sums;
+    for (long k = 0; k < pr->nbins; k++) {
+        const struct hs_slab *s = &pr->mpm[k];
+        double *b = buf + HS_SLAB_SUMS_MPM * k;
+        b[0] = (double)s->n;
+        for (int c = 0; c < 6; c++)
+            b[1 + c] = s->stress[c];
+        b[7] = s->volume;
+        b[8] = s->u;
+        b[9] = s->v;
+        b[10] = s->mass;
+    }
+    halo_sum(h, buf, (int)(pr->nbins * HS_SLAB_SUMS_MPM));
+    for (long k = 0; k < pr->nbins; k++) {
+        struct hs_slab *s = &pr->mpm[k];
+        const double *b = buf + HS_SLAB_SUMS_MPM * k;
+        s->n = (long)b[0];
+        for (int c = 0; c < 6; c++)
+            s->stress[c] = b[1 + c];
+        s->volume = b[7];
+        s->u = b[8];
+        s->v = b[9];
+        s->mass = b[10];
     }
 }
 
@@ -138,6 +169,8 @@ void hs_profile_compute(struct hs_profile *pr, const struct handshake *hs)
         s->mass += pt->mass[q];
         s->n++;
     }
+    if (hs->md->halo)
+        sum_mpm_slabs(pr, hs->md->halo);
     for (long k = 0; k < pr->nbins; k++) {
         struct hs_slab *s = &pr->mpm[k];
         if (s->n == 0)

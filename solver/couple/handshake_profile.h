@@ -29,14 +29,15 @@ struct hs_slab {
     double mass;        /* amu (MPM slabs) */
 };
 
-#define HS_SLAB_SUMS 9   /* an MD slab's sums over the ranks: n, stress[6], u, v */
+#define HS_SLAB_SUMS 9    /* an MD slab's sums over the ranks: n, stress[6], u, v */
+#define HS_SLAB_SUMS_MPM 11   /* an MPM slab's: n, stress[6], volume, u, v, mass */
 
 struct hs_profile {
     int axis;
     double x0, width;   /* Å: slab k spans [x0 + k width, x0 + (k+1) width) */
     long nbins;
     struct hs_slab *md, *mpm;   /* nbins each */
-    double *sums;       /* HS_SLAB_SUMS x nbins: the MD slabs' sums on bricks */
+    double *sums;       /* HS_SLAB_SUMS_MPM x nbins: the slabs' sums on bricks */
 };
 
 /* Slabs of `width` Å over the MPM domain along `axis`. */

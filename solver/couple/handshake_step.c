@@ -68,7 +68,10 @@ static int reindex_local(struct handshake *hs, struct err *e)
         long *lp = realloc(hs->link_pt, n * sizeof *lp);
         if (lp)
             hs->link_pt = lp;
-        if (!lm || !lp)
+        double *lr = realloc(hs->link_row, HS_LINK_ROW * n * sizeof *lr);
+        if (lr)
+            hs->link_row = lr;
+        if (!lm || !lp || !lr)
             return err_nomem(e, "handshake links");
         hs->nlink = nl;
     }
@@ -82,7 +85,7 @@ static int reindex_local(struct handshake *hs, struct err *e)
         }
         if (p->mask[i] & (HS_MASK_II | HS_MASK_III)) {
             long q = (long)(p->id[i] - hs->id_base);
-            if (q < 0 || q >= hs->mpm.pts.n)
+            if (q < 0 || q >= hs->npoints)
                 return err_set(e, ERR_RUNTIME, "handshake: copy %lld has no material point",
                                (long long)p->id[i]);
             hs->link_md[kl] = i;
@@ -105,14 +108,45 @@ void hs_extra_region_i(struct handshake *hs, long n)
     hs->extra.volume = hs->volI;
 }
 
-/* The lists of this rank; on bricks (collective) the extra set becomes
- * region I of every rank (handshake_bricks.h). */
+void handshake_point_row(const struct handshake *hs, long q, double row[HS_LINK_ROW])
+{
+    const struct mpm_points *pt = &hs->mpm.pts;
+    double x[3] = {pt->x[3 * q], pt->x[3 * q + 1], pt->x[3 * q + 2]};
+    if (hs->cr.zeta != 0) {   /* diamond: the sublattice's internal shift */
+        double dx[3];
+        hs_internal_shift(&hs->lay, hs->axes, hs->cr.zeta,
+                          hs_sublattice(&hs->lay, hs->axes, pt->x0 + 3 * q), pt->F + 9 * q, dx);
+        for (int d = 0; d < 3; d++)
+            x[d] += dx[d];
+    }
+    handshake_wrap(hs, x);
+    for (int d = 0; d < 3; d++) {
+        row[d] = x[d];
+        row[3 + d] = pt->v[3 * q + d];
+    }
+    row[6] = pt->eint[q];
+}
+
+/* The copies' rows from their points (on bricks, collective: some points
+ * are on other ranks). */
+static int link_rows(struct handshake *hs, struct err *e)
+{
+    if (hs->bricks)
+        return hs_bricks_link_rows(hs, e);
+    for (long k = 0; k < hs->nlink; k++)
+        handshake_point_row(hs, hs->link_pt[k], hs->link_row + HS_LINK_ROW * k);
+    return 0;
+}
+
+/* The lists of this rank, and the copies' rows (after a checkpoint the
+ * points changed); on bricks (collective) the plan that brings the rows
+ * of points held elsewhere (handshake_bricks.h). */
 static int reindex(struct handshake *hs, struct err *e)
 {
     int rc = reindex_local(hs, e);
     if (hs->md->halo && !(rc = halo_agree(hs->md->halo, rc, e)))
         rc = hs_bricks_index(hs, e);
-    return rc;
+    return rc ? rc : link_rows(hs, e);
 }
 
 /* Region I at the current time as material points: positions (inside the
@@ -142,38 +176,27 @@ void handshake_region_I_row(const struct handshake *hs, int i, double x[3], doub
     }
 }
 
-static int gather_region_I(struct handshake *hs, struct err *e)
+/* Region I as this rank's extra set (on bricks the node sums over the
+ * ranks add the other ranks' atoms). */
+static void gather_region_I(struct handshake *hs)
 {
-    if (hs->md->halo)   /* bricks: the rows of every rank, in id order */
-        return hs_bricks_gather(hs, e);
     for (long k = 0; k < hs->nI; k++)
         handshake_region_I_row(hs, hs->idxI[k], hs->xI + 3 * k, hs->vI + 3 * k, hs->sI + 6 * k);
-    return 0;
 }
 
-/* Regions II and III to the MD: positions and (for output) velocities. */
+/* Regions II and III to the MD from the copies' rows: positions and (for
+ * output) velocities. */
 static void sync_copies(struct handshake *hs)
 {
     struct particles *p = hs->md->p;
-    const struct mpm_points *pt = &hs->mpm.pts;
     for (long k = 0; k < hs->nlink; k++) {
         int i = hs->link_md[k];
-        long q = hs->link_pt[k];
         if (hs->thermal && (p->mask[i] & HS_MASK_II))
             continue;   /* at T region II moves by MD under the bath */
-        double x[3] = {pt->x[3 * q], pt->x[3 * q + 1], pt->x[3 * q + 2]};
-        if (hs->cr.zeta != 0) {   /* diamond: the sublattice's internal shift */
-            double dx[3];
-            hs_internal_shift(&hs->lay, hs->axes, hs->cr.zeta,
-                              hs_sublattice(&hs->lay, hs->axes, pt->x0 + 3 * q), pt->F + 9 * q,
-                              dx);
-            for (int d = 0; d < 3; d++)
-                x[d] += dx[d];
-        }
-        handshake_wrap(hs, x);
+        const double *row = hs->link_row + HS_LINK_ROW * k;
         for (int d = 0; d < 3; d++) {
-            p->x[3 * i + d] = x[d];
-            p->v[3 * i + d] = pt->v[3 * q + d];
+            p->x[3 * i + d] = row[d];
+            p->v[3 * i + d] = row[3 + d];
         }
     }
 }
@@ -186,6 +209,9 @@ int handshake_connect(struct handshake *hs, struct md *md, struct err *e)
     int rc = md_compute_forces(md, e);
     if (rc)
         return rc;
+    /* bricks: this rank's share of the points from here on */
+    if (md->halo && !hs->bricks && (rc = hs_bricks_distribute(hs, e)))
+        return rc;
     memset(&hs->extra, 0, sizeof hs->extra);
     hs->extra.name = "region I";
     hs->extra.follow_grid = 1;
@@ -193,10 +219,9 @@ int handshake_connect(struct handshake *hs, struct md *md, struct err *e)
         return rc;
     if ((rc = mpm_attach(&hs->mpm, &hs->extra, e)))
         return rc;
-    if ((rc = gather_region_I(hs, e)))
-        return rc;
+    gather_region_I(hs);
     sync_copies(hs);
-    return mpm_prepare(&hs->mpm, e);
+    return hs->bricks ? hs_bricks_mpm_prepare(hs, e) : mpm_prepare(&hs->mpm, e);
 }
 
 int handshake_advance_mpm(struct handshake *hs, struct err *e)
@@ -212,25 +237,25 @@ int handshake_advance_mpm(struct handshake *hs, struct err *e)
         return rc;
     /* region I to the MPM's extra set, then the bath, which closes the
      * previous step (handshake_thermal.h): it changes region II and the
-     * points, not region I, and on bricks its coarse field takes region
-     * I of every rank from the gathered rows */
-    rc = gather_region_I(hs, e);
-    if (!rc && hs->thermal)
-        rc = hs_thermal_bath(hs, e);
+     * points, not region I */
+    gather_region_I(hs);
+    rc = hs->thermal ? hs_thermal_bath(hs, e) : 0;
     if (m->timers)
         timer_stop(m->timers, TIMER_COUPLING);
     if (rc)
         return rc;
     double dt = md->dt;
     m->fext_scale = hs->ramp > 0 ? fmin(1.0, (m->time + dt) / hs->ramp) : 1.0;
-    if ((rc = mpm_step(m, dt, e)))
+    if ((rc = hs->bricks ? hs_bricks_mpm_step(hs, dt, e) : mpm_step(m, dt, e)))
         return rc;
     if (m->timers)
         timer_start(m->timers, TIMER_COUPLING);
-    sync_copies(hs);
+    rc = link_rows(hs, e);
+    if (!rc)
+        sync_copies(hs);
     if (m->timers)
         timer_stop(m->timers, TIMER_COUPLING);
-    return 0;
+    return rc;
 }
 
 void handshake_finish_step(struct handshake *hs)
@@ -271,14 +296,17 @@ void handshake_energy(const struct handshake *hs, struct handshake_energy *out)
         ke += p->mass[p->type[i]] * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
         pe += p->pe[i] - hs->cr.pe_ref;
     }
-    if (hs->md->halo) {   /* bricks: each rank's atoms (the MPM is whole on every rank) */
+    if (hs->md->halo) {   /* bricks: each rank's atoms */
         double s[2] = {ke, pe};
         halo_sum(hs->md->halo, s, 2);
         ke = s[0];
         pe = s[1];
     }
-    struct mpm_totals t;
-    mpm_totals(&hs->mpm, &t);
+    struct mpm_totals t;   /* bricks: over every rank's points */
+    if (hs->bricks)
+        hs_bricks_mpm_totals(hs, &t);
+    else
+        mpm_totals(&hs->mpm, &t);
     out->md_kinetic = 0.5 * ke * UNITS_MVV2E;
     out->md_potential = pe;
     out->mpm_kinetic = t.kinetic;
@@ -337,8 +365,9 @@ int handshake_map_forces(struct handshake *hs, struct err *e)
     int rc;
     if (hs->md->nrebuilds != hs->seen_builds && (rc = reindex(hs, e)))
         return rc;
-    if ((rc = gather_region_I(hs, e)))
-        return rc;
+    gather_region_I(hs);
+    if (hs->bricks)
+        return hs_bricks_map_forces(hs, e);
     struct mpm *m = &hs->mpm;
     if ((rc = mpm_locate_particles(m, e)))
         return rc;
@@ -359,5 +388,6 @@ void handshake_free(struct handshake *hs)
     free(hs->volI);
     free(hs->link_md);
     free(hs->link_pt);
+    free(hs->link_row);
     memset(hs, 0, sizeof *hs);
 }

@@ -2,6 +2,7 @@
  * bookkeeping of a handshake at a temperature (handshake_thermal.h). */
 #include "couple/handshake_thermal.h"
 
+#include <limits.h>
 #include <math.h>
 #include <stdlib.h>
 
@@ -9,6 +10,7 @@
 #include "core/rng.h"
 #include "core/units.h"
 #include "couple/handshake.h"
+#include "couple/handshake_bricks.h"
 
 /* Call sites of the counter-based stream (core/rng.h): beyond the ones it
  * lists, so that no other stream draws the same numbers. */
@@ -35,13 +37,13 @@ void hs_thermal_attach(struct handshake *hs, struct hs_thermal *t, double t_init
     /* the copies start with their points' velocities plus thermal noise */
     hs_thermal_velocities(hs, t_init, t->seed, ~(uint32_t)HS_MASK_II);
     struct particles *p = md->p;
-    const struct mpm_points *pt = &hs->mpm.pts;
     for (long k = 0; k < hs->nlink; k++) {
         int i = hs->link_md[k];
         if (!(p->mask[i] & HS_MASK_II))
             continue;
+        const double *row = hs->link_row + HS_LINK_ROW * k;   /* the point's velocity */
         for (int d = 0; d < 3; d++)
-            p->v[3 * i + d] += pt->v[3 * hs->link_pt[k] + d];
+            p->v[3 * i + d] += row[3 + d];
     }
 }
 
@@ -113,22 +115,25 @@ int hs_thermal_coarse_velocity(const struct handshake *hs, double H, double **ou
         coarse_stencil(L->dom_lo, H, n, mp->x + 3 * q, cell, w);
         coarse_deposit(g, n, cell, w, mp->mass[q], mp->v + 3 * q);
     }
-    if (hs->md->halo) {
-        /* bricks: region I of every rank, the rows gathered (in id order,
-         * wrapped) for this step's MPM (handshake_bricks.h), which
-         * handshake_advance_mpm gathers before the bath: the bath does
-         * not touch region I, so they are region I as it is now */
-        for (long k = 0; k < hs->extra.n; k++) {
-            coarse_stencil(L->dom_lo, H, n, hs->xI + 3 * k, cell, w);
-            coarse_deposit(g, n, cell, w, hs->mI[k], hs->vI + 3 * k);
-        }
-    }
-    for (long k = 0; !hs->md->halo && k < hs->nI; k++) {
+    for (long k = 0; k < hs->nI; k++) {
         int i = hs->idxI[k];
         double x[3] = {p->x[3 * i], p->x[3 * i + 1], p->x[3 * i + 2]};
         handshake_wrap(hs, x);
         coarse_stencil(L->dom_lo, H, n, x, cell, w);
         coarse_deposit(g, n, cell, w, p->mass[p->type[i]], p->v + 3 * i);
+    }
+    /* bricks: each rank deposited its own points and region I atoms; the
+     * coarse nodes summed over the ranks (4 doubles a node, contiguous) */
+    if (hs->md->halo) {
+        if (nn * 4 > (size_t)INT_MAX) {
+            free(g);
+            free(vs);
+            return err_set(e, ERR_RUNTIME, "handshake bath: %zu coarse nodes are too many to "
+                                           "sum over the ranks",
+                           nn);
+        }
+        _Static_assert(sizeof(struct coarse_node) == 4 * sizeof(double), "coarse node layout");
+        halo_sum(hs->md->halo, (double *)g, (int)(nn * 4));
     }
     /* the coarse field at the band's points */
     for (long q = 0; q < mp->n; q++) {
@@ -163,7 +168,6 @@ int hs_thermal_bath(struct handshake *hs, struct err *e)
     if (!(t->damping_time > 0))
         return 0;
     struct particles *p = hs->md->p;
-    const struct mpm_points *pt = &hs->mpm.pts;
     const double c = exp(-hs->md->dt / t->damping_time);
     const double kT = UNITS_KB * t->temperature;
     double heat = 0;
@@ -174,7 +178,7 @@ int hs_thermal_bath(struct handshake *hs, struct err *e)
         double m = p->mass[p->type[i]];
         double s = sqrt((1 - c * c) * kT / (m * UNITS_MVV2E));
         uint64_t key = rng_key(t->seed, HS_RNG_BATH, (uint64_t)t->step, (uint64_t)p->id[i], 0);
-        const double *vp = pt->v + 3 * hs->link_pt[k];
+        const double *vp = hs->link_row + HS_LINK_ROW * k + 3;   /* its point's */
         double *v = p->v + 3 * i;
         double before = 0, after = 0;
         for (int d = 0; d < 3; d++) {
@@ -184,11 +188,11 @@ int hs_thermal_bath(struct handshake *hs, struct err *e)
         }
         heat += 0.5 * m * UNITS_MVV2E * (before - after);
     }
-    /* bricks: each rank's copies; the points below are whole (the same)
-     * on every rank, so only this part is summed */
+    /* bricks: each rank's copies (and below each rank's points) */
     if (hs->md->halo)
         halo_sum(hs->md->halo, &heat, 1);
     t->heat_copies += heat;
+    double heat_points = 0;
     /* the material points of regions II and III: friction on their motion
      * relative to the coarse field (hs_thermal_coarse_velocity), not on
      * the coarse waves themselves.  The MPM carries the mean displacement
@@ -217,10 +221,12 @@ int hs_thermal_bath(struct handshake *hs, struct err *e)
             v[d] = ref[d] + c * (v[d] - ref[d]);
             after += v[d] * v[d];
         }
-        heat += 0.5 * mp->mass[q] * UNITS_MVV2E * (before - after);
+        heat_points += 0.5 * mp->mass[q] * UNITS_MVV2E * (before - after);
     }
     free(vs);
-    t->heat += heat;
+    if (hs->md->halo)
+        halo_sum(hs->md->halo, &heat_points, 1);
+    t->heat += heat + heat_points;
     return 0;
 }
 

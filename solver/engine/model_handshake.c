@@ -25,8 +25,9 @@
  *
  * On MPI bricks (the bar case types under mpirun, docs/parallel.md) the
  * atoms and copies are written as model_md writes its atoms: rank 0 lays
- * out the datasets for every rank's particles (with the MPM, whole and the
- * same on every rank), each rank writes its own rows (checkpoint_write_part);
+ * out the datasets for every rank's particles (with the material points of
+ * every rank, gathered on rank 0 by checkpoint_collect), each rank writes
+ * its own rows (checkpoint_write_part);
  * a read gives each rank its brick's particles (model_md_atoms_read), the
  * sync sends strays to their bricks, so a checkpoint of N ranks restarts
  * on M.
@@ -102,7 +103,7 @@ static int hs_model_checkpoint_write(void *self, struct ckpt *ck, struct err *e)
     if (!rc) rc = ckpt_put_box(ck, HS_GROUP "/box", &md->box);
     /* bricks (rank 0 writes): the datasets for every rank's atoms, which
      * each rank fills with its own (hs_model_checkpoint_write_part); the
-     * MPM is rank 0's, the same as every rank's */
+     * points are every rank's, gathered by the collect */
     if (!rc && md->halo)
         rc = ckpt_put_particles_layout(ck, HS_GROUP "/atoms", md->p, m->ck_total);
     else if (!rc)
@@ -116,7 +117,9 @@ static int hs_model_checkpoint_collect(void *self, struct err *e)
     struct handshake_model *m = self;
     struct md *md = m->hs->md;
     m->ck_offset = m->ck_total = 0;
-    return md->halo ? model_checkpoint_rows(md->halo, md->p, &m->ck_offset, &m->ck_total, e) : 0;
+    int rc = md->halo ? model_checkpoint_rows(md->halo, md->p, &m->ck_offset, &m->ck_total, e) : 0;
+    /* bricks: every rank's material points to rank 0 (collective) */
+    return rc ? rc : handshake_checkpoint_collect(m->hs, e);
 }
 
 static int hs_model_checkpoint_write_part(void *self, struct ckpt *ck, struct err *e)

@@ -33,6 +33,13 @@ static int boundary_checkpoint_read(void *self, struct ckpt *ck, struct err *e)
     return o->checkpoint_read ? o->checkpoint_read(m->bnd, ck, "model/impact_boundary/state") : 0;
 }
 
+static int boundary_checkpoint_collect(void *self, struct err *e)
+{
+    struct impact_boundary_model *m = self;
+    const struct impact_boundary_ops *o = m->bnd->ops;
+    return o->checkpoint_collect ? o->checkpoint_collect(m->bnd, e) : 0;
+}
+
 static void boundary_checkpoint_sync(void *self)
 {
     struct impact_boundary_model *m = self;
@@ -47,6 +54,7 @@ const struct sim_model_ops sim_model_impact_boundary = {
     .checkpoint_write = boundary_checkpoint_write,
     .checkpoint_read = boundary_checkpoint_read,
     .checkpoint_sync = boundary_checkpoint_sync,
+    .checkpoint_collect = boundary_checkpoint_collect,
 };
 
 /* The same stages for a treatment with state that checkpoints cannot hold. */

@@ -754,6 +754,56 @@ int mpm_bricks_keep_owned(struct mpm_bricks *b, struct mpm *m, struct mpm_points
     return rc;
 }
 
+int mpm_bricks_keep_marked(struct mpm *m, const struct mpm_points *all, const unsigned char *keep,
+                           struct err *e)
+{
+    struct mpm_points *p = &m->pts;
+    long mine = 0;
+    for (long i = 0; i < all->n; i++)
+        mine += keep[i] != 0;
+    int rc = mpm_points_reserve(p, mine > 0 ? mine : 1, e);
+    if (!rc && all->fext && !p->fext)
+        rc = mpm_points_enable_fext(p, e);
+    p->n = 0;
+    for (long i = 0; !rc && i < all->n; i++)
+        if (keep[i])
+            copy_point(p, p->n++, all, i);
+    mpm_points_moved(m);
+    return rc;
+}
+
+int mpm_bricks_create_fixed(const struct parallel *par, const struct mpm *m,
+                            struct mpm_bricks **out, struct err *e)
+{
+    *out = NULL;
+    struct mpm_bricks *b = calloc(1, sizeof *b);
+    int rc = b ? 0 : err_nomem(e, "MPM bricks");
+    if (b) {
+        b->par = par;
+        b->whole = b->fixed = 1;
+        for (int d = 0; d < 3; d++)
+            b->grid[d] = 1;   /* no cuts: the caller dealt the points out */
+        b->serial_nodes = m->grid.nnodes;
+        for (int k = 0; k < m->nbody; k++)
+            b->rigid |= m->body[k].rigid != 0;
+        if (b->rigid) {
+            b->wbuf = malloc((size_t)(m->grid.nnodes > 0 ? m->grid.nnodes : 1) * sizeof *b->wbuf);
+            b->wcap = b->wbuf ? (size_t)m->grid.nnodes : 0;
+            if (!b->wbuf)
+                rc = err_nomem(e, "MPM whole-grid sums");
+        }
+    }
+    if (par && par->size > 1 && parallel_any(par, rc != 0) && !rc)
+        rc = err_set(e, ERR_RUNTIME, "stopped: another MPI rank failed (its message is on "
+                                     "that rank's output)");
+    if (rc) {
+        mpm_bricks_destroy(&b);
+        return rc;
+    }
+    *out = b;
+    return 0;
+}
+
 /* Shifted boundaries (parallel.balance: shift), as decomp_shift does for
  * particles: along every axis cut more than once, the cuts go to the
  * quantiles of the points' cells (every rank holds all points here, so
@@ -911,7 +961,7 @@ int mpm_bricks_step_map(struct mpm_bricks *b, struct mpm *m, struct err *e)
 {
     tstart(m, TIMER_COMM);
     long moved = 0;
-    int rc = migrate(b, m, &moved, e);
+    int rc = b->fixed ? 0 : migrate(b, m, &moved, e);   /* fixed owners: no migration */
     tstop(m, TIMER_COMM);
     if (rc)
         return rc;
@@ -1002,7 +1052,10 @@ int mpm_bricks_step_update(struct mpm_bricks *b, struct mpm *m, double dt, struc
     /* the next step's migration scan, here so that its flags go with the
      * sums: one collective for energies, speed, fused-map drop and leavers */
     tstart(m, TIMER_COMM);
-    scan_leavers(b, m, &b->scan_nleave, &b->scan_far_id);
+    b->scan_nleave = 0;
+    b->scan_far_id = -1;
+    if (!b->fixed)
+        scan_leavers(b, m, &b->scan_nleave, &b->scan_far_id);
     double mx[4] = {m->vmax, drop, b->scan_far_id >= 0, b->scan_nleave > 0};
     parallel_sum_max(b->par, s, (size_t)ns, mx, 4);
     b->scan_any_far = mx[2] > 0;

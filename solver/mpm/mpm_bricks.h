@@ -48,7 +48,15 @@
  * across the faces.  Cost: 64 bytes per node of the whole grid per step
  * (72 with a rigid body, +32 with MUSL), against the points' own work.
  *
- * Extra particle sets (the couplings) are not decomposed here.
+ * Fixed owners (`fixed`, mpm_bricks_create_fixed): a whole grid whose
+ * points are dealt out once by the caller and never migrate.  With the
+ * grid whole on every rank a point needs no nodes near its owner, so any
+ * partition of the points gives the same node sums; the handshake deals
+ * its points out by the MD's bricks (couple/handshake_bricks.h), so that a
+ * point and its MD copy mostly share a rank.
+ *
+ * Extra particle sets (the couplings) are not decomposed here: each rank
+ * maps its own extra particles, which a whole grid's reduction adds up.
  */
 #ifndef CASCADE_MPM_BRICKS_H
 #define CASCADE_MPM_BRICKS_H
@@ -83,6 +91,8 @@ struct mpm_bricks {
                                      quantiles (set when the points are distributed) */
     int whole;                    /* a hierarchical grid: every rank holds it whole and
                                      the node sums are allreduced (no patch, no links) */
+    int fixed;                    /* whole, and the points never migrate (the caller
+                                     dealt them out: mpm_bricks_create_fixed) */
     int rigid;                    /* whole: some body is rigid (the nodes' aux is reduced
                                      as a maximum) */
     double *wbuf;                 /* whole: the nodes' aux during a reduction */
@@ -125,6 +135,17 @@ int mpm_bricks_plan(const struct parallel *par, const struct parallel_settings *
 int mpm_bricks_distribute(struct mpm_bricks *b, struct mpm *m, struct err *e);
 
 void mpm_bricks_destroy(struct mpm_bricks **b);
+
+/* A decomposition with the grid whole on every rank and fixed owners (see
+ * the top of this file) for m, whose points the caller has already cut
+ * down to this rank's (mpm_bricks_keep_marked).  Collective. */
+int mpm_bricks_create_fixed(const struct parallel *par, const struct mpm *m,
+                            struct mpm_bricks **out, struct err *e);
+
+/* Replace m's points by the points i of the set *all with keep[i] != 0, in
+ * their order in *all (which the caller still owns). */
+int mpm_bricks_keep_marked(struct mpm *m, const struct mpm_points *all, const unsigned char *keep,
+                           struct err *e);
 
 /* mpm_prepare over all ranks: thresholds, the largest speed and the
  * energies of the points of every rank.  Collective. */

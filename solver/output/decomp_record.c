@@ -22,6 +22,19 @@ static long peak_rss_kb(void)
     return kb;
 }
 
+/* The `parallel` object of the result (made when missing), NULL without
+ * memory. */
+static json_t *parallel_record(struct result *res)
+{
+    json_t *rec = json_object_get(res->root, "parallel");
+    if (rec)
+        return rec;
+    rec = json_object();
+    if (rec && json_object_set_new(res->root, "parallel", rec) != 0)
+        return NULL;
+    return rec;
+}
+
 void decomp_record_write(struct run *run, const struct halo *h, const struct particles *p)
 {
     decomp_record_write_counts(run, h->dc.par, h->dc.grid, p->n_owned);
@@ -48,12 +61,48 @@ void decomp_record_write_counts(struct run *run, const struct parallel *par, con
         json_array_append_new(rss, json_real((double)counts[r] / 1024.0));
     free(counts);
     double mean = (double)sum / n;
-    json_t *rec = json_object();
+    json_t *rec = parallel_record(&run->result);
+    if (!rec)
+        return;
     json_object_set_new(rec, "decomposition", json_string("bricks"));
     json_object_set_new(rec, "ranks", json_integer(n));
     json_object_set_new(rec, "grid", json_pack("[iii]", grid[0], grid[1], grid[2]));
     json_object_set_new(rec, "particles_per_rank", per);
     json_object_set_new(rec, "imbalance_max_over_mean", json_real(mean > 0 ? max / mean : 1.0));
     json_object_set_new(rec, "peak_rss_mib_per_rank", rss);
-    json_object_set_new(run->result.root, "parallel", rec);
+}
+
+void decomp_record_add_counts(struct result *res, const struct parallel *par, const char *key,
+                              long mine)
+{
+    int n = par ? par->size : 1;
+    long *counts = malloc((size_t)n * sizeof *counts);
+    if (!counts)
+        return;
+    parallel_allgather_long(par, mine, counts);
+    json_t *rec = parallel_record(res);
+    if (!rec) {
+        free(counts);
+        return;
+    }
+    json_t *per = json_array();
+    long max = 0, sum = 0;
+    for (int r = 0; r < n; r++) {
+        json_array_append_new(per, json_integer((json_int_t)counts[r]));
+        max = counts[r] > max ? counts[r] : max;
+        sum += counts[r];
+    }
+    free(counts);
+    double mean = (double)sum / n;
+    char name[128];
+    snprintf(name, sizeof name, "%s_imbalance_max_over_mean", key);
+    json_object_set_new(rec, key, per);
+    json_object_set_new(rec, name, json_real(mean > 0 ? max / mean : 1.0));
+}
+
+void decomp_record_add_integer(struct result *res, const char *key, long value)
+{
+    json_t *rec = parallel_record(res);
+    if (rec)
+        json_object_set_new(rec, key, json_integer((json_int_t)value));
 }

@@ -17,4 +17,12 @@ void decomp_record_write(struct run *run, const struct halo *h, const struct par
 void decomp_record_write_counts(struct run *run, const struct parallel *par, const int grid[3],
                                 long owned);
 
+/* More of a run's own in the `parallel` record (created when not there
+ * yet; decomp_record_write keeps what is there): `key` a per-rank count
+ * with `<key>_imbalance_max_over_mean` (collective: `mine` is this rank's),
+ * or one integer. */
+void decomp_record_add_counts(struct result *res, const struct parallel *par, const char *key,
+                              long mine);
+void decomp_record_add_integer(struct result *res, const char *key, long value);
+
 #endif

@@ -11,6 +11,7 @@
 #include "core/parallel.h"
 #include "md/md_bricks.h"
 #include "output/decomp_record.h"
+#include "scenarios/handshake_record.h"
 #include "mpm/mpm_hgrid.h"
 #include "md/md_settings.h"
 #include "md/md_timestep.h"
@@ -229,9 +230,9 @@ void hs_case_destroy(void *state)
 long hs_case_particles(const void *state)
 {
     const struct hs_case *c = state;
-    /* on bricks md_natoms counts every rank's atoms and copies; the points
-     * are whole on every rank */
-    return c ? md_natoms(&c->md) + c->hs.mpm.pts.n : 0;
+    /* on bricks md_natoms counts every rank's atoms and copies, npoints
+     * every rank's points */
+    return c ? md_natoms(&c->md) + c->hs.npoints : 0;
 }
 
 long hs_case_steps(const void *state)
@@ -258,6 +259,8 @@ int hs_apply_end_traction(struct handshake *hs, double t, struct err *e)
     double xmax = -INFINITY;
     for (long q = 0; q < pt->n; q++)
         xmax = fmax(xmax, pt->x0[3 * q]);
+    if (hs->md->halo)   /* bricks: over every rank's points (collective) */
+        halo_max(hs->md->halo, &xmax, 1);
     double cell = m->grid.h;
     if (m->grid.kind == MPM_GRID_HIER) {
         double probe[3] = {xmax, 0.5 * (lo[1] + hi[1]), 0.5 * (lo[2] + hi[2])};
@@ -275,6 +278,11 @@ int hs_apply_end_traction(struct handshake *hs, double t, struct err *e)
             continue;
         pt->fext[3 * q] = t * pt->vol0[q] / thick;
         n++;
+    }
+    if (hs->md->halo) {   /* bricks: the loaded points of every rank */
+        double nall = (double)n;
+        halo_sum(hs->md->halo, &nall, 1);
+        n = (long)nall;
     }
     if (n == 0)
         return err_set(e, ERR_RUNTIME, "no material point at the loaded end");
@@ -433,12 +441,12 @@ static int grow(struct hs_case *c, long n, struct err *e)
 }
 
 /* Level of the grid cell a point started in (0 on a uniform grid). */
-static int point_level(const struct handshake *hs, long q)
+static int point_level(const struct handshake *hs, const struct mpm_points *pt, long q)
 {
     const struct mpm_grid *g = &hs->mpm.grid;
     if (g->kind != MPM_GRID_HIER)
         return 0;
-    long cell = mpm_hgrid_find(g->hg, hs->mpm.pts.x0 + 3 * q);
+    long cell = mpm_hgrid_find(g->hg, pt->x0 + 3 * q);
     return cell >= 0 ? g->hg->cell[cell].level : -1;
 }
 
@@ -477,15 +485,15 @@ static int snapshot_particles(struct hs_case *c, struct run *run, struct err *e)
     return rc;
 }
 
-/* The material points (whole on every rank: written by the rank that has
- * the file, rank 0). */
-static int snapshot_points(struct hs_case *c, struct run *run, struct err *e)
+/* The material points pt of this rank (on bricks inside a collective
+ * snapshot: each rank writes its own rows). */
+static int snapshot_points(struct hs_case *c, struct run *run, const struct mpm_points *pt,
+                           struct err *e)
 {
     struct handshake *hs = &c->hs;
-    const struct mpm_points *pt = &hs->mpm.pts;
     struct h5out *h = &run->h5;
     long np = pt->n;
-    int rc = grow(c, np, e);
+    int rc = c->md.halo ? h5out_par_agree(h, grow(c, np, e), e) : grow(c, np, e);
     if (rc)
         return rc;
     hid_t g = h5out_begin_snapshot(h, "points", hs->step, hs->time, np, e);
@@ -507,12 +515,16 @@ static int snapshot_points(struct hs_case *c, struct run *run, struct err *e)
         rc = h5out_write_doubles(h, g, "mass", pt->mass, np, 1, "amu", e);
     if (!rc)
         rc = h5out_write_doubles(h, g, "volume", pt->vol, np, 1, "Å^3", e);
+    /* the points' ids (1-based, the order of the build): on bricks each
+     * rank writes its own rows, so the rows follow the ranks */
+    if (!rc)
+        rc = h5out_write_ints(h, g, "id", pt->id, np, "1", e);
     for (long q = 0; q < np; q++)
         c->ibuf[q] = pt->mask[q] & HS_MASK_II ? HS_II : pt->mask[q] & HS_MASK_III ? HS_III : HS_MPM;
     if (!rc)
         rc = h5out_write_ints(h, g, "region", c->ibuf, np, "1", e);
     for (long q = 0; q < np; q++)
-        c->ibuf[q] = point_level(hs, q);
+        c->ibuf[q] = point_level(hs, pt, q);
     if (!rc)
         rc = h5out_write_ints(h, g, "level", c->ibuf, np, "1", e);
     h5out_end_snapshot(h, g);
@@ -521,21 +533,26 @@ static int snapshot_points(struct hs_case *c, struct run *run, struct err *e)
 
 int hs_case_snapshot(struct hs_case *c, struct run *run, struct err *e)
 {
-    if (c->md.halo) {   /* bricks: the atoms collectively, then rank 0 the points */
+    if (c->md.halo) {   /* bricks: the atoms collectively, then the points */
         if (!run->out.hdf5)
             return 0;
         int rc = run_h5_par_begin(run, c->md.p->n_owned, e);
         if (!rc)
             rc = snapshot_particles(c, run, e);
         rc = run_h5_par_end(run, rc, e);
-        if (!rc && run->h5_open)
-            rc = snapshot_points(c, run, e);
+        /* the points as the atoms: each rank writes the rows it holds */
+        if (!rc) {
+            rc = run_h5_par_begin(run, c->hs.mpm.pts.n, e);
+            if (!rc)
+                rc = snapshot_points(c, run, &c->hs.mpm.pts, e);
+            rc = run_h5_par_end(run, rc, e);
+        }
         return halo_agree(c->md.halo, rc, e);
     }
     if (!run->h5_open)
         return 0;
     int rc = snapshot_particles(c, run, e);
-    return rc ? rc : snapshot_points(c, run, e);
+    return rc ? rc : snapshot_points(c, run, &c->hs.mpm.pts, e);
 }
 
 int hs_case_profile(struct hs_case *c, struct run *run, double (*analytic)(const void *, double),
@@ -615,7 +632,7 @@ int hs_case_output_end(struct hs_case *c, struct run *run, struct err *e)
     result_metric(res, "atoms", (double)(hs->counts[HS_CORE] + hs->counts[HS_I] +
                                          hs->counts[HS_FIXED]), "1");
     result_metric(res, "atoms_region_I", (double)hs->counts[HS_I], "1");
-    result_metric(res, "points", (double)hs->mpm.pts.n, "1");
+    result_metric(res, "points", (double)hs->npoints, "1");
     result_metric(res, "points_region_II", (double)hs->counts[HS_II], "1");
     result_metric(res, "points_region_III", (double)hs->counts[HS_III], "1");
     /* the MD copies of the lattice-site points of regions II and III (every
@@ -632,7 +649,7 @@ int hs_case_output_end(struct hs_case *c, struct run *run, struct err *e)
     }
     double replaced = (vd - vb) / hs->omega0;
     result_metric(res, "atoms_replaced", replaced, "1");
-    result_metric(res, "atoms_per_point", hs->mpm.pts.n ? replaced / hs->mpm.pts.n : 0, "1");
+    result_metric(res, "atoms_per_point", hs->npoints ? replaced / hs->npoints : 0, "1");
     double coarse = L->h;
     for (int l = 0; l < L->nlevels; l++)
         coarse *= 2;
@@ -691,8 +708,10 @@ int hs_case_output_end(struct hs_case *c, struct run *run, struct err *e)
     result_series(res, "profile_sxx", buf + 2 * nrow, (int)nrow, "GPa");
     result_series(res, "profile_szz", buf + 3 * nrow, (int)nrow, "GPa");
     free(buf);
-    if (c->md.halo)   /* the grid, every rank's particles, their peak memory */
+    if (c->md.halo) {   /* the grid, every rank's particles and points, peak memory */
         decomp_record_write(run, c->md.halo, c->md.p);
+        handshake_record_parallel(&c->hs, res);
+    }
     /* the thermo rows as series under /series of fields.h5, as an MD run's:
      * the unit is the column name's suffix (step: 1) */
     const char *units[HS_MAX_COLS];

@@ -11,6 +11,7 @@
 #include "couple/handshake.h"
 #include "couple/handshake_thermal.h"
 #include "output/result.h"
+#include "scenarios/handshake_record.h"
 #include "scenarios/impact_from_potential.h"
 
 struct hs_impact {
@@ -45,19 +46,20 @@ static double energy_account(const struct hs_impact *h, const struct handshake_e
     if (h->thermal) {
         const struct handshake *hs = &h->hs;
         const struct particles *p = hs->md->p;
-        const struct mpm_points *pt = &hs->mpm.pts;
         for (long k = 0; k < hs->nlink; k++) {
             int i = hs->link_md[k];
             if (!(p->mask[i] & HS_MASK_II))
                 continue;
-            long q = hs->link_pt[k];
+            /* the point's velocity and strain energy (its row: on bricks
+             * the point may be on another rank) */
+            const double *row = hs->link_row + HS_LINK_ROW * k;
             double w = 0;
             for (int d = 0; d < 3; d++) {
-                double dv = p->v[3 * i + d] - pt->v[3 * q + d];
+                double dv = p->v[3 * i + d] - row[3 + d];
                 w += dv * dv;
             }
             f += 0.5 * p->mass[p->type[i]] * UNITS_MVV2E * w + p->pe[i] - hs->cr.pe_ref -
-                 pt->eint[q];
+                 row[6];
         }
     }
     /* bricks: each rank's copies (collective; the bath's heat is already
@@ -326,7 +328,8 @@ void handshake_impact_report(const struct impact_boundary *b, struct result *r)
         vd *= L->mat_hi[d] - L->mat_lo[d];
         vb *= L->md_hi[d] - L->md_lo[d];
     }
-    result_metric(r, "mpm_points", (double)hs->mpm.pts.n, "1");
+    result_metric(r, "mpm_points", (double)hs->npoints, "1");
+    handshake_record_parallel(hs, r);   /* bricks: points per rank (collective) */
     result_metric(r, "mpm_nodes", (double)hs->mpm.grid.nnodes, "1");
     result_metric(r, "atoms_region_I", (double)hs->counts[HS_I], "1");
     result_metric(r, "copies_region_II_III", (double)hs->ncopies, "1");
@@ -383,6 +386,12 @@ int handshake_impact_checkpoint_read(struct impact_boundary *b, struct ckpt *ck,
 {
     struct hs_impact *h = b->data;
     return handshake_checkpoint_read(&h->hs, ck, group);
+}
+
+int handshake_impact_checkpoint_collect(struct impact_boundary *b, struct err *e)
+{
+    struct hs_impact *h = b->data;
+    return handshake_checkpoint_collect(&h->hs, e);
 }
 
 void handshake_impact_checkpoint_sync(struct impact_boundary *b)

@@ -234,7 +234,7 @@ static int packet_begin(void *state, struct sim *s, struct err *e)
     run_log(s->run,
             "handshake_packet: %ld atoms, %ld material points, sigma %g a, packet energy %.6g "
             "eV, measured at %.4g ps",
-            hs->counts[HS_CORE] + hs->counts[HS_I], hs->mpm.pts.n, w->sigma, w->e_init,
+            hs->counts[HS_CORE] + hs->counts[HS_I], hs->npoints, w->sigma, w->e_init,
             w->measure_time);
     return s->restarted_from < 0 ? packet_sample(w, s->run, 0, e) : 0;
 }

@@ -116,7 +116,7 @@ static int static_begin(void *state, struct sim *s, struct err *e)
     run_log(s->run,
             "handshake_static: %ld atoms, %ld material points, traction %.4g GPa ramped over %g "
             "ps, damping %g /ps",
-            hs->counts[HS_CORE] + hs->counts[HS_I], hs->mpm.pts.n,
+            hs->counts[HS_CORE] + hs->counts[HS_I], hs->npoints,
             w->traction * UNITS_EVA3_TO_GPA, w->ramp, w->damping);
     return s->restarted_from < 0 ? static_sample(w, s->run, 0, e) : 0;
 }

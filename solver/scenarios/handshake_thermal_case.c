@@ -196,7 +196,7 @@ static int thermal_begin(void *state, struct sim *s, struct err *e)
     run_log(s->run,
             "handshake_thermal: %ld atoms, %ld material points, %g K, a(T) = %.5f Å, bath "
             "damping time %g ps, %g ps equilibration then %g ps without a thermostat",
-            c->hs.counts[HS_CORE] + c->hs.counts[HS_I], c->hs.mpm.pts.n, w->bath.temperature,
+            c->hs.counts[HS_CORE] + c->hs.counts[HS_I], c->hs.npoints, w->bath.temperature,
             c->a, w->bath.damping_time, w->equilibrate, (c->steps - w->neq) * c->dt);
     return 0;
 }

@@ -244,7 +244,7 @@ static int wave_begin(void *state, struct sim *s, struct err *e)
     run_log(run,
             "handshake_wave: %ld atoms (%ld in region I), %ld material points (%ld in II, %ld "
             "in III), %ld nodes; c_MPM = %.1f m/s, c_MD = %.1f m/s, traction %.4g GPa",
-            hs->counts[HS_CORE] + hs->counts[HS_I], hs->counts[HS_I], hs->mpm.pts.n,
+            hs->counts[HS_CORE] + hs->counts[HS_I], hs->counts[HS_I], hs->npoints,
             hs->counts[HS_II], hs->counts[HS_III], hs->mpm.grid.nnodes,
             w->fr.c_mpm * UNITS_APS_TO_MS, w->fr.c_md * UNITS_APS_TO_MS,
             w->traction * UNITS_EVA3_TO_GPA);

@@ -109,6 +109,9 @@ struct impact_boundary_ops {
     void (*checkpoint_sync)(struct impact_boundary *b);
     int (*add_particles)(struct impact_boundary *b, struct particles **p, const struct halo *halo,
                          struct err *e);
+    /* before rank 0 writes a checkpoint, on every rank (collective on
+     * bricks: the handshake gathers its material points); NULL: nothing */
+    int (*checkpoint_collect)(struct impact_boundary *b, struct err *e);
 };
 
 extern const struct impact_boundary_ops impact_boundaries[];   /* NULL-name terminated */
