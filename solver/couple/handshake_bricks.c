@@ -36,59 +36,41 @@ static const struct halo *halo_of(const struct handshake *hs)
     return hs->md->halo;
 }
 
-int hs_bricks_distribute(struct handshake *hs, struct err *e)
+int hs_bricks_adopt(struct handshake *hs, const struct halo *h, int32_t *owner, long n,
+                    struct err *e)
 {
-    const struct halo *h = halo_of(hs);
-    struct mpm *m = &hs->mpm;
-    long n = m->pts.n;   /* every rank built every point */
     struct hs_bricks *b = calloc(1, sizeof *b);
     hs->bricks = b;
-    unsigned char *keep = malloc((size_t)(n > 0 ? n : 1));
-    int rc = b && keep ? 0 : err_nomem(e, "handshake bricks");
+    int rc = b ? 0 : err_nomem(e, "handshake bricks");
     if (b) {
+        b->owner = owner;
         b->par = h->dc.par;
         b->rank = b->par ? b->par->rank : 0;
         b->nranks = b->par ? b->par->size : 1;
         b->npoints = n;
         size_t nr = (size_t)b->nranks;
-        b->owner = malloc((size_t)(n > 0 ? n : 1) * sizeof *b->owner);
         b->local = malloc((size_t)(n > 0 ? n : 1) * sizeof *b->local);
         b->scount = calloc(nr, sizeof *b->scount);
         b->sdispl = calloc(nr, sizeof *b->sdispl);
         b->rcount = calloc(nr, sizeof *b->rcount);
         b->rdispl = calloc(nr, sizeof *b->rdispl);
-        if (!rc && (!b->owner || !b->local || !b->scount || !b->sdispl || !b->rcount ||
-                    !b->rdispl))
+        if (!b->local || !b->scount || !b->sdispl || !b->rcount || !b->rdispl)
             rc = err_nomem(e, "handshake bricks");
         if (!rc && n > INT32_MAX)
             rc = err_set(e, ERR_RUNTIME, "handshake: %ld material points, more than 2^31", n);
+    } else {
+        free(owner);
     }
-    /* the rank whose MD brick holds the point's initial position: a copy
-     * of region II or III starts where its point is */
+    /* this rank's points were added in the order of the build */
     long mine = 0;
-    for (long q = 0; !rc && q < n; q++) {
-        int o = decomp_owner(&h->dc, m->pts.x0 + 3 * q);
-        b->owner[q] = o;
-        keep[q] = (unsigned char)(o == b->rank);
-        b->local[q] = keep[q] ? (int32_t)mine++ : -1;
-    }
+    for (long q = 0; !rc && q < n; q++)
+        b->local[q] = owner[q] == b->rank ? (int32_t)mine++ : -1;
+    if (!rc && mine != hs->mpm.pts.n)
+        rc = err_set(e, ERR_RUNTIME, "handshake: rank %d holds %ld points, dealt %ld", b->rank,
+                     hs->mpm.pts.n, mine);
     rc = halo_agree(h, rc, e);
-    if (!rc) {
-        struct mpm_points all = m->pts;
-        rc = mpm_points_init(&m->pts, all.nstate, e);
-        if (!rc)
-            rc = mpm_bricks_keep_marked(m, &all, keep, e);
-        if (rc) {   /* keep the whole set rather than a half-made one */
-            mpm_points_free(&m->pts);
-            m->pts = all;
-        } else {
-            mpm_points_free(&all);
-        }
-        rc = halo_agree(h, rc, e);
-    }
-    free(keep);
     if (!rc)
-        rc = mpm_bricks_create_fixed(b->par, m, &b->mb, e);
+        rc = mpm_bricks_create_fixed(b->par, &hs->mpm, &b->mb, e);
     return rc;
 }
 

@@ -12,8 +12,8 @@
  * ranks, so every rank updates every node alike (Guo & Yang's hanging
  * nodes, Eq. (11), need nothing across brick faces).  A point goes to the
  * rank whose MD brick holds its initial position (clamped into the MD
- * box), so a point of region II or III and its MD copy start on the same
- * rank.
+ * box) when it is built, so no rank ever holds every point, and a point
+ * of region II or III and its MD copy start on the same rank.
  *
  *   region I -> MPM   each rank maps its own region I atoms (its local
  *                     extra set, as in a serial run); the reduction of the
@@ -37,10 +37,15 @@
 #include "couple/handshake.h"
 #include "mpm/mpm.h"
 
-/* Deal the material points out by the MD's bricks (every rank built all
- * of them) and switch the MPM step to the whole grid with fixed owners.
- * Called once, by handshake_connect, after md_init. */
-int hs_bricks_distribute(struct handshake *hs, struct err *e);
+/* The points are dealt out as they are built (handshake_build.c:
+ * every rank passes over all of them and adds those whose initial
+ * position lies in its MD brick, so that no rank ever holds them all):
+ * owner[q] the rank of the point with id q + 1, for every one of the n
+ * points (taken over, also on a failure).  Sets up the MPM step on the
+ * whole grid with fixed owners.  Collective over the halo's ranks. */
+struct halo;
+int hs_bricks_adopt(struct handshake *hs, const struct halo *h, int32_t *owner, long n,
+                    struct err *e);
 
 /* After the local lists of region I and the copies are made (at every
  * neighbour-list rebuild): which copies' points another rank holds, and
@@ -62,7 +67,7 @@ void hs_bricks_mpm_totals(const struct handshake *hs, struct mpm_totals *t);
 int hs_bricks_gather_points(struct handshake *hs, struct mpm_points *all, struct err *e);
 
 /* From a whole set of points (a checkpoint read on every rank, in id
- * order), keep this rank's, as hs_bricks_distribute dealt them. */
+ * order), keep this rank's, as they were dealt (hs_bricks_adopt). */
 int hs_bricks_keep_points(struct handshake *hs, const struct mpm_points *all, struct err *e);
 
 /* Checkpoints on bricks: the collect (collective, before rank 0 writes)

@@ -30,7 +30,9 @@
 #include <string.h>
 
 #include "core/halo.h"
+#include "core/parallel.h"
 #include "couple/handshake.h"
+#include "couple/handshake_bricks.h"
 #include "mpm/mpm_hgrid.h"
 
 /* Call fn for every lattice site in [lo, hi). */
@@ -66,25 +68,46 @@ static int for_sites(const struct handshake_layout *L, const double lo[3], const
     return 0;
 }
 
+/* The passes over the points, in the one order of the build (a point's
+ * place in it, from 0, is its id less one on every rank count):
+ *   FILL_COUNT  count them and their regions;
+ *   FILL_DEAL   (bricks) the rank whose brick holds each (owner[]);
+ *   FILL_ADD    add them: all, or (owner given) this rank's. */
+enum fill_pass { FILL_COUNT, FILL_DEAL, FILL_ADD };
+
 struct fill_ctx {
     struct handshake *hs;
-    int count_only;
-    long n;
+    enum fill_pass pass;
+    long n;                  /* points passed so far (all ranks') */
+    const struct decomp *dc; /* bricks: the MD's decomposition */
+    int32_t *owner;          /* bricks: per point, the rank whose brick holds it */
+    int rank;
+    long mine;               /* FILL_DEAL: this rank's points */
     struct err *e;
 };
 
 static int add_point(struct fill_ctx *c, const double x[3], double mass, double vol, uint32_t mask)
 {
-    const struct handshake_layout *L = &c->hs->lay;
+    struct handshake *hs = c->hs;
+    const struct handshake_layout *L = &hs->lay;
     for (int d = 0; d < 3; d++)
         if (x[d] < L->mat_lo[d] || x[d] >= L->mat_hi[d])
             return 0;
-    c->n++;
-    if (c->count_only)
+    long q = c->n++;
+    if (c->pass == FILL_COUNT) {
+        hs->counts[mask & HS_MASK_II ? HS_II : mask & HS_MASK_III ? HS_III : HS_MPM]++;
         return 0;
-    struct mpm_points *p = &c->hs->mpm.pts;
+    }
+    if (c->pass == FILL_DEAL) {
+        c->owner[q] = decomp_owner(c->dc, x);
+        c->mine += c->owner[q] == c->rank;
+        return 0;
+    }
+    if (c->owner && c->owner[q] != c->rank)
+        return 0;
+    struct mpm_points *p = &hs->mpm.pts;
     static const double zero[3] = {0, 0, 0};
-    long i = mpm_points_add(p, x, zero, mass, vol, c->hs->body, (int64_t)p->n + 1, c->e);
+    long i = mpm_points_add(p, x, zero, mass, vol, hs->body, (int64_t)q + 1, c->e);
     if (i < 0)
         return ERR_RUNTIME;
     p->mask[i] = mask;
@@ -282,6 +305,39 @@ static int site_atom(void *ctx, const double x[3])
     return set_region(c->hs, c->p, i, r);
 }
 
+/* The material points: every one serially; on bricks (halo) those whose
+ * initial position lies in this rank's brick, the owners of all of them
+ * kept for the exchanges (handshake_bricks.h).  Collective with a halo. */
+static int add_material_points(struct handshake *hs, const struct halo *halo, struct err *e)
+{
+    struct fill_ctx c = {.hs = hs, .pass = FILL_DEAL, .e = e};
+    int rc = 0;
+    long n = hs->npoints;
+    if (halo) {
+        c.dc = &halo->dc;
+        c.rank = halo->dc.par ? halo->dc.par->rank : 0;
+        c.owner = malloc((size_t)(n > 0 ? n : 1) * sizeof *c.owner);
+        rc = c.owner ? fill_points(&c) : err_nomem(e, "handshake points' owners");
+        if (!rc && c.n != n)
+            rc = err_set(e, ERR_RUNTIME, "handshake: %ld points dealt, %ld counted", c.n, n);
+        if ((rc = halo_agree(halo, rc, e))) {
+            free(c.owner);
+            return rc;
+        }
+        n = c.mine;
+    }
+    rc = mpm_points_reserve(&hs->mpm.pts, n > 0 ? n : 1, e);
+    c.pass = FILL_ADD;
+    c.n = 0;
+    if (!rc)
+        rc = fill_points(&c);
+    if (halo && !(rc = halo_agree(halo, rc, e)))
+        rc = hs_bricks_adopt(hs, halo, c.owner, hs->npoints, e);   /* takes owner */
+    else if (halo)
+        free(c.owner);
+    return rc;
+}
+
 /* The atoms of B get their regions and the copies of regions II and III
  * join them.  On bricks (halo) p holds this rank's atoms: the copies whose
  * point lies in the rank's brick join (ids id_base + point index, as in a
@@ -339,19 +395,22 @@ static int add_md_particles(struct handshake *hs, struct particles **pp, const s
         next_id = (int64_t)top;
     }
     hs->natoms = p->n_owned;
-    /* copies of regions II and III: ids id_base + point index */
+    /* the material points (on bricks this rank's share) */
+    int rc = add_material_points(hs, halo, e);
+    if (rc)
+        return rc;
+    /* copies of regions II and III: ids id_base + point index (id - 1); on
+     * bricks those of this rank's points, dealt by the same bricks */
     hs->id_base = next_id;
     const struct mpm_points *pt = &hs->mpm.pts;
     for (long q = 0; q < pt->n; q++) {
         uint32_t m = pt->mask[q] & (HS_MASK_II | HS_MASK_III);
         if (!m || !(pt->mask[q] & HS_MASK_SITE))
             continue;
-        if (halo && !decomp_owns(&halo->dc, pt->x + 3 * q))
-            continue;
         hs->ncopies++;
-        int i = particles_add(p, pt->x + 3 * q, NULL, hs->cr.type, hs->id_base + q);
+        int i = particles_add(p, pt->x + 3 * q, NULL, hs->cr.type, hs->id_base + pt->id[q] - 1);
         if (i < 0) {
-            int rc = err_nomem(e, "handshake particles");
+            rc = err_nomem(e, "handshake particles");
             return halo ? halo_agree(halo, rc, e) : rc;
         }
         p->mask[i] = m;   /* not in group "all": thermostats and velocities skip them */
@@ -410,20 +469,12 @@ int handshake_build_mpm(struct handshake *hs, const struct handshake_layout *L,
         b.lp[d] = 0.25;
     if ((hs->body = mpm_add_body(m, &b, e)) < 0)
         return ERR_RUNTIME;
-    struct fill_ctx c = {hs, 1, 0, e};
+    /* the points themselves come with the MD particles (add_md_particles),
+     * when a run on bricks knows its brick */
+    struct fill_ctx c = {.hs = hs, .pass = FILL_COUNT, .e = e};
     if ((rc = fill_points(&c)))
         return rc;
-    if ((rc = mpm_points_reserve(&m->pts, c.n, e)))
-        return rc;
-    c.count_only = 0;
-    c.n = 0;
-    if ((rc = fill_points(&c)))
-        return rc;
-    for (long q = 0; q < m->pts.n; q++) {
-        uint32_t mk = m->pts.mask[q];
-        hs->counts[mk & HS_MASK_II ? HS_II : mk & HS_MASK_III ? HS_III : HS_MPM]++;
-    }
-    hs->npoints = m->pts.n;   /* on bricks each rank keeps a share later (handshake_connect) */
+    hs->npoints = c.n;
     return 0;
 }
 

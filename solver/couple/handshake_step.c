@@ -209,9 +209,10 @@ int handshake_connect(struct handshake *hs, struct md *md, struct err *e)
     int rc = md_compute_forces(md, e);
     if (rc)
         return rc;
-    /* bricks: this rank's share of the points from here on */
-    if (md->halo && !hs->bricks && (rc = hs_bricks_distribute(hs, e)))
-        return rc;
+    /* bricks: the points were dealt out as they were built */
+    if (md->halo && !hs->bricks)
+        return err_set(e, ERR_RUNTIME, "handshake on bricks without its points dealt out "
+                                       "(handshake_add_particles with the halo)");
     memset(&hs->extra, 0, sizeof hs->extra);
     hs->extra.name = "region I";
     hs->extra.follow_grid = 1;
