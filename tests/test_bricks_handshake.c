@@ -168,7 +168,7 @@ Test(bricks_handshake, cu14_matches_serial_on_1_2_4_8_ranks, .timeout = 900)
 
 /* A checkpoint written on 2 ranks at step 50 restarts serially and on 4
  * ranks, and a serial one on 2: each ends where the uninterrupted serial
- * run does (the MPM points from the checkpoint's rank-0 copy, the atoms and
+ * run does (the MPM points from the checkpoint, each rank its share, the atoms and
  * copies from the collective MD part). */
 Test(bricks_handshake, checkpoint_moves_between_rank_counts, .timeout = 900)
 {

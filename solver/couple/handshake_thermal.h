@@ -62,10 +62,11 @@
  *
  * On MPI bricks (handshake_bricks.h) the copies of region II are the
  * owning rank's particles and the bath acts on each rank's own (keyed on
- * id: the serial draws); the heat taken from them is summed over the
- * ranks, the points' part is every rank's own (the MPM is whole and the
- * same on every rank), so t->heat is the same on every rank.  The coarse
- * field takes region I of every rank from the rows gathered for the MPM.
+ * id: the serial draws), with the velocity of its point from the copy's
+ * row (the point may be on another rank); the friction acts on each
+ * rank's points.  Both parts of the heat are summed over the ranks, so
+ * t->heat is the same on every rank.  The coarse field is the sum over
+ * the ranks of each rank's deposit of its points and region I atoms.
  *
  * Energy account: the bath's heat is the kinetic energy it takes out of
  * region II and the band's points, net of what its noise puts in, summed
