@@ -98,9 +98,9 @@ static int add_point(struct fill_ctx *c, const double x[3], double mass, double 
         hs->counts[mask & HS_MASK_II ? HS_II : mask & HS_MASK_III ? HS_III : HS_MPM]++;
         return 0;
     }
-    if (c->pass == FILL_DEAL) {
-        c->owner[q] = decomp_owner(c->dc, x);
-        c->mine += c->owner[q] == c->rank;
+    if (c->pass == FILL_DEAL) {   /* the points with an MD copy: by its brick */
+        int copy = (mask & (HS_MASK_II | HS_MASK_III)) && (mask & HS_MASK_SITE);
+        c->owner[q] = copy ? decomp_owner(c->dc, x) : -1;
         return 0;
     }
     if (c->owner && c->owner[q] != c->rank)
@@ -305,9 +305,40 @@ static int site_atom(void *ctx, const double x[3])
     return set_region(c->hs, c->p, i, r);
 }
 
-/* The material points: every one serially; on bricks (halo) those whose
- * initial position lies in this rank's brick, the owners of all of them
- * kept for the exchanges (handshake_bricks.h).  Collective with a halo. */
+/* The points without an MD copy (owner -1) dealt to the ranks in runs of
+ * consecutive ids, so that every rank holds as many points as the others
+ * (to one): the grid is whole on every rank, so any rank can map any
+ * point, and consecutive ids are neighbouring cells (the build's order).
+ * The same arithmetic on every rank.  Returns this rank's count. */
+static long deal_the_rest(int32_t *owner, long n, int nranks, int rank, struct err *e)
+{
+    long *have = calloc((size_t)nranks, sizeof *have);
+    if (!have)
+        return err_nomem(e, "handshake points' owners"), -1;
+    for (long q = 0; q < n; q++)
+        if (owner[q] >= 0)
+            have[owner[q]]++;
+    int r = 0;
+    for (long q = 0; q < n; q++) {
+        if (owner[q] >= 0)
+            continue;
+        /* rank r's quota: n / nranks, the first n % nranks one more */
+        while (r < nranks - 1 && have[r] >= n / nranks + (r < n % nranks))
+            r++;
+        owner[q] = r;
+        have[r]++;
+    }
+    long mine = have[rank];
+    free(have);
+    return mine;
+}
+
+/* The material points: every one serially; on bricks (halo) this rank's
+ * share -- the points with an MD copy (regions II and III) by the MD brick
+ * that holds their initial position, so a copy starts where its point is,
+ * the others dealt evenly (deal_the_rest) -- with the owners of all of
+ * them kept for the exchanges (handshake_bricks.h).  Collective with a
+ * halo. */
 static int add_material_points(struct handshake *hs, const struct halo *halo, struct err *e)
 {
     struct fill_ctx c = {.hs = hs, .pass = FILL_DEAL, .e = e};
@@ -320,6 +351,9 @@ static int add_material_points(struct handshake *hs, const struct halo *halo, st
         rc = c.owner ? fill_points(&c) : err_nomem(e, "handshake points' owners");
         if (!rc && c.n != n)
             rc = err_set(e, ERR_RUNTIME, "handshake: %ld points dealt, %ld counted", c.n, n);
+        int nranks = halo->dc.par ? halo->dc.par->size : 1;
+        if (!rc && (c.mine = deal_the_rest(c.owner, n, nranks, c.rank, e)) < 0)
+            rc = ERR_RUNTIME;
         if ((rc = halo_agree(halo, rc, e))) {
             free(c.owner);
             return rc;
