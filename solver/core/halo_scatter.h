@@ -27,7 +27,7 @@
 #include "util/err.h"
 
 /* particles per block, as a checkpoint's blocked read (output/checkpoint_split.c):
- * about 2.5 MB of MD records */
+ * 2.8 MB of MD records (168 bytes each, core/halo_pack.h) */
 #define HALO_SCATTER_BLOCK 16384
 
 /* *b and p's types, masses and fields from rank 0 to every rank (p holds
