@@ -36,15 +36,15 @@ static double lcg(unsigned *s)
     return ((double)(*s >> 8) / (double)(1u << 24) - 0.5) * 2.0;
 }
 
-/* A LAMMPS data file of n^3 fcc Cu cells (a = 3.615 Å), positions
- * jittered by up to 0.05 Å, velocities of a few Å/ps, the ids a
+/* A LAMMPS data file of n^3 fcc Cu cells (lattice constant a), positions
+ * jittered by up to 0.05 Å, velocities up to vmax Å/ps, the ids a
  * permutation of the file order (k -> 7k mod N + 1), every 10th atom
  * written one box length along +x with image flag -1 (the run wraps it
  * back).  dup_at > 0: the atom written dup_at-th repeats the id of the
  * one before it.  Returns the atom count; the text goes to buf. */
-static long cu_data(char *buf, size_t len, int n, long dup_at)
+static long cu_data(char *buf, size_t len, int n, double a, double vmax, long dup_at)
 {
-    const double a = 3.615, L = n * a;
+    const double L = n * a;
     static const double basis[4][3] = {{0, 0, 0}, {0.5, 0.5, 0}, {0.5, 0, 0.5}, {0, 0.5, 0.5}};
     long N = 4L * n * n * n;
     size_t at = (size_t)snprintf(buf, len,
@@ -79,7 +79,7 @@ static long cu_data(char *buf, size_t len, int n, long dup_at)
     for (k = 0; k < N; k++) {
         double v[3];
         for (int d = 0; d < 3; d++)
-            v[d] = 3.0 * lcg(&s);
+            v[d] = vmax * lcg(&s);
         at += (size_t)snprintf(buf + at, len - at, "%ld %.12g %.12g %.12g\n", k + 1, v[0], v[1],
                                v[2]);
         cr_assert_lt(at, len, "data file buffer too small");
@@ -123,16 +123,31 @@ static void si_xyz(char *buf, size_t len, long bad_line)
                 }
 }
 
+static const char *const md_metrics[] = {"atoms", "pe", "ke", "etotal", "temperature",
+                                         "pressure", "pxx", "pyy", "pzz", "max_force",
+                                         "volume", NULL};
+static const char *const dpd_series[] = {"pe_eV", "ke_eV", "etotal_eV", "temp_K", "press_GPa",
+                                         NULL};
+static const char *const dpd_metrics[] = {"particles", "pe", "ke", "etotal", "temperature",
+                                          "temperature_mean", "pressure_mean",
+                                          "neighbor_rebuilds", NULL};
+
+/* What a case type's runs are compared on: thermo columns and metrics. */
+struct what {
+    const char *const *series, *const *metrics;
+    const char *count;   /* the metric counting the particles */
+};
+static const struct what md_what = {series_cols, md_metrics, "atoms"};
+static const struct what dpd_what = {dpd_series, dpd_metrics, "particles"};
+
 /* The thermo series over at least 11 rows and the final metrics. */
-static void compare_runs(const char *a, const char *b, const char *tag)
+static void compare_runs(const char *a, const char *b, const struct what *w, const char *tag)
 {
     long n;
     free(thb_read_h5(a, "/series/pe_eV", H5T_NATIVE_DOUBLE, sizeof(double), &n));
     cr_assert_geq(n, 11, "%s: %ld thermo rows", tag, n);
-    thb_compare_series(a, b, series_cols, REL, tag);
-    static const char *const rel[] = {"atoms", "pe", "ke", "etotal", "temperature", "pressure",
-                                      "pxx", "pyy", "pzz", "max_force", "volume", NULL};
-    thb_compare_metrics(a, b, rel, REL, tag);
+    thb_compare_series(a, b, w->series, REL, tag);
+    thb_compare_metrics(a, b, w->metrics, REL, tag);
 }
 
 /* The set-up (snapshot of step 0): the same ids; positions bitwise (the
@@ -155,7 +170,7 @@ static void compare_setup(const char *a, const char *b, double vrel, const char 
     double vmax = 0;
     for (long k = 0; k < lx; k++)
         vmax = fmax(vmax, fabs(va[k]));
-    cr_assert_gt(vmax, 1.0, "%s: velocities of at most %g Å/ps", tag, vmax);
+    cr_assert_gt(vmax, 0.1, "%s: velocities of at most %g Å/ps", tag, vmax);
     for (long i = 0; i < na; i++)
         for (int d = 0; d < 3; d++) {
             long p = 3 * oa[i].i + d, q = 3 * ob[i].i + d;
@@ -176,7 +191,7 @@ static void compare_setup(const char *a, const char *b, double vrel, const char 
  * on 1 rank with decomposition: bricks and on 2 and 4 ranks under auto,
  * each against the serial run. */
 static void matches_serial(const char *stem, const char *file, const char *body, long natoms,
-                           double vrel)
+                           double vrel, const struct what *w)
 {
     char yaml[2048], yaml1[2100], name[64], name1[64], d0[600], dk[600], tag[96];
     snprintf(yaml, sizeof yaml, body, file);
@@ -188,7 +203,7 @@ static void matches_serial(const char *stem, const char *file, const char *body,
     snprintf(d0, sizeof d0, "%s/%s-serial", th_temp_dir(), stem);
     thb_must_run(path, 0, d0, NULL);
     json_t *r0 = thb_result(d0);
-    cr_assert_eq((long)thb_metric(r0, "atoms"), natoms, "%s: serial atoms", stem);
+    cr_assert_eq((long)thb_metric(r0, w->count), natoms, "%s: serial count", stem);
     json_decref(r0);
     const int nps[3] = {1, 2, 4};
     for (int k = 0; k < 3; k++) {
@@ -201,7 +216,7 @@ static void matches_serial(const char *stem, const char *file, const char *body,
             thb_must_run_auto_bricks(path, nps[k], dk);
         }
         compare_setup(d0, dk, vrel, tag);
-        compare_runs(d0, dk, tag);
+        compare_runs(d0, dk, w, tag);
         thb_check_parallel_record(dk, nps[k], natoms);
     }
 }
@@ -212,7 +227,7 @@ static void matches_serial(const char *stem, const char *file, const char *body,
 Test(bricks_read, read_data_matches_serial, .timeout = 900)
 {
     static char text[1 << 18];
-    long n = cu_data(text, sizeof text, 6, 0);
+    long n = cu_data(text, sizeof text, 6, 3.615, 3.0, 0);
     cr_assert_eq(n, 864);
     const char *file = th_write_temp(0, "cu.data", text);
     /* the slab keeps the atoms of 5 of the 6 cell layers along z (the
@@ -222,7 +237,7 @@ Test(bricks_read, read_data_matches_serial, .timeout = 900)
                    "  region: {shape: slab, axis: z, lo: -0.9, hi: 16.9}\n"
                    "potential: {style: eam/alloy, file: Cu_mishin1.eam.alloy}\n"
                    "md: {steps: 100, temperature: 0}\noutput: {thermo_every: 10}\n",
-                   720, 0.0);
+                   720, 0.0, &md_what);
 }
 
 /* Stillinger-Weber Si (full lists) from an extended XYZ file with an id
@@ -237,7 +252,25 @@ Test(bricks_read, read_xyz_matches_serial, .timeout = 900)
                    "seed: 17\nsystem:\n  read_xyz: %s\n  displace: 0.02\n"
                    "potential: {style: sw, file: Si.sw, elements: [Si]}\n"
                    "md: {steps: 100, temperature: 600}\noutput: {thermo_every: 10}\n",
-                   512, 1e-13);
+                   512, 1e-13, &md_what);
+}
+
+/* DPD (`type: dpd`) from a data file: coarse-grained Cu particles (6^3
+ * fcc cells of 7.28 Å, 864 particles), the file's velocities, the cell
+ * sweep (the serial run's order on every rank count, tests/test_bricks_dpd.c) */
+Test(bricks_read, dpd_read_data_matches_serial, .timeout = 900)
+{
+    static char text[1 << 18];
+    cu_data(text, sizeof text, 6, 7.28, 0.5, 0);
+    const char *file = th_write_temp(0, "cg.data", text);
+    th_write_temp(1, "cg.yaml",
+                  "element: Cu\nepsilon: 0.1\nc: 39.0\nn: 9\nm: 6\na: 7.23\ncutoff: 10.845\n"
+                  "mass: 508.368\natoms_per_particle: 8\nlattice_constant: 7.23\n");
+    matches_serial("dpd", file,
+                   "type: dpd\nseed: 5\nsystem:\n  read_data: %s\n  elements: [Cu]\n"
+                   "dpd: {parameters: cg.yaml, gamma: 2.0, steps: 100, timestep: 0.01, "
+                   "sweep: cells}\noutput: {thermo_every: 10, snapshot_every: 100}\n",
+                   864, 0.0, &dpd_what);
 }
 
 /* decomposition: replicated: rank 0 reads, every rank receives every atom
@@ -245,7 +278,7 @@ Test(bricks_read, read_xyz_matches_serial, .timeout = 900)
 Test(bricks_read, replicated_read_is_the_serial_run, .timeout = 600)
 {
     static char text[1 << 18], ta[1 << 16], tb[1 << 16];
-    cu_data(text, sizeof text, 6, 0);
+    cu_data(text, sizeof text, 6, 3.615, 3.0, 0);
     const char *file = th_write_temp(0, "cu.data", text);
     char yaml[1024], d0[600], d2[600];
     snprintf(yaml, sizeof yaml,
@@ -325,7 +358,7 @@ Test(bricks_read, bad_file_fails_on_every_rank, .timeout = 900)
 {
     static char text[1 << 18];
     char yaml[1024], want[700];
-    cu_data(text, sizeof text, 6, 100);   /* the 100th atom line repeats the 99th's id */
+    cu_data(text, sizeof text, 6, 3.615, 3.0, 100);   /* the 100th atom line repeats the 99th's id */
     const char *data = th_write_temp(0, "dup.data", text);
     snprintf(yaml, sizeof yaml,
              "seed: 1\nsystem:\n  read_data: %s\n  elements: [Cu]\n"
@@ -370,7 +403,7 @@ Test(bricks_read, other_ranks_never_hold_the_file, .timeout = 900)
     size_t len = (size_t)64 << 20;
     char *text = malloc(len);
     cr_assert_not_null(text);
-    long n = cu_data(text, len, 30, 0);
+    long n = cu_data(text, len, 30, 3.615, 3.0, 0);
     cr_assert_eq(n, 108000);
     const char *file = th_write_temp(0, "big.data", text);
     free(text);

@@ -70,6 +70,13 @@ int dpd_bricks(const struct dpd_input *in, const struct box *box, struct particl
                const struct case_common *common, struct cfg *cfg, int sweep,
                struct halo **out);
 
+/* The plan alone (no particle moves): *out as dpd_bricks gives it, for a
+ * set-up that builds or receives only its brick's particles
+ * (md_system_read_split); on the sweep's refusal *out is NULL. */
+int dpd_bricks_plan(const struct dpd_input *in, const struct box *box,
+                    const struct case_common *common, struct cfg *cfg, int sweep,
+                    struct halo **out);
+
 /* The box to plan a body's bricks on: *box with each axis that is not
  * periodic cut to the extent of the particles without a bit of `skip`,
  * less `skin` at both ends -- the box the first ghost build shrink-wraps
