@@ -4,6 +4,7 @@
 #include <limits.h>
 #include <math.h>
 #include <mpi.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -286,6 +287,26 @@ int parallel_bcast_bytes(const struct parallel *par, void *buf, size_t n, struct
         return err_set(e, ERR_RUNTIME, "broadcast of %zu bytes is beyond MPI's int count", n);
     MPI_Bcast(buf, (int)n, MPI_BYTE, 0, MPI_COMM_WORLD);
     return 0;
+}
+
+int parallel_bcast_err(const struct parallel *par, int rc, struct err *e)
+{
+    if (!par || par->size <= 1)
+        return rc;
+    int code = rc;
+    MPI_Bcast(&code, 1, MPI_INT, 0, MPI_COMM_WORLD);
+    if (!code)
+        return 0;
+    /* the message goes with the code: the other ranks did not read the
+     * file, so they have no words of their own */
+    char msg[ERR_MSG_MAX];
+    if (par->rank == 0)
+        snprintf(msg, sizeof msg, "%s", e ? e->msg : "");
+    MPI_Bcast(msg, (int)sizeof msg, MPI_CHAR, 0, MPI_COMM_WORLD);
+    msg[sizeof msg - 1] = '\0';
+    if (par->rank != 0)
+        err_set(e, code, "%s", msg);
+    return code;
 }
 
 int parallel_scatter_bytes(const struct parallel *par, const void *sbuf, const long *bytes,

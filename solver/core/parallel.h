@@ -81,6 +81,13 @@ int parallel_gather_bytes(const struct parallel *par, const void *sbuf, size_t s
 /* The n bytes of rank 0's buf into buf on every rank. */
 int parallel_bcast_bytes(const struct parallel *par, void *buf, size_t n, struct err *e);
 
+/* Rank 0's result of a step only it did (a file it read) made every
+ * rank's: rank 0's rc is returned on every rank, and when it failed its
+ * class and message are copied into every rank's e, so each rank stops
+ * with rank 0's words (file:line and field) and exit code.  Collective;
+ * returns rc unchanged in a serial run. */
+int parallel_bcast_err(const struct parallel *par, int rc, struct err *e);
+
 /* The reverse of parallel_gather_bytes: rank 0's sbuf holds the blocks of
  * every rank concatenated in rank order, rank r's block bytes[r] long
  * (bytes given on every rank); each rank receives its own into rbuf. */

@@ -7,6 +7,8 @@
 
 #include "core/elements.h"
 #include "core/halo.h"
+#include "core/halo_scatter.h"
+#include "core/parallel.h"
 #include "core/rng.h"
 #include "input/config_read.h"
 
@@ -92,6 +94,67 @@ static int displace_atoms(struct particles *p, uint64_t seed, double displace, i
     }
     rng_seq_destroy(&r);
     return 0;
+}
+
+/* What read_file needs of the system section. */
+struct file_read {
+    struct cfg_obj *root, *s;
+    const char *file;
+    int has_data;
+    const char *const *elements;
+    int nelements;
+    long max_particles;
+    int tilt_ok;
+    const struct region *region;   /* NULL: none */
+    double displace;
+    uint64_t seed;
+};
+
+/* The whole file read and checked into p and b, the region's atoms kept
+ * and displaced as in a serial run (displacement k to the k-th atom kept,
+ * in the file's order). */
+static int read_file(const struct file_read *fr, struct particles *p, struct box *b,
+                     struct err *e)
+{
+    char path[4096], keypath[CFG_PATH_MAX];
+    snprintf(keypath, sizeof keypath, "%s.%s", fr->s->path,
+             fr->has_data ? "read_data" : "read_xyz");
+    if (cfg_find_file(fr->s->cfg, fr->file, path, sizeof path) != 0)
+        return cfg_error_at(fr->s->cfg, keypath, "cannot read '%s'", fr->file);
+    enum boundary keep[3] = {b->bc[0], b->bc[1], b->bc[2]};
+    struct config_rules rules = config_rules_default();
+    for (int d = 0; d < 3; d++)
+        rules.bc[d] = b->bc[d];
+    rules.max_atoms = fr->max_particles;
+    /* only the md engine has tilted periodic images (core/ghost.h);
+     * other case types refuse a tilted file at its tilt line */
+    rules.allow_tilt = fr->tilt_ok;
+    json_t *type = json_object_get(fr->root->node, "type");
+    char who[96];
+    snprintf(who, sizeof who, "case type %s", json_is_string(type) ? json_string_value(type)
+                                                                     : "md");
+    rules.who = who;
+    int rc;
+    if (fr->has_data) {
+        rc = config_read_lammps_data(path, fr->elements, fr->nelements, &rules, p, b, e);
+    } else {
+        int pbc[3];
+        rc = config_read_extxyz(path, &rules, p, b, pbc, e);
+    }
+    for (int d = 0; d < 3; d++)
+        b->bc[d] = keep[d];
+    if (!rc && fr->region) {
+        unsigned char *keepmask = malloc((size_t)(p->n_owned ? p->n_owned : 1));
+        rc = keepmask ? 0 : err_nomem(e, "region");
+        for (int i = 0; !rc && i < p->n_owned; i++)
+            keepmask[i] = (unsigned char)region_contains(fr->region, p->x + 3 * i);
+        if (!rc)
+            particles_compact(p, keepmask);
+        free(keepmask);
+    }
+    if (!rc && fr->displace > 0)
+        rc = displace_atoms(p, fr->seed, fr->displace, 0, e);
+    return rc;
 }
 
 int md_system_read(struct cfg_obj *root, uint64_t seed, struct particles **pout, struct box *b,
@@ -193,7 +256,6 @@ int md_system_read_split(struct cfg_obj *root, uint64_t seed, const struct md_sy
     struct particles *p = particles_create(1024);
     if (!p)
         return err_nomem(s.cfg->err, "particles");
-    char path[4096], keypath[CFG_PATH_MAX];
     struct err *e = s.cfg->err;
     if (has_lat) {
         double m = mass > 0 ? mass : element_mass(element);
@@ -218,48 +280,30 @@ int md_system_read_split(struct cfg_obj *root, uint64_t seed, const struct md_sy
         if (halo)
             rc = halo_adopt(halo, p, rc, e);
     } else {
-        const char *file = has_data ? data_file : xyz_file;
-        snprintf(keypath, sizeof keypath, "%s.%s", s.path, has_data ? "read_data" : "read_xyz");
-        if (cfg_find_file(s.cfg, file, path, sizeof path) != 0) {
-            particles_destroy(&p);
-            return cfg_error_at(s.cfg, keypath, "cannot read '%s'", file);
-        }
-        enum boundary keep[3] = {b->bc[0], b->bc[1], b->bc[2]};
-        struct config_rules rules = config_rules_default();
-        for (int d = 0; d < 3; d++)
-            rules.bc[d] = b->bc[d];
-        rules.max_atoms = info->max_particles;
-        /* only the md engine has tilted periodic images (core/ghost.h);
-         * other case types refuse a tilted file at its tilt line */
-        rules.allow_tilt = split && split->tilt_ok;
-        json_t *type = json_object_get(root->node, "type");
-        char who[96];
-        snprintf(who, sizeof who, "case type %s", json_is_string(type) ? json_string_value(type)
-                                                                         : "md");
-        rules.who = who;
-        if (has_data) {
-            rc = config_read_lammps_data(path, elements, nelements, &rules, p, b, e);
-        } else {
-            int pbc[3];
-            rc = config_read_extxyz(path, &rules, p, b, pbc, e);
-        }
-        for (int d = 0; d < 3; d++)
-            b->bc[d] = keep[d];
-        if (!rc && has_region) {
-            unsigned char *keepmask = malloc((size_t)(p->n_owned ? p->n_owned : 1));
-            rc = keepmask ? 0 : err_nomem(e, "region");
-            for (int i = 0; !rc && i < p->n_owned; i++)
-                keepmask[i] = (unsigned char)region_contains(&region, p->x + 3 * i);
+        const struct parallel *par = split ? split->par : NULL;
+        /* under mpirun with more than one rank only rank 0 reads and
+         * checks the file; the others wait for its verdict and then for
+         * their atoms (halo_scatter.h), so their memory never holds the
+         * whole file */
+        int root_reads = par && par->size > 1;
+        struct file_read fr = {root, &s, has_data ? data_file : xyz_file, has_data, elements,
+                               nelements, info->max_particles, split && split->tilt_ok,
+                               has_region ? &region : NULL, displace, seed};
+        if (!root_reads || par->rank == 0)
+            rc = read_file(&fr, p, b, e);
+        if (root_reads) {
+            long n = 0;
+            rc = parallel_bcast_err(par, rc, e);
             if (!rc)
-                particles_compact(p, keepmask);
-            free(keepmask);
-        }
-        /* a file is read (and checked) whole by every rank, displaced as
-         * in a serial run, and then each rank keeps its brick's atoms */
-        if (!rc && displace > 0)
-            rc = displace_atoms(p, seed, displace, 0, e);
-        if (!rc && split && (rc = split->plan(split->ctx, b, &halo)) == 0 && halo)
+                rc = halo_scatter_header(par, p, b, &n, e);
+            /* the same box on every rank: the same plan */
+            if (!rc && (rc = split->plan(split->ctx, b, &halo)) == 0)
+                rc = halo_scatter(par, halo, p, n, e);
+            if (halo)
+                rc = halo_adopt(halo, p, rc, e);
+        } else if (!rc && split && (rc = split->plan(split->ctx, b, &halo)) == 0 && halo) {
             rc = halo_distribute(halo, p, e);
+        }
     }
     if (!rc && halo && displace > 0 && has_lat)
         rc = displace_atoms(p, seed, displace, 1, e);

@@ -49,6 +49,7 @@ struct md_system_info {
 };
 
 struct halo;
+struct parallel;
 
 /* A distributed set-up: once the box is known, plan(ctx, box, &halo) says
  * whether the run is split into bricks (*halo a new decomposition, or NULL
@@ -59,6 +60,8 @@ struct md_system_split {
     int tilt_ok;   /* the caller runs tilted boxes (read from a data or XYZ
                     * file); without it (and with md_system_read) a tilted
                     * file is refused at its tilt line */
+    const struct parallel *par;   /* the run's ranks (NULL: serial): with more than
+                                   * one, rank 0 alone reads a data or XYZ file */
 };
 
 /* The key max_particles of a section that builds atoms (system, and the
@@ -77,10 +80,15 @@ int md_system_read(struct cfg_obj *root, uint64_t seed, struct particles **p, st
  * caller's; NULL otherwise; split NULL: never): a lattice rank builds the
  * sites of its own brick only, with the ids and displacements of the
  * whole build (memory per rank is its brick's); a data or XYZ file is
- * read and checked whole by every rank, which then keeps its brick's
- * atoms (the peak memory of the read is the whole system's).  Atoms a
- * displacement moved just out of the brick migrate at the first list
- * build.  Collective under split. */
+ * read and checked whole by rank 0 alone when split->par has more than
+ * one rank (its errors, file:line and field, become every rank's), which
+ * keeps the region's atoms and displaces them as a serial run does and
+ * then sends them to their owners in blocks (core/halo_scatter.h): the
+ * other ranks hold their brick plus one block, rank 0 the whole file
+ * until it drops what is not its own.  Without a halo (replicated data)
+ * every rank receives every atom.  Atoms a displacement moved just out
+ * of the brick migrate at the first list build.  Collective under
+ * split. */
 int md_system_read_split(struct cfg_obj *root, uint64_t seed, const struct md_system_split *split,
                          struct particles **p, struct box *b, struct md_system_info *info,
                          struct halo **halo);

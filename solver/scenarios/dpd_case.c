@@ -23,6 +23,7 @@
 #include "core/halo.h"
 #include "core/parallel.h"
 #include "core/units.h"
+#include "core/velocity.h"
 #include "engine/models.h"
 #include "output/final_state.h"
 #include "output/decomp_record.h"
@@ -52,15 +53,36 @@ static void dpd_case_free_halo(struct dpd_case *c)
     c->halo = NULL;
 }
 
+/* The decomposition of the box the system builder has just sized
+ * (md_system_split): the DPD bricks with the cell sweep's reach. */
+struct dpd_case_plan {
+    const struct dpd_input *in;
+    const struct case_common *common;
+    struct cfg *cfg;
+};
+
+static int dpd_case_plan_bricks(void *ctx, const struct box *b, struct halo **out)
+{
+    const struct dpd_case_plan *pl = ctx;
+    return dpd_bricks_plan(pl->in, b, pl->common, pl->cfg, 1, out);
+}
+
 static int dpd_case_read(struct cfg_obj *root, const struct case_common *common, void **state)
 {
     struct particles *p = NULL;
     struct box box = {0};
     struct md_system_info info;
     struct dpd_input in;
-    int rc = md_system_read(root, common->seed, &p, &box, &info);
+    struct halo *halo = NULL;
+    /* the dpd section first: its ranges size the bricks, and under mpirun
+     * each rank builds (a lattice) or receives (a file rank 0 read) only
+     * its brick's particles */
+    int rc = dpd_section_read(root, DPD_ISOTHERMAL, &in);
+    struct dpd_case_plan plan = {&in, common, root->cfg};
+    struct md_system_split split = {dpd_case_plan_bricks, &plan, 0, common->par};
     if (!rc)
-        rc = dpd_section_read(root, DPD_ISOTHERMAL, &in);
+        rc = md_system_read_split(root, common->seed, root->cfg->shallow ? NULL : &split, &p,
+                                  &box, &info, &halo);
     if (rc || root->cfg->shallow) {
         particles_destroy(&p);
         return rc;
@@ -68,14 +90,23 @@ static int dpd_case_read(struct cfg_obj *root, const struct case_common *common,
     struct dpd_case *c = calloc(1, sizeof *c);
     if (!c) {
         particles_destroy(&p);
+        if (halo)
+            halo_free(halo);
+        free(halo);
         return err_nomem(root->cfg->err, "dpd case");
     }
     c->steps = in.steps;
-    rc = dpd_init_velocities(&in, p, common, root->cfg->err);
-    /* under mpirun: bricks, each rank keeping its brick's particles (the
-     * velocities were drawn over all of them first) */
-    if (!rc)
-        rc = dpd_bricks(&in, &box, p, common, root->cfg, 1, &c->halo);
+    c->halo = halo;
+    if (halo) {
+        p->halo = halo;
+        p->par = NULL;   /* no replicated sums: each rank owns its brick */
+    }
+    /* the k-th Maxwell draw to the k-th id of all ranks: the serial
+     * velocities (to round-off on bricks, bitwise serially) */
+    for (int t = 0; t < p->ntypes; t++)
+        p->mass[t] = in.prm.mass;
+    if (in.t_init > 0)
+        rc = velocity_maxwell_split(p, in.t_init, common->seed, 1u, halo, root->cfg->err);
     if (rc) {
         particles_destroy(&p);
         dpd_case_free_halo(c);

@@ -2,6 +2,7 @@
 #include "scenarios/dpd_setup.h"
 
 #include <math.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "core/halo.h"
@@ -96,9 +97,9 @@ int dpd_build(const struct dpd_input *in, struct particles *p, const struct box 
     return rc;
 }
 
-int dpd_bricks(const struct dpd_input *in, const struct box *box, struct particles *p,
-               const struct case_common *common, struct cfg *cfg, int sweep,
-               struct halo **out)
+int dpd_bricks_plan(const struct dpd_input *in, const struct box *box,
+                    const struct case_common *common, struct cfg *cfg, int sweep,
+                    struct halo **out)
 {
     double rd = in->set.cutoff, reach = dpd_sweep_cells_range(box, rd, in->skin);
     double range = fmax(in->prm.sc.rc, rd) + in->skin;
@@ -112,11 +113,25 @@ int dpd_bricks(const struct dpd_input *in, const struct box *box, struct particl
     int rc = md_bricks_plan(common->par, &common->parallel, box, range, cfg, out);
     if (rc || !*out)
         return rc;
-    if (sweep && !(reach > 0))
+    if (sweep && !(reach > 0)) {
+        halo_free(*out);
+        free(*out);
+        *out = NULL;
         return cfg_error_at(cfg, "parallel", "the DPD sweep on bricks needs every periodic axis "
                                              "at least 3 r_d = %g Å long: run without mpirun, or "
                                              "with decomposition: replicated",
                             3 * rd);
+    }
+    return 0;
+}
+
+int dpd_bricks(const struct dpd_input *in, const struct box *box, struct particles *p,
+               const struct case_common *common, struct cfg *cfg, int sweep,
+               struct halo **out)
+{
+    int rc = dpd_bricks_plan(in, box, common, cfg, sweep, out);
+    if (rc || !*out)
+        return rc;
     p->halo = *out;
     p->par = NULL;   /* no replicated sums: each rank owns its brick */
     return halo_distribute(*out, p, cfg->err);

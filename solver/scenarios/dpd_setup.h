@@ -59,7 +59,8 @@ int dpd_init_velocities(const struct dpd_input *in, struct particles *p,
  * thermostat. */
 /* Under mpirun, when the `parallel` section and the box give bricks
  * (md_bricks_plan): *out a new halo (the caller owns it), p keeps its
- * brick's particles (every rank built them all).  The ghost shell covers
+ * brick's particles (every rank built them all; dpd_bricks_plan below
+ * for a set-up that builds only its brick's).  The ghost shell covers
  * the list (cutoff + skin) and, with `sweep` (the DPD step sweeps pairs;
  * not the grid-carried models), the cell sweep's reach
  * (dpd_sweep_cells_range): a periodic axis shorter than 3 r_d is then
@@ -69,6 +70,13 @@ int dpd_init_velocities(const struct dpd_input *in, struct particles *p,
 int dpd_bricks(const struct dpd_input *in, const struct box *box, struct particles *p,
                const struct case_common *common, struct cfg *cfg, int sweep,
                struct halo **out);
+
+/* The plan alone (no particle moves): *out as dpd_bricks gives it, for a
+ * set-up that builds or receives only its brick's particles
+ * (md_system_read_split); on the sweep's refusal *out is NULL. */
+int dpd_bricks_plan(const struct dpd_input *in, const struct box *box,
+                    const struct case_common *common, struct cfg *cfg, int sweep,
+                    struct halo **out);
 
 /* The box to plan a body's bricks on: *box with each axis that is not
  * periodic cut to the extent of the particles without a bit of `skip`,
