@@ -19,7 +19,7 @@ void halo_unpack(struct particles *p, int i, const unsigned char *buf);
 /* A ghost's record: what a neighbour's copy needs (position, velocity,
  * type, id, mask, the owner's image counts and the box shift of the copy
  * that DPD's pair keys use, every extra field; not the force, energy and
- * virial, which a ghost does not carry), 88 bytes instead of 156 for an
+ * virial, which a ghost does not carry), 88 bytes instead of 168 for an
  * MD atom: the ghost messages of a list build and the buffers
  * kept for forward and reverse communication shrink with it.  Always at
  * least 6 doubles (the widest forward/reverse row, the virial) and at
