@@ -40,40 +40,10 @@ void decomp_record_write(struct run *run, const struct halo *h, const struct par
     decomp_record_write_counts(run, h->dc.par, h->dc.grid, p->n_owned);
 }
 
-void decomp_record_write_counts(struct run *run, const struct parallel *par, const int grid[3],
-                                long owned)
-{
-    int n = par ? par->size : 1;
-    long *counts = malloc((size_t)n * sizeof *counts);
-    if (!counts)
-        return;
-    parallel_allgather_long(par, owned, counts);
-    json_t *per = json_array();
-    long max = 0, sum = 0;
-    for (int r = 0; r < n; r++) {
-        json_array_append_new(per, json_integer((json_int_t)counts[r]));
-        max = counts[r] > max ? counts[r] : max;
-        sum += counts[r];
-    }
-    parallel_allgather_long(par, peak_rss_kb(), counts);
-    json_t *rss = json_array();
-    for (int r = 0; r < n; r++)
-        json_array_append_new(rss, json_real((double)counts[r] / 1024.0));
-    free(counts);
-    double mean = (double)sum / n;
-    json_t *rec = parallel_record(&run->result);
-    if (!rec)
-        return;
-    json_object_set_new(rec, "decomposition", json_string("bricks"));
-    json_object_set_new(rec, "ranks", json_integer(n));
-    json_object_set_new(rec, "grid", json_pack("[iii]", grid[0], grid[1], grid[2]));
-    json_object_set_new(rec, "particles_per_rank", per);
-    json_object_set_new(rec, "imbalance_max_over_mean", json_real(mean > 0 ? max / mean : 1.0));
-    json_object_set_new(rec, "peak_rss_mib_per_rank", rss);
-}
-
-void decomp_record_add_counts(struct result *res, const struct parallel *par, const char *key,
-                              long mine)
+/* A per-rank count under `key` and its max/mean imbalance under
+ * `imbalance_key` (collective: mine is this rank's). */
+static void add_counts(struct result *res, const struct parallel *par, const char *key,
+                       const char *imbalance_key, long mine)
 {
     int n = par ? par->size : 1;
     long *counts = malloc((size_t)n * sizeof *counts);
@@ -94,10 +64,40 @@ void decomp_record_add_counts(struct result *res, const struct parallel *par, co
     }
     free(counts);
     double mean = (double)sum / n;
+    json_object_set_new(rec, key, per);
+    json_object_set_new(rec, imbalance_key, json_real(mean > 0 ? max / mean : 1.0));
+}
+
+void decomp_record_write_counts(struct run *run, const struct parallel *par, const int grid[3],
+                                long owned)
+{
+    int n = par ? par->size : 1;
+    add_counts(&run->result, par, "particles_per_rank", "imbalance_max_over_mean", owned);
+    long *rss_kb = malloc((size_t)n * sizeof *rss_kb);
+    if (!rss_kb)
+        return;
+    parallel_allgather_long(par, peak_rss_kb(), rss_kb);
+    json_t *rss = json_array();
+    for (int r = 0; r < n; r++)
+        json_array_append_new(rss, json_real((double)rss_kb[r] / 1024.0));
+    free(rss_kb);
+    json_t *rec = parallel_record(&run->result);
+    if (!rec) {
+        json_decref(rss);
+        return;
+    }
+    json_object_set_new(rec, "decomposition", json_string("bricks"));
+    json_object_set_new(rec, "ranks", json_integer(n));
+    json_object_set_new(rec, "grid", json_pack("[iii]", grid[0], grid[1], grid[2]));
+    json_object_set_new(rec, "peak_rss_mib_per_rank", rss);
+}
+
+void decomp_record_add_counts(struct result *res, const struct parallel *par, const char *key,
+                              long mine)
+{
     char name[128];
     snprintf(name, sizeof name, "%s_imbalance_max_over_mean", key);
-    json_object_set_new(rec, key, per);
-    json_object_set_new(rec, name, json_real(mean > 0 ? max / mean : 1.0));
+    add_counts(res, par, key, name, mine);
 }
 
 void decomp_record_add_integer(struct result *res, const char *key, long value)
