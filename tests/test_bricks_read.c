@@ -155,36 +155,7 @@ static void compare_runs(const char *a, const char *b, const struct what *w, con
  * their largest magnitude (0: bitwise, the file's). */
 static void compare_setup(const char *a, const char *b, double vrel, const char *tag)
 {
-    long na, nb;
-    struct thb_by_id *oa = thb_order_by_id(a, "/particles/00000000", &na);
-    struct thb_by_id *ob = thb_order_by_id(b, "/particles/00000000", &nb);
-    cr_assert_eq(na, nb, "%s: %ld vs %ld atoms", tag, na, nb);
-    for (long i = 0; i < na; i++)
-        cr_assert_eq(oa[i].id, ob[i].id, "%s: id %ld differs", tag, i);
-    long lx;
-    const char *pos = "/particles/00000000/position", *vel = "/particles/00000000/velocity";
-    double *xa = thb_read_h5(a, pos, H5T_NATIVE_DOUBLE, sizeof(double), &lx);
-    double *xb = thb_read_h5(b, pos, H5T_NATIVE_DOUBLE, sizeof(double), &lx);
-    double *va = thb_read_h5(a, vel, H5T_NATIVE_DOUBLE, sizeof(double), &lx);
-    double *vb = thb_read_h5(b, vel, H5T_NATIVE_DOUBLE, sizeof(double), &lx);
-    double vmax = 0;
-    for (long k = 0; k < lx; k++)
-        vmax = fmax(vmax, fabs(va[k]));
-    cr_assert_gt(vmax, 0.1, "%s: velocities of at most %g Å/ps", tag, vmax);
-    for (long i = 0; i < na; i++)
-        for (int d = 0; d < 3; d++) {
-            long p = 3 * oa[i].i + d, q = 3 * ob[i].i + d;
-            cr_assert_eq(xa[p], xb[q], "%s: id %lld x%d: %.17g vs %.17g", tag,
-                         (long long)oa[i].id, d, xa[p], xb[q]);
-            cr_assert_leq(fabs(va[p] - vb[q]), vrel * vmax, "%s: id %lld v%d: %.17g vs %.17g",
-                          tag, (long long)oa[i].id, d, va[p], vb[q]);
-        }
-    free(xa);
-    free(xb);
-    free(va);
-    free(vb);
-    free(oa);
-    free(ob);
+    thb_compare_setup(a, b, 0.1, vrel, tag);
 }
 
 /* The case (body: its text after `system:` with %s for the file) serially,

@@ -75,6 +75,12 @@ void thb_compare_metrics(const char *a, const char *b, const char *const *names,
 /* group/<set> of two runs (each NULL-ended set with ncomp components)
  * agree particle by particle, matched by group/id, to rel of the set's
  * largest magnitude. */
+/* The set-up snapshot (/particles/00000000) of runs a and b: the same
+ * ids, positions bitwise, velocities to vrel of their largest magnitude
+ * (0: bitwise), which must exceed vmin (Å/ps: the velocities were set).
+ * Returns the atom count. */
+long thb_compare_setup(const char *a, const char *b, double vmin, double vrel, const char *tag);
+
 void thb_compare_snapshot(const char *a, const char *b, const char *group,
                           const char *const *sets, const int *ncomp, double rel, const char *tag);
 
