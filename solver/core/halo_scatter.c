@@ -64,48 +64,18 @@ int halo_scatter_header(const struct parallel *par, struct particles *p, struct 
     return agree(par, rc, e);
 }
 
-/* The rank of each brick (grid rank = world rank, core/parallel.h; taken
- * from the ranks themselves rather than assuming MPI's numbering). */
-static int brick_ranks(const struct parallel *par, const struct halo *h, long *lin, int *rank_of,
-                       struct err *e)
-{
-    const struct decomp *dc = &h->dc;
-    long mine = ((long)dc->coords[0] * dc->grid[1] + dc->coords[1]) * dc->grid[2] + dc->coords[2];
-    parallel_allgather_long(par, mine, lin);
-    for (int r = 0; r < par->size; r++)
-        rank_of[r] = -1;
-    for (int r = 0; r < par->size; r++) {
-        if (lin[r] < 0 || lin[r] >= par->size || rank_of[lin[r]] >= 0)
-            return err_set(e, ERR_RUNTIME, "brick grid of %d x %d x %d for %d ranks: brick %ld "
-                                           "of rank %d is not one of them", dc->grid[0],
-                           dc->grid[1], dc->grid[2], par->size, lin[r], r);
-        rank_of[lin[r]] = r;
-    }
-    return 0;
-}
-
-static int owner_of(const struct halo *h, const int *rank_of, const double x[3])
-{
-    const struct decomp *dc = &h->dc;
-    int c[3];
-    for (int d = 0; d < 3; d++)
-        c[d] = decomp_coord(dc, d, x[d]);
-    return rank_of[(c[0] * dc->grid[1] + c[1]) * dc->grid[2] + c[2]];
-}
-
 /* One block [lo, lo + m) of rank 0's particles to their owners: rank 0
  * packs them grouped by rank (its own stay, keep[] marks them); every
  * other rank appends its group to p. */
-static int scatter_block(const struct parallel *par, const struct halo *h, const int *rank_of,
-                         struct particles *p, long lo, long m, size_t rec, unsigned char *buf,
-                         int *dest, long *bytes, long *at, unsigned char *keep, struct err *e)
+static int scatter_block(const struct parallel *par, const struct halo *h, struct particles *p,
+                         long lo, long m, size_t rec, unsigned char *buf, int *dest, long *bytes, long *at, unsigned char *keep, struct err *e)
 {
     int size = par->size;
     if (par->rank == 0) {
         for (int r = 0; r < size; r++)
             bytes[r] = 0;
         for (long k = 0; k < m; k++) {
-            dest[k] = owner_of(h, rank_of, p->x + 3 * (lo + k));
+            dest[k] = decomp_owner(&h->dc, p->x + 3 * (lo + k));
             keep[lo + k] = (unsigned char)(dest[k] == 0);
             bytes[dest[k]] += (long)rec;
         }
@@ -163,18 +133,15 @@ int halo_scatter(const struct parallel *par, struct halo *h, struct particles *p
     long *counts = calloc((size_t)size, sizeof *counts);
     long *bytes = calloc((size_t)size, sizeof *bytes);
     long *at = calloc((size_t)size, sizeof *at);
-    int *rank_of = malloc((size_t)size * sizeof *rank_of);
-    int rc = counts && bytes && at && rank_of ? 0 : err_nomem(e, "configuration scatter");
+    int rc = counts && bytes && at ? 0 : err_nomem(e, "configuration scatter");
     rc = agree(par, rc, e);
-    if (!rc && h)
-        rc = agree(par, brick_ranks(par, h, counts, rank_of, e), e);
     /* how many particles each rank receives in all, so that it reserves
      * exactly its brick (or, replicated, the whole set) */
     if (!rc && me == 0) {
         for (int r = 0; r < size; r++)
             counts[r] = h ? 0 : n;
         for (long i = 0; h && i < n; i++)
-            counts[owner_of(h, rank_of, p->x + 3 * i)]++;
+            counts[decomp_owner(&h->dc, p->x + 3 * i)]++;
     }
     if (!rc)
         rc = parallel_bcast_bytes(par, counts, (size_t)size * sizeof *counts, e);
@@ -198,7 +165,7 @@ int halo_scatter(const struct parallel *par, struct halo *h, struct particles *p
     /* every rank runs the same blocks; a failure in one is agreed at once */
     for (long lo = 0; !rc && lo < n; lo += block) {
         long m = n - lo < block ? n - lo : block;
-        rc = h ? scatter_block(par, h, rank_of, p, lo, m, rec, buf, dest, bytes, at, keep, e)
+        rc = h ? scatter_block(par, h, p, lo, m, rec, buf, dest, bytes, at, keep, e)
                : bcast_block(par, p, lo, m, rec, buf, e);
         rc = agree(par, rc, e);
     }
@@ -216,6 +183,5 @@ int halo_scatter(const struct parallel *par, struct halo *h, struct particles *p
     free(counts);
     free(bytes);
     free(at);
-    free(rank_of);
     return agree(par, rc, e);
 }
