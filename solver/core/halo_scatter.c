@@ -68,7 +68,8 @@ int halo_scatter_header(const struct parallel *par, struct particles *p, struct 
  * packs them grouped by rank (its own stay, keep[] marks them); every
  * other rank appends its group to p. */
 static int scatter_block(const struct parallel *par, const struct halo *h, struct particles *p,
-                         long lo, long m, size_t rec, unsigned char *buf, int *dest, long *bytes, long *at, unsigned char *keep, struct err *e)
+                         long lo, long m, size_t rec, unsigned char *buf, int *dest,
+                         long *bytes, long *at, unsigned char *keep, struct err *e)
 {
     int size = par->size;
     if (par->rank == 0) {
