@@ -245,7 +245,8 @@ Test(bricks_handshake, thermal_checkpoint_moves_between_1_and_2_ranks, .timeout 
  * (handshake_bricks.h).  The parallel record shows the points divided
  * over the ranks and such copies; the run matches the serial one, at 0 K
  * and with the bath at 300 K (which takes the points' velocities from the
- * same rows). */
+ * same rows).  The grid's node sums went only between the two ranks' shared
+ * nodes, fewer than half the grid's (solver/mpm/mpm_shared.h). */
 Test(bricks_handshake, copies_apart_from_their_points_match_serial, .timeout = 900)
 {
     for (int thermal = 0; thermal < 2; thermal++) {
@@ -270,6 +271,11 @@ Test(bricks_handshake, copies_apart_from_their_points_match_serial, .timeout = 9
             sum += n;
         }
         cr_assert_eq(sum, npts, "points per rank add up to %ld, not %ld", sum, npts);
+        /* the grid's sums went only between ranks that share nodes */
+        long nodes = (long)thb_metric(r, "mpm_nodes");
+        long shared = (long)json_integer_value(json_object_get(par, "mpm_shared_nodes_max"));
+        cr_assert(shared > 0 && 2 * shared < nodes, "%ld of %ld nodes shared (thermal %d)",
+                  shared, nodes, thermal);
         json_decref(r);
     }
 }

@@ -135,6 +135,60 @@ Test(bricks_mpm_hgrid, impact_matches_serial_on_1_2_4_8_ranks, .timeout = 900)
     }
 }
 
+/* The case without its rigid wall: the nodes' sums then go only between
+ * the ranks that share nodes (solver/mpm/mpm_shared.h): each rank adds a
+ * shared node's partial sums in rank order, its own at its place, and the
+ * grid snapshots make every node complete on rank 0 first.  On 2 and 4
+ * ranks the run matches the serial one (thermo, metrics, points and the
+ * grid of the last snapshot) to REL; the parallel record shows that no
+ * rank shared more than half the grid's nodes and that the plan was
+ * remade as the points crossed cells. */
+static void compare_free(const char *a, const char *b, const char *tag)
+{
+    thb_compare_series(a, b, series, REL, tag);
+    thb_compare_metrics(a, b, metrics, REL, tag);
+    static const char *const sets[] = {"position", "velocity", "stress", "displacement", NULL};
+    static const int ncomp[] = {3, 3, 6, 3};
+    thb_compare_snapshot(a, b, "/points/00000100", sets, ncomp, REL, tag);
+    thb_compare_grid(a, b, 100, grid_sets, REL, tag);
+}
+
+Test(bricks_mpm_hgrid, impact_without_a_wall_sums_only_shared_nodes, .timeout = 900)
+{
+    char yaml[4096];
+    snprintf(yaml, sizeof yaml,
+             "%soutput: {thermo_every: 10, snapshot_every: 50}\n"
+             "parallel: {decomposition: bricks}\n",
+             hgrid_yaml);
+    char *w = strstr(yaml, "    - {name: W"), *end = w ? strstr(w, "  algorithm:") : NULL;
+    cr_assert(w && end);
+    memmove(w, end, strlen(end) + 1);
+    const char *path = th_write_temp(0, "hgrid_free.yaml", yaml);
+    char d0[600], dk[600], tag[64];
+    snprintf(d0, sizeof d0, "%s/hgrid-free-serial", th_temp_dir());
+    thb_must_run(path, 0, d0, NULL);
+    json_t *r0 = thb_result(d0);
+    long npoints = (long)thb_metric(r0, "points"), nodes = (long)thb_metric(r0, "nodes");
+    json_decref(r0);
+    cr_assert(npoints > 0 && npoints < NPOINTS, "points %ld", npoints);
+    for (int np = 2; np <= 4; np += 2) {
+        snprintf(dk, sizeof dk, "%s/hgrid-free-%d", th_temp_dir(), np);
+        thb_must_run(path, np, dk, NULL);
+        snprintf(tag, sizeof tag, "two-level impact without a wall on %d ranks", np);
+        compare_free(d0, dk, tag);
+        thb_check_parallel_record(dk, np, npoints);
+        json_t *r = thb_result(dk);
+        json_t *par = json_object_get(r, "parallel");
+        cr_assert_not_null(par);
+        long shared = (long)json_integer_value(json_object_get(par, "mpm_shared_nodes_max"));
+        long plans = (long)json_integer_value(json_object_get(par, "mpm_shared_node_plans"));
+        json_decref(r);
+        cr_assert(shared > 0 && 2 * shared < nodes, "%s: %ld of %ld nodes shared", tag, shared,
+                  nodes);
+        cr_assert_gt(plans, 1, "%s: the plan was never remade", tag);
+    }
+}
+
 /* No `parallel` section: `auto` puts the hierarchical grid on bricks (no
  * note that it is not decomposed).  A checkpoint of step 50 written on 2
  * ranks restarts serially, on 4 and on 2 ranks and ends where the serial

@@ -287,6 +287,11 @@ long hs_bricks_remote_copies_max(const struct handshake *hs)
     return hs->bricks ? hs->bricks->remote_max : 0;
 }
 
+void hs_bricks_shared_counts(const struct handshake *hs, long *nodes_max, long *plans)
+{
+    mpm_bricks_shared_counts(hs->bricks ? hs->bricks->mb : NULL, nodes_max, plans);
+}
+
 void hs_bricks_free(struct handshake *hs)
 {
     struct hs_bricks *b = hs->bricks;

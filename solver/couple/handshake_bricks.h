@@ -83,6 +83,10 @@ void hs_bricks_checkpoint_release(struct handshake *hs);
  * copies' rows ran when it is not 0). */
 long hs_bricks_remote_copies_max(const struct handshake *hs);
 
+/* The MPM grid's shared-node sums (mpm_bricks_shared_counts): the most
+ * nodes a rank shares, the plans made.  Collective. */
+void hs_bricks_shared_counts(const struct handshake *hs, long *nodes_max, long *plans);
+
 void hs_bricks_free(struct handshake *hs);
 
 /* One region I atom's row for the MPM (handshake_step.c): position wrapped

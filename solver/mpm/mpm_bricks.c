@@ -10,6 +10,7 @@
 #include "core/decomp.h"
 #include "core/parallel.h"
 #include "input/parallel_settings.h"
+#include "mpm/mpm_shared.h"
 #include "util/cfg.h"
 
 #define MIN_BRICK_CELLS 4   /* a neighbour's patch reaches MARGIN + 1 nodes into a brick */
@@ -180,6 +181,10 @@ void mpm_bricks_destroy(struct mpm_bricks **bp)
     free(b->pbuf);
     free(b->prbuf);
     free(b->wbuf);
+    if (b->shared) {
+        mpm_shared_free(b->shared);
+        free(b->shared);
+    }
     free(b);
     *bp = NULL;
 }
@@ -406,8 +411,14 @@ static int whole_sum(struct mpm_bricks *b, double *base, int stride, int nc, int
 static int node_exchange(struct mpm_bricks *b, double *base, int stride, int nc, int reverse,
                          int aux_max, long nnodes, struct err *e)
 {
+    if (b->whole && !reverse)
+        return 0;   /* every rank's sums of its nodes are complete */
+    if (b->shared)
+        return stride == nc ? mpm_shared_sum(b->shared, base, nc, e)
+                            : err_set(e, ERR_RUNTIME, "MPM bricks: shared-node sums of strided "
+                                                      "values");
     if (b->whole)
-        return reverse ? whole_sum(b, base, stride, nc, aux_max, nnodes, e) : 0;
+        return whole_sum(b, base, stride, nc, aux_max, nnodes, e);
     for (int k = 0; k < MPM_BRICKS_NBR; k++) {
         struct mpm_bricks_link *L = &b->link[k];
         if (L->rank_to < 0 && L->rank_from < 0)
@@ -462,6 +473,11 @@ _Static_assert(sizeof(struct mpm_node) == 8 * sizeof(double), "mpm_node is 8 dou
 static int nodes_reverse(struct mpm_bricks *b, struct mpm *m, struct err *e)
 {
     struct mpm_grid *g = &m->grid;
+    if (b->shared) {   /* the nodes this rank's particles now touch (located by the map) */
+        int rc = mpm_shared_plan(b->shared, m, e);
+        if (rc)
+            return rc;
+    }
     return node_exchange(b, (double *)g->node, 8, 8, 1, 1, g->nnodes, e);
 }
 
@@ -772,6 +788,32 @@ int mpm_bricks_keep_marked(struct mpm *m, const struct mpm_points *all, const un
     return rc;
 }
 
+/* The node sums of a whole grid: with a rigid body, every node reduced
+ * over all ranks (its aux a maximum, its reactions summed over all nodes
+ * already), else only the shared nodes exchanged (mpm_shared.h). */
+static int whole_sums_init(struct mpm_bricks *b, const struct mpm *m, struct err *e)
+{
+    b->rigid = 0;
+    for (int k = 0; k < m->nbody; k++)
+        b->rigid |= m->body[k].rigid != 0;
+    if (b->rigid) {
+        b->wbuf = malloc((size_t)(m->grid.nnodes > 0 ? m->grid.nnodes : 1) * sizeof *b->wbuf);
+        b->wcap = b->wbuf ? (size_t)m->grid.nnodes : 0;
+        return b->wbuf ? 0 : err_nomem(e, "MPM whole-grid sums");
+    }
+    if (!b->par || b->par->size < 2 || !m->grid.hg)
+        return 0;
+    b->shared = malloc(sizeof *b->shared);
+    if (!b->shared)
+        return err_nomem(e, "MPM shared nodes");
+    int rc = mpm_shared_init(b->shared, b->par, m, e);
+    if (rc) {
+        free(b->shared);
+        b->shared = NULL;
+    }
+    return rc;
+}
+
 int mpm_bricks_create_fixed(const struct parallel *par, const struct mpm *m,
                             struct mpm_bricks **out, struct err *e)
 {
@@ -784,14 +826,7 @@ int mpm_bricks_create_fixed(const struct parallel *par, const struct mpm *m,
         for (int d = 0; d < 3; d++)
             b->grid[d] = 1;   /* no cuts: the caller dealt the points out */
         b->serial_nodes = m->grid.nnodes;
-        for (int k = 0; k < m->nbody; k++)
-            b->rigid |= m->body[k].rigid != 0;
-        if (b->rigid) {
-            b->wbuf = malloc((size_t)(m->grid.nnodes > 0 ? m->grid.nnodes : 1) * sizeof *b->wbuf);
-            b->wcap = b->wbuf ? (size_t)m->grid.nnodes : 0;
-            if (!b->wbuf)
-                rc = err_nomem(e, "MPM whole-grid sums");
-        }
+        rc = whole_sums_init(b, m, e);
     }
     if (par && par->size > 1 && parallel_any(par, rc != 0) && !rc)
         rc = err_set(e, ERR_RUNTIME, "stopped: another MPI rank failed (its message is on "
@@ -848,16 +883,7 @@ static int shift_cuts(struct mpm_bricks *b, const struct mpm *m, struct err *e)
 static int distribute_whole(struct mpm_bricks *b, struct mpm *m, struct err *e)
 {
     link_ranks(b);   /* the points' neighbours; no node lists */
-    b->rigid = 0;
-    for (int k = 0; k < m->nbody; k++)
-        b->rigid |= m->body[k].rigid != 0;
-    int rc = 0;
-    if (b->rigid) {
-        b->wbuf = malloc((size_t)(m->grid.nnodes > 0 ? m->grid.nnodes : 1) * sizeof *b->wbuf);
-        b->wcap = b->wbuf ? (size_t)m->grid.nnodes : 0;
-        if (!b->wbuf)
-            rc = err_nomem(e, "MPM whole-grid sums");
-    }
+    int rc = whole_sums_init(b, m, e);
     struct mpm_points all = m->pts;
     if (!rc)
         rc = mpm_points_init(&m->pts, all.nstate, e);
@@ -986,6 +1012,30 @@ int mpm_bricks_map_initial(struct mpm_bricks *b, struct mpm *m, struct err *e)
     mpm_clear_grid(m);
     mpm_map_to_grid(m, MPM_MAP_ALL);
     return mpm_bricks_agree(b, nodes_reverse(b, m, e), e);
+}
+
+int mpm_bricks_complete_grid(struct mpm_bricks *b, struct mpm *m, struct err *e)
+{
+    if (!b->shared)
+        return 0;
+    struct mpm_grid *g = &m->grid;
+    int rc = mpm_shared_complete(b->shared, (double *)g->node, 8, e);
+    if (!rc && g->r)
+        rc = mpm_shared_complete(b->shared, g->r, 4, e);
+    return rc;
+}
+
+void mpm_bricks_shared_counts(const struct mpm_bricks *b, long *nodes_max, long *plans)
+{
+    double v[2] = {0, 0};
+    if (b && b->shared) {
+        v[0] = (double)mpm_shared_nodes(b->shared);
+        v[1] = (double)b->shared->rebuilds;
+    }
+    if (b)
+        parallel_max(b->par, v, 2);
+    *nodes_max = (long)v[0];
+    *plans = (long)v[1];
 }
 
 int mpm_bricks_step_update(struct mpm_bricks *b, struct mpm *m, double dt, struct err *e)

@@ -42,11 +42,16 @@
  * rank holds the whole grid; the points are owned and migrate exactly as on
  * a uniform grid (the cuts are along the finest cells); after every
  * particle-to-grid pass the nodes' mass, momentum and force (and the MUSL
- * remap) are summed over all ranks by one reduction whose result has the
- * same bits on every rank (parallel_sum: reduce then broadcast), so every
- * rank updates every node identically and the hanging nodes need nothing
- * across the faces.  Cost: 64 bytes per node of the whole grid per step
- * (72 with a rigid body, +32 with MUSL), against the points' own work.
+ * remap) are made complete where this rank's particles read them: only the
+ * nodes two ranks share are exchanged, and every rank adds a node's partial
+ * sums in rank order, so every copy of a node has the same bits and every
+ * rank updates its nodes as the others do; the hanging nodes need nothing
+ * more, since a particle's shape functions reach only its cell's nodes
+ * (mpm_shared.h; 64 bytes per shared node per step, +32 with MUSL).  With
+ * a rigid body every node is summed over all ranks by one reduction whose
+ * result has the same bits on every rank (parallel_sum: reduce then
+ * broadcast; its aux is a maximum and its reaction a sum over all nodes):
+ * 72 bytes per node of the whole grid per step.
  *
  * Fixed owners (`fixed`, mpm_bricks_create_fixed): a whole grid whose
  * points are dealt out once by the caller and never migrate.  With the
@@ -69,6 +74,7 @@
 struct parallel;
 struct parallel_settings;
 struct cfg;
+struct mpm_shared;
 
 #define MPM_BRICKS_MARGIN 1   /* cells a point may be outside its brick and still map */
 #define MPM_BRICKS_NBR 26
@@ -96,6 +102,8 @@ struct mpm_bricks {
     int rigid;                    /* whole: some body is rigid (the nodes' aux is reduced
                                      as a maximum) */
     double *wbuf;                 /* whole: the nodes' aux during a reduction */
+    struct mpm_shared *shared;    /* whole, no rigid body: the shared nodes' plan
+                                     (mpm_shared.h), or NULL */
     size_t wcap;
     long ncell[3];                /* the serial grid's cells */
     long serial_nodes;            /* the serial grid's node count (with its halo) */
@@ -156,6 +164,17 @@ int mpm_bricks_prepare(struct mpm_bricks *b, struct mpm *m, struct err *e);
  * is an error on every rank. */
 int mpm_bricks_step_map(struct mpm_bricks *b, struct mpm *m, struct err *e);
 int mpm_bricks_step_update(struct mpm_bricks *b, struct mpm *m, double dt, struct err *e);
+
+/* A whole grid whose sums only the sharing ranks exchanged (mpm_shared.h):
+ * every node made complete on every rank, for output of the whole grid
+ * (the values each rank's particles read are unchanged, bit for bit).
+ * Collective; nothing to do for other decompositions. */
+int mpm_bricks_complete_grid(struct mpm_bricks *b, struct mpm *m, struct err *e);
+
+/* Of the shared-node sums (mpm_shared.h): the most nodes a rank shares
+ * with others in the last plan, and the plans made so far (0 and 0
+ * without them).  Collective. */
+void mpm_bricks_shared_counts(const struct mpm_bricks *b, long *nodes_max, long *plans);
 
 /* Sums, maxima over the ranks (no-op when b is NULL). */
 void mpm_bricks_sum(const struct mpm_bricks *b, double *buf, int n);

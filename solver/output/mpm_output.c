@@ -365,9 +365,11 @@ static int bricks_snapshot(struct mpm_output *o, struct run *run, struct mpm_cas
         return rc;
     struct mpm_grid full;
     memset(&full, 0, sizeof full);
-    /* a hierarchical grid is whole on every rank, its nodes summed over
-     * them (mpm_bricks.h): rank 0 writes its own */
+    /* a hierarchical grid is whole on every rank (mpm_bricks.h): once
+     * every node is complete there, rank 0 writes its own */
     int gather_grid = c->output_grid && !b->whole;
+    if (!rc && c->output_grid && b->whole)   /* only the shared nodes were summed */
+        rc = mpm_bricks_complete_grid(b, m, e);
     if (!rc && gather_grid) {
         int r0 = 0;
         if (root) {

@@ -13,4 +13,8 @@ void handshake_record_parallel(const struct handshake *hs, struct result *res)
     decomp_record_add_counts(res, hs->md->halo->dc.par, "mpm_points_per_rank", hs->mpm.pts.n);
     decomp_record_add_integer(res, "handshake_remote_copies_max",
                               hs_bricks_remote_copies_max(hs));
+    long shared = 0, plans = 0;
+    hs_bricks_shared_counts(hs, &shared, &plans);
+    decomp_record_add_integer(res, "mpm_shared_nodes_max", shared);
+    decomp_record_add_integer(res, "mpm_shared_node_plans", plans);
 }

@@ -198,8 +198,15 @@ static int mpm_case_report(void *state, struct sim *s, int run_rc, struct err *e
     mpm_bricks_sum(c->bricks, &bytes, 1);   /* bricks: the patches' ghost nodes count */
     long np = c->npoints_total;
     result_metric(res, "model_bytes_per_point", np ? bytes / (double)np : 0, "B");
-    if (c->bricks)
+    if (c->bricks) {
         decomp_record_write_counts(s->run, c->bricks->par, c->bricks->grid, m->pts.n);
+        long shared = 0, plans = 0;
+        mpm_bricks_shared_counts(c->bricks, &shared, &plans);
+        if (c->bricks->shared) {
+            decomp_record_add_integer(res, "mpm_shared_nodes_max", shared);
+            decomp_record_add_integer(res, "mpm_shared_node_plans", plans);
+        }
+    }
     return mpm_output_end(&c->out, s->run, e);
 }
 
