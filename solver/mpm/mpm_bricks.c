@@ -477,6 +477,8 @@ static int nodes_reverse(struct mpm_bricks *b, struct mpm *m, struct err *e)
         int rc = mpm_shared_plan(b->shared, m, e);
         if (rc)
             return rc;
+        g->active = b->shared->touched;   /* the grid stages visit only these */
+        g->nactive = b->shared->ntouched;
     }
     return node_exchange(b, (double *)g->node, 8, 8, 1, 1, g->nnodes, e);
 }
@@ -1014,15 +1016,38 @@ int mpm_bricks_map_initial(struct mpm_bricks *b, struct mpm *m, struct err *e)
     return mpm_bricks_agree(b, nodes_reverse(b, m, e), e);
 }
 
-int mpm_bricks_complete_grid(struct mpm_bricks *b, struct mpm *m, struct err *e)
+int mpm_bricks_complete_grid(struct mpm_bricks *b, const struct mpm *m, struct mpm_node **node,
+                             double **r, struct err *e)
 {
+    *node = NULL;
+    *r = NULL;
     if (!b->shared)
         return 0;
-    struct mpm_grid *g = &m->grid;
-    int rc = mpm_shared_complete(b->shared, (double *)g->node, 8, e);
-    if (!rc && g->r)
-        rc = mpm_shared_complete(b->shared, g->r, 4, e);
-    return rc;
+    /* copies: each rank's own arrays stay zero beyond its touched nodes,
+     * which the grid stages rely on (mpm_grid.h, `active`) */
+    const struct mpm_grid *g = &m->grid;
+    size_t nn = (size_t)(g->nnodes > 0 ? g->nnodes : 1);
+    struct mpm_node *cn = malloc(nn * sizeof *cn);
+    double *cr = malloc(nn * 4 * sizeof *cr);
+    int rc = mpm_bricks_agree(b, cn && cr ? 0 : err_nomem(e, "MPM grid snapshot"), e);
+    if (!rc) {
+        memcpy(cn, g->node, (size_t)g->nnodes * sizeof *cn);
+        if (g->r)
+            memcpy(cr, g->r, (size_t)g->nnodes * 4 * sizeof *cr);
+        else
+            memset(cr, 0, nn * 4 * sizeof *cr);
+        rc = mpm_shared_complete(b->shared, (double *)cn, 8, e);
+    }
+    if (!rc)
+        rc = mpm_shared_complete(b->shared, cr, 4, e);
+    if (rc) {
+        free(cn);
+        free(cr);
+        return rc;
+    }
+    *node = cn;
+    *r = cr;
+    return 0;
 }
 
 void mpm_bricks_shared_counts(const struct mpm_bricks *b, long *nodes_max, long *plans)

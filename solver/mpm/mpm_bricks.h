@@ -166,10 +166,12 @@ int mpm_bricks_step_map(struct mpm_bricks *b, struct mpm *m, struct err *e);
 int mpm_bricks_step_update(struct mpm_bricks *b, struct mpm *m, double dt, struct err *e);
 
 /* A whole grid whose sums only the sharing ranks exchanged (mpm_shared.h):
- * every node made complete on every rank, for output of the whole grid
- * (the values each rank's particles read are unchanged, bit for bit).
- * Collective; nothing to do for other decompositions. */
-int mpm_bricks_complete_grid(struct mpm_bricks *b, struct mpm *m, struct err *e);
+ * copies of the nodes and of the remap r, every node complete, for output
+ * of the whole grid (*node and *r malloc'ed, the caller frees them; both
+ * NULL for other decompositions, whose arrays are complete already).
+ * Collective. */
+int mpm_bricks_complete_grid(struct mpm_bricks *b, const struct mpm *m, struct mpm_node **node,
+                             double **r, struct err *e);
 
 /* Of the shared-node sums (mpm_shared.h): the most nodes a rank shares
  * with others in the last plan, and the plans made so far (0 and 0

@@ -304,7 +304,24 @@ void mpm_grid_clear_nodes(struct mpm_node *nd, long n, int nthreads)
 
 void mpm_grid_clear(struct mpm_grid *g, int nthreads)
 {
-    mpm_grid_clear_nodes(g->node, g->nnodes, nthreads);
+    if (!g->active) {
+        mpm_grid_clear_nodes(g->node, g->nnodes, nthreads);
+        return;
+    }
+    /* only the nodes the last mapping touched hold values; the remap r of
+     * s10-s11 is zeroed with them (the update zeroes only the nodes it
+     * visits) */
+    const int32_t *act = g->active;
+    long n = g->nactive;
+    struct mpm_node *node = g->node;
+    double *r = g->r;
+#pragma omp parallel for schedule(static) num_threads(nthreads)
+    for (long k = 0; k < n; k++) {
+        long i = act[k];
+        memset(&node[i], 0, sizeof node[i]);
+        if (r)
+            r[4 * i + 0] = r[4 * i + 1] = r[4 * i + 2] = r[4 * i + 3] = 0.0;
+    }
 }
 
 double mpm_grid_bytes(const struct mpm_grid *g)

@@ -70,6 +70,14 @@ struct mpm_grid {
     double *r;                   /* 4 per node (r0 r1 r2 0): remapped momentum, then the
                                     velocity of s11; padded for vector access */
 
+    /* the nodes the grid stages (clear, s4-s5, s11) visit, ascending, or
+     * NULL for all: on bricks with shared-node sums (mpm_shared.h) a
+     * rank's touched nodes, every other node being zero there.  Borrowed
+     * from the plan; the clear before a mapping visits the last
+     * mapping's nodes, the updates after it the new ones. */
+    const int32_t *active;
+    long nactive;
+
     /* essential boundary conditions: node and bits of the fixed components */
     long nbc;
     int32_t *bc_node;

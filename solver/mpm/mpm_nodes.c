@@ -42,7 +42,8 @@ void mpm_update_grid(struct mpm *m, double dt)
     struct mpm_grid *g = &m->grid;
     struct mpm_node *node = g->node;
     double *r = g->r;
-    long n = g->nnodes;
+    const int32_t *act = g->active;   /* NULL: every node */
+    long n = act ? g->nactive : g->nnodes;
     double small = m->small_mass, alpha = m->damping;
     int nb = m->nbody;
     double react[3 * MPM_MAX_BODIES];
@@ -53,7 +54,8 @@ void mpm_update_grid(struct mpm *m, double dt)
             vb[3 * b + d] = m->body[b].velocity[d];
 #pragma omp parallel for schedule(static) num_threads(m->nthreads) \
     reduction(+ : react[:3 * MPM_MAX_BODIES])
-    for (long i = 0; i < n; i++) {
+    for (long k = 0; k < n; k++) {
+        long i = act ? act[k] : k;
         struct mpm_node *nd = &node[i];
         r[4 * i + 0] = r[4 * i + 1] = r[4 * i + 2] = r[4 * i + 3] = 0.0;
         double mi = nd->m;
@@ -108,10 +110,13 @@ void mpm_update_grid_velocity_clearing(struct mpm *m, struct mpm_node *clear)
     struct mpm_grid *g = &m->grid;
     const struct mpm_node *node = g->node;
     double *r = g->r;
-    long n = g->nnodes;
+    /* the fused pass's buffer is cleared whole, so every node is visited */
+    const int32_t *act = clear ? NULL : g->active;
+    long n = act ? g->nactive : g->nnodes;
     double small = m->small_mass;
 #pragma omp parallel for schedule(static) num_threads(m->nthreads)
-    for (long i = 0; i < n; i++) {
+    for (long k = 0; k < n; k++) {
+        long i = act ? act[k] : k;
         if (clear)   /* the fused pass's second buffer, zeroed on the way */
             memset(&clear[i], 0, sizeof clear[i]);
         const struct mpm_node *nd = &node[i];

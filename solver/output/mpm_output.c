@@ -365,11 +365,14 @@ static int bricks_snapshot(struct mpm_output *o, struct run *run, struct mpm_cas
         return rc;
     struct mpm_grid full;
     memset(&full, 0, sizeof full);
-    /* a hierarchical grid is whole on every rank (mpm_bricks.h): once
-     * every node is complete there, rank 0 writes its own */
+    /* a hierarchical grid is whole on every rank (mpm_bricks.h): rank 0
+     * writes it, from copies made complete when only the shared nodes
+     * were summed */
     int gather_grid = c->output_grid && !b->whole;
-    if (!rc && c->output_grid && b->whole)   /* only the shared nodes were summed */
-        rc = mpm_bricks_complete_grid(b, m, e);
+    struct mpm_node *cnode = NULL;   /* only the shared nodes were summed: */
+    double *cr = NULL;               /* complete copies for the writer */
+    if (!rc && c->output_grid && b->whole)
+        rc = mpm_bricks_complete_grid(b, m, &cnode, &cr, e);
     if (!rc && gather_grid) {
         int r0 = 0;
         if (root) {
@@ -387,6 +390,10 @@ static int bricks_snapshot(struct mpm_output *o, struct run *run, struct mpm_cas
         m->pts = all;
         if (gather_grid)
             m->grid = full;
+        if (cnode) {
+            m->grid.node = cnode;
+            m->grid.r = cr;
+        }
         rc = points_snapshot(o, run, c, e);
         if (!rc && c->output_grid)
             rc = grid_snapshot(o, run, c, e);
@@ -395,6 +402,8 @@ static int bricks_snapshot(struct mpm_output *o, struct run *run, struct mpm_cas
     }
     mpm_points_free(&all);
     mpm_grid_free(&full);
+    free(cnode);
+    free(cr);
     return rc;
 }
 
