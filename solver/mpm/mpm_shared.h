@@ -15,7 +15,9 @@
  * shape functions reach only its cell's nodes (Guo & Yang 2005, Eq. (11),
  * hanging nodes included, mpm_shape.c), so a rank's particles read back
  * only its touched nodes, which are then complete; the nodes it does not
- * touch stay zero on it.
+ * touch stay zero on it, so the grid stages (the clear before a mapping,
+ * s4-s5, s11) visit only the touched nodes (mpm_grid.h, `active`): the
+ * clear those of the last mapping, the updates those of the new one.
  *
  * The plan (which nodes a rank shares with which rank) is made when the
  * touched sets change: each rank marks its touched nodes after locating
