@@ -373,7 +373,8 @@ static int build_links(struct mpm_bricks *b, const struct mpm_grid *g, struct er
 
 /* --- node halo --------------------------------------------------------------- */
 
-/* A hierarchical grid held whole on every rank: the nodes' partial sums
+/* A whole grid without shared-node sums (a uniform grid in fixed-owner
+ * mode, mpm_bricks_create_fixed): the nodes' partial sums
  * (nc doubles per node, contiguous: stride == nc) summed over the ranks in
  * place, the same bits on every rank (parallel_sum reduces on rank 0 and
  * broadcasts), so every rank then updates every node identically (the
@@ -414,7 +415,7 @@ static int node_exchange(struct mpm_bricks *b, double *base, int stride, int nc,
     if (b->whole && !reverse)
         return 0;   /* every rank's sums of its nodes are complete */
     if (b->shared)
-        return stride == nc ? mpm_shared_sum(b->shared, base, nc, e)
+        return stride == nc ? mpm_shared_sum(b->shared, base, nc, aux_max, e)
                             : err_set(e, ERR_RUNTIME, "MPM bricks: shared-node sums of strided "
                                                       "values");
     if (b->whole)
@@ -479,6 +480,7 @@ static int nodes_reverse(struct mpm_bricks *b, struct mpm *m, struct err *e)
             return rc;
         g->active = b->shared->touched;   /* the grid stages visit only these */
         g->nactive = b->shared->ntouched;
+        g->active_first = b->shared->first;
     }
     return node_exchange(b, (double *)g->node, 8, 8, 1, 1, g->nnodes, e);
 }
@@ -790,21 +792,23 @@ int mpm_bricks_keep_marked(struct mpm *m, const struct mpm_points *all, const un
     return rc;
 }
 
-/* The node sums of a whole grid: with a rigid body, every node reduced
- * over all ranks (its aux a maximum, its reactions summed over all nodes
- * already), else only the shared nodes exchanged (mpm_shared.h). */
+/* The node sums of a whole grid: a hierarchical grid on more than one
+ * rank exchanges only its shared nodes (mpm_shared.h; a rigid body's mark
+ * taken as a maximum, its reaction counted on the nodes a rank is the
+ * lowest toucher of); otherwise (a uniform grid of fixed owners, or one
+ * rank) every node is reduced (whole_sum). */
 static int whole_sums_init(struct mpm_bricks *b, const struct mpm *m, struct err *e)
 {
     b->rigid = 0;
     for (int k = 0; k < m->nbody; k++)
         b->rigid |= m->body[k].rigid != 0;
-    if (b->rigid) {
+    if (!b->par || b->par->size < 2 || !m->grid.hg) {   /* whole_sum: all nodes */
+        if (!b->rigid)
+            return 0;
         b->wbuf = malloc((size_t)(m->grid.nnodes > 0 ? m->grid.nnodes : 1) * sizeof *b->wbuf);
         b->wcap = b->wbuf ? (size_t)m->grid.nnodes : 0;
         return b->wbuf ? 0 : err_nomem(e, "MPM whole-grid sums");
     }
-    if (!b->par || b->par->size < 2 || !m->grid.hg)
-        return 0;
     b->shared = malloc(sizeof *b->shared);
     if (!b->shared)
         return err_nomem(e, "MPM shared nodes");
@@ -1119,8 +1123,10 @@ int mpm_bricks_step_update(struct mpm_bricks *b, struct mpm *m, double dt, struc
     s[ns++] = m->ke;
     s[ns++] = m->ke_centred;
     s[ns++] = m->strain;
-    /* a whole grid's reactions are over all nodes already, the same on every rank */
-    int nreact = b->whole ? 0 : m->nbody;
+    /* a whole grid's reactions are over all nodes already, the same on
+     * every rank; with shared-node sums each rank's are over the nodes it
+     * is the lowest toucher of */
+    int nreact = b->whole && !b->shared ? 0 : m->nbody;
     for (int k = 0; k < nreact; k++)
         for (int d = 0; d < 3; d++)
             s[ns++] = m->body[k].reaction[d];

@@ -47,18 +47,20 @@
  * sums in rank order, so every copy of a node has the same bits and every
  * rank updates its nodes as the others do; the hanging nodes need nothing
  * more, since a particle's shape functions reach only its cell's nodes
- * (mpm_shared.h; 64 bytes per shared node per step, +32 with MUSL).  With
- * a rigid body every node is summed over all ranks by one reduction whose
- * result has the same bits on every rank (parallel_sum: reduce then
- * broadcast; its aux is a maximum and its reaction a sum over all nodes):
- * 72 bytes per node of the whole grid per step.
+ * (mpm_shared.h; 64 bytes per shared node per step, +32 with MUSL).  A
+ * rigid body's node mark (aux) is shared as a maximum, and its reaction is
+ * counted on each node by the lowest rank that touches it, then summed
+ * over the ranks.
  *
  * Fixed owners (`fixed`, mpm_bricks_create_fixed): a whole grid whose
  * points are dealt out once by the caller and never migrate.  With the
  * grid whole on every rank a point needs no nodes near its owner, so any
  * partition of the points gives the same node sums; the handshake deals
  * its points out by the MD's bricks (couple/handshake_bricks.h), so that a
- * point and its MD copy mostly share a rank.
+ * point and its MD copy mostly share a rank.  A uniform grid of fixed
+ * owners (the handshake bars' grids) has its nodes summed over all ranks
+ * by one reduction (parallel_sum), as the hierarchical grid was before its
+ * shared-node sums: 64 bytes a node per step (+32 with MUSL).
  *
  * Extra particle sets (the couplings) are not decomposed here: each rank
  * maps its own extra particles, which a whole grid's reduction adds up.
@@ -95,18 +97,20 @@ struct mpm_bricks {
                                      [cut[d][c], cut[d][c + 1]) */
     int shift;                    /* parallel.balance: shift -- cuts at the points'
                                      quantiles (set when the points are distributed) */
-    int whole;                    /* a hierarchical grid: every rank holds it whole and
-                                     the node sums are allreduced (no patch, no links) */
+    int whole;                    /* every rank holds the grid whole (no patch, no
+                                     links): a hierarchical grid exchanges its shared
+                                     nodes' sums, a fixed-owner uniform one reduces
+                                     all nodes */
     int fixed;                    /* whole, and the points never migrate (the caller
                                      dealt them out: mpm_bricks_create_fixed) */
     int rigid;                    /* whole: some body is rigid (the nodes' aux is reduced
                                      as a maximum) */
     double *wbuf;                 /* whole: the nodes' aux during a reduction */
-    struct mpm_shared *shared;    /* whole, no rigid body: the shared nodes' plan
-                                     (mpm_shared.h), or NULL */
-    size_t wcap;
+    struct mpm_shared *shared;    /* whole, a hierarchical grid, more than one rank:
+                                     the shared nodes' plan (mpm_shared.h), or NULL */
     long ncell[3];                /* the serial grid's cells */
     long serial_nodes;            /* the serial grid's node count (with its halo) */
+    size_t wcap;
     struct mpm_bricks_link link[MPM_BRICKS_NBR];
     uint8_t *is_ghost;            /* per patch node */
     double *sbuf, *rbuf;          /* message buffers */

@@ -77,6 +77,8 @@ struct mpm_grid {
      * mapping's nodes, the updates after it the new ones. */
     const int32_t *active;
     long nactive;
+    const uint8_t *active_first;   /* per active node: this rank is the lowest that
+                                      touches it (sums over nodes count it here), or NULL */
 
     /* essential boundary conditions: node and bits of the fixed components */
     long nbc;

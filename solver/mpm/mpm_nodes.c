@@ -43,6 +43,7 @@ void mpm_update_grid(struct mpm *m, double dt)
     struct mpm_node *node = g->node;
     double *r = g->r;
     const int32_t *act = g->active;   /* NULL: every node */
+    const uint8_t *first = act ? g->active_first : NULL;   /* the reactions' nodes */
     long n = act ? g->nactive : g->nnodes;
     double small = m->small_mass, alpha = m->damping;
     int nb = m->nbody;
@@ -70,9 +71,11 @@ void mpm_update_grid(struct mpm *m, double dt)
             int b = (int)nd->aux - 1;
             double a0 = (vb[3 * b + 0] - v0) / dt, a1 = (vb[3 * b + 1] - v1) / dt,
                    a2 = (vb[3 * b + 2] - v2) / dt;
-            react[3 * b + 0] += mi * a0 * UNITS_MVV2E - nd->f[0];
-            react[3 * b + 1] += mi * a1 * UNITS_MVV2E - nd->f[1];
-            react[3 * b + 2] += mi * a2 * UNITS_MVV2E - nd->f[2];
+            if (!first || first[k]) {   /* a node shared by ranks counts once */
+                react[3 * b + 0] += mi * a0 * UNITS_MVV2E - nd->f[0];
+                react[3 * b + 1] += mi * a1 * UNITS_MVV2E - nd->f[1];
+                react[3 * b + 2] += mi * a2 * UNITS_MVV2E - nd->f[2];
+            }
             nd->q[0] = vb[3 * b + 0];
             nd->q[1] = vb[3 * b + 1];
             nd->q[2] = vb[3 * b + 2];

@@ -14,6 +14,7 @@
 
 #define MARK_TOUCHED 1u
 #define MARK_SHARED 2u
+#define MARK_LOWER 4u   /* a lower rank touches it too */
 
 int mpm_shared_init(struct mpm_shared *s, const struct parallel *par, const struct mpm *m,
                     struct err *e)
@@ -28,13 +29,15 @@ int mpm_shared_init(struct mpm_shared *s, const struct parallel *par, const stru
     s->node_mark = calloc((size_t)(s->nnodes > 0 ? s->nnodes : 1), 1);
     s->touched = malloc((size_t)(s->nnodes > 0 ? s->nnodes : 1) * sizeof *s->touched);
     s->fresh = malloc((size_t)(s->nnodes > 0 ? s->nnodes : 1) * sizeof *s->fresh);
+    s->first = malloc((size_t)(s->nnodes > 0 ? s->nnodes : 1));
     s->count = calloc((size_t)size, sizeof *s->count);
     s->displ = calloc((size_t)size + 1, sizeof *s->displ);
     s->scount = calloc((size_t)size, sizeof *s->scount);
     s->sdispl = calloc((size_t)size, sizeof *s->sdispl);
     s->rcount = calloc((size_t)size, sizeof *s->rcount);
     s->rdispl = calloc((size_t)size, sizeof *s->rdispl);
-    if (!s->cell_mark || !s->node_mark || !s->touched || !s->fresh || !s->count || !s->displ ||
+    if (!s->cell_mark || !s->node_mark || !s->touched || !s->fresh || !s->first || !s->count ||
+        !s->displ ||
         !s->scount || !s->sdispl || !s->rcount || !s->rdispl) {
         mpm_shared_free(s);
         return err_nomem(e, "MPM shared nodes");
@@ -48,6 +51,7 @@ void mpm_shared_free(struct mpm_shared *s)
     free(s->node_mark);
     free(s->touched);
     free(s->fresh);
+    free(s->first);
     free(s->list);
     free(s->count);
     free(s->displ);
@@ -213,6 +217,13 @@ static int plan_lists(struct mpm_shared *s, const int32_t *theirs, long nrecv, s
         if (s->node_mark[s->touched[i]] & MARK_SHARED)
             u[nu++] = s->touched[i];
     s->nuni = nu;
+    /* which touched nodes this rank is the lowest toucher of: the one
+     * place a sum over nodes (a rigid body's reaction) counts them */
+    for (int r = 0; r < s->par->rank; r++)
+        for (long j = 0; j < s->count[r]; j++)
+            s->node_mark[s->list[s->displ[r] + j]] |= MARK_LOWER;
+    for (long i = 0; i < s->ntouched; i++)
+        s->first[i] = !(s->node_mark[s->touched[i]] & MARK_LOWER);
     /* the sums' buffers for up to MPM_SHARED_MAX_NC doubles a node, here
      * so that a sum cannot fail on one rank alone */
     int bytes;
@@ -278,7 +289,17 @@ int mpm_shared_plan(struct mpm_shared *s, const struct mpm *m, struct err *e)
     return make_plan(s, e);
 }
 
-int mpm_shared_sum(struct mpm_shared *s, double *base, int nc, struct err *e)
+/* v += w, the last of nc values a maximum when aux_max. */
+static inline void add_row(double *v, const double *w, int nc, int aux_max)
+{
+    int nsum = aux_max ? nc - 1 : nc;
+    for (int c = 0; c < nsum; c++)
+        v[c] += w[c];
+    if (aux_max && w[nc - 1] > v[nc - 1])
+        v[nc - 1] = w[nc - 1];
+}
+
+int mpm_shared_sum(struct mpm_shared *s, double *base, int nc, int aux_max, struct err *e)
 {
     const struct parallel *par = s->par;
     if (!par || par->size < 2)
@@ -308,22 +329,14 @@ int mpm_shared_sum(struct mpm_shared *s, double *base, int nc, struct err *e)
      * additions in the same order on every rank that holds the node */
     for (int r = 0; r < size; r++) {
         if (r == me) {
-            for (long j = 0; j < s->nuni; j++) {
-                double *v = base + (long)s->uni[j] * nc;
-                const double *w = s->own + j * nc;
-                for (int c = 0; c < nc; c++)
-                    v[c] += w[c];
-            }
+            for (long j = 0; j < s->nuni; j++)
+                add_row(base + (long)s->uni[j] * nc, s->own + j * nc, nc, aux_max);
             continue;
         }
         const int32_t *l = s->list + s->displ[r];
         const double *in = s->rbuf + s->displ[r] * nc;
-        for (long j = 0; j < s->count[r]; j++) {
-            double *v = base + (long)l[j] * nc;
-            const double *w = in + j * nc;
-            for (int c = 0; c < nc; c++)
-                v[c] += w[c];
-        }
+        for (long j = 0; j < s->count[r]; j++)
+            add_row(base + (long)l[j] * nc, in + j * nc, nc, aux_max);
     }
     return 0;
 }

@@ -48,6 +48,7 @@ struct mpm_shared {
     long ncell, nnodes;
     int32_t *touched;             /* this rank's touched nodes, ascending (the plan's) */
     long ntouched;
+    uint8_t *first;               /* per touched node: no lower rank touches it */
     int32_t *fresh;               /* the touched nodes of the current mapping */
     long nfresh;
     int32_t *list;                /* per rank r: the nodes shared with r, ascending */
@@ -73,8 +74,10 @@ void mpm_shared_free(struct mpm_shared *s);
 int mpm_shared_plan(struct mpm_shared *s, const struct mpm *m, struct err *e);
 
 /* The partial sums at base (nc doubles a node, contiguous) of the shared
- * nodes made complete, added in rank order (see above).  Collective. */
-int mpm_shared_sum(struct mpm_shared *s, double *base, int nc, struct err *e);
+ * nodes made complete, added in rank order (see above); aux_max: the last
+ * value of a node (a rigid body's mark, body + 1) is a maximum instead.
+ * Collective. */
+int mpm_shared_sum(struct mpm_shared *s, double *base, int nc, int aux_max, struct err *e);
 
 /* Every node of the grid complete on every rank (base: nc doubles a node):
  * each node's value kept only by the lowest rank that touches it, then
