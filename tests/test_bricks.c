@@ -14,6 +14,7 @@
 #include <hdf5.h>
 #include <jansson.h>
 #include <math.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -335,6 +336,146 @@ Test(bricks, bad_grid_names_file_and_line, .timeout = 300)
     cr_assert(strstr(out, "dpdbal.yaml:6:") && strstr(out, "parallel.balance") &&
                   strstr(out, "'dpd' does not move its brick faces"),
               "%s", out);
+    /* balance_every without balance: shift, a threshold without
+     * balance_every, a threshold below 1, and a case type whose cuts are
+     * set once */
+    snprintf(yaml, sizeof yaml, "%sparallel:\n  balance_every: 50\n", base);
+    path = th_write_temp(0, "every.yaml", yaml);
+    const char *a6[] = {th_solver(), "check", path, NULL};
+    cr_assert_eq(th_run(a6, out, sizeof out), 2, "%s", out);
+    cr_assert(strstr(out, "every.yaml:8:") && strstr(out, "parallel.balance_every") &&
+                  strstr(out, "add balance: shift"),
+              "%s", out);
+    snprintf(yaml, sizeof yaml, "%sparallel:\n  balance: shift\n  balance_threshold: 1.2\n",
+             base);
+    path = th_write_temp(1, "thresh.yaml", yaml);
+    const char *a7[] = {th_solver(), "check", path, NULL};
+    cr_assert_eq(th_run(a7, out, sizeof out), 2, "%s", out);
+    cr_assert(strstr(out, "thresh.yaml:9:") && strstr(out, "parallel.balance_threshold") &&
+                  strstr(out, "give balance_every too"),
+              "%s", out);
+    snprintf(yaml, sizeof yaml,
+             "%sparallel:\n  balance: shift\n  balance_every: 10\n  balance_threshold: 0.9\n",
+             base);
+    path = th_write_temp(2, "low.yaml", yaml);
+    const char *a8[] = {th_solver(), "check", path, NULL};
+    cr_assert_eq(th_run(a8, out, sizeof out), 2, "%s", out);
+    cr_assert(strstr(out, "low.yaml:10:") && strstr(out, "parallel.balance_threshold"), "%s",
+              out);
+    path = th_write_temp(3, "mpmevery.yaml",
+                         "type: mpm\nparallel:\n  decomposition: bricks\n  balance: shift\n"
+                         "  balance_every: 10\n");
+    const char *a9[] = {th_solver(), "check", path, NULL};
+    cr_assert_eq(th_run(a9, out, sizeof out), 2, "%s", out);
+    cr_assert(strstr(out, "mpmevery.yaml:5:") && strstr(out, "parallel.balance_every") &&
+                  strstr(out, "'mpm' sets its brick faces once"),
+              "%s", out);
+}
+
+/* The imbalance of run dir's last step and the dynamic balance's record */
+static double final_imbalance(const char *dir, long *checks, long *shifts, double *worst)
+{
+    json_t *r = thb_result(dir);
+    json_t *par = json_object_get(r, "parallel");
+    cr_assert_not_null(par, "%s: no parallel record", dir);
+    double imb = json_real_value(json_object_get(par, "imbalance_max_over_mean"));
+    if (checks) {
+        *checks = (long)json_integer_value(json_object_get(par, "balance_checks"));
+        *shifts = (long)json_integer_value(json_object_get(par, "balance_shifts"));
+        *worst = json_real_value(json_object_get(par, "imbalance_worst_at_checks"));
+    } else {
+        cr_assert_null(json_object_get(par, "balance_checks"), "%s: a static balance checked",
+                       dir);
+    }
+    json_decref(r);
+    return imb;
+}
+
+/* Dynamic balance (parallel.balance_every): a Cu flyer plate 21.7 Å thick
+ * crosses a periodic 60 Å box along x at 10 km/s (1 Å every 10 steps),
+ * on 2 bricks along x.  The set-up cuts it in half; cuts that stay leave
+ * every atom in one brick after 100 steps (max/mean 2), cuts checked
+ * every 10 steps follow it (within a plane of 32 atoms of 384).  The
+ * trajectory is the serial one to 1e-10 on 2 and 4 ranks, and a
+ * checkpoint taken between two checks restarts on 2 ranks bitwise (both
+ * runs cut at the stored atoms) and on 1 and 4 to 1e-10. */
+Test(bricks, dynamic_balance_follows_a_moving_plate, .timeout = 900)
+{
+    const double a = 3.615;
+    static const double basis[4][3] = {{0, 0, 0}, {0.5, 0.5, 0}, {0.5, 0, 0.5}, {0, 0.5, 0.5}};
+    static char text[1 << 16];
+    char body[1 << 16];
+    int n = 0, at = 0;
+    uint64_t r = 12345;
+    for (int i = 0; i < 6; i++)
+        for (int j = 0; j < 4; j++)
+            for (int k = 0; k < 4; k++)
+                for (int b = 0; b < 4; b++, n++) {
+                    double x[3] = {(i + basis[b][0]) * a + 19.0, (j + basis[b][1]) * a,
+                                   (k + basis[b][2]) * a};
+                    /* 0.05 Å of deterministic noise: forces in the bulk too */
+                    for (int d = 0; d < 3; d++) {
+                        r = r * 6364136223846793005ull + 1442695040888963407ull;
+                        x[d] += 0.1 * ((double)(r >> 11) / 9007199254740992.0 - 0.5);
+                    }
+                    at += snprintf(body + at, sizeof body - (size_t)at,
+                                   "Cu %.10g %.10g %.10g 100 0 0\n", x[0], x[1], x[2]);
+                }
+    snprintf(text, sizeof text,
+             "%d\nLattice=\"60 0 0 0 %.10g 0 0 0 %.10g\" "
+             "Properties=species:S:1:pos:R:3:vel:R:3 pbc=\"T T T\"\n%s",
+             n, 4 * a, 4 * a, body);
+    const char *xpath = th_write_temp(1, "plate.xyz", text);
+    /* no grid: on 2 ranks and on 4 the bricks cut the 60 Å axis (the
+     * smallest brick surface), so one case file restarts on any count */
+    const char *common = "seed: 6\nsystem:\n  read_xyz: %s\n"
+                         "potential: {style: eam/alloy, file: Cu_mishin1.eam.alloy}\n"
+                         "md: {steps: 100}\n"
+                         "output: {thermo_every: 10, checkpoint_every: 55}\n"
+                         "parallel: {balance: shift%s}\n";
+    char yaml[1024];
+    snprintf(yaml, sizeof yaml, common, xpath, ", balance_every: 10, balance_threshold: 1.05");
+    const char *p2 = th_write_temp(2, "plate.yaml", yaml);
+    snprintf(yaml, sizeof yaml, common, xpath, "");
+    const char *pst = th_write_temp(3, "plate_static.yaml", yaml);
+    char d0[600], d2[600], d4[600], dst[600];
+    snprintf(d0, sizeof d0, "%s/plate-serial", th_temp_dir());
+    snprintf(d2, sizeof d2, "%s/plate-2", th_temp_dir());
+    snprintf(d4, sizeof d4, "%s/plate-4", th_temp_dir());
+    snprintf(dst, sizeof dst, "%s/plate-static", th_temp_dir());
+    thb_must_run(p2, 0, d0, NULL);
+    thb_must_run(p2, 2, d2, NULL);
+    thb_must_run(p2, 4, d4, NULL);
+    thb_must_run(pst, 2, dst, NULL);
+    compare_series(d0, d2, "dynamic balance, 2 ranks");
+    compare_metrics(d0, d2, "dynamic balance, 2 ranks");
+    compare_snapshot(d0, d2, 100, "dynamic balance, 2 ranks");
+    compare_series(d0, d4, "dynamic balance, 4 ranks");
+    compare_metrics(d0, d4, "dynamic balance, 4 ranks");
+    compare_snapshot(d0, d4, 100, "dynamic balance, 4 ranks");
+    thb_check_parallel_record(d2, 2, n);
+    thb_check_parallel_record(d4, 4, n);
+    long checks, shifts;
+    double worst;
+    double ist = final_imbalance(dst, NULL, NULL, NULL);
+    double idy = final_imbalance(d2, &checks, &shifts, &worst);
+    cr_log_info("moving plate, 2 bricks along x: final max/mean %.3f static, %.3f dynamic "
+                "(%ld checks, %ld shifts, worst at a check %.3f)",
+                ist, idy, checks, shifts, worst);
+    /* the plate moved 10 Å past the set-up's cut, inside the upper brick */
+    cr_assert_gt(ist, 1.9, "static cuts: max/mean %g", ist);
+    /* a check at the first list build of every 10 steps (the plate
+     * crosses half the skin in a few steps, so builds are frequent) and
+     * the cuts moved; 1 Å between checks is less than the 1.8 Å between
+     * (200) planes of 32 atoms: a check finds one plane on the wrong side
+     * (max/mean 1 + 64 / 384), two at most */
+    cr_assert_geq(checks, 8, "%ld checks in 100 steps", checks);
+    cr_assert_geq(shifts, 3, "%ld shifts", shifts);
+    cr_assert_leq(worst, 1.0 + 2 * 64.0 / n + 1e-9, "worst at a check %g", worst);
+    cr_assert_leq(idy, 1.0 + 2 * 64.0 / n + 1e-9, "final max/mean %g", idy);
+    const struct thb_restart cases[] = {{d2, 2, "2 to 2", d2}, {d2, 0, "2 to 1", NULL},
+                                        {d2, 4, "2 to 4", NULL}, {d4, 2, "4 to 2", NULL}};
+    thb_restarts_match(p2, 55, cases, 4, d0, compare_restarted);
 }
 
 /* A case type that is not decomposed runs whole on every rank, and says so */

@@ -267,8 +267,9 @@ Test(bricks_impact, replicated_data_matches_serial, .timeout = 600)
 
 /* A checkpoint written on 2 ranks at step 50 restarts serially and on 4
  * ranks (and one of 1 rank on 2): the restarted runs end where the
- * uninterrupted serial run does, series and analysis included. */
-Test(bricks_impact, checkpoint_moves_between_rank_counts, .timeout = 900)
+ * uninterrupted serial run does, series and analysis included.  `par`:
+ * the case's parallel section. */
+static void checkpoint_moves(const char *par, const char *stem)
 {
     char yaml[4096];
     snprintf(yaml, sizeof yaml, "%s", impact_yaml);
@@ -276,17 +277,43 @@ Test(bricks_impact, checkpoint_moves_between_rank_counts, .timeout = 900)
     cr_assert(o);
     snprintf(o, sizeof yaml - (size_t)(o - yaml),
              "output: {thermo_every: 10, snapshot_every: 50, checkpoint_every: 50}\n"
-             "parallel: {decomposition: bricks}\n");
-    const char *path = write_case("ck.yaml", yaml);
+             "parallel: %s\n", par);
+    char name[64];
+    snprintf(name, sizeof name, "%s.yaml", stem);
+    const char *path = write_case(name, yaml);
     char s1[600], m2[600];
-    snprintf(s1, sizeof s1, "%s/ck-serial", th_temp_dir());
-    snprintf(m2, sizeof m2, "%s/ck-2", th_temp_dir());
+    snprintf(s1, sizeof s1, "%s/%s-serial", th_temp_dir(), stem);
+    snprintf(m2, sizeof m2, "%s/%s-2", th_temp_dir(), stem);
     thb_must_run(path, 0, s1, NULL);
     thb_must_run(path, 2, m2, NULL);
     compare_impact(s1, m2, "uninterrupted 2 ranks");
     const struct thb_restart cases[] = {
         {m2, 0, "2 to 1", NULL}, {m2, 4, "2 to 4", NULL}, {s1, 2, "1 to 2", NULL}};
     thb_restarts_match(path, 50, cases, 3, s1, compare_impact);
+}
+
+Test(bricks_impact, checkpoint_moves_between_rank_counts, .timeout = 900)
+{
+    checkpoint_moves("{decomposition: bricks}", "ck");
+}
+
+/* The same with the cuts moved at every check (threshold 1: any
+ * imbalance), every 20 steps and at each checkpoint: the 2-rank run
+ * shifted more than once and still ends where the serial run does. */
+Test(bricks_impact, dynamic_balance_checkpoint_moves_between_rank_counts, .timeout = 900)
+{
+    checkpoint_moves("{decomposition: bricks, balance: shift, balance_every: 20, "
+                     "balance_threshold: 1.0}", "dyn");
+    char m2[600];
+    snprintf(m2, sizeof m2, "%s/dyn-2", th_temp_dir());
+    json_t *r = thb_result(m2);
+    json_t *par = json_object_get(r, "parallel");
+    long checks = (long)json_integer_value(json_object_get(par, "balance_checks"));
+    long shifts = (long)json_integer_value(json_object_get(par, "balance_shifts"));
+    cr_log_info("impact on 2 ranks, balance_every 20: %ld checks, %ld shifts", checks, shifts);
+    cr_assert_geq(checks, 3, "%ld checks", checks);
+    cr_assert_geq(shifts, 3, "%ld shifts", shifts);
+    json_decref(r);
 }
 
 /* Cu14 at 30 km/s (seed 4, 0.5 fs steps, 0.3 ps) ends with a sputtered

@@ -131,6 +131,39 @@ int halo_balance(struct halo *h, const struct box *b, struct particles *p, doubl
     return rc;
 }
 
+int halo_shift_cuts(struct halo *h, const struct particles *p, double range, struct err *e)
+{
+    int rc = collective_rc(h, decomp_shift(&h->dc, p->x, p->n_owned, range, e), e);
+    if (!rc)
+        h->balance_shifts++;
+    return rc;
+}
+
+int halo_rebalance(struct halo *h, struct box *b, struct particles *p, double range,
+                   struct err *e)
+{
+    particles_clear_ghosts(p);
+    int rc = halo_remap(h, b, p, 1, e);
+    if (rc)
+        return rc;
+    /* the owned counts, strays included: they have moved less than half
+     * a skin since the last migration */
+    double most = p->n_owned, total = p->n_owned;
+    halo_max(h, &most, 1);
+    halo_sum(h, &total, 1);
+    double mean = total / halo_nranks(h);
+    double imbalance = mean > 0 ? most / mean : 1.0;
+    h->balance_checks++;
+    if (imbalance > h->balance_worst)
+        h->balance_worst = imbalance;
+    if (!(imbalance > h->balance_threshold))
+        return 0;
+    rc = halo_shift_cuts(h, p, range, e);
+    if (!rc)
+        rc = halo_migrate(h, p, e);
+    return rc;
+}
+
 int halo_remap(struct halo *h, struct box *b, struct particles *p, int shrink, struct err *e)
 {
     struct box local = *b;

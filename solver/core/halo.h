@@ -68,6 +68,12 @@ struct halo {
     int nswap;
     int half_shell;         /* no ghosts below the lower z face (above) */
     long natoms;            /* owned particles of all ranks (after the last migration) */
+    /* dynamic balance (`parallel.balance_every`; halo_rebalance): the
+     * owner's settings, and what the checks found */
+    long balance_every;     /* steps between checks, 0: the cuts stay */
+    double balance_threshold;
+    long balance_checks, balance_shifts;
+    double balance_worst;   /* the largest max/mean owned a check measured */
     void *sbuf, *rbuf;      /* message buffers */
     size_t scap, rcap;
 };
@@ -94,6 +100,19 @@ int halo_adopt(struct halo *h, struct particles *p, int rc, struct err *e);
  * box b, then every particle to its new owner.  Collective. */
 int halo_balance(struct halo *h, const struct box *b, struct particles *p, double range,
                  struct err *e);
+
+/* A check of the dynamic balance (before a list build; ghosts are
+ * cleared): wrap and shrink-wrap b as the build will, measure max/mean
+ * owned particles over the ranks and, above h->balance_threshold, shift
+ * the cuts to the particles' present distribution (decomp_shift) and move
+ * every particle to its new owner.  Collective. */
+int halo_rebalance(struct halo *h, struct box *b, struct particles *p, double range,
+                   struct err *e);
+
+/* Shift the cuts to the owned particles' distribution now, without a
+ * check (a checkpoint's sync, so that the continuing and the restarted
+ * run go on with the same cuts); the caller migrates.  Collective. */
+int halo_shift_cuts(struct halo *h, const struct particles *p, double range, struct err *e);
 
 /* Wrap owned particles into periodic axes, check fixed ones and, when
  * shrink, shrink-wrap free axes to the global extent; the bricks follow

@@ -42,6 +42,24 @@ int parallel_settings_read(struct cfg_obj *root, struct parallel_settings *ps)
                                 "balance moves the boundaries of bricks: it needs "
                                 "decomposition: bricks (or auto), not replicated");
     }
+    /* dynamic balance, as LAMMPS' fix balance (Nfreq, thresh): absent,
+     * not written either */
+    int every_given = 0, threshold_given = 0;
+    if ((rc = cfg_int_opt(&o, "balance_every", CFG_RANGE(1, 1e12), &ps->balance_every,
+                          &every_given)) ||
+        (rc = cfg_real_opt(&o, "balance_threshold", CFG_GE(1.0), &ps->balance_threshold,
+                           &threshold_given)))
+        return rc;
+    if (every_given && ps->balance != BALANCE_SHIFT)
+        return cfg_error_at(o.cfg, "parallel.balance_every",
+                            "balance_every moves the cuts of balance: shift again during the "
+                            "run; add balance: shift");
+    if (threshold_given && !every_given)
+        return cfg_error_at(o.cfg, "parallel.balance_threshold",
+                            "balance_threshold applies to the checks of balance_every; give "
+                            "balance_every too (without it the cuts are set once, at set-up)");
+    if (!threshold_given)
+        ps->balance_threshold = 1.1;
     return cfg_close(&o);
 }
 

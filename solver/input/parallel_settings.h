@@ -31,6 +31,8 @@ struct parallel_settings {
     int grid[3];
     int grid_given;
     enum balance balance;     /* absent: none, and not written into the case */
+    long balance_every;       /* steps between checks; 0 (absent): set-up only */
+    double balance_threshold; /* max/mean owned above which a check shifts */
     int given;                /* the section is in the case */
 };
 

@@ -38,6 +38,16 @@ static json_t *parallel_record(struct result *res)
 void decomp_record_write(struct run *run, const struct halo *h, const struct particles *p)
 {
     decomp_record_write_counts(run, h->dc.par, h->dc.grid, p->n_owned);
+    json_t *rec = h->balance_every > 0 ? parallel_record(&run->result) : NULL;
+    if (!rec)
+        return;
+    /* the dynamic balance: how often it looked, how often it moved the
+     * cuts (checkpoint syncs included), the worst it found */
+    json_object_set_new(rec, "balance_every", json_integer((json_int_t)h->balance_every));
+    json_object_set_new(rec, "balance_threshold", json_real(h->balance_threshold));
+    json_object_set_new(rec, "balance_checks", json_integer((json_int_t)h->balance_checks));
+    json_object_set_new(rec, "balance_shifts", json_integer((json_int_t)h->balance_shifts));
+    json_object_set_new(rec, "imbalance_worst_at_checks", json_real(h->balance_worst));
 }
 
 /* A per-rank count under `key` and its max/mean imbalance under

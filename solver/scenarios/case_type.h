@@ -51,6 +51,8 @@ struct case_type {
     /* Moves its brick faces with `parallel.balance: shift`; the other
      * types refuse the key rather than ignore it. */
     int balances;
+    /* Moves them again during the run (`parallel.balance_every`). */
+    int rebalances;
 };
 
 extern const struct case_type *const case_types[];   /* NULL-terminated */

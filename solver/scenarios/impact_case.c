@@ -288,6 +288,13 @@ static int build(struct impact *c, const struct impact_spec *s, struct potential
                           "the target (%.1f x %.1f x %.1f Å) has no free interior inside its "
                           "%.1f Å of fixed and damped layers", c->hi[0] - c->lo[0],
                           c->hi[1] - c->lo[1], c->hi[2] - c->lo[2], layer);
+    } else if (b->ops->prepare && common->parallel.balance_every > 0) {
+        /* its copies of regions II and III and their links to the MPM are
+         * kept per brick from the set-up (couple/handshake_bricks.h) */
+        rc = cfg_error_at(cfg, "parallel.balance_every",
+                          "a handshake target keeps the bricks of its set-up: balance_every "
+                          "runs with target.boundary: fixed_damped (balance: shift alone "
+                          "cuts once, at set-up)");
     }
     if (!rc && cluster_cut_sphere(impact_styles[s->clat], s->ca, s->natoms,
                                   s->has_center ? s->center : NULL, &cut, e)) {
@@ -399,6 +406,9 @@ static int build(struct impact *c, const struct impact_spec *s, struct potential
         return rc;
     }
     c->md.seed = seed;
+    if (c->md.halo && common->parallel.balance_every > 0)
+        md_balance_dynamic(&c->md, common->parallel.balance_every,
+                           common->parallel.balance_threshold);
     double m = p->mass[ct];
     c->impact_energy = 0.5 * m * c->speed * c->speed * UNITS_MVV2E * (double)c->ncluster;
     if (b->ops->setup && (rc = b->ops->setup(b, &c->md, c->lo, c->hi, e)))
@@ -844,4 +854,5 @@ const struct case_type impact_case_type = {
     .checkpoints = 1,
     .decomposes = 1,
     .balances = 1,
+    .rebalances = 1,
 };

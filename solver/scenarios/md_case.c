@@ -158,6 +158,9 @@ static int md_case_read(struct cfg_obj *root, const struct case_common *common, 
     rc = md_init(&c->md, p, &box, pot, ms.timestep, ms.skin, common->nthreads, e);
     c->md.thermo = ms.thermostat;
     c->md.seed = common->seed;
+    if (!rc && c->md.halo && common->parallel.balance_every > 0)
+        md_balance_dynamic(&c->md, common->parallel.balance_every,
+                           common->parallel.balance_threshold);
     if (!rc)
         rc = md_check_timestep(&c->md, root->cfg, "md.timestep");
     if (rc) {
@@ -363,4 +366,5 @@ const struct case_type md_case_type = {
     .checkpoints = 1,
     .decomposes = 1,
     .balances = 1,
+    .rebalances = 1,
 };

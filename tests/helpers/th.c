@@ -158,6 +158,7 @@ const char *th_temp_dir(void)
 const char *th_write_temp(int slot, const char *name, const char *text)
 {
     static char paths[8][512];
+    cr_assert(slot >= 0 && slot < 8, "th_write_temp: slot %d of 8", slot);
     snprintf(paths[slot], sizeof paths[slot], "%s/%s", th_temp_dir(), name);
     FILE *f = fopen(paths[slot], "w");
     cr_assert_not_null(f);
