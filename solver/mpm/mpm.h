@@ -145,6 +145,14 @@ struct mpm {
                                    MPM_SPLIT_EVERY steps (-1: not yet) */
     double *scratch;         /* reorder scratch, n doubles */
     long scratch_cap;
+    /* On bricks (mpm_bricks.h): the cell keys (mpm_lin_cell) of the
+     * rank's own brick, [own_lo, own_hi) per axis (own_keys set).  The
+     * fused pass counts the points whose new cell lies outside them
+     * (fused_leavers) and outside the patch (fused_outside), so the next
+     * migration needs no scan of its own. */
+    int own_keys;
+    long own_lo[3], own_hi[3];
+    long fused_leavers, fused_outside;
 };
 
 /* Create an empty run over an initialised grid (ownership of the grid's

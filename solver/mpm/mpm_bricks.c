@@ -931,6 +931,13 @@ int mpm_bricks_distribute(struct mpm_bricks *b, struct mpm *m, struct err *e)
     rc = mpm_grid_set_faces(&patch, old->face, e);
     if (!rc)
         rc = build_links(b, &patch, e);
+    /* the brick's cells in the keys of the patch (mpm_lin_cell: the global
+     * cell less the patch's first), for the fused pass's leaver count */
+    m->own_keys = 1;
+    for (int d = 0; d < 3; d++) {
+        m->own_lo[d] = b->cut[d][b->coords[d]] - pa[d];
+        m->own_hi[d] = b->cut[d][b->coords[d] + 1] - pa[d];
+    }
     if (rc) {
         mpm_grid_free(&patch);
         return mpm_bricks_agree(b, rc, e);
@@ -1109,14 +1116,8 @@ int mpm_bricks_step_update(struct mpm_bricks *b, struct mpm *m, double dt, struc
         m->timers->total[TIMER_MPM_P2G] += m->fused_map_seconds;
     }
     /* a fused mapping is kept only when every rank kept its own and no
-     * point left its patch (the pass skips those) */
-    int drop = 0;
-    if (fused) {
-        drop = !m->fused_ready;
-        const int32_t *blk = m->bins[0].blk;
-        for (long i = 0; i < m->pts.n && !drop; i++)
-            drop = blk[i] < 0;
-    }
+     * point left its patch (the pass skips those); the pass counted them */
+    int drop = fused && (!m->fused_ready || m->fused_outside > 0);
     /* global: energies, momenta of the rigid bodies' nodes, largest speed */
     double s[3 + 3 * MPM_MAX_BODIES];
     int ns = 0;
@@ -1135,8 +1136,14 @@ int mpm_bricks_step_update(struct mpm_bricks *b, struct mpm *m, double dt, struc
     tstart(m, TIMER_COMM);
     b->scan_nleave = 0;
     b->scan_far_id = -1;
-    if (!b->fixed)
+    if (!b->fixed && fused && !drop && m->own_keys) {
+        /* every point's new cell lies in the patch, one cell at most beyond
+         * the brick (MPM_BRICKS_MARGIN), so in a neighbour's brick at the
+         * farthest: the pass counted those (mpm.h, own_keys) */
+        b->scan_nleave = m->fused_leavers;
+    } else if (!b->fixed) {
         scan_leavers(b, m, &b->scan_nleave, &b->scan_far_id);
+    }
     double mx[4] = {m->vmax, drop, b->scan_far_id >= 0, b->scan_nleave > 0};
     parallel_sum_max(b->par, s, (size_t)ns, mx, 4);
     b->scan_any_far = mx[2] > 0;

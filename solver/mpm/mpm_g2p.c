@@ -523,7 +523,11 @@ void mpm_update_particles_and_map_cleared(struct mpm *m, double dt, int cleared)
     double se = 0;
     int far = 0;   /* a point moved too far for the colouring: map afresh next step */
     double t_scatter = 0;   /* summed over threads */
-#pragma omp parallel num_threads(m->nthreads) reduction(+ : se, t_scatter) reduction(| : far)
+    long leavers = 0, outside = 0;   /* for the bricks' migration (mpm.h, own_keys) */
+    const int own = m->own_keys;
+    const long *olo = m->own_lo, *ohi = m->own_hi;
+#pragma omp parallel num_threads(m->nthreads) reduction(+ : se, t_scatter, leavers, outside) \
+    reduction(| : far)
     for (int c = 0; c < MPM_COLOURS; c++) {
         if (g->ncolour[c] == 0)
             continue;
@@ -555,9 +559,14 @@ void mpm_update_particles_and_map_cleared(struct mpm *m, double dt, int cleared)
                 for (long k = k0; k < k1; k++) {
                     long p = idx[k];
                     se += pts->eint[p];
-                    if (blk[p] < 0)
+                    if (blk[p] < 0) {
+                        outside++;
                         continue;   /* left the grid: the next step reports it */
+                    }
                     const long *key = cc.key[k - k0];
+                    if (own)   /* its new cell is another brick's */
+                        leavers += (key[0] < olo[0]) | (key[0] >= ohi[0]) | (key[1] < olo[1]) |
+                                   (key[1] >= ohi[1]) | (key[2] < olo[2]) | (key[2] >= ohi[2]);
                     if (!near_block(key, kmin, kmax)) {
                         far = 1;
                         continue;
@@ -586,6 +595,8 @@ void mpm_update_particles_and_map_cleared(struct mpm *m, double dt, int cleared)
         }
     }
     m->strain = se;
+    m->fused_leavers = leavers;
+    m->fused_outside = outside;
     if (timed) {
         t_pass = timers_now() - t_pass;
         if (split)
