@@ -474,7 +474,7 @@ static inline int near_block(const long key[3], const long kmin[3], const long k
 struct mpm_node *mpm_grid_next_buffer(struct mpm_grid *g)
 {
     if (!g->node_next)
-        g->node_next = aligned_alloc(64, ((size_t)g->nnodes * sizeof *g->node_next + 63) / 64 * 64);
+        g->node_next = mpm_grid_zeroed_alloc(g->node_bytes);   /* node's size: they swap */
     return g->node_next;
 }
 

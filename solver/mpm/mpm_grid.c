@@ -5,17 +5,34 @@
 #include <omp.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/mman.h>
 
 #include "mpm/mpm_hgrid.h"
 
+void *mpm_grid_zeroed_alloc(size_t bytes)
+{
+    void *p = mmap(NULL, bytes ? bytes : 1, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS,
+                   -1, 0);
+    return p == MAP_FAILED ? NULL : p;
+}
+
+void mpm_grid_zeroed_free(void *p, size_t bytes)
+{
+    if (p)
+        munmap(p, bytes ? bytes : 1);
+}
+
 static int alloc_nodes(struct mpm_grid *g, struct err *e)
 {
-    g->node = aligned_alloc(64, ((size_t)g->nnodes * sizeof *g->node + 63) / 64 * 64);
-    g->r = aligned_alloc(64, ((size_t)g->nnodes * 4 * sizeof *g->r + 63) / 64 * 64);
+    /* zero from the kernel and resident only where written: no clear here
+     * (mpm_grid.h, `pristine`) */
+    g->node_bytes = (size_t)g->nnodes * sizeof *g->node;
+    g->r_bytes = (size_t)g->nnodes * 4 * sizeof *g->r;
+    g->node = mpm_grid_zeroed_alloc(g->node_bytes);
+    g->r = mpm_grid_zeroed_alloc(g->r_bytes);
     if (!g->node || !g->r)
         return err_nomem(e, "grid nodes");
-    memset(g->node, 0, (size_t)g->nnodes * sizeof *g->node);
-    memset(g->r, 0, (size_t)g->nnodes * 4 * sizeof *g->r);
+    g->pristine = 1;
     return 0;
 }
 
@@ -184,9 +201,9 @@ int mpm_grid_init_hier(struct mpm_grid *g, struct mpm_hgrid *hg, struct err *e)
 
 void mpm_grid_free(struct mpm_grid *g)
 {
-    free(g->node);
-    free(g->node_next);
-    free(g->r);
+    mpm_grid_zeroed_free(g->node, g->node_bytes);
+    mpm_grid_zeroed_free(g->node_next, g->node_bytes);
+    mpm_grid_zeroed_free(g->r, g->r_bytes);
     free(g->bc_node);
     free(g->bc_bits);
     for (int d = 0; d < 3; d++)
@@ -304,6 +321,10 @@ void mpm_grid_clear_nodes(struct mpm_node *nd, long n, int nthreads)
 
 void mpm_grid_clear(struct mpm_grid *g, int nthreads)
 {
+    if (g->pristine) {   /* nothing written since the allocation zeroed it */
+        g->pristine = 0;
+        return;
+    }
     if (!g->active) {
         mpm_grid_clear_nodes(g->node, g->nnodes, nthreads);
         return;

@@ -63,12 +63,18 @@ struct mpm_grid {
     /* hierarchical */
     struct mpm_hgrid *hg;
 
-    /* node store */
+    /* node store: pages from the kernel (mpm_grid_zeroed_alloc), zero until
+     * written and resident only where written -- a rank that updates only
+     * its touched nodes of a whole grid (`active` below) holds the pages
+     * of those, not the grid's */
     long nnodes;
     struct mpm_node *node;
     struct mpm_node *node_next;  /* second buffer of the fused pass (mpm_step), or NULL */
     double *r;                   /* 4 per node (r0 r1 r2 0): remapped momentum, then the
                                     velocity of s11; padded for vector access */
+    size_t node_bytes, r_bytes;  /* sizes of node (and node_next) and r */
+    int pristine;                /* node and r are as allocated (zero): the first
+                                    clear has nothing to do, and writes none */
 
     /* the nodes the grid stages (clear, s4-s5, s11) visit, ascending, or
      * NULL for all: on bricks with shared-node sums (mpm_shared.h) a
@@ -132,6 +138,12 @@ int mpm_grid_contains(const struct mpm_grid *g, const double x[3]);
 
 /* Domain bounds (Å). */
 void mpm_grid_bounds(const struct mpm_grid *g, double lo[3], double hi[3]);
+
+/* Zeroed, page-aligned memory whose pages become resident when first
+ * written (an anonymous mapping), for the node arrays; NULL without
+ * memory.  Freed with the same size. */
+void *mpm_grid_zeroed_alloc(size_t bytes);
+void mpm_grid_zeroed_free(void *p, size_t bytes);
 
 /* Zero the accumulators (m, q, f, aux) of every node. */
 void mpm_grid_clear(struct mpm_grid *g, int nthreads);

@@ -17,10 +17,20 @@
  * (mpm_update_grid_velocity_clearing): one loop over the nodes and one
  * parallel region fewer per step than a separate clear.
  */
+#include <math.h>
 #include <string.h>
 
 #include "core/units.h"
 #include "mpm/mpm_view.h"
+
+/* v = +0.0, written only when its bits are not those of +0.0 already: a
+ * node no particle of this rank touched stays unwritten, and its page
+ * need not become resident (mpm_grid.h, the node store) */
+static inline void zero_component(double *v)
+{
+    if (*v != 0.0 || signbit(*v))
+        *v = 0.0;
+}
 
 static void apply_bc(const struct mpm_grid *g, double *a, double *b, int stride_a, int stride_b)
 {
@@ -30,9 +40,9 @@ static void apply_bc(const struct mpm_grid *g, double *a, double *b, int stride_
         for (int d = 0; d < 3; d++)
             if (bits & (1u << d)) {
                 if (a)
-                    a[i * stride_a + d] = 0.0;
+                    zero_component(&a[i * stride_a + d]);
                 if (b)
-                    b[i * stride_b + d] = 0.0;
+                    zero_component(&b[i * stride_b + d]);
             }
     }
 }
