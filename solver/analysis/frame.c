@@ -113,12 +113,17 @@ static int bin_entries(struct frame *f, double width, struct err *e)
         double *cx = realloc(f->cell_x, (size_t)3 * (f->ntot + 1) * sizeof *cx);
         if (cx)
             f->cell_x = cx;
-        double *cs = realloc(f->cell_s, (size_t)3 * (f->ntot + 1) * sizeof *cs);
-        if (cs)
-            f->cell_s = cs;
-        if (!so || !cx || !cs)
+        if (!so || !cx)
             return err_nomem(e, "analysis cells");
         f->cap_sorted = f->ntot + 1;
+    }
+    /* the shifts times the box lengths, only where some are not zero */
+    if (f->periodic && f->cap_shifts < f->ntot + 1) {
+        double *cs = realloc(f->cell_s, (size_t)3 * (f->ntot + 1) * sizeof *cs);
+        if (!cs)
+            return err_nomem(e, "analysis cells");
+        f->cell_s = cs;
+        f->cap_shifts = f->ntot + 1;
     }
     int *cellof = malloc((size_t)(f->ntot + 1) * sizeof *cellof);
     if (!cellof)
@@ -146,10 +151,37 @@ static int bin_entries(struct frame *f, double width, struct err *e)
         int j = f->cell_sorted[k], o = f->origin[j];
         for (int d = 0; d < 3; d++) {
             f->cell_x[3 * k + d] = f->x[3 * o + d];
-            f->cell_s[3 * k + d] = (double)f->shift[3 * j + d] * f->len[d];
+            if (f->periodic)
+                f->cell_s[3 * k + d] = (double)f->shift[3 * j + d] * f->len[d];
         }
     }
     return 0;
+}
+
+/* The entries of cells [k0, k1) of the sorted order within rr of (xi, yi,
+ * zi), owned entry i excluded.  shifted: add the image shifts (the pair
+ * vector of frame_vec, (x_o - x_i) + s L); without, every shift is zero
+ * and the vector is (x_o - x_i), the same bits. */
+static inline void query_range(const struct frame *f, int k0, int k1, int i, double xi,
+                               double yi, double zi, double rr, const int shifted,
+                               void (*fn)(void *ctx, int entry, double r2), void *ctx)
+{
+    for (int k = k0; k < k1; k++) {
+        const double *cx = f->cell_x + 3 * k;
+        double dx = cx[0] - xi, dy = cx[1] - yi, dz = cx[2] - zi;
+        if (shifted) {
+            const double *cs = f->cell_s + 3 * k;
+            dx += cs[0];
+            dy += cs[1];
+            dz += cs[2];
+        }
+        double r2 = dx * dx + dy * dy + dz * dz;
+        if (r2 < rr) {
+            int j = f->cell_sorted[k];
+            if (j != i)
+                fn(ctx, j, r2);
+        }
+    }
 }
 
 void frame_query(const struct frame *f, int i, double radius,
@@ -173,18 +205,11 @@ void frame_query(const struct frame *f, int i, double radius,
             int x1 = c[0] + reach[0] >= f->nc[0] ? f->nc[0] - 1 : c[0] + reach[0];
             /* the cells of one row are consecutive: one contiguous range */
             int row = (z * f->nc[1] + y) * f->nc[0];
-            for (int k = f->cell_start[row + x0]; k < f->cell_start[row + x1 + 1]; k++) {
-                const double *cx = f->cell_x + 3 * k, *cs = f->cell_s + 3 * k;
-                /* the canonical pair vector of frame_vec: (x_o - x_i) + s L */
-                double dx = (cx[0] - xi) + cs[0], dy = (cx[1] - yi) + cs[1],
-                       dz = (cx[2] - zi) + cs[2];
-                double r2 = dx * dx + dy * dy + dz * dz;
-                if (r2 < rr) {
-                    int j = f->cell_sorted[k];
-                    if (j != i)
-                        fn(ctx, j, r2);
-                }
-            }
+            int k0 = f->cell_start[row + x0], k1 = f->cell_start[row + x1 + 1];
+            if (f->periodic)
+                query_range(f, k0, k1, i, xi, yi, zi, rr, 1, fn, ctx);
+            else
+                query_range(f, k0, k1, i, xi, yi, zi, rr, 0, fn, ctx);
         }
     }
 }
@@ -253,8 +278,11 @@ int frame_build(struct frame *f, const double *x, int n, const struct box *b, do
     f->nthreads = nthreads < 1 ? 1 : nthreads;
     if (frame_reserve(f, n, e))
         return ERR_RUNTIME;
-    for (int d = 0; d < 3; d++)
+    f->periodic = 0;
+    for (int d = 0; d < 3; d++) {
         f->len[d] = b->bc[d] == BOUNDARY_PERIODIC ? box_length(b, d) : 0.0;
+        f->periodic |= f->len[d] > 0;
+    }
     for (int i = 0; i < n; i++) {
         for (int d = 0; d < 3; d++) {
             double v = x[3 * i + d];

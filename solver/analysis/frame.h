@@ -38,9 +38,12 @@ struct frame {
     int nc[3];
     double clo[3], cinv[3];
     int *cell_start, *cell_sorted;
-    double *cell_x, *cell_s;   /* 3 per sorted entry */
+    double *cell_x, *cell_s;   /* 3 per sorted entry; cell_s only with a periodic
+                                  axis (without, every shift is zero: the analysis
+                                  of a brick and its ghosts) */
+    int periodic;              /* some axis periodic (len[d] > 0) */
     long cap_cells;
-    int cap_sorted;
+    int cap_sorted, cap_shifts;
     double range;        /* Å: images and cells cover this distance (frame_query) */
     /* neighbour lists of the owned particles */
     double radius;       /* Å */
