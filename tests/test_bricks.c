@@ -329,12 +329,12 @@ Test(bricks, bad_grid_names_file_and_line, .timeout = 300)
     /* a case type that keeps equal bricks refuses the key instead of
      * ignoring it (dpd: the faces never move) */
     path = th_write_temp(7, "dpdbal.yaml",
-                         "type: dpd\ndpd:\n  parameters: cu_cg.params\n"
+                         "type: dpd_tensile\ndpd:\n  parameters: cu_cg.params\n"
                          "parallel:\n  decomposition: bricks\n  balance: shift\n");
     const char *a5[] = {th_solver(), "check", path, NULL};
     cr_assert_eq(th_run(a5, out, sizeof out), 2, "%s", out);
     cr_assert(strstr(out, "dpdbal.yaml:6:") && strstr(out, "parallel.balance") &&
-                  strstr(out, "'dpd' does not move its brick faces"),
+                  strstr(out, "'dpd_tensile' does not move its brick faces"),
               "%s", out);
     /* balance_every without balance: shift, a threshold without
      * balance_every, a threshold below 1, and a case type whose cuts are

@@ -154,25 +154,71 @@ static void compare_restarted(const char *ref, const char *dir, const char *tag)
 
 /* A DPDE checkpoint written on N ranks restarts on M: the restarted run
  * ends where the uninterrupted serial one does (to REL); on the same rank
- * count the thermo is the same text. */
-Test(bricks_dpd, checkpoint_moves_between_rank_counts, .timeout = 900)
+ * count the thermo is the same text.  par: the case's parallel line. */
+static void checkpoint_moves(const char *stem, const char *par)
 {
     th_write_temp(2, "cg.yaml", PARAMS);
-    const char *path =
-        th_write_temp(0, "ck.yaml",
-                      "type: dpd\nseed: 5\nsystem:\n  lattice: {style: fcc, a: 7.28, cells: [6, 6, 6]}\n"
-                      "  element: Cu\ndpd: {parameters: cg.yaml, variant: dpde, gamma: 2.0, "
-                      "steps: 100, timestep: 0.01, initial_temperature: 600, sweep: cells}\n"
-                      "output: {thermo_every: 10, snapshot_every: 100, checkpoint_every: 50}\n");
+    char yaml[1024], name[64];
+    snprintf(yaml, sizeof yaml,
+             "type: dpd\nseed: 5\nsystem:\n  lattice: {style: fcc, a: 7.28, cells: [6, 6, 6]}\n"
+             "  element: Cu\ndpd: {parameters: cg.yaml, variant: dpde, gamma: 2.0, "
+             "steps: 100, timestep: 0.01, initial_temperature: 600, sweep: cells}\n"
+             "output: {thermo_every: 10, snapshot_every: 100, checkpoint_every: 50}\n%s",
+             par);
+    snprintf(name, sizeof name, "%s.yaml", stem);
+    const char *path = th_write_temp(0, name, yaml);
     char s1[600], m2[600];
-    snprintf(s1, sizeof s1, "%s/ck-serial", th_temp_dir());
-    snprintf(m2, sizeof m2, "%s/ck-2", th_temp_dir());
+    snprintf(s1, sizeof s1, "%s/%s-serial", th_temp_dir(), stem);
+    snprintf(m2, sizeof m2, "%s/%s-2", th_temp_dir(), stem);
     thb_must_run(path, 0, s1, NULL);
     thb_must_run(path, 2, m2, NULL);
     compare_runs(s1, m2, 100, 1, "uninterrupted 2 ranks");
     const struct thb_restart cases[] = {
         {m2, 0, "2 to 1", NULL}, {s1, 2, "1 to 2", NULL}, {m2, 2, "2 to 2", m2}};
     thb_restarts_match(path, 50, cases, 3, s1, compare_restarted);
+}
+
+Test(bricks_dpd, checkpoint_moves_between_rank_counts, .timeout = 900)
+{
+    checkpoint_moves("ck", "");
+}
+
+/* The same with shifted cuts moved at every check (balance_every 20,
+ * threshold 1: any imbalance) and at each checkpoint. */
+Test(bricks_dpd, dynamic_balance_checkpoint_moves_between_rank_counts, .timeout = 900)
+{
+    checkpoint_moves("dyn", "parallel: {balance: shift, balance_every: 20, "
+                            "balance_threshold: 1.0}\n");
+}
+
+/* parallel.balance on DPD (the slab above, free along z, on 2 and 4
+ * ranks): the first list build cuts at the particles' quantiles, a check
+ * every 20 steps moves the cuts again where any imbalance is left; the
+ * pair updates do not depend on the bricks (the cell sweep), so the
+ * trajectory is still the serial one to REL. */
+Test(bricks_dpd, shifted_cuts_match_serial, .timeout = 900)
+{
+    static const int nps[] = {2, 4, 0};
+    check_rank_counts("balanced",
+                      "type: dpd\nseed: 8\nsystem:\n  lattice: {style: fcc, a: 7.28, cells: [6, 6, 8]}\n"
+                      "  element: Cu\n  boundary: [periodic, periodic, free]\n"
+                      "dpd: {parameters: cg.yaml, variant: dpd, gamma: 1.0, steps: 100, "
+                      "timestep: 0.01, initial_temperature: 900, sweep: cells,\n"
+                      "      thermostat: {style: berendsen, temperature: 300, tau: 0.5}}\n"
+                      "parallel: {decomposition: bricks, balance: shift, balance_every: 20,\n"
+                      "           balance_threshold: 1.0}\n"
+                      "output: {thermo_every: 10, snapshot_every: 100}\n",
+                      1152, 100, 0, nps);
+    char d2[600];
+    snprintf(d2, sizeof d2, "%s/balanced-2", th_temp_dir());
+    json_t *r = thb_result(d2);
+    json_t *par = json_object_get(r, "parallel");
+    long checks = (long)json_integer_value(json_object_get(par, "balance_checks"));
+    long shifts = (long)json_integer_value(json_object_get(par, "balance_shifts"));
+    cr_log_info("DPD slab on 2 ranks, balance_every 20: %ld checks, %ld shifts", checks, shifts);
+    cr_assert_geq(checks, 4, "%ld checks", checks);
+    cr_assert_geq(shifts, 1, "%ld shifts", shifts);
+    json_decref(r);
 }
 
 /* The cell sweep needs three cells of r_d along a periodic axis: a box of

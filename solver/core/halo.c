@@ -139,13 +139,17 @@ int halo_shift_cuts(struct halo *h, const struct particles *p, double range, str
     return rc;
 }
 
-int halo_rebalance(struct halo *h, struct box *b, struct particles *p, double range,
+int halo_rebalance(struct halo *h, struct box *b, struct particles *p, double range, int force,
                    struct err *e)
 {
     particles_clear_ghosts(p);
     int rc = halo_remap(h, b, p, 1, e);
     if (rc)
         return rc;
+    if (force) {
+        rc = halo_shift_cuts(h, p, range, e);
+        return rc ? rc : halo_migrate(h, p, e);
+    }
     /* the owned counts, strays included: they have moved less than half
      * a skin since the last migration */
     double most = p->n_owned, total = p->n_owned;

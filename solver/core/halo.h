@@ -74,6 +74,9 @@ struct halo {
     double balance_threshold;
     long balance_checks, balance_shifts;
     double balance_worst;   /* the largest max/mean owned a check measured */
+    int balance_pending;    /* the owner's next list build shifts the cuts whatever
+                             * the imbalance (DPD: set-up and checkpoints) */
+    long balance_next;      /* the owner's next check at or after this step (DPD) */
     void *sbuf, *rbuf;      /* message buffers */
     size_t scap, rcap;
 };
@@ -103,10 +106,11 @@ int halo_balance(struct halo *h, const struct box *b, struct particles *p, doubl
 
 /* A check of the dynamic balance (before a list build; ghosts are
  * cleared): wrap and shrink-wrap b as the build will, measure max/mean
- * owned particles over the ranks and, above h->balance_threshold, shift
- * the cuts to the particles' present distribution (decomp_shift) and move
- * every particle to its new owner.  Collective. */
-int halo_rebalance(struct halo *h, struct box *b, struct particles *p, double range,
+ * owned particles over the ranks and, above h->balance_threshold (or
+ * with force, whatever it is; not counted as a check), shift the cuts to
+ * the particles' present distribution (decomp_shift) and move every
+ * particle to its new owner.  Collective. */
+int halo_rebalance(struct halo *h, struct box *b, struct particles *p, double range, int force,
                    struct err *e);
 
 /* Shift the cuts to the owned particles' distribution now, without a

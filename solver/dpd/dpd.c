@@ -123,6 +123,20 @@ static int rebuild(struct dpd *d, struct err *e)
     /* the cell sweep's anchors reach half a cell past the brick */
     if (d->set.sweep_cells || (p->halo && !d->moved_elsewhere))
         range = fmax(range, dpd_sweep_cells_range(&d->box, d->set.cutoff, d->skin));
+    struct halo *h = p->halo;
+    long every = h ? h->balance_every : 0;
+    if (h && (h->balance_pending || (every > 0 && d->step >= h->balance_next))) {
+        /* shifted cuts (parallel.balance): at the first build, after a
+         * checkpoint, and at the first build of every `every` steps when
+         * the imbalance exceeds the threshold, as for MD (md.c) */
+        int force = h->balance_pending;
+        h->balance_pending = 0;
+        if (every > 0)
+            h->balance_next = (d->step / every + 1) * every;
+        int brc = halo_rebalance(h, &d->box, p, range, force, e);
+        if (brc)
+            return brc;
+    }
     int rc = d->class_order && p->halo
                  ? domain_rebuild_ordered(p, &d->box, range, class_perm, d, d->timers, e)
                  : domain_rebuild(p, &d->box, range,

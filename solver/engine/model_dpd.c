@@ -199,6 +199,10 @@ static void dpd_model_checkpoint_sync(void *self)
         rc = halo_migrate(h, p, &e);
     if (!rc)
         rc = halo_sort_by_id(p, &e);
+    /* dynamic balance: both runs cut at the stored particles at the next
+     * build (dpd.c), and check again after the same steps */
+    if (h->balance_every > 0)
+        h->balance_pending = 1;
     m->read_all = 0;
     m->sync_rc = rc;
 }

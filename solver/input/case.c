@@ -69,13 +69,13 @@ int case_resolve(struct case_doc *cd, int shallow, int nthreads, const struct pa
     if (out->common.parallel.balance != BALANCE_NONE && !out->type->balances)
         return cfg_error_at(&cfg, "parallel.balance",
                             "case type '%s' does not move its brick faces: balance: shift "
-                            "runs with md, cluster_impact, mpm and the handshake cases "
+                            "runs with md, cluster_impact, dpd, mpm and the handshake cases "
                             "(docs/parallel.md); remove the key",
                             out->type->name);
     if (out->common.parallel.balance_every > 0 && !out->type->rebalances)
         return cfg_error_at(&cfg, "parallel.balance_every",
                             "case type '%s' sets its brick faces once, at set-up: "
-                            "balance_every runs with md and cluster_impact (docs/parallel.md); "
+                            "balance_every runs with md, cluster_impact and dpd (docs/parallel.md); "
                             "remove the key",
                             out->type->name);
     out->common.seed = (uint64_t)seed;

@@ -35,7 +35,7 @@ static int rebuild(struct md *md, struct err *e)
          * build is where atoms migrate anyway; LAMMPS' fix balance checks
          * at its re-neighbouring steps too) */
         md->balance_next = (md->step / every + 1) * every;
-        rc = halo_rebalance(md->halo, &md->box, p, range, e);
+        rc = halo_rebalance(md->halo, &md->box, p, range, 0, e);
         if (rc)
             return rc;
     }

@@ -100,6 +100,13 @@ static int dpd_case_read(struct cfg_obj *root, const struct case_common *common,
     if (halo) {
         p->halo = halo;
         p->par = NULL;   /* no replicated sums: each rank owns its brick */
+        /* parallel.balance: the first list build cuts at the particles
+         * (its range is the sweep's), balance_every checks again */
+        const struct parallel_settings *ps = &common->parallel;
+        halo->balance_pending = ps->balance == BALANCE_SHIFT;
+        halo->balance_every = ps->balance_every;
+        halo->balance_threshold = ps->balance_threshold;
+        halo->balance_next = ps->balance_every;
     }
     /* the k-th Maxwell draw to the k-th id of all ranks: the serial
      * velocities (to round-off on bricks, bitwise serially) */
@@ -291,4 +298,6 @@ const struct case_type dpd_case_type = {
     dpd_case_read, dpd_case_run, dpd_case_destroy, dpd_case_particles, dpd_case_steps,
     .checkpoints = 1,
     .decomposes = 1,
+    .balances = 1,
+    .rebalances = 1,
 };
