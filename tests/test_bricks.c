@@ -372,21 +372,14 @@ Test(bricks, bad_grid_names_file_and_line, .timeout = 300)
               "%s", out);
 }
 
-/* The imbalance of run dir's last step and the dynamic balance's record */
-static double final_imbalance(const char *dir, long *checks, long *shifts, double *worst)
+/* The final max/mean of a run with static cuts: no balance record */
+static double static_imbalance(const char *dir)
 {
     json_t *r = thb_result(dir);
     json_t *par = json_object_get(r, "parallel");
     cr_assert_not_null(par, "%s: no parallel record", dir);
+    cr_assert_null(json_object_get(par, "balance_checks"), "%s: a static balance checked", dir);
     double imb = json_real_value(json_object_get(par, "imbalance_max_over_mean"));
-    if (checks) {
-        *checks = (long)json_integer_value(json_object_get(par, "balance_checks"));
-        *shifts = (long)json_integer_value(json_object_get(par, "balance_shifts"));
-        *worst = json_real_value(json_object_get(par, "imbalance_worst_at_checks"));
-    } else {
-        cr_assert_null(json_object_get(par, "balance_checks"), "%s: a static balance checked",
-                       dir);
-    }
     json_decref(r);
     return imb;
 }
@@ -457,8 +450,8 @@ Test(bricks, dynamic_balance_follows_a_moving_plate, .timeout = 900)
     thb_check_parallel_record(d4, 4, n);
     long checks, shifts;
     double worst;
-    double ist = final_imbalance(dst, NULL, NULL, NULL);
-    double idy = final_imbalance(d2, &checks, &shifts, &worst);
+    double ist = static_imbalance(dst);
+    double idy = thb_balance_record(d2, &checks, &shifts, &worst);
     cr_log_info("moving plate, 2 bricks along x: final max/mean %.3f static, %.3f dynamic "
                 "(%ld checks, %ld shifts, worst at a check %.3f)",
                 ist, idy, checks, shifts, worst);

@@ -656,3 +656,20 @@ void thb_compare_metrics_abs(const char *a, const char *b, const char *const *na
     json_decref(ra);
     json_decref(rb);
 }
+
+double thb_balance_record(const char *dir, long *checks, long *shifts, double *worst)
+{
+    json_t *r = thb_result(dir);
+    json_t *par = json_object_get(r, "parallel");
+    cr_assert_not_null(par, "%s: no parallel record", dir);
+    cr_assert_not_null(json_object_get(par, "balance_checks"), "%s: no balance record", dir);
+    double imbalance = json_real_value(json_object_get(par, "imbalance_max_over_mean"));
+    if (checks)
+        *checks = (long)json_integer_value(json_object_get(par, "balance_checks"));
+    if (shifts)
+        *shifts = (long)json_integer_value(json_object_get(par, "balance_shifts"));
+    if (worst)
+        *worst = json_real_value(json_object_get(par, "imbalance_worst_at_checks"));
+    json_decref(r);
+    return imbalance;
+}

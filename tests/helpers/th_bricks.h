@@ -157,6 +157,12 @@ void thb_short_replicates(const char *path, int np, const char *stem);
  * imbalance their max over mean, a grid of np bricks. */
 void thb_check_parallel_record(const char *dir, int np, long n);
 
+/* The dynamic balance's part of run dir's parallel record
+ * (parallel.balance_every): checks, shifts and the worst max/mean a check
+ * found (each may be NULL); returns the run's final max/mean.  The
+ * record must be there. */
+double thb_balance_record(const char *dir, long *checks, long *shifts, double *worst);
+
 /* A run in dir went on bricks: result.json's parallel.decomposition is
  * "bricks" on np ranks, and, when grid is not NULL, its brick grid is
  * grid[0] x grid[1] x grid[2]. */
