@@ -362,6 +362,21 @@ Test(bricks, bad_grid_names_file_and_line, .timeout = 300)
     cr_assert_eq(th_run(a8, out, sizeof out), 2, "%s", out);
     cr_assert(strstr(out, "low.yaml:10:") && strstr(out, "parallel.balance_threshold"), "%s",
               out);
+    snprintf(yaml, sizeof yaml,
+             "%sparallel:\n  balance: shift\n  balance_every: 10\n  balance_threshold: .nan\n",
+             base);
+    path = th_write_temp(4, "nan.yaml", yaml);
+    const char *a10[] = {th_solver(), "check", path, NULL};
+    cr_assert_eq(th_run(a10, out, sizeof out), 2, "%s", out);
+    cr_assert(strstr(out, "nan.yaml:10:") && strstr(out, "parallel.balance_threshold"), "%s",
+              out);
+    snprintf(yaml, sizeof yaml,
+             "%sparallel:\n  balance: shift\n  balance_every: 10\n  balance_every: 20\n", base);
+    path = th_write_temp(5, "twice.yaml", yaml);
+    const char *a11[] = {th_solver(), "check", path, NULL};
+    cr_assert_eq(th_run(a11, out, sizeof out), 2, "%s", out);
+    cr_assert(strstr(out, "twice.yaml:10:") && strstr(out, "duplicate key 'balance_every'"), "%s",
+              out);
     path = th_write_temp(3, "mpmevery.yaml",
                          "type: mpm\nparallel:\n  decomposition: bricks\n  balance: shift\n"
                          "  balance_every: 10\n");
@@ -469,6 +484,13 @@ Test(bricks, dynamic_balance_follows_a_moving_plate, .timeout = 900)
     const struct thb_restart cases[] = {{d2, 2, "2 to 2", d2}, {d2, 0, "2 to 1", NULL},
                                         {d2, 4, "2 to 4", NULL}, {d4, 2, "4 to 2", NULL}};
     thb_restarts_match(p2, 55, cases, 4, d0, compare_restarted);
+    /* 2 to 2 (ck-restart-0): both runs went on with the cuts of the stored
+     * atoms, so the last snapshot is the uninterrupted run's bit for bit */
+    char r22[700];
+    snprintf(r22, sizeof r22, "%s/ck-restart-0", th_temp_dir());
+    static const char *const sets[] = {"position", "velocity", "force", NULL};
+    static const int ncomp[] = {3, 3, 3};
+    thb_compare_snapshot(d2, r22, "/particles/00000100", sets, ncomp, 0.0, "2 to 2, bitwise");
 }
 
 /* A case type that is not decomposed runs whole on every rank, and says so */

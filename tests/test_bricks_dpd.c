@@ -215,7 +215,8 @@ Test(bricks_dpd, shifted_cuts_match_serial, .timeout = 900)
     thb_balance_record(d2, &checks, &shifts, NULL);
     cr_log_info("DPD slab on 2 ranks, balance_every 20: %ld checks, %ld shifts", checks, shifts);
     cr_assert_geq(checks, 4, "%ld checks", checks);
-    cr_assert_geq(shifts, 1, "%ld shifts", shifts);
+    /* the first build's shift, and at least one check that moved the cuts */
+    cr_assert_geq(shifts, 2, "%ld shifts", shifts);
 }
 
 /* The cell sweep needs three cells of r_d along a periodic axis: a box of

@@ -131,7 +131,16 @@ int halo_balance(struct halo *h, const struct box *b, struct particles *p, doubl
     return rc;
 }
 
-int halo_shift_cuts(struct halo *h, const struct particles *p, double range, struct err *e)
+void halo_balance_schedule(struct halo *h, long every, double threshold, int at_first_build)
+{
+    h->balance_every = every;
+    h->balance_threshold = threshold;
+    h->balance_next = every;   /* the set-up has cut at the particles, or will */
+    h->balance_pending = at_first_build;
+}
+
+/* The cuts to the owned particles' present distribution. */
+static int shift_cuts(struct halo *h, const struct particles *p, double range, struct err *e)
 {
     int rc = collective_rc(h, decomp_shift(&h->dc, p->x, p->n_owned, range, e), e);
     if (!rc)
@@ -139,33 +148,46 @@ int halo_shift_cuts(struct halo *h, const struct particles *p, double range, str
     return rc;
 }
 
-int halo_rebalance(struct halo *h, struct box *b, struct particles *p, double range, int force,
-                   struct err *e)
+int halo_balance_step(struct halo *h, struct box *b, struct particles *p, double range,
+                      long step, struct err *e)
 {
+    long every = h->balance_every;
+    int force = h->balance_pending;
+    if (!force && !(every > 0 && step >= h->balance_next))
+        return 0;
+    h->balance_pending = 0;
+    if (every > 0)
+        h->balance_next = (step / every + 1) * every;
     particles_clear_ghosts(p);
     int rc = halo_remap(h, b, p, 1, e);
     if (rc)
         return rc;
-    if (force) {
-        rc = halo_shift_cuts(h, p, range, e);
-        return rc ? rc : halo_migrate(h, p, e);
+    if (!force) {
+        /* the owned counts, strays included: they have moved less than
+         * half a skin since the last migration */
+        double most = p->n_owned, total = p->n_owned;
+        halo_max(h, &most, 1);
+        halo_sum(h, &total, 1);
+        double mean = total / halo_nranks(h);
+        double imbalance = mean > 0 ? most / mean : 1.0;
+        h->balance_checks++;
+        if (imbalance > h->balance_worst)
+            h->balance_worst = imbalance;
+        if (!(imbalance > h->balance_threshold))
+            return 0;
     }
-    /* the owned counts, strays included: they have moved less than half
-     * a skin since the last migration */
-    double most = p->n_owned, total = p->n_owned;
-    halo_max(h, &most, 1);
-    halo_sum(h, &total, 1);
-    double mean = total / halo_nranks(h);
-    double imbalance = mean > 0 ? most / mean : 1.0;
-    h->balance_checks++;
-    if (imbalance > h->balance_worst)
-        h->balance_worst = imbalance;
-    if (!(imbalance > h->balance_threshold))
+    rc = shift_cuts(h, p, range, e);
+    return rc ? rc : halo_migrate(h, p, e);
+}
+
+int halo_balance_sync(struct halo *h, const struct particles *p, double range, long step,
+                      struct err *e)
+{
+    long every = h->balance_every;
+    if (every <= 0)
         return 0;
-    rc = halo_shift_cuts(h, p, range, e);
-    if (!rc)
-        rc = halo_migrate(h, p, e);
-    return rc;
+    h->balance_next = (step / every + 1) * every;
+    return shift_cuts(h, p, range, e);
 }
 
 int halo_remap(struct halo *h, struct box *b, struct particles *p, int shrink, struct err *e)

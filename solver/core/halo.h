@@ -68,15 +68,15 @@ struct halo {
     int nswap;
     int half_shell;         /* no ghosts below the lower z face (above) */
     long natoms;            /* owned particles of all ranks (after the last migration) */
-    /* dynamic balance (`parallel.balance_every`; halo_rebalance): the
+    /* dynamic balance (`parallel.balance_every`; halo_balance_step): the
      * owner's settings, and what the checks found */
     long balance_every;     /* steps between checks, 0: the cuts stay */
     double balance_threshold;
     long balance_checks, balance_shifts;
     double balance_worst;   /* the largest max/mean owned a check measured */
-    int balance_pending;    /* the owner's next list build shifts the cuts whatever
-                             * the imbalance (DPD: set-up and checkpoints) */
-    long balance_next;      /* the owner's next check at or after this step (DPD) */
+    int balance_pending;    /* the next list build shifts the cuts whatever the
+                             * imbalance (DPD's set-up: halo_balance_schedule) */
+    long balance_next;      /* the next check at the first build at or after this step */
     void *sbuf, *rbuf;      /* message buffers */
     size_t scap, rcap;
 };
@@ -104,19 +104,28 @@ int halo_adopt(struct halo *h, struct particles *p, int rc, struct err *e);
 int halo_balance(struct halo *h, const struct box *b, struct particles *p, double range,
                  struct err *e);
 
-/* A check of the dynamic balance (before a list build; ghosts are
- * cleared): wrap and shrink-wrap b as the build will, measure max/mean
- * owned particles over the ranks and, above h->balance_threshold (or
- * with force, whatever it is; not counted as a check), shift the cuts to
- * the particles' present distribution (decomp_shift) and move every
- * particle to its new owner.  Collective. */
-int halo_rebalance(struct halo *h, struct box *b, struct particles *p, double range, int force,
-                   struct err *e);
+/* The shifted cuts' schedule (`parallel.balance`, `balance_every`,
+ * `balance_threshold`), one for every engine on a halo: checks at the
+ * first list build at or after every `every`-th step (0: none), and
+ * with at_first_build a shift at the next build whatever the imbalance
+ * (an engine whose ghost range is known only there: DPD's cell sweep). */
+void halo_balance_schedule(struct halo *h, long every, double threshold, int at_first_build);
 
-/* Shift the cuts to the owned particles' distribution now, without a
- * check (a checkpoint's sync, so that the continuing and the restarted
- * run go on with the same cuts); the caller migrates.  Collective. */
-int halo_shift_cuts(struct halo *h, const struct particles *p, double range, struct err *e);
+/* Before a list build at `step` (ghosts are cleared): when due, wrap
+ * and shrink-wrap b as the build will, measure max/mean owned particles
+ * over the ranks and, above the threshold (or when the schedule asks
+ * for a shift at this build), move the cuts to the particles' present
+ * distribution (decomp_shift) and every particle to its new owner.
+ * Collective; 0 when nothing is due. */
+int halo_balance_step(struct halo *h, struct box *b, struct particles *p, double range,
+                      long step, struct err *e);
+
+/* A checkpoint written or read, before the caller migrates and sorts by
+ * id: with balance_every, the cuts go to the stored particles now and the
+ * next check is set from `step`, so the continuing and the restarted run
+ * go on with the same cuts.  Collective. */
+int halo_balance_sync(struct halo *h, const struct particles *p, double range, long step,
+                      struct err *e);
 
 /* Wrap owned particles into periodic axes, check fixed ones and, when
  * shrink, shrink-wrap free axes to the global extent; the bricks follow

@@ -115,25 +115,23 @@ static int class_perm(void *ctx, const struct particles *p, int *perm, struct er
     return rc;
 }
 
+double dpd_ghost_range(const struct dpd *d)
+{
+    double range = list_cutoff(d) + d->skin;
+    /* the cell sweep's anchors reach half a cell past the brick */
+    if (d->set.sweep_cells || (d->p->halo && !d->moved_elsewhere))
+        range = fmax(range, dpd_sweep_cells_range(&d->box, d->set.cutoff, d->skin));
+    return range;
+}
+
 /* Wrap, (sort), ghosts, list. */
 static int rebuild(struct dpd *d, struct err *e)
 {
     struct particles *p = d->p;
-    double range = list_cutoff(d) + d->skin;
-    /* the cell sweep's anchors reach half a cell past the brick */
-    if (d->set.sweep_cells || (p->halo && !d->moved_elsewhere))
-        range = fmax(range, dpd_sweep_cells_range(&d->box, d->set.cutoff, d->skin));
-    struct halo *h = p->halo;
-    long every = h ? h->balance_every : 0;
-    if (h && (h->balance_pending || (every > 0 && d->step >= h->balance_next))) {
-        /* shifted cuts (parallel.balance): at the first build, after a
-         * checkpoint, and at the first build of every `every` steps when
-         * the imbalance exceeds the threshold, as for MD (md.c) */
-        int force = h->balance_pending;
-        h->balance_pending = 0;
-        if (every > 0)
-            h->balance_next = (d->step / every + 1) * every;
-        int brc = halo_rebalance(h, &d->box, p, range, force, e);
+    double range = dpd_ghost_range(d);
+    /* shifted cuts (parallel.balance), as for MD (md.c) */
+    if (p->halo) {
+        int brc = halo_balance_step(p->halo, &d->box, p, range, d->step, e);
         if (brc)
             return brc;
     }

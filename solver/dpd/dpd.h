@@ -241,6 +241,11 @@ double dpd_timestep_limit(const struct cg_params *prm);
  * plus r_d plus the skin; 0 when a periodic axis is shorter than 3 r_d. */
 double dpd_sweep_cells_range(const struct box *box, double rd, double skin);
 
+/* The range of the ghosts and of the list build: list cutoff + skin, or
+ * the cell sweep's reach when that is larger (on bricks, or with
+ * dpd.sweep: cells). */
+double dpd_ghost_range(const struct dpd *d);
+
 /* Particles of all ranks (p->n_owned without bricks). */
 long dpd_nparticles(const struct dpd *d);
 

@@ -195,14 +195,13 @@ static void dpd_model_checkpoint_sync(void *self)
     }
     if (!rc)
         rc = halo_remap(h, &d->box, p, 0, &e);
+    /* dynamic balance: both runs cut at the stored particles */
+    if (!rc)
+        rc = halo_balance_sync(h, p, dpd_ghost_range(d), d->step, &e);
     if (!rc)
         rc = halo_migrate(h, p, &e);
     if (!rc)
         rc = halo_sort_by_id(p, &e);
-    /* dynamic balance: both runs cut at the stored particles at the next
-     * build (dpd.c), and check again after the same steps */
-    if (h->balance_every > 0)
-        h->balance_pending = 1;
     m->read_all = 0;
     m->sync_rc = rc;
 }

@@ -28,17 +28,11 @@ static int rebuild(struct md *md, struct err *e)
 {
     struct particles *p = md->p;
     double range = md->pot->cutoff + md->skin;
-    int rc = 0;
-    long every = md->halo ? md->halo->balance_every : 0;
-    if (every > 0 && md->step >= md->balance_next) {
-        /* dynamic balance: at the first build of every `every` steps (a
-         * build is where atoms migrate anyway; LAMMPS' fix balance checks
-         * at its re-neighbouring steps too) */
-        md->balance_next = (md->step / every + 1) * every;
-        rc = halo_rebalance(md->halo, &md->box, p, range, 0, e);
-        if (rc)
-            return rc;
-    }
+    /* dynamic balance: a build is where atoms migrate anyway (LAMMPS' fix
+     * balance checks at its re-neighbouring steps too) */
+    int rc = md->halo ? halo_balance_step(md->halo, &md->box, p, range, md->step, e) : 0;
+    if (rc)
+        return rc;
     rc = domain_rebuild(p, &md->box, range, md->sort_every > 0 && md->nrebuilds % md->sort_every == 0,
                             md->timers, e);
     if (rc)
@@ -191,13 +185,6 @@ void md_adopt(struct md *md, struct particles *p, struct halo *h)
     p->par = NULL;   /* no replicated sums: each rank owns its brick */
 }
 
-void md_balance_dynamic(struct md *md, long every, double threshold)
-{
-    md->halo->balance_every = every;
-    md->halo->balance_threshold = threshold;
-    md->balance_next = every;   /* the set-up has just cut at the atoms */
-}
-
 int md_decomposed_sync(struct md *md, int after_read, struct err *e)
 {
     struct particles *p = md->p;
@@ -211,15 +198,11 @@ int md_decomposed_sync(struct md *md, int after_read, struct err *e)
      * a run without checkpoints */
     if (!rc)
         rc = halo_remap(md->halo, &md->box, p, 0, e);
-    long every = md->halo->balance_every;
-    if (!rc && every > 0) {
-        /* dynamic balance: the continuing and the restarted run both cut
-         * at the stored atoms' distribution (the restarted one would
-         * otherwise go on with the set-up's cuts), and check again after
-         * the same steps */
-        rc = halo_shift_cuts(md->halo, p, md->pot->cutoff + md->skin, e);
-        md->balance_next = (md->step / every + 1) * every;
-    }
+    /* dynamic balance: the continuing and the restarted run both cut at
+     * the stored atoms (the restarted one would otherwise go on with the
+     * set-up's cuts) */
+    if (!rc)
+        rc = halo_balance_sync(md->halo, p, md->pot->cutoff + md->skin, md->step, e);
     if (!rc)
         rc = halo_migrate(md->halo, p, e);
     if (!rc)

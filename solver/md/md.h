@@ -48,8 +48,6 @@ struct md {
     struct halo *halo;
     int sync_rc;                /* an error of the last checkpoint sync, reported by
                                  * the next force call */
-    long balance_next;          /* with halo->balance_every: the first list build at
-                                 * or after this step checks the balance */
 };
 
 /* Atoms of the whole system (all ranks). */
@@ -59,11 +57,6 @@ long md_natoms(const struct md *md);
  * rank's atoms (md_system_read_split built them; h counted them) and from
  * then on exchanges ghosts and migrates atoms.  Call before md_init. */
 void md_adopt(struct md *md, struct particles *p, struct halo *h);
-
-/* On bricks (after md_adopt): check the balance every `every` steps from
- * here on, shifting the cuts when max/mean owned atoms exceeds threshold
- * (halo_rebalance), and at every checkpoint sync. */
-void md_balance_dynamic(struct md *md, long every, double threshold);
 
 /* A checkpoint was written or read: every rank's atoms go to their owner
  * (after a read every rank holds all of them) in id order, so the

@@ -103,10 +103,8 @@ static int dpd_case_read(struct cfg_obj *root, const struct case_common *common,
         /* parallel.balance: the first list build cuts at the particles
          * (its range is the sweep's), balance_every checks again */
         const struct parallel_settings *ps = &common->parallel;
-        halo->balance_pending = ps->balance == BALANCE_SHIFT;
-        halo->balance_every = ps->balance_every;
-        halo->balance_threshold = ps->balance_threshold;
-        halo->balance_next = ps->balance_every;
+        halo_balance_schedule(halo, ps->balance_every, ps->balance_threshold,
+                              ps->balance == BALANCE_SHIFT);
     }
     /* the k-th Maxwell draw to the k-th id of all ranks: the serial
      * velocities (to round-off on bricks, bitwise serially) */

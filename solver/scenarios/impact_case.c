@@ -407,8 +407,8 @@ static int build(struct impact *c, const struct impact_spec *s, struct potential
     }
     c->md.seed = seed;
     if (c->md.halo && common->parallel.balance_every > 0)
-        md_balance_dynamic(&c->md, common->parallel.balance_every,
-                           common->parallel.balance_threshold);
+        halo_balance_schedule(c->md.halo, common->parallel.balance_every,
+                              common->parallel.balance_threshold, 0);
     double m = p->mass[ct];
     c->impact_energy = 0.5 * m * c->speed * c->speed * UNITS_MVV2E * (double)c->ncluster;
     if (b->ops->setup && (rc = b->ops->setup(b, &c->md, c->lo, c->hi, e)))

@@ -159,8 +159,8 @@ static int md_case_read(struct cfg_obj *root, const struct case_common *common, 
     c->md.thermo = ms.thermostat;
     c->md.seed = common->seed;
     if (!rc && c->md.halo && common->parallel.balance_every > 0)
-        md_balance_dynamic(&c->md, common->parallel.balance_every,
-                           common->parallel.balance_threshold);
+        halo_balance_schedule(c->md.halo, common->parallel.balance_every,
+                              common->parallel.balance_threshold, 0);
     if (!rc)
         rc = md_check_timestep(&c->md, root->cfg, "md.timestep");
     if (rc) {
