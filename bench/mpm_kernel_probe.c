@@ -173,8 +173,8 @@ static int build(struct mpm *m, int nthreads, int coarsen, struct err *e)
         }
         r.lo[0] = xlo[k] * 1e10;
         r.hi[0] = (xlo[k] + 0.25) * 1e10;
-        long added;
-        rc = mpm_fill_region(m, &r, body, 2, &added, e);
+        long added, kept;
+        rc = mpm_fill_region(m, &r, body, 2, NULL, (int64_t)m->pts.n + 1, &added, &kept, e);
         if (rc)
             return rc;
     }

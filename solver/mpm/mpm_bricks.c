@@ -846,34 +846,60 @@ int mpm_bricks_create_fixed(const struct parallel *par, const struct mpm *m,
 }
 
 /* Shifted boundaries (parallel.balance: shift), as decomp_shift does for
- * particles: along every axis cut more than once, the cuts go to the
- * quantiles of the points' cells (every rank holds all points here, so
- * every rank computes the same cuts), then apart where needed so that
- * every brick keeps MIN_BRICK_CELLS cells. */
-static int shift_cuts(struct mpm_bricks *b, const struct mpm *m, struct err *e)
+ * particles, from the points counted along each axis before they were
+ * made (every rank counted all of them, so every rank computes the same
+ * cuts). */
+int mpm_bricks_hist_init(const struct mpm_bricks *b, struct mpm_bricks_hist *h, struct err *e)
 {
-    const struct mpm_points *p = &m->pts;
+    memset(h, 0, sizeof *h);
+    for (int d = 0; d < 3; d++) {
+        if (b->grid[d] < 2)
+            continue;
+        h->layer[d] = calloc((size_t)b->ncell[d], sizeof *h->layer[d]);
+        if (!h->layer[d]) {
+            mpm_bricks_hist_free(h);
+            return err_nomem(e, "MPM balance");
+        }
+    }
+    return 0;
+}
+
+void mpm_bricks_hist_add(const struct mpm_bricks *b, const struct mpm_grid *g,
+                         struct mpm_bricks_hist *h, const double x[3])
+{
+    for (int d = 0; d < 3; d++) {
+        if (!h->layer[d])
+            continue;
+        long nc = b->ncell[d];
+        double u = floor((x[d] - g->origin[d]) * g->inv_hd[d]);
+        h->layer[d][!(u >= 0) ? 0 : u >= (double)nc ? nc - 1 : (long)u]++;
+    }
+    h->n++;
+}
+
+void mpm_bricks_hist_free(struct mpm_bricks_hist *h)
+{
+    for (int d = 0; d < 3; d++) {
+        free(h->layer[d]);
+        h->layer[d] = NULL;
+    }
+}
+
+void mpm_bricks_shift_cuts(struct mpm_bricks *b, const struct mpm_bricks_hist *h)
+{
     for (int d = 0; d < 3; d++) {
         int P = b->grid[d];
         long nc = b->ncell[d];
-        if (P < 2 || p->n == 0)
+        const long *hist = h->layer[d];
+        if (P < 2 || h->n == 0 || !hist)
             continue;
-        long *hist = calloc((size_t)nc, sizeof *hist);
-        if (!hist)
-            return err_nomem(e, "MPM balance");
-        for (long i = 0; i < p->n; i++) {
-            double u = floor((p->x[3 * i + d] - m->grid.origin[d]) * m->grid.inv_hd[d]);
-            long k = !(u >= 0) ? 0 : u >= (double)nc ? nc - 1 : (long)u;
-            hist[k]++;
-        }
         long acc = 0, k = 0;
         for (int c = 1; c < P; c++) {   /* the first cell after c / P of the points */
-            long want = (long)((double)p->n * c / P + 0.5);
+            long want = (long)((double)h->n * c / P + 0.5);
             while (k < nc && acc + hist[k] <= want)
                 acc += hist[k++];
             b->cut[d][c] = k;
         }
-        free(hist);
         for (int c = 1; c < P; c++)   /* wide enough bricks, from below then from above */
             if (b->cut[d][c] < b->cut[d][c - 1] + MIN_BRICK_CELLS)
                 b->cut[d][c] = b->cut[d][c - 1] + MIN_BRICK_CELLS;
@@ -881,34 +907,30 @@ static int shift_cuts(struct mpm_bricks *b, const struct mpm *m, struct err *e)
             if (b->cut[d][c] > b->cut[d][c + 1] - MIN_BRICK_CELLS)
                 b->cut[d][c] = b->cut[d][c + 1] - MIN_BRICK_CELLS;
     }
-    return 0;
 }
 
-/* A hierarchical grid: the grid stays whole on every rank; keep this
- * rank's points and reserve the reduction's buffer. */
+static int owner_keeps(const void *ctx, const double x[3])
+{
+    const struct mpm_bricks_owner *o = ctx;
+    return point_in_own_brick(o->b, o->g, x);
+}
+
+struct mpm_fill_owner mpm_bricks_fill_owner(const struct mpm_bricks_owner *o)
+{
+    struct mpm_fill_owner f = {owner_keeps, o};
+    return f;
+}
+
+/* A hierarchical grid: the grid stays whole on every rank; reserve the
+ * reduction's buffer. */
 static int distribute_whole(struct mpm_bricks *b, struct mpm *m, struct err *e)
 {
     link_ranks(b);   /* the points' neighbours; no node lists */
-    int rc = whole_sums_init(b, m, e);
-    struct mpm_points all = m->pts;
-    if (!rc)
-        rc = mpm_points_init(&m->pts, all.nstate, e);
-    if (!rc) {
-        rc = mpm_bricks_keep_owned(b, m, &all, e);
-        mpm_points_free(&all);
-    } else {
-        m->pts = all;
-    }
-    return mpm_bricks_agree(b, rc, e);
+    return mpm_bricks_agree(b, whole_sums_init(b, m, e), e);
 }
 
 int mpm_bricks_distribute(struct mpm_bricks *b, struct mpm *m, struct err *e)
 {
-    if (b->shift) {
-        int rc = mpm_bricks_agree(b, shift_cuts(b, m, e), e);
-        if (rc)
-            return rc;
-    }
     if (b->whole)
         return distribute_whole(b, m, e);
     struct mpm_grid *old = &m->grid, patch;
@@ -942,9 +964,6 @@ int mpm_bricks_distribute(struct mpm_bricks *b, struct mpm *m, struct err *e)
         mpm_grid_free(&patch);
         return mpm_bricks_agree(b, rc, e);
     }
-    /* the points of the whole set (every rank built them): keep mine */
-    struct mpm_points all = m->pts;
-    mpm_points_init(&m->pts, all.nstate, e);
     mpm_grid_free(old);
     m->grid = patch;
     /* the bins' block counts were sized for the serial grid */
@@ -956,9 +975,8 @@ int mpm_bricks_distribute(struct mpm_bricks *b, struct mpm *m, struct err *e)
         m->bins[s].count_cap = 0;
         m->bins[s].blk_step = -1;
     }
-    rc = mpm_bricks_keep_owned(b, m, &all, e);
-    mpm_points_free(&all);
-    return mpm_bricks_agree(b, rc, e);
+    mpm_points_moved(m);
+    return mpm_bricks_agree(b, 0, e);
 }
 
 int mpm_bricks_prepare(struct mpm_bricks *b, struct mpm *m, struct err *e)

@@ -71,6 +71,7 @@
 #include <stdint.h>
 
 #include "mpm/mpm.h"
+#include "mpm/mpm_build.h"
 #include "util/err.h"
 
 struct parallel;
@@ -96,7 +97,8 @@ struct mpm_bricks {
     long *cut[3];                 /* grid[d] + 1 cell indices along d: brick c has cells
                                      [cut[d][c], cut[d][c + 1]) */
     int shift;                    /* parallel.balance: shift -- cuts at the points'
-                                     quantiles (set when the points are distributed) */
+                                     quantiles (mpm_bricks_shift_cuts, before the points
+                                     are made) */
     int whole;                    /* every rank holds the grid whole (no patch, no
                                      links): a hierarchical grid exchanges its shared
                                      nodes' sums, a fixed-owner uniform one reduces
@@ -140,10 +142,33 @@ int mpm_bricks_plan(const struct parallel *par, const struct parallel_settings *
                     const struct mpm_grid *g, int hierarchical, struct cfg *c,
                     struct mpm_bricks **out);
 
-/* Every rank holds the whole model (built from the case): with shifted
- * boundaries, move the cuts to the quantiles of the points along each cut
- * axis; then replace the grid by this rank's patch and keep this rank's
- * points.  Collective. */
+/* The points along each axis the bricks cut, by cell layer, for shifted
+ * boundaries: every rank counts every point of the case (mpm_region_visit)
+ * before any is made, so every rank computes the same cuts. */
+struct mpm_bricks_hist {
+    long *layer[3];   /* ncell[d] counts, NULL along an axis not cut */
+    long n;           /* points counted */
+};
+int mpm_bricks_hist_init(const struct mpm_bricks *b, struct mpm_bricks_hist *h, struct err *e);
+void mpm_bricks_hist_add(const struct mpm_bricks *b, const struct mpm_grid *g,
+                         struct mpm_bricks_hist *h, const double x[3]);
+void mpm_bricks_hist_free(struct mpm_bricks_hist *h);
+/* Shifted boundaries (parallel.balance: shift): along every axis cut more
+ * than once the cuts go to the quantiles of the counted points, then apart
+ * where needed so that every brick keeps 4 cells. */
+void mpm_bricks_shift_cuts(struct mpm_bricks *b, const struct mpm_bricks_hist *h);
+
+/* The filter that makes the points of this rank's brick only (g: the
+ * whole grid the case builds), for mpm_fill_region.  b must outlive it. */
+struct mpm_bricks_owner {
+    const struct mpm_bricks *b;
+    const struct mpm_grid *g;
+};
+struct mpm_fill_owner mpm_bricks_fill_owner(const struct mpm_bricks_owner *o);
+
+/* m's points are this rank's already (made with mpm_bricks_fill_owner):
+ * replace the whole grid the case built by this rank's patch (a
+ * hierarchical grid stays whole) and set up the exchanges.  Collective. */
 int mpm_bricks_distribute(struct mpm_bricks *b, struct mpm *m, struct err *e);
 
 void mpm_bricks_destroy(struct mpm_bricks **b);

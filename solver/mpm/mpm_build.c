@@ -6,13 +6,10 @@
 #include "mpm/mpm_hgrid.h"
 
 /* Visit the n^3 sub-positions of one cell [lo, lo + size) (Å) inside r. */
-static long fill_cell(struct mpm *m, const struct region *r, int body, int n, const double lo[3],
-                      const double size[3], int count_only, struct err *e)
+static int visit_cell(const struct region *r, int n, const double lo[3], const double size[3],
+                      mpm_point_visitor fn, void *ctx, long *count)
 {
-    const struct mpm_body *b = &m->body[body];
-    double rho = m->mat[b->material]->density;
     double vol = size[0] * size[1] * size[2] / (double)(n * n * n);
-    long k = 0;
     for (int c = 0; c < n; c++)
         for (int bb = 0; bb < n; bb++)
             for (int a = 0; a < n; a++) {
@@ -20,23 +17,21 @@ static long fill_cell(struct mpm *m, const struct region *r, int body, int n, co
                                lo[2] + (c + 0.5) / n * size[2]};
                 if (!region_contains(r, x))
                     continue;
-                k++;
-                if (count_only)
-                    continue;
-                if (mpm_points_add(&m->pts, x, b->velocity, rho * vol, vol, body,
-                                   (int64_t)m->pts.n + 1, e) < 0)
-                    return -1;
+                int rc = fn(ctx, x, vol);
+                if (rc)
+                    return rc;
+                ++*count;
             }
-    return k;
+    return 0;
 }
 
-static long fill(struct mpm *m, const struct region *r, int body, int n, int count_only,
-                 struct err *e)
+int mpm_region_visit(const struct mpm *m, const struct region *r, int n, mpm_point_visitor fn,
+                     void *ctx, long *count)
 {
     const struct mpm_grid *g = &m->grid;
     double rlo[3], rhi[3];
     region_bounds(r, rlo, rhi);
-    long total = 0;
+    *count = 0;
     if (g->kind == MPM_GRID_HIER) {
         const struct mpm_hgrid *hg = g->hg;
         for (long c = 0; c < hg->ncell; c++) {
@@ -50,12 +45,11 @@ static long fill(struct mpm *m, const struct region *r, int body, int n, int cou
             }
             if (skip)
                 continue;
-            long k = fill_cell(m, r, body, n, lo, size, count_only, e);
-            if (k < 0)
-                return -1;
-            total += k;
+            int rc = visit_cell(r, n, lo, size, fn, ctx, count);
+            if (rc)
+                return rc;
         }
-        return total;
+        return 0;
     }
     long i0[3], i1[3];
     for (int d = 0; d < 3; d++) {
@@ -71,31 +65,65 @@ static long fill(struct mpm *m, const struct region *r, int body, int n, int cou
             for (long kx = i0[0]; kx < i1[0]; kx++) {
                 double lo[3] = {g->origin[0] + kx * g->h, g->origin[1] + ky * g->h,
                                 g->origin[2] + kz * g->h};
-                long k = fill_cell(m, r, body, n, lo, size, count_only, e);
-                if (k < 0)
-                    return -1;
-                total += k;
+                int rc = visit_cell(r, n, lo, size, fn, ctx, count);
+                if (rc)
+                    return rc;
             }
-    return total;
+    return 0;
 }
 
-int mpm_fill_region(struct mpm *m, const struct region *r, int body, int n, long *added,
+/* The two passes of mpm_fill_region: count what this process keeps, then
+ * store it. */
+struct fill_pass {
+    struct mpm *m;
+    const struct mpm_fill_owner *owner;
+    int body, store;
+    double rho;
+    int64_t next_id;
+    long kept;
+    struct err *e;
+};
+
+static int fill_point(void *ctx, const double x[3], double vol)
+{
+    struct fill_pass *f = ctx;
+    int64_t id = f->next_id++;
+    if (f->owner && !f->owner->keep(f->owner->ctx, x))
+        return 0;
+    f->kept++;
+    if (!f->store)
+        return 0;
+    struct mpm *m = f->m;
+    return mpm_points_add(&m->pts, x, m->body[f->body].velocity, f->rho * vol, vol, f->body, id,
+                          f->e) < 0
+               ? -1
+               : 0;
+}
+
+int mpm_fill_region(struct mpm *m, const struct region *r, int body, int n,
+                    const struct mpm_fill_owner *owner, int64_t first_id, long *added, long *kept,
                     struct err *e)
 {
-    *added = 0;
+    *added = *kept = 0;
     if (n < 1)
         return err_set(e, ERR_INPUT, "points per cell must be at least 1");
-    long k = fill(m, r, body, n, 1, e);
-    if (k < 0)
-        return e->code ? e->code : ERR_RUNTIME;
-    int rc = mpm_points_reserve(&m->pts, m->pts.n + k, e);
+    const struct mpm_body *b = &m->body[body];
+    struct fill_pass f = {m, owner, body, 0, m->mat[b->material]->density, first_id, 0, e};
+    long count;
+    int rc = mpm_region_visit(m, r, n, fill_point, &f, &count);
+    if (!rc)
+        rc = mpm_points_reserve(&m->pts, m->pts.n + f.kept, e);
     if (rc)
         return rc;
-    k = fill(m, r, body, n, 0, e);
-    if (k < 0)
+    f.store = 1;
+    f.kept = 0;
+    f.next_id = first_id;
+    rc = mpm_region_visit(m, r, n, fill_point, &f, &count);
+    if (rc)
         return e->code ? e->code : ERR_RUNTIME;
     for (int d = 0; d < 3; d++)
         m->body[body].lp[d] = 0.5 / n;
-    *added = k;
+    *added = count;
+    *kept = f.kept;
     return 0;
 }

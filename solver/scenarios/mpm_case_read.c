@@ -196,7 +196,10 @@ void mpm_case_free(struct mpm_case *c)
 }
 
 /* Distribute each traction over the point layers of its region:
- * f_p = t V_p / (k l), k layers of spacing l, so the layers carry t x area. */
+ * f_p = t V_p / (k l), k layers of spacing l, so the layers carry t x area.
+ * On bricks the layers' extent and count are taken over every rank's
+ * points; the spacing is that of the last body with points in the region,
+ * as in a serial run, where the bodies' points come in body order. */
 static int apply_loads(struct mpm_case *c, const struct load_spec *ls, int nloads, struct cfg *cfg)
 {
     struct mpm *m = &c->m;
@@ -204,21 +207,26 @@ static int apply_loads(struct mpm_case *c, const struct load_spec *ls, int nload
     for (int k = 0; k < nloads; k++) {
         const struct load_spec *L = &ls[k];
         int a = L->normal;
-        double lo = INFINITY, hi = -INFINITY, spacing = 0;
-        long cnt = 0;
+        double ext[3] = {INFINITY, -INFINITY, -1};   /* -lo, hi, last body */
+        double cnt = 0;
         for (long i = 0; i < p->n; i++) {
             if (!region_contains(&L->region, p->x + 3 * i) || m->body[p->body[i]].rigid)
                 continue;
             double xa = p->x[3 * i + a];
-            lo = fmin(lo, xa);
-            hi = fmax(hi, xa);
-            spacing = 2.0 * m->body[p->body[i]].lp[a] * m->grid.h;   /* cell / n */
+            ext[0] = fmin(ext[0], xa);
+            ext[1] = fmax(ext[1], xa);
+            ext[2] = fmax(ext[2], (double)p->body[i]);
             cnt++;
         }
+        ext[0] = -ext[0];
+        mpm_bricks_max(c->bricks, ext, 3);
+        mpm_bricks_sum(c->bricks, &cnt, 1);
         if (cnt == 0)
             return cfg_error_at(cfg, L->path, "load region holds no deformable material point");
-        if (mpm_points_enable_fext(p, cfg->err))
+        if (mpm_bricks_agree(c->bricks, mpm_points_enable_fext(p, cfg->err), cfg->err))
             return ERR_RUNTIME;
+        double lo = -ext[0], hi = ext[1];
+        double spacing = 2.0 * m->body[(int)ext[2]].lp[a] * m->grid.h;   /* cell / n */
         double layers = floor((hi - lo) / spacing + 0.5) + 1.0;
         for (long i = 0; i < p->n; i++) {
             if (!region_contains(&L->region, p->x + 3 * i) || m->body[p->body[i]].rigid)
@@ -245,6 +253,127 @@ static int check_time_step(struct mpm_case *c, struct cfg *cfg)
                             m->cmax / u->velocity, u->velocity_name, m->vmax / u->velocity,
                             u->velocity_name);
     return 0;
+}
+
+/* What the first pass over a body's points finds (every rank visits every
+ * point of the case, so every rank finds the same). */
+struct body_scan {
+    const struct mpm_case *c;
+    const struct body_spec *bs;
+    int body;                    /* the body whose points are visited */
+    int overlap;                 /* the first earlier body holding one of its points, or -1 */
+    double at[3];                /* that point */
+    struct mpm_bricks_hist *hist;   /* the bricks' balance, or NULL */
+};
+
+static int scan_point(void *ctx, const double x[3], double vol)
+{
+    struct body_scan *s = ctx;
+    (void)vol;
+    for (int o = 0; o < s->body && s->overlap < 0; o++)
+        if (region_contains(&s->bs[o].region, x)) {
+            s->overlap = o;
+            memcpy(s->at, x, sizeof s->at);
+        }
+    if (s->hist)
+        mpm_bricks_hist_add(s->c->bricks, &s->c->m.grid, s->hist, x);
+    return 0;
+}
+
+/* The bodies' material points in two passes.  The first visits every point
+ * of every body, on every rank: the counts and the checks (the bound on the
+ * points, a body without points, bodies that overlap) and, for shifted
+ * bricks, the points along each axis, from which the cuts are set.  The
+ * second makes the points, each rank only its brick's, with the ids of a
+ * serial run (the place of a point in the case's order). */
+static int make_bodies(struct mpm_case *c, const struct grid_spec *gs, struct body_spec *bs,
+                       int nbody, struct mpm_bricks_hist *hist, struct cfg *cfg)
+{
+    struct err *e = cfg->err;
+    struct mpm *m = &c->m;
+    const struct mpm_units *u = &c->u;
+    double glo[3], ghi[3];
+    mpm_grid_bounds(&m->grid, glo, ghi);
+    long first[MPM_MAX_BODIES + 1];
+    int idx[MPM_MAX_BODIES];
+    long total = 0;
+    for (int b = 0; b < nbody; b++) {
+        struct body_spec *B = &bs[b];
+        char rpath[CFG_PATH_MAX + 8];
+        snprintf(rpath, sizeof rpath, "%s.region", B->path);
+        double rlo[3], rhi[3];
+        region_bounds(&B->region, rlo, rhi);
+        for (int d = 0; d < 3; d++) {
+            if (!isfinite(rlo[d]) || !isfinite(rhi[d]))
+                return cfg_error_at(cfg, rpath,
+                                    "body '%s': its region must be bounded (box, sphere or "
+                                    "cylinder, side: in)",
+                                    B->b.name);
+            if (rlo[d] < glo[d] - 1e-9 * gs->h || rhi[d] > ghi[d] + 1e-9 * gs->h)
+                return cfg_error_at(cfg, rpath,
+                                    "body '%s' has points outside the grid: its region spans "
+                                    "%c = [%g, %g] %s but the grid spans [%g, %g] %s",
+                                    B->b.name, "xyz"[d], rlo[d] / u->length, rhi[d] / u->length,
+                                    u->length_name, glo[d] / u->length, ghi[d] / u->length,
+                                    u->length_name);
+        }
+        if ((idx[b] = mpm_add_body(m, &B->b, e)) < 0)
+            return ERR_RUNTIME;
+        first[b] = total;
+        /* on a uniform grid the region's bounding box bounds the points it
+         * can get; refuse before visiting them (hierarchical grids put fewer
+         * points in coarse cells: checked after the visit) */
+        double upto = (double)total;
+        if (gs->nlevels == 0) {
+            double cells = 1;
+            for (int d = 0; d < 3; d++)
+                cells *= ceil((rhi[d] - rlo[d]) / gs->h) + 1;
+            upto += cells * (double)(B->ppc * B->ppc * B->ppc);
+        }
+        struct body_scan scan = {c, bs, b, -1, {0, 0, 0}, hist};
+        long added = 0;
+        if (upto <= (double)gs->max_points) {
+            mpm_region_visit(m, &B->region, (int)B->ppc, scan_point, &scan, &added);
+            upto = (double)(total + added);
+        }
+        if (upto > (double)gs->max_points)
+            return cfg_error_at(cfg, rpath,
+                                "body '%s' brings the material points to up to %.4g, more than "
+                                "mpm.max_points = %ld%s",
+                                B->b.name, upto, gs->max_points,
+                                gs->max_points_given ? "" : " (the default; set it to allow more)");
+        if (added == 0)
+            return cfg_error_at(cfg, rpath,
+                                "body '%s' has no material point: its region holds no point of "
+                                "the %ld^3 per cell",
+                                B->b.name, B->ppc);
+        if (scan.overlap >= 0)
+            return cfg_error_at(cfg, rpath,
+                                "body '%s' overlaps body '%s' (both contain the point "
+                                "%g %g %g %s)",
+                                B->b.name, bs[scan.overlap].b.name, scan.at[0] / u->length,
+                                scan.at[1] / u->length, scan.at[2] / u->length, u->length_name);
+        total += added;
+    }
+    first[nbody] = total;
+    c->npoints_total = total;
+    struct mpm_bricks_owner mine = {c->bricks, &m->grid};
+    struct mpm_fill_owner keep;
+    if (c->bricks) {
+        if (hist)
+            mpm_bricks_shift_cuts(c->bricks, hist);
+        keep = mpm_bricks_fill_owner(&mine);
+    }
+    int rc = 0;
+    for (int b = 0; b < nbody && !rc; b++) {
+        long added, kept;
+        rc = mpm_fill_region(m, &bs[b].region, idx[b], (int)bs[b].ppc,
+                             c->bricks ? &keep : NULL, (int64_t)first[b] + 1, &added, &kept, e);
+        if (!rc && added != first[b + 1] - first[b])
+            rc = err_set(e, ERR_RUNTIME, "body '%s': %ld points made, %ld counted", bs[b].b.name,
+                         added, first[b + 1] - first[b]);
+    }
+    return mpm_bricks_agree(c->bricks, rc, e);
 }
 
 static int build(struct mpm_case *c, const struct case_common *common, const struct grid_spec *gs,
@@ -284,74 +413,23 @@ static int build(struct mpm_case *c, const struct case_common *common, const str
         if (mpm_add_material(m, mat, e) < 0)
             return ERR_RUNTIME;
     }
-    double glo[3], ghi[3];
-    mpm_grid_bounds(&m->grid, glo, ghi);
-    const struct mpm_units *u = &c->u;
-    for (int b = 0; b < nbody; b++) {
-        struct body_spec *B = &bs[b];
-        char rpath[CFG_PATH_MAX + 8];
-        snprintf(rpath, sizeof rpath, "%s.region", B->path);
-        double rlo[3], rhi[3];
-        region_bounds(&B->region, rlo, rhi);
-        for (int d = 0; d < 3; d++) {
-            if (!isfinite(rlo[d]) || !isfinite(rhi[d]))
-                return cfg_error_at(cfg, rpath,
-                                    "body '%s': its region must be bounded (box, sphere or "
-                                    "cylinder, side: in)",
-                                    B->b.name);
-            if (rlo[d] < glo[d] - 1e-9 * gs->h || rhi[d] > ghi[d] + 1e-9 * gs->h)
-                return cfg_error_at(cfg, rpath,
-                                    "body '%s' has points outside the grid: its region spans "
-                                    "%c = [%g, %g] %s but the grid spans [%g, %g] %s",
-                                    B->b.name, "xyz"[d], rlo[d] / u->length, rhi[d] / u->length,
-                                    u->length_name, glo[d] / u->length, ghi[d] / u->length,
-                                    u->length_name);
-        }
-        int idx = mpm_add_body(m, &B->b, e);
-        if (idx < 0)
-            return ERR_RUNTIME;
-        long first = m->pts.n, added;
-        /* on a uniform grid the region's bounding box bounds the points it
-         * can get; refuse before filling it (hierarchical grids put fewer
-         * points in coarse cells: checked after the fill) */
-        double upto = (double)first;
-        if (gs->nlevels == 0) {
-            double cells = 1;
-            for (int d = 0; d < 3; d++)
-                cells *= ceil((rhi[d] - rlo[d]) / gs->h) + 1;
-            upto += cells * (double)(B->ppc * B->ppc * B->ppc);
-        }
-        if (upto <= (double)gs->max_points) {
-            if ((rc = mpm_fill_region(m, &B->region, idx, (int)B->ppc, &added, e)))
-                return rc;
-            upto = (double)m->pts.n;
-        }
-        if (upto > (double)gs->max_points)
-            return cfg_error_at(cfg, rpath,
-                                "body '%s' brings the material points to up to %.4g, more than "
-                                "mpm.max_points = %ld%s",
-                                B->b.name, upto, gs->max_points,
-                                gs->max_points_given ? "" : " (the default; set it to allow more)");
-        if (added == 0)
-            return cfg_error_at(cfg, rpath,
-                                "body '%s' has no material point: its region holds no point of "
-                                "the %ld^3 per cell",
-                                B->b.name, B->ppc);
-        for (long i = first; i < m->pts.n; i++)
-            for (int o = 0; o < b; o++)
-                if (region_contains(&bs[o].region, m->pts.x + 3 * i)) {
-                    const double *x = m->pts.x + 3 * i;
-                    return cfg_error_at(cfg, rpath,
-                                        "body '%s' overlaps body '%s' (both contain the point "
-                                        "%g %g %g %s)",
-                                        B->b.name, bs[o].b.name, x[0] / u->length,
-                                        x[1] / u->length, x[2] / u->length, u->length_name);
-                }
-    }
+    /* under mpirun: the grid's bricks, planned before the points are made
+     * so that each rank stores only its own (docs/parallel.md) */
+    if ((rc = mpm_bricks_plan(common->par, &common->parallel, &m->grid, gs->nlevels > 0, cfg,
+                              &c->bricks)))
+        return rc;
+    struct mpm_bricks_hist hist = {{NULL, NULL, NULL}, 0};
+    if (c->bricks && c->bricks->shift && (rc = mpm_bricks_hist_init(c->bricks, &hist, e)))
+        return rc;
+    rc = make_bodies(c, gs, bs, nbody, c->bricks && c->bricks->shift ? &hist : NULL, cfg);
+    mpm_bricks_hist_free(&hist);
+    if (rc)
+        return rc;
     if ((rc = apply_loads(c, ls, nloads, cfg)))
         return rc;
-    if ((rc = mpm_prepare(m, e)))
+    if ((rc = mpm_bricks_agree(c->bricks, mpm_prepare(m, e), e)))
         return rc;
+    mpm_bricks_max(c->bricks, &m->vmax, 1);   /* the fastest point of every rank */
     return check_time_step(c, cfg);
 }
 
@@ -546,13 +624,9 @@ int mpm_case_read(struct cfg_obj *root, const struct case_common *common, struct
         c->m.damping = damping / u->time;
         c->m.sort_every = (int)sort_every;
         c->m.fuse = fuse;
-        rc = mpm_prepare(&c->m, cfg->err);
-        c->npoints_total = c->m.pts.n;
+        rc = mpm_bricks_agree(c->bricks, mpm_prepare(&c->m, cfg->err), cfg->err);
     }
-    /* under mpirun: the grid and the points on bricks (docs/parallel.md) */
-    if (!rc)
-        rc = mpm_bricks_plan(common->par, &common->parallel, &c->m.grid, gs->nlevels > 0, cfg,
-                             &c->bricks);
+    /* under mpirun: the grid patch of each rank's brick (docs/parallel.md) */
     if (!rc && c->bricks)
         rc = mpm_bricks_distribute(c->bricks, &c->m, cfg->err);
     if (!rc && c->bricks)

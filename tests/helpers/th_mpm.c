@@ -59,8 +59,10 @@ int th_mpm_box(struct mpm *m, const char *name, int material, const double lo[3]
         r.lo[d] = lo[d];
         r.hi[d] = hi[d];
     }
-    long added;
-    cr_assert_eq(mpm_fill_region(m, &r, k, n, &added, &e), 0, "%s", e.msg);
+    long added, kept;
+    cr_assert_eq(mpm_fill_region(m, &r, k, n, NULL, (int64_t)m->pts.n + 1, &added, &kept, &e), 0,
+                 "%s", e.msg);
+    cr_assert_eq(kept, added);
     cr_assert(added > 0, "body %s has no points", name);
     cr_assert_eq(mpm_prepare(m, &e), 0, "%s", e.msg);
     return k;
