@@ -286,14 +286,26 @@ Test(bricks_mpm, shift_balance_evens_a_block_in_one_end, .timeout = 600)
 }
 
 /* Peak memory: every rank makes only its brick's material points
- * (mpm_build.h), so on 2 ranks each rank's peak RSS (result.json's
- * parallel.peak_rss_mib_per_rank) stays below the serial run's
- * (timing.peak_rss_mib) -- two 20^3-cell cubes, 128,000 points.  When
- * every rank made the whole set and then kept its half, each rank peaked
- * above the serial run (62.9 against 48.3 MiB, release build); now 38.2
- * against 47.9.  The bound leaves 3 MiB: a rank that held the whole set
- * would need its 47 MiB and more. */
-Test(bricks_mpm, no_rank_makes_the_whole_set_of_points, .timeout = 600)
+ * (mpm_build.h), writes only its own rows of a checkpoint and, restarting,
+ * reads the checkpoint in blocks keeping its own -- so on 2 ranks each
+ * rank's peak RSS (result.json's parallel.peak_rss_mib_per_rank) stays
+ * below the serial run's (timing.peak_rss_mib), in the run that writes a
+ * checkpoint and in the one restarted from it; two 20^3-cell cubes,
+ * 128,000 points.  When every rank made the whole set and kept its half,
+ * rank 0 gathered every point to write a checkpoint and every rank read
+ * it whole to restart, the ranks peaked above the serial run (without
+ * checkpoints 62.9 against 48.3 MiB, release build); now 38.2 against
+ * 47.9.  The bound leaves 3 MiB: a rank that held the whole set would
+ * need its 47 MiB and more. */
+static double largest_rank_rss(json_t *r)
+{
+    json_t *rss = json_object_get(json_object_get(r, "parallel"), "peak_rss_mib_per_rank");
+    cr_assert_eq(json_array_size(rss), 2);
+    return fmax(json_number_value(json_array_get(rss, 0)),
+                json_number_value(json_array_get(rss, 1)));
+}
+
+Test(bricks_mpm, no_rank_holds_the_whole_set_of_points, .timeout = 600)
 {
     const char *yaml =
         "type: mpm\n"
@@ -308,31 +320,36 @@ Test(bricks_mpm, no_rank_makes_the_whole_set_of_points, .timeout = 600)
         "    - {name: B, material: al, velocity: [-50, 0, 0],\n"
         "       region: {shape: box, lo: [0.24, 0.02, 0.02], hi: [0.44, 0.22, 0.22]}}\n"
         "  steps: 2\n"
-        "output: {thermo_every: 1, snapshot_every: 0, hdf5: false}\n"
+        "output: {thermo_every: 1, snapshot_every: 0, hdf5: false, checkpoint_every: 1}\n"
         "parallel: {decomposition: bricks, grid: [2, 1, 1]}\n";
     const char *path = write_case("memory.yaml", yaml);
-    char d0[600], d2[600];
+    char d0[600], d2[600], dr[600];
     snprintf(d0, sizeof d0, "%s/memory-serial", th_temp_dir());
     snprintf(d2, sizeof d2, "%s/memory-2", th_temp_dir());
     thb_must_run(path, 0, d0, NULL);
     thb_must_run(path, 2, d2, NULL);
-    json_t *r0 = thb_result(d0), *r2 = thb_result(d2);
+    thb_restart_at(path, d2, 1, 2, 0, dr, sizeof dr);
+    json_t *r0 = thb_result(d0), *r2 = thb_result(d2), *rr = thb_result(dr);
     cr_assert_eq((long)thb_metric(r2, "points"), 128000);
     double serial = json_number_value(
         json_object_get(json_object_get(r0, "timing"), "peak_rss_mib"));
-    json_t *rss = json_object_get(json_object_get(r2, "parallel"), "peak_rss_mib_per_rank");
-    cr_assert_eq(json_array_size(rss), 2);
-    double rank = fmax(json_number_value(json_array_get(rss, 0)),
-                       json_number_value(json_array_get(rss, 1)));
-    cr_log_info("128,000 points: peak RSS serial %.1f MiB, largest rank on 2 ranks %.1f MiB",
-                serial, rank);
+    double rank = largest_rank_rss(r2), restarted = largest_rank_rss(rr);
+    cr_log_info("128,000 points: peak RSS serial %.1f MiB, largest rank on 2 ranks %.1f MiB, "
+                "restarted on 2 ranks %.1f MiB",
+                serial, rank, restarted);
     cr_assert_gt(serial, 0);
     cr_assert_lt(rank, serial - 3.0,
                  "peak RSS of a rank %.1f MiB, of the serial run %.1f MiB: a rank seems to "
-                 "make every point",
+                 "hold every point (set-up or checkpoint)",
                  rank, serial);
+    cr_assert_lt(restarted, serial - 3.0,
+                 "peak RSS of a restarted rank %.1f MiB, of the serial run %.1f MiB: a rank "
+                 "seems to read every point",
+                 restarted, serial);
     static const char *const metrics[] = {"ke", "strain_energy", "etotal", NULL};
     thb_compare_metrics(d0, d2, metrics, REL, "memory case");
+    thb_compare_metrics(d0, dr, metrics, REL, "memory case, restarted");
     json_decref(r0);
     json_decref(r2);
+    json_decref(rr);
 }

@@ -37,6 +37,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/parallel.h"
 #include "mpm/mpm_bricks.h"
 
 /* the nodes are stored as doubles */
@@ -111,96 +112,154 @@ static void mpm_model_observe(void *self, const struct sim *s, struct sim_energy
 
 /* --- checkpoints ---------------------------------------------------------- */
 
-static int put_points(struct ckpt *ck, const struct mpm_points *p)
+/* The per-point datasets, in the order they are written (model/mpm/points;
+ * state has nstate values a point, fext exists with loads). */
+static int point_columns(const struct mpm_points *p, struct ckpt_col *col)
 {
-    long n = p->n;
+    const struct ckpt_col fixed[] = {
+        {"x", H5T_NATIVE_DOUBLE, H5T_IEEE_F64LE, 3, p->x},
+        {"x0", H5T_NATIVE_DOUBLE, H5T_IEEE_F64LE, 3, p->x0},
+        {"v", H5T_NATIVE_DOUBLE, H5T_IEEE_F64LE, 3, p->v},
+        {"mass", H5T_NATIVE_DOUBLE, H5T_IEEE_F64LE, 1, p->mass},
+        {"vol0", H5T_NATIVE_DOUBLE, H5T_IEEE_F64LE, 1, p->vol0},
+        {"vol", H5T_NATIVE_DOUBLE, H5T_IEEE_F64LE, 1, p->vol},
+        {"stress", H5T_NATIVE_DOUBLE, H5T_IEEE_F64LE, 6, p->stress},
+        {"F", H5T_NATIVE_DOUBLE, H5T_IEEE_F64LE, 9, p->F},
+        {"eint", H5T_NATIVE_DOUBLE, H5T_IEEE_F64LE, 1, p->eint},
+        {"state", H5T_NATIVE_DOUBLE, H5T_IEEE_F64LE, p->nstate, p->state},
+        {"body", H5T_NATIVE_INT32, H5T_STD_I32LE, 1, p->body},
+        {"id", H5T_NATIVE_INT64, H5T_STD_I64LE, 1, p->id},
+        {"mask", H5T_NATIVE_UINT32, H5T_STD_U32LE, 1, p->mask},
+        {"fext", H5T_NATIVE_DOUBLE, H5T_IEEE_F64LE, 3, p->fext},
+    };
+    int n = (int)(sizeof fixed / sizeof fixed[0]) - (p->fext ? 0 : 1);
+    memcpy(col, fixed, (size_t)n * sizeof *col);
+    return n;
+}
+#define MPM_POINT_COLUMNS 14
+
+/* The group's header: the point count n (every rank's), the state
+ * variables, the loads; `order` 1 when the rows are the ranks' points in
+ * rank order (a reader puts them in id order). */
+static int put_points_header(struct ckpt *ck, const struct mpm_points *p, long n, int by_rank)
+{
     int rc = ckpt_enter(ck, "model/mpm/points");
     if (!rc) rc = ckpt_put_long(ck, "n", n);
     if (!rc) rc = ckpt_put_long(ck, "nstate", p->nstate);
-    if (!rc) rc = ckpt_put_doubles(ck, "x", p->x, 3 * n);
-    if (!rc) rc = ckpt_put_doubles(ck, "x0", p->x0, 3 * n);
-    if (!rc) rc = ckpt_put_doubles(ck, "v", p->v, 3 * n);
-    if (!rc) rc = ckpt_put_doubles(ck, "mass", p->mass, n);
-    if (!rc) rc = ckpt_put_doubles(ck, "vol0", p->vol0, n);
-    if (!rc) rc = ckpt_put_doubles(ck, "vol", p->vol, n);
-    if (!rc) rc = ckpt_put_doubles(ck, "stress", p->stress, 6 * n);
-    if (!rc) rc = ckpt_put_doubles(ck, "F", p->F, 9 * n);
-    if (!rc) rc = ckpt_put_doubles(ck, "eint", p->eint, n);
-    if (!rc) rc = ckpt_put_doubles(ck, "state", p->state, (long)p->nstate * n);
     if (!rc) rc = ckpt_put_long(ck, "has_fext", p->fext != NULL);
-    if (!rc && p->fext) rc = ckpt_put_doubles(ck, "fext", p->fext, 3 * n);
-    if (!rc) rc = ckpt_put_ints(ck, "body", p->body, n);
-    if (!rc) rc = ckpt_put_i64(ck, "id", p->id, n);
-    if (!rc) rc = ckpt_put_u32(ck, "mask", p->mask, n);
+    if (!rc && by_rank) rc = ckpt_put_long(ck, "order", 1);
     return rc;
 }
 
-/* The points were built from the case file: same count, same state
- * variables, same external-force array; the stored values replace theirs. */
-static int get_points(struct ckpt *ck, struct mpm_points *p, int nbody)
+/* The stored header against the case's points: the same state variables
+ * and loads; *n the stored count, *by_rank whether a reader sorts by id. */
+static int get_points_header(struct ckpt *ck, const struct mpm_points *p, long *n, int *by_rank)
 {
-    long n = 0, nstate = 0, has_fext = 0;
+    long nstate = 0, has_fext = 0, order = 0;
     int rc = ckpt_enter(ck, "model/mpm/points");
-    if (!rc) rc = ckpt_get_long(ck, "n", &n);
+    if (!rc) rc = ckpt_get_long(ck, "n", n);
     if (!rc) rc = ckpt_get_long(ck, "nstate", &nstate);
     if (!rc) rc = ckpt_get_long(ck, "has_fext", &has_fext);
-    if (!rc && (n != p->n || nstate != p->nstate || (has_fext != 0) != (p->fext != NULL)))
-        return err_set(ck->e, ERR_INPUT,
-                       "%s: checkpoint has %ld material points with %ld state variables%s, the "
-                       "case builds %ld with %d%s",
-                       ck->path, n, nstate, has_fext ? " and loads" : "", p->n, p->nstate,
-                       p->fext ? " and loads" : "");
-    if (!rc) rc = ckpt_get_doubles(ck, "x", p->x, 3 * n);
-    if (!rc) rc = ckpt_get_doubles(ck, "x0", p->x0, 3 * n);
-    if (!rc) rc = ckpt_get_doubles(ck, "v", p->v, 3 * n);
-    if (!rc) rc = ckpt_get_doubles(ck, "mass", p->mass, n);
-    if (!rc) rc = ckpt_get_doubles(ck, "vol0", p->vol0, n);
-    if (!rc) rc = ckpt_get_doubles(ck, "vol", p->vol, n);
-    if (!rc) rc = ckpt_get_doubles(ck, "stress", p->stress, 6 * n);
-    if (!rc) rc = ckpt_get_doubles(ck, "F", p->F, 9 * n);
-    if (!rc) rc = ckpt_get_doubles(ck, "eint", p->eint, n);
-    if (!rc) rc = ckpt_get_doubles(ck, "state", p->state, nstate * n);
-    if (!rc && p->fext) rc = ckpt_get_doubles(ck, "fext", p->fext, 3 * n);
-    if (!rc) rc = ckpt_get_ints(ck, "body", p->body, n);
-    if (!rc) rc = ckpt_get_i64(ck, "id", p->id, n);
-    if (!rc) rc = ckpt_get_u32(ck, "mask", p->mask, n);
-    for (long i = 0; !rc && i < n; i++)
-        if (p->body[i] < 0 || p->body[i] >= nbody)
-            rc = err_set(ck->e, ERR_INPUT, "%s: material point %ld of the checkpoint is in body "
-                                           "%d; the case has %d bodies",
-                         ck->path, i, (int)p->body[i], nbody);
-    return rc;
-}
-
-/* Bricks: every rank reads the whole set of the checkpoint (written on any
- * rank count, in id order) and keeps the points of its brick. */
-static int get_points_bricks(struct ckpt *ck, struct mpm_model *mm, struct err *e)
-{
-    struct mpm *m = mm->m;
-    long n = 0, nstate = 0, has_fext = 0;
-    int rc = ckpt_enter(ck, "model/mpm/points");
-    if (!rc) rc = ckpt_get_long(ck, "n", &n);
-    if (!rc) rc = ckpt_get_long(ck, "nstate", &nstate);
-    if (!rc) rc = ckpt_get_long(ck, "has_fext", &has_fext);
-    if (!rc && (nstate != m->pts.nstate || (has_fext != 0) != (m->pts.fext != NULL) || n < 0))
+    if (!rc && ckpt_has(ck, "order")) rc = ckpt_get_long(ck, "order", &order);
+    if (!rc && (*n < 0 || nstate != p->nstate || (has_fext != 0) != (p->fext != NULL)))
         rc = err_set(ck->e, ERR_INPUT,
                      "%s: checkpoint has %ld material points with %ld state variables%s, the "
                      "case's points have %d%s",
-                     ck->path, n, nstate, has_fext ? " and loads" : "", m->pts.nstate,
-                     m->pts.fext ? " and loads" : "");
-    struct mpm_points all;
-    mpm_points_init(&all, m->pts.nstate, e);
-    if (!rc) rc = mpm_points_reserve(&all, n > 0 ? n : 1, e);
-    if (!rc && has_fext) rc = mpm_points_enable_fext(&all, e);
-    if (!rc) {
-        all.n = n;
-        rc = get_points(ck, &all, m->nbody);
+                     ck->path, *n, nstate, has_fext ? " and loads" : "", p->nstate,
+                     p->fext ? " and loads" : "");
+    *by_rank = order == 1;
+    return rc;
+}
+
+/* Serially: the points were built from the case file, the same count; the
+ * stored values replace theirs, in the stored order (a checkpoint of
+ * bricks: then in id order, as the bricks' runs continue). */
+static int get_points(struct ckpt *ck, struct mpm *m, struct err *e)
+{
+    struct mpm_points *p = &m->pts;
+    long n = 0;
+    int by_rank = 0;
+    int rc = get_points_header(ck, p, &n, &by_rank);
+    if (!rc && n != p->n)
+        return err_set(ck->e, ERR_INPUT, "%s: checkpoint has %ld material points, the case builds %ld",
+                       ck->path, n, p->n);
+    struct ckpt_col col[MPM_POINT_COLUMNS];
+    int ncol = point_columns(p, col);
+    void *dst[MPM_POINT_COLUMNS];
+    for (int q = 0; q < ncol; q++)
+        dst[q] = (void *)col[q].data;
+    for (int q = 0; !rc && q < ncol; q++) {
+        long len = (long)col[q].ncomp * n;
+        if (col[q].memtype == H5T_NATIVE_DOUBLE)
+            rc = ckpt_get_doubles(ck, col[q].name, dst[q], len);
+        else if (col[q].memtype == H5T_NATIVE_INT32)
+            rc = ckpt_get_ints(ck, col[q].name, dst[q], len);
+        else if (col[q].memtype == H5T_NATIVE_INT64)
+            rc = ckpt_get_i64(ck, col[q].name, dst[q], len);
+        else
+            rc = ckpt_get_u32(ck, col[q].name, dst[q], len);
     }
-    double np = (double)n;
-    if (!rc) rc = mpm_bricks_keep_owned(mm->bricks, m, &all, e);
-    mpm_points_free(&all);
+    for (long i = 0; !rc && i < n; i++)
+        if (p->body[i] < 0 || p->body[i] >= m->nbody)
+            rc = err_set(ck->e, ERR_INPUT, "%s: material point %ld of the checkpoint is in body "
+                                           "%d; the case has %d bodies",
+                         ck->path, i, (int)p->body[i], m->nbody);
+    if (!rc && by_rank)
+        rc = mpm_bricks_sort_by_id(NULL, m, e);
+    return rc;
+}
+
+/* Bricks: the stored rows read in blocks by every rank, each keeping the
+ * points of its brick (so no rank holds the whole set). */
+struct keep_points {
+    struct mpm *m;
+    const struct mpm_bricks *b;
+    int ncol;
+    long row;   /* stored row of the block's first point, for messages */
+    struct ckpt *ck;
+};
+
+static int keep_point(void *ctx, const void *const *buf, long k)
+{
+    struct keep_points *kp = ctx;
+    struct mpm *m = kp->m;
+    struct mpm_points *p = &m->pts;
+    const double *x = (const double *)buf[0] + 3 * k;
+    int body = ((const int32_t *)buf[10])[k];
+    if (body < 0 || body >= m->nbody)
+        return err_set(kp->ck->e, ERR_INPUT, "%s: material point %ld of the checkpoint is in "
+                                             "body %d; the case has %d bodies",
+                       kp->ck->path, kp->row + k, body, m->nbody);
+    if (!mpm_bricks_owns_point(kp->b, &m->grid, x))
+        return 0;
+    if (p->n >= p->cap && mpm_points_reserve(p, p->cap > 0 ? 2 * p->cap : 1024, kp->ck->e))
+        return kp->ck->e->code ? kp->ck->e->code : ERR_RUNTIME;
+    struct ckpt_col col[MPM_POINT_COLUMNS];
+    point_columns(p, col);
+    long i = p->n++;
+    for (int q = 0; q < kp->ncol; q++) {
+        size_t row = H5Tget_size(col[q].memtype) * (size_t)col[q].ncomp;
+        memcpy((unsigned char *)col[q].data + row * (size_t)i,
+               (const unsigned char *)buf[q] + row * (size_t)k, row);
+    }
+    return 0;
+}
+
+static int get_points_bricks(struct ckpt *ck, struct mpm_model *mm, struct err *e)
+{
+    struct mpm *m = mm->m;
+    long n = 0;
+    int by_rank = 0;
+    int rc = get_points_header(ck, &m->pts, &n, &by_rank);
+    struct ckpt_col col[MPM_POINT_COLUMNS];
+    int ncol = point_columns(&m->pts, col);
+    m->pts.n = 0;
+    struct keep_points kp = {m, mm->bricks, ncol, 0, ck};
+    if (!rc)
+        rc = ckpt_get_columns_blocks(ck, col, ncol, n, keep_point, &kp);
+    mpm_points_moved(m);
     rc = mpm_bricks_agree(mm->bricks, rc, e);
-    if (!rc && mpm_bricks_npoints(mm->bricks, m) != (long)np)
+    if (!rc && mpm_bricks_npoints(mm->bricks, m) != n)
         rc = err_set(e, ERR_INPUT, "%s: the ranks kept %ld of the checkpoint's %ld points",
                      ck->path, mpm_bricks_npoints(mm->bricks, m), n);
     return rc;
@@ -223,14 +282,18 @@ static int mpm_model_checkpoint_write(void *self, struct ckpt *ck, struct err *e
     if (!rc) rc = ckpt_put_double(ck, "strain_before", m->strain_before);
     if (!rc) rc = ckpt_put_double(ck, "fext_scale", m->fext_scale);
     if (!rc) rc = ckpt_put_doubles(ck, "reaction", react, 3L * m->nbody);
-    /* bricks: the points of every rank in id order; the nodes are not
-     * stored (each rank maps afresh after a checkpoint, checkpoint_sync) */
+    /* bricks: the datasets for every rank's points, which each rank
+     * writes (checkpoint_write_part); the nodes are not stored (each rank
+     * maps afresh after a checkpoint, checkpoint_sync) */
     int bricks = mm->bricks != NULL;
     if (!rc) rc = ckpt_put_long(ck, "fused_ready", bricks ? 0 : m->fused_ready);
     if (!rc) rc = ckpt_put_long(ck, "grid_fresh", bricks ? 0 : m->grid_fresh);
-    if (!rc) rc = put_points(ck, bricks ? &mm->gathered : &m->pts);
-    if (bricks)
-        mpm_points_free(&mm->gathered);
+    if (!rc) rc = put_points_header(ck, &m->pts, bricks ? mm->ck_total : m->pts.n, bricks);
+    if (!rc) {
+        struct ckpt_col col[MPM_POINT_COLUMNS];
+        int ncol = point_columns(&m->pts, col);
+        rc = ckpt_put_columns(ck, col, ncol, bricks ? mm->ck_total : m->pts.n, !bricks);
+    }
     /* the next step's s1-s3, summed by the fused pass in its own order */
     if (!rc && !bricks && (m->fused_ready || m->grid_fresh) &&
         !(rc = ckpt_enter(ck, "model/mpm/grid"))) {
@@ -261,7 +324,7 @@ static int mpm_model_checkpoint_read(void *self, struct ckpt *ck, struct err *e)
     if (!rc && mm->bricks)
         rc = get_points_bricks(ck, mm, e);
     else if (!rc)
-        rc = get_points(ck, &m->pts, m->nbody);
+        rc = get_points(ck, m, e);
     if (!rc && mm->bricks && (fused || fresh))   /* a serial run's stored mapping: remap */
         fused = fresh = 0;
     if (!rc && (fused || fresh) && !(rc = ckpt_enter(ck, "model/mpm/grid"))) {
@@ -307,14 +370,41 @@ static void mpm_model_checkpoint_sync(void *self)
     }
 }
 
-/* Bricks: the points of every rank, gathered on rank 0 in id order. */
+/* Bricks: this rank's rows of the checkpoint's points (the points of the
+ * lower ranks come first) and all of them. */
 static int mpm_model_checkpoint_collect(void *self, struct err *e)
 {
     struct mpm_model *mm = self;
     if (!mm->bricks)
         return 0;
-    mpm_points_free(&mm->gathered);
-    return mpm_bricks_gather_points(mm->bricks, &mm->m->pts, &mm->gathered, e);
+    const struct parallel *par = mm->bricks->par;
+    long *counts = malloc((size_t)par->size * sizeof *counts);
+    int rc = mpm_bricks_agree(mm->bricks, counts ? 0 : err_nomem(e, "checkpoint counts"), e);
+    mm->ck_offset = mm->ck_total = 0;
+    if (!rc) {
+        parallel_allgather_long(par, mm->m->pts.n, counts);
+        for (int r = 0; r < par->size; r++) {
+            mm->ck_offset += r < par->rank ? counts[r] : 0;
+            mm->ck_total += counts[r];
+        }
+    }
+    free(counts);
+    return rc;
+}
+
+/* Bricks: this rank's points into the rows rank 0 laid out.  Collective. */
+static int mpm_model_checkpoint_write_part(void *self, struct ckpt *ck, struct err *e)
+{
+    struct mpm_model *mm = self;
+    (void)e;
+    if (!mm->bricks)
+        return 0;
+    int rc = ckpt_agree(ck, ckpt_enter(ck, "model/mpm/points"));
+    struct ckpt_col col[MPM_POINT_COLUMNS];
+    int ncol = point_columns(&mm->m->pts, col);
+    if (!rc)
+        rc = ckpt_put_columns_part(ck, col, ncol, mm->ck_offset, mm->m->pts.n);
+    return rc;
 }
 
 const struct sim_model_ops sim_model_mpm = {
@@ -328,4 +418,5 @@ const struct sim_model_ops sim_model_mpm = {
     .checkpoint_read = mpm_model_checkpoint_read,
     .checkpoint_sync = mpm_model_checkpoint_sync,
     .checkpoint_collect = mpm_model_checkpoint_collect,
+    .checkpoint_write_part = mpm_model_checkpoint_write_part,
 };

@@ -76,10 +76,11 @@ struct mpm_model {
     double load_ramp;           /* ps: loads reach full value after this (0: at once) */
     double max_energy_change;   /* relative; closed systems only (0: no check) */
     /* bricks (mpm/mpm_bricks.h; borrowed from the case), or NULL: the
-     * stages exchange halo nodes and migrate points, checkpoints hold the
-     * points of every rank gathered in id order */
+     * stages exchange halo nodes and migrate points; a checkpoint's rows
+     * are every rank's points in rank order, each rank writing its own */
     struct mpm_bricks *bricks;
-    struct mpm_points gathered;    /* rank 0, between checkpoint_collect and _write */
+    long ck_offset, ck_total;      /* bricks: this rank's first row and all rows of a
+                                    * checkpoint's points (checkpoint_collect) */
     int sync_rc;                   /* bricks: the reorder of checkpoint_sync failed */
 };
 extern const struct sim_model_ops sim_model_mpm;

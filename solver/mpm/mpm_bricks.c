@@ -909,6 +909,11 @@ void mpm_bricks_shift_cuts(struct mpm_bricks *b, const struct mpm_bricks_hist *h
     }
 }
 
+int mpm_bricks_owns_point(const struct mpm_bricks *b, const struct mpm_grid *g, const double x[3])
+{
+    return point_in_own_brick(b, g, x);
+}
+
 static int owner_keeps(const void *ctx, const double x[3])
 {
     const struct mpm_bricks_owner *o = ctx;

@@ -165,6 +165,9 @@ struct mpm_bricks_owner {
     const struct mpm_grid *g;
 };
 struct mpm_fill_owner mpm_bricks_fill_owner(const struct mpm_bricks_owner *o);
+/* Whether the point at x lies in a cell of this rank's brick (g: the grid
+ * or this rank's patch of it). */
+int mpm_bricks_owns_point(const struct mpm_bricks *b, const struct mpm_grid *g, const double x[3]);
 
 /* m's points are this rank's already (made with mpm_bricks_fill_owner):
  * replace the whole grid the case built by this rank's patch (a

@@ -417,18 +417,9 @@ static int cmp_i64(const void *a, const void *b)
     return (x > y) - (x < y);
 }
 
-/* The per-particle datasets of a particle group, in the order they are
- * written: name, memory and file types, values per particle, data. */
-struct pcol {
-    char name[64];
-    hid_t memtype, filetype;
-    int ncomp;
-    const void *data;
-};
-
-static int particle_columns(const struct particles *p, struct pcol *col)
+static int particle_columns(const struct particles *p, struct ckpt_col *col)
 {
-    const struct pcol fixed[9] = {
+    const struct ckpt_col fixed[9] = {
         {"x", H5T_NATIVE_DOUBLE, H5T_IEEE_F64LE, 3, p->x},
         {"v", H5T_NATIVE_DOUBLE, H5T_IEEE_F64LE, 3, p->v},
         {"f", H5T_NATIVE_DOUBLE, H5T_IEEE_F64LE, 3, p->f},
@@ -441,7 +432,7 @@ static int particle_columns(const struct particles *p, struct pcol *col)
     };
     memcpy(col, fixed, sizeof fixed);
     for (int k = 0; k < p->nfields; k++) {
-        col[9 + k] = (struct pcol){"", H5T_NATIVE_DOUBLE, H5T_IEEE_F64LE, p->fields[k].ncomp,
+        col[9 + k] = (struct ckpt_col){"", H5T_NATIVE_DOUBLE, H5T_IEEE_F64LE, p->fields[k].ncomp,
                                    p->fields[k].data};
         snprintf(col[9 + k].name, sizeof col[9 + k].name, "field_%s", p->fields[k].name);
     }
@@ -470,7 +461,7 @@ static int put_particle_group(struct ckpt *c, const char *name, const struct par
         }
         h5out_attr_string(c->group, "type_names", names);
     }
-    struct pcol col[9 + PARTICLES_MAX_FIELDS];
+    struct ckpt_col col[9 + PARTICLES_MAX_FIELDS];
     int ncol = particle_columns(p, col);
     for (int q = 0; !rc && q < ncol; q++)
         rc = put_array(c, col[q].name, col[q].memtype, col[q].filetype,
@@ -491,7 +482,7 @@ int ckpt_put_particles_layout(struct ckpt *c, const char *name, const struct par
 
 /* Values [first, first + count) of a 1-D dataset from d, one collective
  * transfer (a rank with count 0 selects nothing but takes part). */
-static int put_part(struct ckpt *c, const struct pcol *col, long first, long count)
+static int put_part(struct ckpt *c, const struct ckpt_col *col, long first, long count)
 {
     int injected = ck_any(c, fault_write(ENOSPC) != 0);
     hid_t ds = injected ? -1 : H5Dopen2(c->group, col->name, H5P_DEFAULT);
@@ -520,11 +511,35 @@ static int put_part(struct ckpt *c, const struct pcol *col, long first, long cou
     return ck_any(c, bad) ? fail(c, "cannot write (disk full?)", col->name) : 0;
 }
 
+int ckpt_put_columns(struct ckpt *c, const struct ckpt_col *col, int ncol, long n, int with_data)
+{
+    int rc = 0;
+    for (int q = 0; !rc && q < ncol; q++)
+        rc = put_array(c, col[q].name, col[q].memtype, col[q].filetype,
+                       with_data ? col[q].data : NULL, (long)col[q].ncomp * n);
+    return rc;
+}
+
+int ckpt_put_columns_part(struct ckpt *c, const struct ckpt_col *col, int ncol, long first,
+                          long count)
+{
+    int rc = 0;
+    for (int q = 0; !rc && q < ncol; q++)
+        if (col[q].ncomp > 0)   /* an empty column (no state variables) was written whole */
+            rc = put_part(c, &col[q], first * col[q].ncomp, count * col[q].ncomp);
+    return rc;
+}
+
+int ckpt_has(struct ckpt *c, const char *name)
+{
+    return H5Lexists(c->group, name, H5P_DEFAULT) > 0;
+}
+
 int ckpt_put_particles_part(struct ckpt *c, const char *name, const struct particles *p,
                             long offset)
 {
     int rc = ckpt_agree(c, ckpt_enter(c, name));
-    struct pcol col[9 + PARTICLES_MAX_FIELDS];
+    struct ckpt_col col[9 + PARTICLES_MAX_FIELDS];
     int ncol = particle_columns(p, col);
     for (int q = 0; !rc && q < ncol; q++)
         rc = put_part(c, &col[q], offset * col[q].ncomp, (long)p->n_owned * col[q].ncomp);

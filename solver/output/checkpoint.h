@@ -78,6 +78,34 @@ int ckpt_get_long(struct ckpt *c, const char *name, long *v);
  * array into *rows (the old one freed) and the row count into *nrows. */
 int ckpt_get_rows(struct ckpt *c, const char *name, int ncols, double **rows, long *nrows);
 
+/* Whether the current group holds `name`. */
+int ckpt_has(struct ckpt *c, const char *name);
+
+/* Tables of rows (a particle set's datasets): column q holds ncomp values
+ * of one type per row, in dataset `name`, from data (rows in memory). */
+struct ckpt_col {
+    char name[64];
+    hid_t memtype, filetype;
+    int ncomp;
+    const void *data;
+};
+/* n rows of every column: with their data, or the datasets only (the
+ * serial phase of a collective checkpoint, below). */
+int ckpt_put_columns(struct ckpt *c, const struct ckpt_col *col, int ncol, long n, int with_data);
+/* Rows [first, first + count) of every column from its data, into the
+ * datasets ckpt_put_columns laid out, in collective transfers on a file of
+ * ckpt_open_parallel.  Collective. */
+int ckpt_put_columns_part(struct ckpt *c, const struct ckpt_col *col, int ncol, long first,
+                          long count);
+/* Every one of the n stored rows, in blocks (the memory is one block of
+ * every column): take(ctx, buf, k) for row k of a block, buf[q] the
+ * block's values of column q (its data field is not used); a non-zero
+ * return stops the read and is returned.  Each column's length is checked
+ * against n first.  On a file of ckpt_open_parallel every rank reads every
+ * block (collective transfers; an error on one rank is an error on all). */
+int ckpt_get_columns_blocks(struct ckpt *c, const struct ckpt_col *col, int ncol, long n,
+                            int (*take)(void *ctx, const void *const *buf, long k), void *ctx);
+
 /* A particle set's owned particles (positions, velocities, forces, types,
  * ids, masks, images, per-particle energies and virials, extra fields) and
  * its type table, under group `name`. */

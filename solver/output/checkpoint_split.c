@@ -223,3 +223,80 @@ int ckpt_get_particles_part(struct ckpt *c, const char *name, struct particles *
 {
     return get_rows(c, name, p, NULL, NULL, rank, nranks);
 }
+
+int ckpt_get_columns_blocks(struct ckpt *c, const struct ckpt_col *cols, int ncol, long n,
+                            int (*take)(void *ctx, const void *const *buf, long k), void *ctx)
+{
+    enum { MAXCOL = 32 };
+    if (ncol > MAXCOL)
+        return err_set(c->e, ERR_RUNTIME, "checkpoint read: %d columns, at most %d", ncol, MAXCOL);
+    struct column col[MAXCOL];
+    const void *buf[MAXCOL];
+    long block = n < CKPT_READ_BLOCK ? (n > 0 ? n : 1) : CKPT_READ_BLOCK;
+    int rc = 0;
+    for (int q = 0; q < ncol; q++) {
+        col[q] = (struct column){"", cols[q].memtype, H5Tget_size(cols[q].memtype), cols[q].ncomp,
+                                 -1, NULL};
+        snprintf(col[q].name, sizeof col[q].name, "%s", cols[q].name);
+    }
+    for (int q = 0; !rc && q < ncol; q++) {
+        long have = ckpt_len(c, col[q].name);
+        if (have < 0) {
+            rc = ERR_INPUT;
+        } else if (have != n * col[q].ncomp) {
+            char what[96];
+            snprintf(what, sizeof what, "has %ld values, expected %ld", have, n * col[q].ncomp);
+            rc = where_fail(c, what, col[q].name, ERR_INPUT);
+        } else if ((col[q].ds = H5Dopen2(c->group, col[q].name, H5P_DEFAULT)) < 0) {
+            rc = where_fail(c, "unreadable", col[q].name, ERR_INPUT);
+        } else if (!(col[q].buf = mem_alloc((size_t)block * col[q].elem *
+                                            (size_t)(col[q].ncomp > 0 ? col[q].ncomp : 1)))) {
+            rc = err_nomem(c->e, "checkpoint read");
+        }
+        buf[q] = col[q].buf;
+    }
+    long nblocks = (n + block - 1) / block;
+    hid_t dxpl = H5P_DEFAULT;
+    if (c->par) {   /* every rank reads every block: the same transfers everywhere */
+        int any = rc != 0, anyall = 0;
+        MPI_Allreduce(&any, &anyall, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
+        if (anyall && !rc)
+            rc = where_fail(c, "stopped: another MPI rank failed to read it", cols[0].name,
+                            ERR_INPUT);
+        if (anyall)
+            nblocks = 0;
+        dxpl = H5Pcreate(H5P_DATASET_XFER);
+        H5Pset_dxpl_mpio(dxpl, H5FD_MPIO_COLLECTIVE);
+    }
+    for (long b = 0; b < nblocks && (!rc || c->par); b++) {
+        long first = b * block;
+        long count = n - first < block ? n - first : block;
+        if (rc)   /* parallel: a rank that failed still joins the transfers */
+            count = 0;
+        for (int q = 0; q < ncol && (!rc || c->par); q++) {
+            if (col[q].ncomp == 0)
+                continue;   /* an empty column (no state variables) */
+            int r = read_block(c, &col[q], first, count, dxpl);
+            rc = rc ? rc : r;
+        }
+        for (long k = 0; !rc && k < count; k++)
+            rc = take(ctx, buf, k);
+        if (c->par) {   /* a rank that stopped makes every rank stop */
+            int any = rc != 0, anyall = 0;
+            MPI_Allreduce(&any, &anyall, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
+            if (anyall && !rc)
+                rc = where_fail(c, "stopped: another MPI rank failed to read it", cols[0].name,
+                                ERR_INPUT);
+            if (anyall)
+                break;
+        }
+    }
+    if (dxpl != H5P_DEFAULT)
+        H5Pclose(dxpl);
+    for (int q = 0; q < ncol; q++) {
+        if (col[q].ds >= 0)
+            H5Dclose(col[q].ds);
+        free(col[q].buf);
+    }
+    return rc;
+}

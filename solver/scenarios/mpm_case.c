@@ -271,7 +271,6 @@ static int mpm_type_run(void *state, struct run *run, struct err *e)
     const struct mpm_units *u = &c->u;
     m->timers = &run->timers;
     m->nthreads = run->opt.nthreads > 0 ? run->opt.nthreads : 1;
-    mpm_points_free(&c->model.gathered);
     c->model = (struct mpm_model){.m = m,
                                   .dt_fixed = c->dt_fixed,
                                   .cfl = c->cfl,

@@ -187,7 +187,6 @@ void mpm_case_free(struct mpm_case *c)
         return;
     mpm_free(&c->m);
     mpm_bricks_destroy(&c->bricks);
-    mpm_points_free(&c->model.gathered);
     free(c->out.buf);
     free(c->out.ibuf);
     free(c->out.series);
