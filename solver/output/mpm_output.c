@@ -203,7 +203,8 @@ static int points_snapshot(struct mpm_output *o, struct run *run, struct mpm_cas
     struct mpm *m = &c->m;
     struct mpm_points *p = &m->pts;
     long n = p->n;
-    int rc = reserve(o, 9 * n, e);
+    /* collective (bricks): an allocation that failed on one rank stops all */
+    int rc = h5out_par_agree(&run->h5, reserve(o, 9 * n, e), e);
     if (rc)
         return rc;
     hid_t g = h5out_begin_snapshot(&run->h5, "points", m->step, m->time / u->time, n, e);
@@ -343,11 +344,12 @@ static int grid_snapshot(struct mpm_output *o, struct run *run, struct mpm_case 
     return rc;
 }
 
-/* Bricks: the points of every rank (id order) and the owned nodes of every
- * rank (a hierarchical grid: rank 0's whole grid), gathered on rank 0 into
- * the serial layout, which writes them with
- * the serial code (the same datasets as a serial run; the points in id
- * order).  Collective. */
+/* Bricks: every rank writes its own points' rows of each dataset into the
+ * one fields.h5, collectively (h5out_par_begin; rank 0's points, then rank
+ * 1's, ...: the serial datasets, as MD's atoms); the owned nodes of every
+ * rank (a hierarchical grid: rank 0's whole grid) are gathered on rank 0
+ * into the serial layout, which writes them with the serial code.
+ * Collective. */
 static int bricks_snapshot(struct mpm_output *o, struct run *run, struct mpm_case *c,
                            struct err *e)
 {
@@ -358,20 +360,23 @@ static int bricks_snapshot(struct mpm_output *o, struct run *run, struct mpm_cas
         return 0;
     if (c->output_grid && m->step == 0)   /* the initial mapping, as a serial snapshot */
         rc = mpm_bricks_map_initial(b, m, e);
-    struct mpm_points all;
+    if (rc)
+        return rc;
+    rc = run_h5_par_begin(run, m->pts.n, e);
     if (!rc)
-        rc = mpm_bricks_gather_points(b, &m->pts, &all, e);
-    else
+        rc = points_snapshot(o, run, c, e);
+    rc = run_h5_par_end(run, rc, e);
+    if (rc || !c->output_grid)
         return rc;
     struct mpm_grid full;
     memset(&full, 0, sizeof full);
     /* a hierarchical grid is whole on every rank (mpm_bricks.h): rank 0
      * writes it, from copies made complete when only the shared nodes
      * were summed */
-    int gather_grid = c->output_grid && !b->whole;
+    int gather_grid = !b->whole;
     struct mpm_node *cnode = NULL;   /* only the shared nodes were summed: */
     double *cr = NULL;               /* complete copies for the writer */
-    if (!rc && c->output_grid && b->whole)
+    if (b->whole)
         rc = mpm_bricks_complete_grid(b, m, &cnode, &cr, e);
     if (!rc && gather_grid) {
         int r0 = 0;
@@ -384,27 +389,21 @@ static int bricks_snapshot(struct mpm_output *o, struct run *run, struct mpm_cas
             rc = mpm_bricks_gather_nodes(b, &m->grid, &full, e);
     }
     if (!rc && root && run->h5_open) {
-        /* the serial layout in place of this rank's for the writers */
-        struct mpm_points mine = m->pts;
+        /* the serial grid in place of this rank's for the writer */
         struct mpm_grid patch = m->grid;
-        m->pts = all;
         if (gather_grid)
             m->grid = full;
         if (cnode) {
             m->grid.node = cnode;
             m->grid.r = cr;
         }
-        rc = points_snapshot(o, run, c, e);
-        if (!rc && c->output_grid)
-            rc = grid_snapshot(o, run, c, e);
-        m->pts = mine;
+        rc = grid_snapshot(o, run, c, e);
         m->grid = patch;
     }
-    mpm_points_free(&all);
     mpm_grid_free(&full);
     free(cnode);
     free(cr);
-    return rc;
+    return mpm_bricks_agree(b, rc, e);
 }
 
 int mpm_output_snapshot(struct mpm_output *o, struct run *run, struct mpm_case *c, struct err *e)
