@@ -39,6 +39,7 @@
 
 #include "core/parallel.h"
 #include "mpm/mpm_bricks.h"
+#include "output/mpm_checkpoint.h"
 
 /* the nodes are stored as doubles */
 _Static_assert(sizeof(struct mpm_node) == 8 * sizeof(double), "mpm_node is 8 doubles");
@@ -112,32 +113,6 @@ static void mpm_model_observe(void *self, const struct sim *s, struct sim_energy
 
 /* --- checkpoints ---------------------------------------------------------- */
 
-/* The per-point datasets, in the order they are written (model/mpm/points;
- * state has nstate values a point, fext exists with loads). */
-static int point_columns(const struct mpm_points *p, struct ckpt_col *col)
-{
-    const struct ckpt_col fixed[] = {
-        {"x", H5T_NATIVE_DOUBLE, H5T_IEEE_F64LE, 3, p->x},
-        {"x0", H5T_NATIVE_DOUBLE, H5T_IEEE_F64LE, 3, p->x0},
-        {"v", H5T_NATIVE_DOUBLE, H5T_IEEE_F64LE, 3, p->v},
-        {"mass", H5T_NATIVE_DOUBLE, H5T_IEEE_F64LE, 1, p->mass},
-        {"vol0", H5T_NATIVE_DOUBLE, H5T_IEEE_F64LE, 1, p->vol0},
-        {"vol", H5T_NATIVE_DOUBLE, H5T_IEEE_F64LE, 1, p->vol},
-        {"stress", H5T_NATIVE_DOUBLE, H5T_IEEE_F64LE, 6, p->stress},
-        {"F", H5T_NATIVE_DOUBLE, H5T_IEEE_F64LE, 9, p->F},
-        {"eint", H5T_NATIVE_DOUBLE, H5T_IEEE_F64LE, 1, p->eint},
-        {"state", H5T_NATIVE_DOUBLE, H5T_IEEE_F64LE, p->nstate, p->state},
-        {"body", H5T_NATIVE_INT32, H5T_STD_I32LE, 1, p->body},
-        {"id", H5T_NATIVE_INT64, H5T_STD_I64LE, 1, p->id},
-        {"mask", H5T_NATIVE_UINT32, H5T_STD_U32LE, 1, p->mask},
-        {"fext", H5T_NATIVE_DOUBLE, H5T_IEEE_F64LE, 3, p->fext},
-    };
-    int n = (int)(sizeof fixed / sizeof fixed[0]) - (p->fext ? 0 : 1);
-    memcpy(col, fixed, (size_t)n * sizeof *col);
-    return n;
-}
-#define MPM_POINT_COLUMNS 14
-
 /* The group's header: the point count n (every rank's), the state
  * variables, the loads; `order` 1 when the rows are the ranks' points in
  * rank order (a reader puts them in id order). */
@@ -183,9 +158,9 @@ static int get_points(struct ckpt *ck, struct mpm *m, struct err *e)
     if (!rc && n != p->n)
         return err_set(ck->e, ERR_INPUT, "%s: checkpoint has %ld material points, the case builds %ld",
                        ck->path, n, p->n);
-    struct ckpt_col col[MPM_POINT_COLUMNS];
-    int ncol = point_columns(p, col);
-    void *dst[MPM_POINT_COLUMNS];
+    struct ckpt_col col[MPM_CKPT_COLUMNS];
+    int ncol = mpm_ckpt_columns(p, 0, col);
+    void *dst[MPM_CKPT_COLUMNS];
     for (int q = 0; q < ncol; q++)
         dst[q] = (void *)col[q].data;
     for (int q = 0; !rc && q < ncol; q++) {
@@ -211,38 +186,16 @@ static int get_points(struct ckpt *ck, struct mpm *m, struct err *e)
 
 /* Bricks: the stored rows read in blocks by every rank, each keeping the
  * points of its brick (so no rank holds the whole set). */
-struct keep_points {
-    struct mpm *m;
+struct brick_of {
     const struct mpm_bricks *b;
-    int ncol;
-    long row;   /* stored row of the block's first point, for messages */
-    struct ckpt *ck;
+    const struct mpm_grid *g;
 };
 
-static int keep_point(void *ctx, const void *const *buf, long k)
+static int in_my_brick(const void *ctx, const double x[3], int64_t id)
 {
-    struct keep_points *kp = ctx;
-    struct mpm *m = kp->m;
-    struct mpm_points *p = &m->pts;
-    const double *x = (const double *)buf[0] + 3 * k;
-    int body = ((const int32_t *)buf[10])[k];
-    if (body < 0 || body >= m->nbody)
-        return err_set(kp->ck->e, ERR_INPUT, "%s: material point %ld of the checkpoint is in "
-                                             "body %d; the case has %d bodies",
-                       kp->ck->path, kp->row + k, body, m->nbody);
-    if (!mpm_bricks_owns_point(kp->b, &m->grid, x))
-        return 0;
-    if (p->n >= p->cap && mpm_points_reserve(p, p->cap > 0 ? 2 * p->cap : 1024, kp->ck->e))
-        return kp->ck->e->code ? kp->ck->e->code : ERR_RUNTIME;
-    struct ckpt_col col[MPM_POINT_COLUMNS];
-    point_columns(p, col);
-    long i = p->n++;
-    for (int q = 0; q < kp->ncol; q++) {
-        size_t row = H5Tget_size(col[q].memtype) * (size_t)col[q].ncomp;
-        memcpy((unsigned char *)col[q].data + row * (size_t)i,
-               (const unsigned char *)buf[q] + row * (size_t)k, row);
-    }
-    return 0;
+    const struct brick_of *o = ctx;
+    (void)id;
+    return mpm_bricks_owns_point(o->b, o->g, x);
 }
 
 static int get_points_bricks(struct ckpt *ck, struct mpm_model *mm, struct err *e)
@@ -251,12 +204,10 @@ static int get_points_bricks(struct ckpt *ck, struct mpm_model *mm, struct err *
     long n = 0;
     int by_rank = 0;
     int rc = get_points_header(ck, &m->pts, &n, &by_rank);
-    struct ckpt_col col[MPM_POINT_COLUMNS];
-    int ncol = point_columns(&m->pts, col);
+    struct brick_of mine = {mm->bricks, &m->grid};
     m->pts.n = 0;
-    struct keep_points kp = {m, mm->bricks, ncol, 0, ck};
     if (!rc)
-        rc = ckpt_get_columns_blocks(ck, col, ncol, n, keep_point, &kp);
+        rc = mpm_ckpt_get_points_where(ck, n, &m->pts, 0, m->nbody, in_my_brick, &mine);
     mpm_points_moved(m);
     rc = mpm_bricks_agree(mm->bricks, rc, e);
     if (!rc && mpm_bricks_npoints(mm->bricks, m) != n)
@@ -290,8 +241,8 @@ static int mpm_model_checkpoint_write(void *self, struct ckpt *ck, struct err *e
     if (!rc) rc = ckpt_put_long(ck, "grid_fresh", bricks ? 0 : m->grid_fresh);
     if (!rc) rc = put_points_header(ck, &m->pts, bricks ? mm->ck_total : m->pts.n, bricks);
     if (!rc) {
-        struct ckpt_col col[MPM_POINT_COLUMNS];
-        int ncol = point_columns(&m->pts, col);
+        struct ckpt_col col[MPM_CKPT_COLUMNS];
+        int ncol = mpm_ckpt_columns(&m->pts, 0, col);
         rc = ckpt_put_columns(ck, col, ncol, bricks ? mm->ck_total : m->pts.n, !bricks);
     }
     /* the next step's s1-s3, summed by the fused pass in its own order */
@@ -400,8 +351,8 @@ static int mpm_model_checkpoint_write_part(void *self, struct ckpt *ck, struct e
     if (!mm->bricks)
         return 0;
     int rc = ckpt_agree(ck, ckpt_enter(ck, "model/mpm/points"));
-    struct ckpt_col col[MPM_POINT_COLUMNS];
-    int ncol = point_columns(&mm->m->pts, col);
+    struct ckpt_col col[MPM_CKPT_COLUMNS];
+    int ncol = mpm_ckpt_columns(&mm->m->pts, 0, col);
     if (!rc)
         rc = ckpt_put_columns_part(ck, col, ncol, mm->ck_offset, mm->m->pts.n);
     return rc;
