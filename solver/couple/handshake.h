@@ -356,9 +356,14 @@ void handshake_finish_step(struct handshake *hs);
  * at the next step, as the MD rebuilds its lists (md->rebuild_next).  The
  * cluster-impact boundary can use these with the MD model's checkpoint. */
 int handshake_checkpoint_write(const struct handshake *hs, struct ckpt *ck, const char *group);
-/* Before rank 0 writes, on every rank (collective on bricks: the points of
- * every rank to rank 0, released by the sync after the write). */
+/* Before rank 0 writes, on every rank (collective on bricks: every rank's
+ * count of points, for the layout rank 0 writes). */
 int handshake_checkpoint_collect(struct handshake *hs, struct err *e);
+/* On bricks, after rank 0 wrote and closed the file, on every rank with
+ * the file open through MPI-IO: this rank's points into their rows of
+ * `group`.  Collective; 0 serially. */
+int handshake_checkpoint_write_part(const struct handshake *hs, struct ckpt *ck,
+                                    const char *group);
 int handshake_checkpoint_read(struct handshake *hs, struct ckpt *ck, const char *group);
 void handshake_checkpoint_sync(struct handshake *hs);
 

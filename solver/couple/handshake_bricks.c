@@ -9,6 +9,7 @@
 #include "core/halo.h"
 #include "core/parallel.h"
 #include "mpm/mpm_bricks.h"
+#include "output/mpm_checkpoint.h"
 
 struct hs_bricks {
     struct mpm_bricks *mb;    /* the MPM step: grid whole, fixed owners */
@@ -27,8 +28,7 @@ struct hs_bricks {
     int any_remote;           /* some rank has such a copy (else no all-to-all) */
     long remote_max;          /* the most such copies of all ranks at any rebuild */
     double *sbuf, *rbuf;
-    struct mpm_points gathered;   /* rank 0, from a checkpoint's collect to its sync */
-    int have_gathered;
+    long ck_offset, ck_total;     /* a checkpoint's rows of points: this rank's first, all */
 };
 
 static const struct halo *halo_of(const struct handshake *hs)
@@ -232,54 +232,66 @@ void hs_bricks_mpm_totals(const struct handshake *hs, struct mpm_totals *t)
     mpm_bricks_totals(hs->bricks->mb, &hs->mpm, t);
 }
 
-int hs_bricks_gather_points(struct handshake *hs, struct mpm_points *all, struct err *e)
-{
-    return mpm_bricks_gather_points(hs->bricks->mb, &hs->mpm.pts, all, e);
-}
-
-int hs_bricks_keep_points(struct handshake *hs, const struct mpm_points *all, struct err *e)
-{
-    struct hs_bricks *b = hs->bricks;
-    unsigned char *keep = malloc((size_t)(all->n > 0 ? all->n : 1));
-    int rc = keep ? 0 : err_nomem(e, "handshake points");
-    if (!rc && all->n != b->npoints)
-        rc = err_set(e, ERR_INPUT, "handshake: %ld material points read, the case has %ld",
-                     all->n, b->npoints);
-    for (long q = 0; !rc && q < all->n; q++) {
-        if (all->id[q] != q + 1) {   /* the order of the build, which the owners follow */
-            rc = err_set(e, ERR_INPUT, "handshake: material point %ld has id %lld", q + 1,
-                         (long long)all->id[q]);
-            break;
-        }
-        keep[q] = (unsigned char)(b->owner[q] == b->rank);
-    }
-    if (!rc)
-        rc = mpm_bricks_keep_marked(&hs->mpm, all, keep, e);
-    free(keep);
-    return halo_agree(halo_of(hs), rc, e);
-}
-
+/* The rows of a checkpoint's points this rank writes: its first (the
+ * points of the lower ranks) and all of them.  Collective. */
 int hs_bricks_checkpoint_collect(struct handshake *hs, struct err *e)
 {
     struct hs_bricks *b = hs->bricks;
-    hs_bricks_checkpoint_release(hs);
-    int rc = hs_bricks_gather_points(hs, &b->gathered, e);
-    b->have_gathered = 1;   /* initialised (empty off rank 0) even on a failure */
+    long *counts = malloc((size_t)b->nranks * sizeof *counts);
+    int rc = halo_agree(halo_of(hs), counts ? 0 : err_nomem(e, "checkpoint counts"), e);
+    b->ck_offset = b->ck_total = 0;
+    if (!rc) {
+        parallel_allgather_long(b->par, hs->mpm.pts.n, counts);
+        for (int r = 0; r < b->nranks; r++) {
+            b->ck_offset += r < b->rank ? counts[r] : 0;
+            b->ck_total += counts[r];
+        }
+    }
+    free(counts);
     return rc;
 }
 
-const struct mpm_points *hs_bricks_checkpoint_points(const struct handshake *hs)
+long hs_bricks_checkpoint_total(const struct handshake *hs)
 {
-    return hs->bricks && hs->bricks->have_gathered ? &hs->bricks->gathered : NULL;
+    return hs->bricks->ck_total;
 }
 
-void hs_bricks_checkpoint_release(struct handshake *hs)
+long hs_bricks_checkpoint_offset(const struct handshake *hs)
+{
+    return hs->bricks->ck_offset;
+}
+
+static int dealt_to_me(const void *ctx, const double x[3], int64_t id)
+{
+    const struct hs_bricks *b = ctx;
+    (void)x;
+    return id >= 1 && id <= b->npoints && b->owner[id - 1] == b->rank;
+}
+
+int hs_bricks_read_points(struct handshake *hs, struct ckpt *ck, long n, struct err *e)
 {
     struct hs_bricks *b = hs->bricks;
-    if (b && b->have_gathered) {
-        mpm_points_free(&b->gathered);
-        b->have_gathered = 0;
-    }
+    struct mpm_points *p = &hs->mpm.pts;
+    int rc = 0;
+    if (n != b->npoints)
+        rc = err_set(e, ERR_INPUT, "%s: checkpoint has %ld material points, the case %ld",
+                     ck->path, n, b->npoints);
+    long want = p->n;
+    p->n = 0;
+    if (!rc)
+        rc = mpm_ckpt_get_points_where(ck, n, p, 1, hs->mpm.nbody, dealt_to_me, b);
+    /* in the order of the build (id order), which the links follow */
+    if (!rc)
+        rc = mpm_bricks_sort_by_id(NULL, &hs->mpm, e);
+    if (!rc && p->n != want)
+        rc = err_set(e, ERR_INPUT, "%s: rank %d read %ld of its %ld material points", ck->path,
+                     b->rank, p->n, want);
+    for (long i = 0; !rc && i < p->n; i++)
+        if (b->local[p->id[i] - 1] != i)
+            rc = err_set(e, ERR_INPUT, "%s: material point id %lld is stored twice", ck->path,
+                         (long long)p->id[i]);
+    mpm_points_moved(&hs->mpm);
+    return halo_agree(halo_of(hs), rc, e);
 }
 
 long hs_bricks_remote_copies_max(const struct handshake *hs)
@@ -308,8 +320,6 @@ void hs_bricks_free(struct handshake *hs)
     free(b->recv_link);
     free(b->sbuf);
     free(b->rbuf);
-    if (b->have_gathered)
-        mpm_points_free(&b->gathered);
     free(b);
     hs->bricks = NULL;
 }

@@ -62,21 +62,16 @@ int hs_bricks_mpm_prepare(struct handshake *hs, struct err *e);
 int hs_bricks_map_forces(struct handshake *hs, struct err *e);
 void hs_bricks_mpm_totals(const struct handshake *hs, struct mpm_totals *t);
 
-/* Every rank's points, sorted by id, into *all on rank 0 (an empty set
- * elsewhere; the caller frees it). */
-int hs_bricks_gather_points(struct handshake *hs, struct mpm_points *all, struct err *e);
-
-/* From a whole set of points (a checkpoint read on every rank, in id
- * order), keep this rank's, as they were dealt (hs_bricks_adopt). */
-int hs_bricks_keep_points(struct handshake *hs, const struct mpm_points *all, struct err *e);
-
-/* Checkpoints on bricks: the collect (collective, before rank 0 writes)
- * gathers every rank's points on rank 0; the write stores those
- * (hs_bricks_checkpoint_points: NULL off rank 0 or before a collect); the
- * sync after the write releases them. */
+/* Checkpoints on bricks (output/mpm_checkpoint.h): the collect
+ * (collective, before rank 0 writes) counts every rank's points -- rank 0
+ * lays out hs_bricks_checkpoint_total() rows, each rank writes its own
+ * from row hs_bricks_checkpoint_offset() -- and a restart reads the n
+ * stored rows in blocks, each rank keeping the points dealt to it
+ * (hs_bricks_adopt), in id order.  Collective. */
 int hs_bricks_checkpoint_collect(struct handshake *hs, struct err *e);
-const struct mpm_points *hs_bricks_checkpoint_points(const struct handshake *hs);
-void hs_bricks_checkpoint_release(struct handshake *hs);
+long hs_bricks_checkpoint_total(const struct handshake *hs);
+long hs_bricks_checkpoint_offset(const struct handshake *hs);
+int hs_bricks_read_points(struct handshake *hs, struct ckpt *ck, long n, struct err *e);
 
 /* The most copies, over all ranks, whose point another rank held, at any
  * neighbour-list rebuild so far (a diagnostic: the all-to-all of the

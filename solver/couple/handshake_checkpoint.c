@@ -6,62 +6,73 @@
 #include "couple/handshake.h"
 #include "couple/handshake_bricks.h"
 #include "couple/handshake_thermal.h"
+#include "mpm/mpm_bricks.h"
+#include "output/mpm_checkpoint.h"
 
-/* Every per-point array, in the stored order (the handshake never reorders
- * its points: their indices are the links of the MD copies; on bricks the
- * points of every rank, gathered in id order, which is that order). */
-static int put_points(struct ckpt *ck, const struct mpm_points *pt)
+/* Every per-point array (output/mpm_checkpoint.h; fext empty without
+ * loads).  The handshake never reorders its points: their indices are the
+ * links of the MD copies, in the order of the build, which is id order.  A
+ * serial run stores them so; on bricks every rank writes its own rows
+ * (handshake_checkpoint_write_part), rank 0's points first, and `order` =
+ * 1 tells a reader to put them back in id order. */
+static int put_points(struct ckpt *ck, const struct mpm_points *pt, long n, int bricks)
 {
-    long n = pt->n;
     int rc = ckpt_put_long(ck, "points", n);
     if (!rc) rc = ckpt_put_long(ck, "nstate", pt->nstate);
-    if (!rc) rc = ckpt_put_doubles(ck, "x", pt->x, 3 * n);
-    if (!rc) rc = ckpt_put_doubles(ck, "x0", pt->x0, 3 * n);
-    if (!rc) rc = ckpt_put_doubles(ck, "v", pt->v, 3 * n);
-    if (!rc) rc = ckpt_put_doubles(ck, "mass", pt->mass, n);
-    if (!rc) rc = ckpt_put_doubles(ck, "vol0", pt->vol0, n);
-    if (!rc) rc = ckpt_put_doubles(ck, "vol", pt->vol, n);
-    if (!rc) rc = ckpt_put_doubles(ck, "stress", pt->stress, 6 * n);
-    if (!rc) rc = ckpt_put_doubles(ck, "F", pt->F, 9 * n);
-    if (!rc) rc = ckpt_put_doubles(ck, "eint", pt->eint, n);
-    if (!rc) rc = ckpt_put_doubles(ck, "state", pt->state, (long)pt->nstate * n);
-    if (!rc) rc = ckpt_put_doubles(ck, "fext", pt->fext, pt->fext ? 3 * n : 0);
-    if (!rc) rc = ckpt_put_ints(ck, "body", (const int *)pt->body, n);
-    if (!rc) rc = ckpt_put_i64(ck, "id", pt->id, n);
-    if (!rc) rc = ckpt_put_u32(ck, "mask", pt->mask, n);
+    if (!rc && bricks) rc = ckpt_put_long(ck, "order", 1);
+    struct ckpt_col col[MPM_CKPT_COLUMNS];
+    int ncol = mpm_ckpt_columns(pt, 1, col);
+    if (!rc) rc = ckpt_put_columns(ck, col, ncol, n, !bricks);
     return rc;
 }
 
-static int get_points(struct ckpt *ck, struct mpm_points *pt)
+/* The header: the stored count into *n, the state variables and loads
+ * checked against the case's points, *by_rank whether the rows are in
+ * rank order. */
+static int get_points_header(struct ckpt *ck, const struct mpm_points *pt, long *n, int *by_rank)
 {
-    long n = 0, nstate = 0;
-    int rc = ckpt_get_long(ck, "points", &n);
+    long nstate = 0, order = 0;
+    int rc = ckpt_get_long(ck, "points", n);
     if (!rc) rc = ckpt_get_long(ck, "nstate", &nstate);
-    /* the points are built from the case file: the checkpoint replaces
-     * their state, not their number */
-    if (!rc && (n != pt->n || nstate != pt->nstate))
+    if (!rc && ckpt_has(ck, "order")) rc = ckpt_get_long(ck, "order", &order);
+    if (!rc && nstate != pt->nstate)
         rc = err_set(ck->e, ERR_INPUT,
-                     "%s: checkpoint has %ld material points with %ld state variables, the case "
-                     "builds %ld with %d",
-                     ck->path, n, nstate, pt->n, pt->nstate);
+                     "%s: checkpoint has material points with %ld state variables, the case's "
+                     "have %d",
+                     ck->path, nstate, pt->nstate);
     long nf = rc ? -1 : ckpt_len(ck, "fext");
-    if (!rc && nf != (pt->fext ? 3 * n : 0))
+    if (!rc && nf != (pt->fext ? 3 * *n : 0))
         rc = err_set(ck->e, ERR_INPUT, "%s: checkpoint %s point loads do not match the case's",
                      ck->path, nf > 0 ? "has" : "has no");
-    if (!rc) rc = ckpt_get_doubles(ck, "x", pt->x, 3 * n);
-    if (!rc) rc = ckpt_get_doubles(ck, "x0", pt->x0, 3 * n);
-    if (!rc) rc = ckpt_get_doubles(ck, "v", pt->v, 3 * n);
-    if (!rc) rc = ckpt_get_doubles(ck, "mass", pt->mass, n);
-    if (!rc) rc = ckpt_get_doubles(ck, "vol0", pt->vol0, n);
-    if (!rc) rc = ckpt_get_doubles(ck, "vol", pt->vol, n);
-    if (!rc) rc = ckpt_get_doubles(ck, "stress", pt->stress, 6 * n);
-    if (!rc) rc = ckpt_get_doubles(ck, "F", pt->F, 9 * n);
-    if (!rc) rc = ckpt_get_doubles(ck, "eint", pt->eint, n);
-    if (!rc) rc = ckpt_get_doubles(ck, "state", pt->state, (long)pt->nstate * n);
-    if (!rc && pt->fext) rc = ckpt_get_doubles(ck, "fext", pt->fext, 3 * n);
-    if (!rc) rc = ckpt_get_ints(ck, "body", (int *)pt->body, n);
-    if (!rc) rc = ckpt_get_i64(ck, "id", pt->id, n);
-    if (!rc) rc = ckpt_get_u32(ck, "mask", pt->mask, n);
+    *by_rank = order == 1;
+    return rc;
+}
+
+/* Serially: the points are built from the case file; the checkpoint
+ * replaces their state, not their number. */
+static int get_points(struct ckpt *ck, struct mpm *m)
+{
+    struct mpm_points *pt = &m->pts;
+    long n = 0;
+    int by_rank = 0;
+    int rc = get_points_header(ck, pt, &n, &by_rank);
+    if (!rc && n != pt->n)
+        rc = err_set(ck->e, ERR_INPUT,
+                     "%s: checkpoint has %ld material points, the case builds %ld", ck->path, n,
+                     pt->n);
+    long want = pt->n;
+    pt->n = 0;
+    if (!rc)
+        rc = mpm_ckpt_get_points_where(ck, n, pt, 1, m->nbody, NULL, NULL);
+    if (!rc && by_rank)   /* a checkpoint of bricks: back in id order */
+        rc = mpm_bricks_sort_by_id(NULL, m, ck->e);
+    for (long i = 0; !rc && i < pt->n; i++)
+        if (pt->id[i] != i + 1)
+            rc = err_set(ck->e, ERR_INPUT, "%s: material point %ld has id %lld", ck->path, i + 1,
+                         (long long)pt->id[i]);
+    if (rc)
+        pt->n = want;
+    mpm_points_moved(m);
     return rc;
 }
 
@@ -84,12 +95,24 @@ int handshake_checkpoint_write(const struct handshake *hs, struct ckpt *ck, cons
     if (!rc && hs->thermal) rc = ckpt_put_double(ck, "bath_heat", hs->thermal->heat);
     if (!rc && hs->thermal) rc = ckpt_put_long(ck, "bath_step", hs->thermal->step);
     if (!rc && hs->thermal) rc = ckpt_put_double(ck, "bath_heat_copies", hs->thermal->heat_copies);
-    /* bricks: every rank's points, gathered by handshake_checkpoint_collect */
-    const struct mpm_points *pts = hs->bricks ? hs_bricks_checkpoint_points(hs) : &m->pts;
-    if (!rc && !pts)
-        rc = err_set(ck->e, ERR_RUNTIME, "handshake: checkpoint written before its points were "
-                                         "collected");
-    if (!rc) rc = put_points(ck, pts);
+    /* bricks: the datasets for every rank's points (counted by the
+     * collect), which each rank fills (handshake_checkpoint_write_part) */
+    if (!rc)
+        rc = put_points(ck, &m->pts, hs->bricks ? hs_bricks_checkpoint_total(hs) : m->pts.n,
+                        hs->bricks != NULL);
+    return rc;
+}
+
+int handshake_checkpoint_write_part(const struct handshake *hs, struct ckpt *ck,
+                                    const char *group)
+{
+    if (!hs->bricks)
+        return 0;
+    int rc = ckpt_agree(ck, ckpt_enter(ck, group));
+    struct ckpt_col col[MPM_CKPT_COLUMNS];
+    int ncol = mpm_ckpt_columns(&hs->mpm.pts, 1, col);
+    if (!rc)
+        rc = ckpt_put_columns_part(ck, col, ncol, hs_bricks_checkpoint_offset(hs), hs->mpm.pts.n);
     return rc;
 }
 
@@ -98,29 +121,18 @@ int handshake_checkpoint_collect(struct handshake *hs, struct err *e)
     return hs->bricks ? hs_bricks_checkpoint_collect(hs, e) : 0;
 }
 
-/* Bricks: every rank reads the whole set (as the file stores it) and keeps
- * its share, as handshake_connect dealt the points out.  rc: the reads
- * before; collective. */
+/* Bricks: every rank reads the stored rows in blocks and keeps the points
+ * dealt to it, in id order (hs_bricks_read_points).  rc: the reads before;
+ * collective. */
 static int get_points_bricks(struct handshake *hs, struct ckpt *ck, int rc)
 {
     const struct halo *h = hs->md->halo;
-    struct mpm_points all;
-    const struct mpm_points *mine = &hs->mpm.pts;
-    int have = 0;
-    if (!(rc = halo_agree(h, rc, ck->e))) {
-        rc = mpm_points_init(&all, mine->nstate, ck->e);
-        have = !rc;
-    }
-    if (!rc) rc = mpm_points_reserve(&all, hs->npoints > 0 ? hs->npoints : 1, ck->e);
-    if (!rc && mine->fext) rc = mpm_points_enable_fext(&all, ck->e);
-    if (!rc) {
-        all.n = hs->npoints;
-        rc = get_points(ck, &all);
-    }
+    long n = 0;
+    int by_rank = 0;
     if (!(rc = halo_agree(h, rc, ck->e)))
-        rc = hs_bricks_keep_points(hs, &all, ck->e);
-    if (have)
-        mpm_points_free(&all);
+        rc = get_points_header(ck, &hs->mpm.pts, &n, &by_rank);
+    if (!(rc = halo_agree(h, rc, ck->e)))
+        rc = hs_bricks_read_points(hs, ck, n, ck->e);
     return rc;
 }
 
@@ -143,7 +155,7 @@ int handshake_checkpoint_read(struct handshake *hs, struct ckpt *ck, const char 
     if (!rc && hs->thermal) rc = ckpt_get_double(ck, "bath_heat_copies", &hs->thermal->heat_copies);
     if (hs->bricks)
         return get_points_bricks(hs, ck, rc);
-    if (!rc) rc = get_points(ck, &m->pts);
+    if (!rc) rc = get_points(ck, m);
     return rc;
 }
 
@@ -155,5 +167,4 @@ void handshake_checkpoint_sync(struct handshake *hs)
      * order, not the order of the build) */
     mpm_points_moved(&hs->mpm);
     hs->seen_builds = -1;
-    hs_bricks_checkpoint_release(hs);   /* bricks: rank 0's gathered points */
 }

@@ -24,9 +24,9 @@
  * copies at the next step (checkpoint_sync).
  *
  * On MPI bricks (the bar case types under mpirun, docs/parallel.md) the
- * atoms and copies are written as model_md writes its atoms: rank 0 lays
- * out the datasets for every rank's particles (with the material points of
- * every rank, gathered on rank 0 by checkpoint_collect), each rank writes
+ * atoms and copies, and the material points, are written as model_md
+ * writes its atoms: rank 0 lays out the datasets for every rank's
+ * particles and points (counted by checkpoint_collect), each rank writes
  * its own rows (checkpoint_write_part);
  * a read gives each rank its brick's particles (model_md_atoms_read), the
  * sync sends strays to their bricks, so a checkpoint of N ranks restarts
@@ -102,8 +102,8 @@ static int hs_model_checkpoint_write(void *self, struct ckpt *ck, struct err *e)
     if (!rc) rc = ckpt_put_doubles(ck, "virial", md->last.virial, 6);
     if (!rc) rc = ckpt_put_box(ck, HS_GROUP "/box", &md->box);
     /* bricks (rank 0 writes): the datasets for every rank's atoms, which
-     * each rank fills with its own (hs_model_checkpoint_write_part); the
-     * points are every rank's, gathered by the collect */
+     * each rank fills with its own (hs_model_checkpoint_write_part), and
+     * so for the material points */
     if (!rc && md->halo)
         rc = ckpt_put_particles_layout(ck, HS_GROUP "/atoms", md->p, m->ck_total);
     else if (!rc)
@@ -118,7 +118,7 @@ static int hs_model_checkpoint_collect(void *self, struct err *e)
     struct md *md = m->hs->md;
     m->ck_offset = m->ck_total = 0;
     int rc = md->halo ? model_checkpoint_rows(md->halo, md->p, &m->ck_offset, &m->ck_total, e) : 0;
-    /* bricks: every rank's material points to rank 0 (collective) */
+    /* bricks: every rank's count of material points (collective) */
     return rc ? rc : handshake_checkpoint_collect(m->hs, e);
 }
 
@@ -126,7 +126,8 @@ static int hs_model_checkpoint_write_part(void *self, struct ckpt *ck, struct er
 {
     struct handshake_model *m = self;
     struct md *md = m->hs->md;
-    return md->halo ? ckpt_put_particles_part(ck, HS_GROUP "/atoms", md->p, m->ck_offset) : 0;
+    int rc = md->halo ? ckpt_put_particles_part(ck, HS_GROUP "/atoms", md->p, m->ck_offset) : 0;
+    return rc ? rc : handshake_checkpoint_write_part(m->hs, ck, HS_GROUP "/mpm");
 }
 
 static int hs_model_checkpoint_read(void *self, struct ckpt *ck, struct err *e)

@@ -40,6 +40,16 @@ static int boundary_checkpoint_collect(void *self, struct err *e)
     return o->checkpoint_collect ? o->checkpoint_collect(m->bnd, e) : 0;
 }
 
+static int boundary_checkpoint_write_part(void *self, struct ckpt *ck, struct err *e)
+{
+    struct impact_boundary_model *m = self;
+    const struct impact_boundary_ops *o = m->bnd->ops;
+    (void)e;
+    return o->checkpoint_write_part
+               ? o->checkpoint_write_part(m->bnd, ck, "model/impact_boundary/state")
+               : 0;
+}
+
 static void boundary_checkpoint_sync(void *self)
 {
     struct impact_boundary_model *m = self;
@@ -55,6 +65,7 @@ const struct sim_model_ops sim_model_impact_boundary = {
     .checkpoint_read = boundary_checkpoint_read,
     .checkpoint_sync = boundary_checkpoint_sync,
     .checkpoint_collect = boundary_checkpoint_collect,
+    .checkpoint_write_part = boundary_checkpoint_write_part,
 };
 
 /* The same stages for a treatment with state that checkpoints cannot hold. */

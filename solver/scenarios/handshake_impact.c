@@ -388,6 +388,13 @@ int handshake_impact_checkpoint_read(struct impact_boundary *b, struct ckpt *ck,
     return handshake_checkpoint_read(&h->hs, ck, group);
 }
 
+int handshake_impact_checkpoint_write_part(const struct impact_boundary *b, struct ckpt *ck,
+                                           const char *group)
+{
+    const struct hs_impact *h = b->data;
+    return handshake_checkpoint_write_part(&h->hs, ck, group);
+}
+
 int handshake_impact_checkpoint_collect(struct impact_boundary *b, struct err *e)
 {
     struct hs_impact *h = b->data;

@@ -53,6 +53,8 @@ int handshake_impact_checkpoint_write(const struct impact_boundary *b, struct ck
                                       const char *group);
 int handshake_impact_checkpoint_read(struct impact_boundary *b, struct ckpt *ck, const char *group);
 void handshake_impact_checkpoint_sync(struct impact_boundary *b);
+int handshake_impact_checkpoint_write_part(const struct impact_boundary *b, struct ckpt *ck,
+                                           const char *group);
 int handshake_impact_checkpoint_collect(struct impact_boundary *b, struct err *e);
 
 #endif

@@ -75,13 +75,14 @@ static uint32_t fixed_damped_exclude(const struct impact_boundary *b)
 
 const struct impact_boundary_ops impact_boundaries[] = {
     {"fixed_damped", fixed_damped_read, fixed_damped_setup, NULL, fixed_damped_exclude, NULL,
-     NULL, NULL, NULL, 1, NULL, NULL, NULL, NULL, NULL},
+     NULL, NULL, NULL, 1, NULL, NULL, NULL, NULL, NULL, NULL},
     {"handshake", handshake_impact_read, handshake_impact_setup, NULL, handshake_impact_exclude,
      handshake_impact_destroy, handshake_impact_prepare, handshake_impact_pre_step,
      handshake_impact_report, 0, handshake_impact_checkpoint_write,
      handshake_impact_checkpoint_read, handshake_impact_checkpoint_sync,
-     handshake_impact_add_particles, handshake_impact_checkpoint_collect},
-    {NULL, NULL, NULL, NULL, NULL, NULL, NULL, NULL, NULL, 0, NULL, NULL, NULL, NULL, NULL},
+     handshake_impact_add_particles, handshake_impact_checkpoint_collect,
+     handshake_impact_checkpoint_write_part},
+    {NULL, NULL, NULL, NULL, NULL, NULL, NULL, NULL, NULL, 0, NULL, NULL, NULL, NULL, NULL, NULL},
 };
 
 int impact_boundary_read(struct cfg_obj *target, struct impact_boundary *b)

@@ -112,6 +112,11 @@ struct impact_boundary_ops {
     /* before rank 0 writes a checkpoint, on every rank (collective on
      * bricks: the handshake gathers its material points); NULL: nothing */
     int (*checkpoint_collect)(struct impact_boundary *b, struct err *e);
+    /* on bricks, after rank 0 wrote the checkpoint, on every rank with the
+     * file open through MPI-IO: this rank's part of the state (the
+     * handshake's material points) into `group`; NULL: nothing */
+    int (*checkpoint_write_part)(const struct impact_boundary *b, struct ckpt *ck,
+                                 const char *group);
 };
 
 extern const struct impact_boundary_ops impact_boundaries[];   /* NULL-name terminated */
