@@ -746,52 +746,6 @@ static int migrate(struct mpm_bricks *b, struct mpm *m, long *moved, struct err 
     return mpm_bricks_agree(b, rc, e);
 }
 
-/* --- set-up -------------------------------------------------------------- */
-
-int mpm_bricks_keep_owned(struct mpm_bricks *b, struct mpm *m, struct mpm_points *all,
-                          struct err *e)
-{
-    struct mpm_points *p = &m->pts;
-    long mine = 0;
-    for (long i = 0; i < all->n; i++) {
-        int c[3];
-        long cell[3];
-        point_brick(b, &m->grid, all->x + 3 * i, c, cell);
-        mine += offset_index(b, c) == -1;
-    }
-    int rc = mpm_points_reserve(p, mine > 0 ? mine : 1, e);
-    if (!rc && all->fext && !p->fext)
-        rc = mpm_points_enable_fext(p, e);
-    p->n = 0;
-    for (long i = 0; !rc && i < all->n; i++) {
-        int c[3];
-        long cell[3];
-        point_brick(b, &m->grid, all->x + 3 * i, c, cell);
-        if (offset_index(b, c) == -1)
-            copy_point(p, p->n++, all, i);
-    }
-    mpm_points_moved(m);
-    return rc;
-}
-
-int mpm_bricks_keep_marked(struct mpm *m, const struct mpm_points *all, const unsigned char *keep,
-                           struct err *e)
-{
-    struct mpm_points *p = &m->pts;
-    long mine = 0;
-    for (long i = 0; i < all->n; i++)
-        mine += keep[i] != 0;
-    int rc = mpm_points_reserve(p, mine > 0 ? mine : 1, e);
-    if (!rc && all->fext && !p->fext)
-        rc = mpm_points_enable_fext(p, e);
-    p->n = 0;
-    for (long i = 0; !rc && i < all->n; i++)
-        if (keep[i])
-            copy_point(p, p->n++, all, i);
-    mpm_points_moved(m);
-    return rc;
-}
-
 /* The node sums of a whole grid: a hierarchical grid on more than one
  * rank exchanges only its shared nodes (mpm_shared.h; a rigid body's mark
  * taken as a maximum, its reaction counted on the nodes a rank is the
@@ -1235,50 +1189,6 @@ int mpm_bricks_sort_by_id(struct mpm_bricks *b, struct mpm *m, struct err *e)
     }
     free(key);
     free(perm);
-    return mpm_bricks_agree(b, rc, e);
-}
-
-int mpm_bricks_gather_points(struct mpm_bricks *b, const struct mpm_points *p,
-                             struct mpm_points *all, struct err *e)
-{
-    mpm_points_init(all, p->nstate, e);
-    long rec = point_doubles(p);
-    double *sb = malloc((size_t)(p->n * rec + 1) * sizeof *sb);
-    int rc = sb ? 0 : err_nomem(e, "MPM gather");
-    for (long i = 0; !rc && i < p->n; i++)
-        pack_point(p, i, sb + i * rec);
-    rc = mpm_bricks_agree(b, rc, e);
-    void *rb = NULL;
-    size_t rbytes = 0;
-    if (!rc)
-        rc = parallel_gather_bytes(b->par, sb, (size_t)p->n * rec * sizeof *sb, &rb, &rbytes, e);
-    free(sb);
-    if (rc || b->par->rank != 0) {
-        free(rb);
-        return mpm_bricks_agree(b, rc, e);
-    }
-    long n = (long)(rbytes / (rec * sizeof(double)));
-    /* sort the records by id: (id, index) pairs */
-    int64_t *key = malloc((size_t)(n > 0 ? n : 1) * 2 * sizeof *key);
-    if (!key)
-        rc = err_nomem(e, "MPM gather");
-    long idoff = rec - 2;
-    for (long i = 0; !rc && i < n; i++) {
-        memcpy(&key[2 * i], (const double *)rb + i * rec + idoff, sizeof(int64_t));
-        key[2 * i + 1] = i;
-    }
-    if (!rc)
-        qsort(key, (size_t)n, 2 * sizeof *key, cmp_id);
-    if (!rc && p->fext)
-        rc = mpm_points_enable_fext(all, e);
-    if (!rc)
-        rc = mpm_points_reserve(all, n > 0 ? n : 1, e);
-    for (long i = 0; !rc && i < n; i++)
-        unpack_point(all, i, (const double *)rb + key[2 * i + 1] * rec);
-    if (!rc)
-        all->n = n;
-    free(key);
-    free(rb);
     return mpm_bricks_agree(b, rc, e);
 }
 

@@ -178,14 +178,9 @@ void mpm_bricks_destroy(struct mpm_bricks **b);
 
 /* A decomposition with the grid whole on every rank and fixed owners (see
  * the top of this file) for m, whose points the caller has already cut
- * down to this rank's (mpm_bricks_keep_marked).  Collective. */
+ * down to this rank's.  Collective. */
 int mpm_bricks_create_fixed(const struct parallel *par, const struct mpm *m,
                             struct mpm_bricks **out, struct err *e);
-
-/* Replace m's points by the points i of the set *all with keep[i] != 0, in
- * their order in *all (which the caller still owns). */
-int mpm_bricks_keep_marked(struct mpm *m, const struct mpm_points *all, const unsigned char *keep,
-                           struct err *e);
 
 /* mpm_prepare over all ranks: thresholds, the largest speed and the
  * energies of the points of every rank.  Collective. */
@@ -221,10 +216,6 @@ void mpm_bricks_totals(const struct mpm_bricks *b, const struct mpm *m, struct m
 long mpm_bricks_npoints(const struct mpm_bricks *b, const struct mpm *m);
 int mpm_bricks_rank(const struct mpm_bricks *b);
 
-/* The points of every rank sorted by id into *all on rank 0 (an empty set
- * elsewhere; all is initialised here, the caller frees it).  Collective. */
-int mpm_bricks_gather_points(struct mpm_bricks *b, const struct mpm_points *p,
-                             struct mpm_points *all, struct err *e);
 /* The owned nodes of every rank (records and the remapped velocities) into
  * the serial layout's node[] and r[] of *full on rank 0 (a uniform grid the
  * caller made with the serial grid's cells).  Collective. */
@@ -238,10 +229,5 @@ int mpm_bricks_map_initial(struct mpm_bricks *b, struct mpm *m, struct err *e);
  * that a run continued after a checkpoint and one restarted from it sum in
  * the same order).  Collective. */
 int mpm_bricks_sort_by_id(struct mpm_bricks *b, struct mpm *m, struct err *e);
-
-/* Keep, of the n points of a whole set (a checkpoint read on every rank),
- * those this rank owns, replacing m's points. */
-int mpm_bricks_keep_owned(struct mpm_bricks *b, struct mpm *m, struct mpm_points *all,
-                          struct err *e);
 
 #endif
