@@ -27,5 +27,10 @@ struct dpd_bar {
 /* Measure the owned particles with no bit of `exclude` in their mask. */
 void dpd_bar_measure(const struct particles *p, uint32_t exclude, double plane,
                      struct dpd_bar *bar);
+/* The same over the owned particles of every rank of h (NULL: this set
+ * alone, as dpd_bar_measure).  Collective when h is given. */
+struct halo;
+void dpd_bar_measure_over(const struct particles *p, uint32_t exclude, double plane,
+                          const struct halo *h, struct dpd_bar *bar);
 
 #endif

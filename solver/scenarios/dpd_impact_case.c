@@ -51,9 +51,9 @@
  * large ones the main pulse.
  *
  * Under mpirun the impact runs on bricks (docs/dpd.md, docs/parallel.md):
- * every rank builds the target and the flyer, the flyer run keeps its
- * brick's particles of the DPD halo and the reference run its own of a
- * second halo over the same bricks; both sweep in cell-colour order
+ * every rank builds its brick's part of the target and of the flyer (the
+ * bar's faces measured over every rank), the flyer run on the DPD halo and
+ * the reference run on a second halo over the same bricks; both sweep in cell-colour order
  * (dpd.sweep: cells), the flyer's pairs apart in one global order on
  * every rank (dpd/dpd_sweep_bodies.h), so the flyer's velocity is the same
  * on every rank.  The region means, profiles, front probes and CNA counts
@@ -93,6 +93,7 @@
 #include "output/final_state.h"
 #include "output/decomp_record.h"
 #include "scenarios/dpd_bar.h"
+#include "core/velocity.h"
 #include "scenarios/dpd_impact_setup.h"
 #include "scenarios/impact_front.h"
 #include "output/dpd_output.h"
@@ -151,6 +152,20 @@ static void impact_free_halos(struct impact_case *c)
     }
 }
 
+/* The bricks of the box the system builder has just sized (md_system_split):
+ * the DPD bricks with the cell sweep's reach. */
+struct impact_plan {
+    const struct dpd_input *in;
+    const struct case_common *common;
+    struct cfg *cfg;
+};
+
+static int impact_plan_bricks(void *ctx, const struct box *b, struct halo **out)
+{
+    const struct impact_plan *pl = ctx;
+    return dpd_bricks_plan(pl->in, b, pl->common, pl->cfg, 1, out);
+}
+
 static int impact_read(struct cfg_obj *root, const struct case_common *common, void **state)
 {
     struct particles *p = NULL;
@@ -159,9 +174,16 @@ static int impact_read(struct cfg_obj *root, const struct case_common *common, v
     struct dpd_input in;
     struct dpd_impact_keys k;
     struct dpd_structure st;
-    int rc = md_system_read(root, common->seed, &p, &box, &info);
+    struct halo *halo = NULL;
+    /* the dpd section first: its ranges size the bricks, and under mpirun
+     * each rank builds (a lattice) or receives (a file rank 0 read) only
+     * its brick's target particles */
+    int rc = dpd_section_read(root, DPD_ENERGY, &in);
+    struct impact_plan plan = {&in, common, root->cfg};
+    struct md_system_split split = {impact_plan_bricks, &plan, 0, common->par};
     if (!rc)
-        rc = dpd_section_read(root, DPD_ENERGY, &in);
+        rc = md_system_read_split(root, common->seed, root->cfg->shallow ? NULL : &split, &p,
+                                  &box, &info, &halo);
     memset(&k, 0, sizeof k);
     if (!rc)
         rc = dpd_impact_keys_read(root, &k);
@@ -171,42 +193,57 @@ static int impact_read(struct cfg_obj *root, const struct case_common *common, v
         rc = cfg_error_at(root->cfg, "system.boundary",
                           "the impact axis %c must not be periodic (the flyer comes from outside)",
                           "xyz"[k.axis]);
+    struct err *e = root->cfg->err;
+    struct impact_case *c = NULL;
+    if (!rc && !root->cfg->shallow && !(c = calloc(1, sizeof *c)))
+        rc = err_nomem(e, "impact case");
+    if (c) {
+        c->halo = halo;
+        halo = NULL;
+    }
     if (rc || root->cfg->shallow) {
         particles_destroy(&p);
         free(k.ptimes);
+        if (halo) {
+            halo_free(halo);
+            free(halo);
+        }
+        if (c)
+            impact_free_halos(c);
+        free(c);
         return rc;
-    }
-    struct err *e = root->cfg->err;
-    struct impact_case *c = calloc(1, sizeof *c);
-    if (!c) {
-        particles_destroy(&p);
-        free(k.ptimes);
-        return err_nomem(e, "impact case");
     }
     double a = k.a > 0 ? k.a : in.prm.lattice_constant;
     struct dpd_bar bar;
     long nflyer = 0;
-    c->n_target = p->n_owned;
     struct particles *pref = NULL;
-    rc = dpd_init_velocities(&in, p, common, e);
+    if (c->halo) {
+        p->halo = c->halo;
+        p->par = NULL;   /* no replicated sums: each rank owns its brick */
+    }
+    double ntarget = (double)p->n_owned;
+    if (c->halo)
+        halo_sum(c->halo, &ntarget, 1);
+    c->n_target = (long)ntarget;
+    /* the k-th Maxwell draw to the k-th id of all ranks: the serial
+     * velocities (to round-off on bricks, bitwise serially) */
+    for (int t = 0; t < p->ntypes; t++)
+        p->mass[t] = in.prm.mass;
+    if (in.t_init > 0)
+        rc = velocity_maxwell_split(p, in.t_init, common->seed, 1u, c->halo, e);
     if (!rc && k.reference && !(pref = dpd_particles_clone(p, e)))
         rc = ERR_RUNTIME;
+    /* the bar's faces and the flyer's stacking over every rank's particles;
+     * each rank adds the flyer sites of its brick */
     if (!rc) {
-        dpd_bar_measure(p, 0, 0.5 * a, &bar);
-        rc = dpd_impact_add_flyer(p, &bar, &k, a, &nflyer, e);
+        dpd_bar_measure_over(p, 0, 0.5 * a, c->halo, &bar);
+        rc = dpd_impact_add_flyer_over(p, &bar, &k, a, c->halo, &nflyer, e);
     }
-    if (rc) {
-        particles_destroy(&p);
-        particles_destroy(&pref);
-        free(k.ptimes);
-        free(c);
-        return rc;
-    }
-    c->n_flyer = nflyer;
-    /* under mpirun: bricks, each run keeping its brick's particles (built,
-     * drawn and marked over all of them); the reference run's halo cuts
-     * the same bricks */
-    rc = dpd_bricks(&in, &box, p, common, root->cfg, 1, &c->halo);
+    /* every rank keeps what it built; a particle a displacement moved just
+     * out of its brick migrates at the first list build.  The reference
+     * run's halo cuts the same bricks. */
+    if (c->halo)
+        rc = halo_adopt(c->halo, p, rc, e);
     if (!rc && c->halo && pref) {
         c->halo_ref = calloc(1, sizeof *c->halo_ref);
         rc = c->halo_ref ? halo_init_like(c->halo_ref, c->halo, e)
@@ -214,8 +251,8 @@ static int impact_read(struct cfg_obj *root, const struct case_common *common, v
         if (!rc) {
             pref->halo = c->halo_ref;
             pref->par = NULL;
-            rc = halo_distribute(c->halo_ref, pref, e);
         }
+        rc = halo_adopt(c->halo_ref ? c->halo_ref : c->halo, pref, rc, e);
     }
     if (rc) {
         particles_destroy(&p);
@@ -225,6 +262,7 @@ static int impact_read(struct cfg_obj *root, const struct case_common *common, v
         free(c);
         return rc;
     }
+    c->n_flyer = nflyer;
     rc = dpd_build(&in, p, &box, common, e, &c->d);
     double v[3] = {0, 0, 0};
     v[k.axis] = k.velocity;

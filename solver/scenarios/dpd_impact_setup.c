@@ -4,6 +4,7 @@
 #include <math.h>
 #include <string.h>
 
+#include "core/halo.h"
 #include "core/lattice.h"
 #include "core/region.h"
 
@@ -41,8 +42,31 @@ int dpd_impact_keys_read(struct cfg_obj *root, struct dpd_impact_keys *k)
 
 /* Append the flyer: (100) planes of an fcc lattice continuing the target's
  * stacking below its impact face, across the target's cross-section. */
+/* Bricks: a flyer site is this rank's when its place after the gap shift
+ * lies in the brick. */
+struct flyer_keep {
+    const struct decomp *dc;
+    int axis;
+    double gap;
+};
+
+static int flyer_in_brick(const void *ctx, const double x[3])
+{
+    const struct flyer_keep *f = ctx;
+    double y[3] = {x[0], x[1], x[2]};
+    y[f->axis] -= f->gap;
+    return decomp_owns(f->dc, y);
+}
+
 int dpd_impact_add_flyer(struct particles *p, const struct dpd_bar *bar,
                          const struct dpd_impact_keys *k, double a, long *nadded, struct err *e)
+{
+    return dpd_impact_add_flyer_over(p, bar, k, a, NULL, nadded, e);
+}
+
+int dpd_impact_add_flyer_over(struct particles *p, const struct dpd_bar *bar,
+                              const struct dpd_impact_keys *k, double a, const struct halo *h,
+                              long *nadded, struct err *e)
 {
     const int ax = k->axis, t1 = (ax + 1) % 3, t2 = (ax + 2) % 3;
     const double dpl = 0.5 * a, tol = 0.25 * dpl;
@@ -79,6 +103,13 @@ int dpd_impact_add_flyer(struct particles *p, const struct dpd_bar *bar,
     if (best >= 0)
         parity = lround((p->x[3 * best + t1] - bar->face_lo[t1]) / dpl) +
                  lround((p->x[3 * best + t2] - bar->face_lo[t2]) / dpl);
+    if (h) {   /* the particle nearest the corner over every rank: the lowest distance wins */
+        double near[2] = {-bestd, 0};
+        halo_max(h, near, 1);
+        near[1] = best >= 0 && -bestd == near[0] ? (double)(parity & 1) : -1.0;
+        halo_max(h, near + 1, 1);
+        parity = near[1] > 0 ? 1 : 0;
+    }
     for (int q = 0; q < 2; q++) {
         int t = q ? t2 : t1;
         /* one spare cell on each side; the region keeps the cross-section */
@@ -91,8 +122,15 @@ int dpd_impact_add_flyer(struct particles *p, const struct dpd_bar *bar,
     for (int i = 0; i < p->n_owned; i++)
         if (p->id[i] >= next_id)
             next_id = p->id[i] + 1;
+    if (h) {   /* after the largest id of every rank */
+        double top = (double)next_id;
+        halo_max(h, &top, 1);
+        next_id = (int64_t)top;
+    }
     int n0 = p->n_owned;
-    long added = lattice_fill(&lat, cells, &box, p, 0, &next_id, e);
+    struct flyer_keep keep = {h ? &h->dc : NULL, ax, k->gap};
+    long added = lattice_fill_where(&lat, cells, &box, h ? flyer_in_brick : NULL, &keep, p, 0,
+                                    &next_id, e);
     if (added < 0)
         return ERR_RUNTIME;
     for (int i = n0; i < p->n_owned; i++) {

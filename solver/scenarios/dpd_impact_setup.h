@@ -46,6 +46,15 @@ int dpd_impact_keys_read(struct cfg_obj *root, struct dpd_impact_keys *k);
  * cross-section, with mask DPD_FLYER_BIT; *nadded gets their number. */
 int dpd_impact_add_flyer(struct particles *p, const struct dpd_bar *bar,
                          const struct dpd_impact_keys *k, double a, long *nadded, struct err *e);
+/* The same on bricks (h; NULL: as above): p holds this rank's particles,
+ * the face's stacking and the first id are taken over every rank, every
+ * rank visits every flyer site and stores those of its brick, with the
+ * ids of a serial build; *nadded gets the flyer's count over all ranks.
+ * Collective when h is given. */
+struct halo;
+int dpd_impact_add_flyer_over(struct particles *p, const struct dpd_bar *bar,
+                              const struct dpd_impact_keys *k, double a, const struct halo *h,
+                              long *nadded, struct err *e);
 
 /* A copy of the owned particles (positions, velocities, types, ids, masks,
  * image counts); NULL with e set when out of memory. */
