@@ -244,17 +244,94 @@ static void bins_free(struct bins *b)
     free(b->next);
 }
 
-/* The pairs this rank sweeps, sorted. */
+/* The pairs this rank sweeps, in the sweep's order (colour, cell, anchor
+ * id, partner id, image), without sorting the pairs themselves: the
+ * anchors are sorted by (colour, cell, id) and each anchor's partners by
+ * (id, image), which gives the same sequence, since all the pairs of an
+ * anchor share its colour and cell and no two anchors of a cell share an
+ * id.  A colour's pairs are pair[start[c] .. start[c + 1]) as local index
+ * pairs (8 bytes a pair); the free bodies' pairs (colour -1) go whole into
+ * body[], sorted by cmp_pair, for dpd_sweep_bodies. */
+struct pair_list {
+    int32_t (*pair)[2];
+    long n, cap;
+    long start[NCOLOURS + 1];
+    struct sweep_pair *body;
+    long nbody, cap_body;
+};
+
+static void pair_list_free(struct pair_list *l)
+{
+    free(l->pair);
+    free(l->body);
+    memset(l, 0, sizeof *l);
+}
+
+struct anchor {
+    double cell;
+    int64_t id;
+    int colour, a;
+};
+
+static int cmp_anchor(const void *x, const void *y)
+{
+    const struct anchor *p = x, *q = y;
+    if (p->colour != q->colour)
+        return p->colour < q->colour ? -1 : 1;
+    if (p->cell != q->cell)
+        return p->cell < q->cell ? -1 : 1;
+    return (p->id > q->id) - (p->id < q->id);
+}
+
+struct partner {
+    int64_t id;
+    uint32_t image;
+    int b, body;   /* body: a free body's pair */
+};
+
+/* (id, image) order by insertion: an anchor has a few dozen partners. */
+static void sort_partners(struct partner *q, int n)
+{
+    for (int i = 1; i < n; i++) {
+        struct partner t = q[i];
+        int j = i - 1;
+        while (j >= 0 && (q[j].id > t.id || (q[j].id == t.id && q[j].image > t.image))) {
+            q[j + 1] = q[j];
+            j--;
+        }
+        q[j + 1] = t;
+    }
+}
+
+static int grow_array(void **buf, long *cap, long need, size_t size)
+{
+    if (need <= *cap)
+        return 0;
+    long nc = *cap ? *cap : 1024;
+    while (nc < need)
+        nc *= 2;
+    void *t = realloc(*buf, (size_t)nc * size);
+    if (!t)
+        return -1;
+    *buf = t;
+    *cap = nc;
+    return 0;
+}
+
 static int collect_pairs(const struct dpd *d, const struct cell_grid *g, const double *cellf,
-                         struct sweep_pair **out, long *nout, struct err *e)
+                         struct pair_list *out, struct err *e)
 {
     const struct particles *p = d->p;
     const int ntot = p->n_owned + p->n_ghost;
     const double rd = d->set.cutoff, rd2 = rd * rd;
+    memset(out, 0, sizeof *out);
     struct bins b = {0};
     int rc = bins_build(&b, p, ntot, rd, e);
-    long n = 0, cap = 0;
-    struct sweep_pair *pairs = NULL;
+    /* the anchors: the copies whose cell this rank sweeps, the one near it */
+    struct anchor *anc = rc ? NULL : malloc((size_t)(ntot ? ntot : 1) * sizeof *anc);
+    if (!rc && !anc)
+        rc = err_nomem(e, "DPD sweep anchors");
+    long nanc = 0;
     for (int a = 0; !rc && a < ntot; a++) {
         double cell = cellf[a];
         int c[3];
@@ -267,19 +344,29 @@ static int collect_pairs(const struct dpd *d, const struct cell_grid *g, const d
             if (g->periodic[k] &&
                 !(fabs(p->x[3 * a + k] - (g->lo[k] + (c[k] + 0.5) * g->side[k])) < g->side[k]))
                 near = 0;
-        if (!near)
-            continue;
-        const int colour = colour_of(c), ba = dpd_body_of(d, a);
+        if (near)
+            anc[nanc++] = (struct anchor){cell, p->id[a], colour_of(c), a};
+    }
+    if (!rc && nanc > 1)
+        qsort(anc, (size_t)nanc, sizeof *anc, cmp_anchor);
+    struct partner *q = NULL;
+    long qcap = 0;
+    int colour = 0;
+    for (long t = 0; !rc && t < nanc; t++) {
+        const int a = anc[t].a, ba = dpd_body_of(d, a);
         const int fa = ba >= 0 && d->body[ba].kind == DPD_BODY_FREE;
-        int q[3];
+        for (; colour <= anc[t].colour; colour++)
+            out->start[colour] = out->n;
+        int qq[3];
         for (int k = 0; k < 3; k++) {
-            q[k] = (int)((p->x[3 * a + k] - b.lo[k]) / b.w[k]);
-            q[k] = q[k] < 0 ? 0 : q[k] >= b.n[k] ? b.n[k] - 1 : q[k];
+            qq[k] = (int)((p->x[3 * a + k] - b.lo[k]) / b.w[k]);
+            qq[k] = qq[k] < 0 ? 0 : qq[k] >= b.n[k] ? b.n[k] - 1 : qq[k];
         }
+        int nq = 0;
         for (int dz = -1; dz <= 1 && !rc; dz++)
             for (int dy = -1; dy <= 1 && !rc; dy++)
                 for (int dx = -1; dx <= 1 && !rc; dx++) {
-                    int r[3] = {q[0] + dx, q[1] + dy, q[2] + dz};
+                    int r[3] = {qq[0] + dx, qq[1] + dy, qq[2] + dz};
                     if (r[0] < 0 || r[1] < 0 || r[2] < 0 || r[0] >= b.n[0] || r[1] >= b.n[1] ||
                         r[2] >= b.n[2])
                         continue;
@@ -297,15 +384,9 @@ static int collect_pairs(const struct dpd *d, const struct cell_grid *g, const d
                                                      d->body[bb].kind != DPD_BODY_FREE)))
                             continue;
                         int fb = bb >= 0 && d->body[bb].kind == DPD_BODY_FREE;
-                        if (n == cap) {
-                            long nc = cap ? 2 * cap : 4096;
-                            struct sweep_pair *t = realloc(pairs, (size_t)nc * sizeof *t);
-                            if (!t) {
-                                rc = err_nomem(e, "DPD sweep pairs");
-                                break;
-                            }
-                            pairs = t;
-                            cap = nc;
+                        if (grow_array((void **)&q, &qcap, nq + 1, sizeof *q)) {
+                            rc = err_nomem(e, "DPD sweep pairs");
+                            break;
                         }
                         uint32_t code = 0;
                         for (int k = 0; k < 3; k++)
@@ -314,21 +395,42 @@ static int collect_pairs(const struct dpd *d, const struct cell_grid *g, const d
                                                (dpd_copy_shift(p, a, k) - p->image[3 * a + k]) +
                                                512) &
                                               1023);
-                        pairs[n++] = (struct sweep_pair){p->id[a], p->id[j], cell,
-                                                         fa || fb ? -1 : colour, code, a, j};
+                        q[nq++] = (struct partner){p->id[j], code, j, fa || fb};
                     }
                 }
+        if (rc)
+            break;
+        sort_partners(q, nq);
+        for (int k = 0; k < nq; k++) {
+            if (q[k].body) {
+                if (grow_array((void **)&out->body, &out->cap_body, out->nbody + 1,
+                               sizeof *out->body)) {
+                    rc = err_nomem(e, "DPD sweep pairs");
+                    break;
+                }
+                out->body[out->nbody++] = (struct sweep_pair){anc[t].id, q[k].id, anc[t].cell, -1,
+                                                              q[k].image, a, q[k].b};
+                continue;
+            }
+            if (grow_array((void **)&out->pair, &out->cap, out->n + 1, sizeof *out->pair)) {
+                rc = err_nomem(e, "DPD sweep pairs");
+                break;
+            }
+            out->pair[out->n][0] = a;
+            out->pair[out->n][1] = q[k].b;
+            out->n++;
+        }
     }
+    for (; colour <= NCOLOURS; colour++)
+        out->start[colour] = out->n;
+    free(q);
+    free(anc);
     bins_free(&b);
-    if (rc) {
-        free(pairs);
-        return rc;
-    }
-    if (n > 1)
-        qsort(pairs, (size_t)n, sizeof *pairs, cmp_pair);
-    *out = pairs;
-    *nout = n;
-    return 0;
+    if (!rc && out->nbody > 1)
+        qsort(out->body, (size_t)out->nbody, sizeof *out->body, cmp_pair);
+    if (rc)
+        pair_list_free(out);
+    return rc;
 }
 
 /* The touched copies' velocities (and internal energies) to their owners,
@@ -449,45 +551,42 @@ int dpd_sweep_cells(struct dpd *d, struct err *e)
     ghost_update_velocities(p);
     if (u)
         ghost_forward(p, u, 1);
-    struct sweep_pair *pairs = NULL;
-    long npairs = 0;
-    int rc = collect_pairs(d, &g, buf, &pairs, &npairs, e);
+    struct pair_list pl;
+    int rc = collect_pairs(d, &g, buf, &pl, e);
     /* a failure on one rank must not leave the others waiting in a sync */
     int failed = p->halo ? halo_any(p->halo, rc != 0) : rc != 0;
     if (failed) {
         free(buf);
         free(touched);
-        free(pairs);
+        pair_list_free(&pl);
         return rc ? rc : err_set(e, ERR_RUNTIME, "stopped: another MPI rank failed");
     }
-    /* the free bodies' pairs (colour -1, sorted first), swept apart in one
-     * global order (dpd_sweep_bodies.h) */
-    long k = 0;
+    /* the free bodies' pairs, swept apart in one global order
+     * (dpd_sweep_bodies.h) */
     double bimp[DPD_MAX_BODIES][3] = {{0}};
     if (free_bodies) {
-        while (k < npairs && pairs[k].colour < 0)
-            k++;
-        struct dpd_body_pair *rec = malloc((size_t)(k ? k : 1) * sizeof *rec);
+        long nb = pl.nbody;
+        struct dpd_body_pair *rec = malloc((size_t)(nb ? nb : 1) * sizeof *rec);
         rc = rec ? 0 : err_nomem(e, "DPD body pairs");
         if (p->halo && halo_any(p->halo, rc != 0) && !rc)
             rc = err_set(e, ERR_RUNTIME, "stopped: another MPI rank failed");
-        for (long q = 0; !rc && q < k; q++)
-            body_record(d, pairs + q, prefix, u, rec + q);
+        for (long q = 0; !rc && q < nb; q++)
+            body_record(d, pl.body + q, prefix, u, rec + q);
         if (!rc)
-            rc = dpd_sweep_bodies(d, &ou, rec, k, bimp, e);
+            rc = dpd_sweep_bodies(d, &ou, rec, nb, bimp, e);
         free(rec);
         if (rc) {
             free(buf);
             free(touched);
-            free(pairs);
+            pair_list_free(&pl);
             return rc;
         }
     }
     for (int colour = 0; colour < NCOLOURS; colour++) {
-        for (; k < npairs && pairs[k].colour == colour; k++) {
+        for (long k = pl.start[colour]; k < pl.start[colour + 1]; k++) {
             if (rc)
                 continue;
-            int a = pairs[k].a, b = pairs[k].b;
+            int a = pl.pair[k][0], b = pl.pair[k][1];
             double dx = p->x[3 * a] - p->x[3 * b], dy = p->x[3 * a + 1] - p->x[3 * b + 1],
                    dz = p->x[3 * a + 2] - p->x[3 * b + 2];
             double r2 = dx * dx + dy * dy + dz * dz;
@@ -536,7 +635,7 @@ int dpd_sweep_cells(struct dpd *d, struct err *e)
     }
     free(buf);
     free(touched);
-    free(pairs);
+    pair_list_free(&pl);
     /* the prescribed bodies' impulses of every rank's cells; the free
      * bodies' are the same on every rank already */
     if (p->halo && d->nbodies)
