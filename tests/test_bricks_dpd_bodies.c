@@ -217,11 +217,10 @@ Test(bricks_dpd_bodies, impact_checkpoint_moves_between_rank_counts, .timeout = 
  * (docs/parallel.md), so on 2 ranks each rank's peak RSS
  * (parallel.peak_rss_mib_per_rank) stays below the serial run's
  * (timing.peak_rss_mib, sweeping in list order, a serial run's default):
- * a 40 x 16 x 16-cell bar, 40,960 particles and the flyer, with its
- * reference run, 3 steps.  When every rank built the
- * whole bar and the sweep stored and sorted 40-byte pair records the
- * ranks peaked at 79.4 / 100.9 MiB against 70.2 serially (release build);
- * now 62.7 / 60.5. */
+ * a 60 x 20 x 20-cell bar, 96,000 particles and the flyer, with its
+ * reference run, 2 steps.  When the sweep stored and sorted 40-byte pair
+ * records a rank peaked at 167.7 MiB against 142.6 serially (default
+ * build); now 112.3 against 142.3. */
 Test(bricks_dpd_bodies, impact_ranks_peak_below_the_serial_run, .timeout = 900)
 {
     th_write_temp(2, "cg.yaml", PARAMS);
