@@ -5,7 +5,10 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/halo.h"
 #include "core/units.h"
+#include "core/velocity.h"
+#include "scenarios/dpd_bar.h"
 #include "scenarios/dpd_setup.h"
 #include "input/md_system.h"
 
@@ -26,6 +29,20 @@ static int read_tensile(struct cfg_obj *root, struct dpd_tensile *k)
     return cfg_close(&o);
 }
 
+/* The bricks of the box the system builder has just sized (md_system_split):
+ * the DPD bricks with the cell sweep's reach. */
+struct tensile_plan {
+    const struct dpd_input *in;
+    const struct case_common *common;
+    struct cfg *cfg;
+};
+
+static int tensile_plan_bricks(void *ctx, const struct box *b, struct halo **out)
+{
+    const struct tensile_plan *pl = ctx;
+    return dpd_bricks_plan(pl->in, b, pl->common, pl->cfg, 1, out);
+}
+
 int dpd_tensile_read(struct cfg_obj *root, const struct case_common *common, struct dpd *d,
                      struct dpd_tensile *t, struct halo **halo, int sweep)
 {
@@ -34,9 +51,31 @@ int dpd_tensile_read(struct cfg_obj *root, const struct case_common *common, str
     struct md_system_info info;
     struct dpd_input in;
     memset(t, 0, sizeof *t);
-    int rc = md_system_read(root, common->seed, &p, &box, &info);
-    if (!rc)
+    /* With the sweep (dpd_tensile) the bricks are planned on the box, so
+     * each rank builds (a lattice) or receives (a file) only its brick's
+     * particles: the dpd section first, its ranges size the bricks.  The
+     * grid-carried rod plans on the rod's extent (dpd_bricks_plan_box),
+     * known only once the whole rod is built. */
+    int split = sweep && halo;
+    struct halo *mine = NULL;
+    int rc;
+    if (split) {
         rc = dpd_section_read(root, DPD_ENERGY, &in);
+        struct tensile_plan plan = {&in, common, root->cfg};
+        struct md_system_split sp = {tensile_plan_bricks, &plan, 0, common->par};
+        if (!rc)
+            rc = md_system_read_split(root, common->seed, root->cfg->shallow ? NULL : &sp, &p,
+                                      &box, &info, &mine);
+    } else {
+        rc = md_system_read(root, common->seed, &p, &box, &info);
+        if (!rc)
+            rc = dpd_section_read(root, DPD_ENERGY, &in);
+    }
+    if (mine) {
+        *halo = mine;
+        p->halo = mine;
+        p->par = NULL;   /* no replicated sums: each rank owns its brick */
+    }
     if (!rc)
         rc = read_tensile(root, t);
     int axis = t->axis;
@@ -51,7 +90,7 @@ int dpd_tensile_read(struct cfg_obj *root, const struct case_common *common, str
     struct err *e = root->cfg->err;
     double a = t->a > 0 ? t->a : in.prm.lattice_constant, v = t->v;
     struct dpd_bar *bar = &t->bar;
-    dpd_bar_measure(p, 0, 0.5 * a, bar);
+    dpd_bar_measure_over(p, 0, 0.5 * a, mine, bar);   /* over every rank's particles */
     t->L0 = bar->extent[axis];
     if (!(2 * t->grip < bar->face_hi[axis] - bar->face_lo[axis])) {
         particles_destroy(&p);
@@ -69,7 +108,12 @@ int dpd_tensile_read(struct cfg_obj *root, const struct case_common *common, str
         else if (x > hi_cut)
             p->mask[i] |= DPD_GRIP_HI_BIT;
     }
-    rc = dpd_init_velocities(&in, p, common, e);
+    /* the k-th Maxwell draw to the k-th id of all ranks: the serial
+     * velocities (to round-off on bricks, bitwise serially) */
+    for (int k = 0; k < p->ntypes; k++)
+        p->mass[k] = in.prm.mass;
+    if (in.t_init > 0)
+        rc = velocity_maxwell_split(p, in.t_init, common->seed, 1u, mine, e);
     if (rc) {
         particles_destroy(&p);
         return rc;
@@ -79,13 +123,20 @@ int dpd_tensile_read(struct cfg_obj *root, const struct case_common *common, str
         for (int i = 0; i < p->n_owned; i++)
             p->v[3 * i + axis] += v * (2 * p->x[3 * i + axis] - xlo - xhi) / (xhi - xlo);
     }
-    /* bricks: each rank keeps its brick's particles, drawn and marked over
-     * all of them (the grid-carried rod has no sweep, and is planned on
-     * the rod's extent: dpd_bricks_plan_box) */
-    struct box plan = box;
-    if (!sweep)
-        dpd_bricks_plan_box(&box, p, 0, in.skin, &plan);
-    if (halo && (rc = dpd_bricks(&in, &plan, p, common, root->cfg, sweep, halo))) {
+    /* bricks: a split build keeps what each rank built (a particle a
+     * displacement moved just out of its brick migrates at the first list
+     * build); otherwise each rank keeps its brick's particles, drawn and
+     * marked over all of them (the grid-carried rod has no sweep, and is
+     * planned on the rod's extent: dpd_bricks_plan_box) */
+    if (mine) {
+        rc = halo_adopt(mine, p, 0, e);
+    } else if (halo) {
+        struct box plan = box;
+        if (!sweep)
+            dpd_bricks_plan_box(&box, p, 0, in.skin, &plan);
+        rc = dpd_bricks(&in, &plan, p, common, root->cfg, sweep, halo);
+    }
+    if (rc) {
         particles_destroy(&p);
         return rc;
     }
