@@ -746,17 +746,16 @@ static int migrate(struct mpm_bricks *b, struct mpm *m, long *moved, struct err 
     return mpm_bricks_agree(b, rc, e);
 }
 
-/* The node sums of a whole grid: a hierarchical grid on more than one
- * rank exchanges only its shared nodes (mpm_shared.h; a rigid body's mark
- * taken as a maximum, its reaction counted on the nodes a rank is the
- * lowest toucher of); otherwise (a uniform grid of fixed owners, or one
- * rank) every node is reduced (whole_sum). */
+/* The node sums of a whole grid: on more than one rank only the shared
+ * nodes are exchanged (mpm_shared.h; a rigid body's mark taken as a
+ * maximum, its reaction counted on the nodes a rank is the lowest toucher
+ * of); on one rank every node is "reduced" (whole_sum, nothing to send). */
 static int whole_sums_init(struct mpm_bricks *b, const struct mpm *m, struct err *e)
 {
     b->rigid = 0;
     for (int k = 0; k < m->nbody; k++)
         b->rigid |= m->body[k].rigid != 0;
-    if (!b->par || b->par->size < 2 || !m->grid.hg) {   /* whole_sum: all nodes */
+    if (!b->par || b->par->size < 2) {   /* whole_sum: all nodes */
         if (!b->rigid)
             return 0;
         b->wbuf = malloc((size_t)(m->grid.nnodes > 0 ? m->grid.nnodes : 1) * sizeof *b->wbuf);

@@ -58,9 +58,10 @@
  * partition of the points gives the same node sums; the handshake deals
  * its points out by the MD's bricks (couple/handshake_bricks.h), so that a
  * point and its MD copy mostly share a rank.  A uniform grid of fixed
- * owners (the handshake bars' grids) has its nodes summed over all ranks
- * by one reduction (parallel_sum), as the hierarchical grid was before its
- * shared-node sums: 64 bytes a node per step (+32 with MUSL).
+ * owners (the handshake bars' grids) exchanges its shared nodes' sums as
+ * a hierarchical one does (its touched nodes are its particles' stencils);
+ * until 2026-11-28 it summed every node over all ranks by one reduction,
+ * 64 bytes a node per step (+32 with MUSL).
  *
  * Extra particle sets (the couplings) are not decomposed here: each rank
  * maps its own extra particles, which a whole grid's reduction adds up.
@@ -100,9 +101,8 @@ struct mpm_bricks {
                                      quantiles (mpm_bricks_shift_cuts, before the points
                                      are made) */
     int whole;                    /* every rank holds the grid whole (no patch, no
-                                     links): a hierarchical grid exchanges its shared
-                                     nodes' sums, a fixed-owner uniform one reduces
-                                     all nodes */
+                                     links): on more than one rank it exchanges its
+                                     shared nodes' sums (mpm_shared.h) */
     int fixed;                    /* whole, and the points never migrate (the caller
                                      dealt them out: mpm_bricks_create_fixed) */
     int rigid;                    /* whole: some body is rigid (the nodes' aux is reduced

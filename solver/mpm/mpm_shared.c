@@ -11,6 +11,7 @@
 #include "core/parallel.h"
 #include "mpm/mpm.h"
 #include "mpm/mpm_hgrid.h"
+#include "mpm/mpm_view.h"
 
 #define MARK_TOUCHED 1u
 #define MARK_SHARED 2u
@@ -80,7 +81,20 @@ static void mark_touched(struct mpm_shared *s, const struct mpm *m)
     const struct mpm_hgrid *hg = m->grid.hg;
     memset(s->cell_mark, 0, (size_t)s->ncell);
     memset(s->node_mark, 0, (size_t)s->nnodes);
-    for (int k = 0; k <= m->nextra; k++) {
+    if (!hg) {   /* a uniform grid: each particle's stencil, from its position */
+        struct mpm_view views[1 + MPM_MAX_EXTRA];
+        int nv = mpm_views((struct mpm *)m, views);   /* read only */
+        const int kind = mpm_stencil_kind(&m->grid);
+        for (int k = 0; k < nv; k++)
+            for (long i = 0; i < views[k].n; i++) {
+                struct mpm_stencil st;
+                mpm_stencil_at(m, &views[k], i, kind, &st);
+                for (int q = 0; q < st.n; q++)
+                    if (st.node[q] >= 0 && st.node[q] < s->nnodes)
+                        s->node_mark[st.node[q]] = MARK_TOUCHED;
+            }
+    }
+    for (int k = 0; hg && k <= m->nextra; k++) {
         long n = k == 0 ? m->pts.n : m->extra[k - 1]->n;
         const int32_t *cell = m->bins[k].cell;
         if (!cell)

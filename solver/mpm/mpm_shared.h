@@ -1,6 +1,7 @@
 /*
- * mpm_shared: the node sums of a hierarchical grid held whole on every
- * rank (mpm_bricks.h, `whole`), exchanged only where ranks share nodes.
+ * mpm_shared: the node sums of a grid held whole on every rank
+ * (mpm_bricks.h, `whole`: a hierarchical grid, or the uniform grid of a
+ * handshake bar), exchanged only where ranks share nodes.
  *
  * After a particle-to-grid pass each rank holds partial sums on the nodes
  * of the cells its particles (its material points and its extra sets) lie
