@@ -339,6 +339,13 @@ Test(bricks_mpm, no_rank_holds_the_whole_set_of_points, .timeout = 600)
                 "restarted on 2 ranks %.1f MiB",
                 serial, rank, restarted);
     cr_assert_gt(serial, 0);
+#if defined(__SANITIZE_ADDRESS__)
+    /* AddressSanitizer keeps freed memory in its quarantine (up to 256 MiB),
+     * so a peak RSS says how much a run freed, not what it held.  The runs
+     * above still ran and are compared below. */
+    cr_log_info("sanitizer build: the peak RSS bounds are not checked");
+    (void)restarted;
+#else
     cr_assert_lt(rank, serial - 3.0,
                  "peak RSS of a rank %.1f MiB, of the serial run %.1f MiB: a rank seems to "
                  "hold every point (set-up, snapshot or checkpoint)",
@@ -347,6 +354,7 @@ Test(bricks_mpm, no_rank_holds_the_whole_set_of_points, .timeout = 600)
                  "peak RSS of a restarted rank %.1f MiB, of the serial run %.1f MiB: a rank "
                  "seems to read every point",
                  restarted, serial);
+#endif
     static const char *const metrics[] = {"ke", "strain_energy", "etotal", NULL};
     thb_compare_metrics(d0, d2, metrics, REL, "memory case");
     thb_compare_metrics(d0, dr, metrics, REL, "memory case, restarted");
