@@ -59,6 +59,38 @@ static int read_block(struct ckpt *c, struct column *col, long first, long count
               : 0;
 }
 
+/* Open each column's dataset, check its length against n rows and give it
+ * a buffer of `block` rows; the first failure is returned (the columns
+ * opened so far are closed by close_columns). */
+static int open_columns(struct ckpt *c, struct column *col, int ncol, long n, long block)
+{
+    for (int q = 0; q < ncol; q++) {
+        long have = ckpt_len(c, col[q].name);
+        if (have < 0)
+            return ERR_INPUT;
+        if (have != n * col[q].ncomp) {
+            char what[96];
+            snprintf(what, sizeof what, "has %ld values, expected %ld", have, n * col[q].ncomp);
+            return where_fail(c, what, col[q].name, ERR_INPUT);
+        }
+        if ((col[q].ds = H5Dopen2(c->group, col[q].name, H5P_DEFAULT)) < 0)
+            return where_fail(c, "unreadable", col[q].name, ERR_INPUT);
+        size_t comps = (size_t)(col[q].ncomp > 0 ? col[q].ncomp : 1);
+        if (!(col[q].buf = mem_alloc((size_t)block * col[q].elem * comps)))
+            return err_nomem(c->e, "checkpoint read");
+    }
+    return 0;
+}
+
+static void close_columns(struct column *col, int ncol)
+{
+    for (int q = 0; q < ncol; q++) {
+        if (col[q].ds >= 0)
+            H5Dclose(col[q].ds);
+        free(col[q].buf);
+    }
+}
+
 /* stored particle k of the block into slot i of p */
 static void put_particle(struct particles *p, int i, struct column *col, int ncol, long k)
 {
@@ -132,21 +164,8 @@ static int get_rows(struct ckpt *c, const char *name, struct particles *p,
     long lo = nranks > 0 ? n * rank / nranks : 0;
     long hi = nranks > 0 ? n * (rank + 1) / nranks : n;
     long block = n < CKPT_READ_BLOCK ? (n > 0 ? n : 1) : CKPT_READ_BLOCK;
-    for (int q = 0; !rc && q < ncol; q++) {
-        long have = ckpt_len(c, col[q].name);
-        if (have < 0) {
-            rc = ERR_INPUT;
-        } else if (have != n * col[q].ncomp) {
-            char what[96];
-            snprintf(what, sizeof what, "has %ld values, expected %ld", have,
-                     n * col[q].ncomp);
-            rc = where_fail(c, what, col[q].name, ERR_INPUT);
-        } else if ((col[q].ds = H5Dopen2(c->group, col[q].name, H5P_DEFAULT)) < 0) {
-            rc = where_fail(c, "unreadable", col[q].name, ERR_INPUT);
-        } else if (!(col[q].buf = mem_alloc((size_t)block * col[q].elem * col[q].ncomp))) {
-            rc = err_nomem(c->e, "checkpoint read");
-        }
-    }
+    if (!rc)
+        rc = open_columns(c, col, ncol, n, block);
     particles_clear_ghosts(p);
     p->n_owned = 0;
     /* parallel: every rank takes part in as many transfers as the rank
@@ -186,11 +205,7 @@ static int get_rows(struct ckpt *c, const char *name, struct particles *p,
     }
     if (dxpl != H5P_DEFAULT)
         H5Pclose(dxpl);
-    for (int q = 0; q < ncol; q++) {
-        if (col[q].ds >= 0)
-            H5Dclose(col[q].ds);
-        free(col[q].buf);
-    }
+    close_columns(col, ncol);
     /* ids unique among the kept ones */
     int m = p->n_owned;
     int64_t *ids = rc || m == 0 ? NULL : mem_alloc((size_t)m * sizeof *ids);
@@ -233,28 +248,14 @@ int ckpt_get_columns_blocks(struct ckpt *c, const struct ckpt_col *cols, int nco
     struct column col[MAXCOL];
     const void *buf[MAXCOL];
     long block = n < CKPT_READ_BLOCK ? (n > 0 ? n : 1) : CKPT_READ_BLOCK;
-    int rc = 0;
     for (int q = 0; q < ncol; q++) {
         col[q] = (struct column){"", cols[q].memtype, H5Tget_size(cols[q].memtype), cols[q].ncomp,
                                  -1, NULL};
         snprintf(col[q].name, sizeof col[q].name, "%s", cols[q].name);
     }
-    for (int q = 0; !rc && q < ncol; q++) {
-        long have = ckpt_len(c, col[q].name);
-        if (have < 0) {
-            rc = ERR_INPUT;
-        } else if (have != n * col[q].ncomp) {
-            char what[96];
-            snprintf(what, sizeof what, "has %ld values, expected %ld", have, n * col[q].ncomp);
-            rc = where_fail(c, what, col[q].name, ERR_INPUT);
-        } else if ((col[q].ds = H5Dopen2(c->group, col[q].name, H5P_DEFAULT)) < 0) {
-            rc = where_fail(c, "unreadable", col[q].name, ERR_INPUT);
-        } else if (!(col[q].buf = mem_alloc((size_t)block * col[q].elem *
-                                            (size_t)(col[q].ncomp > 0 ? col[q].ncomp : 1)))) {
-            rc = err_nomem(c->e, "checkpoint read");
-        }
+    int rc = open_columns(c, col, ncol, n, block);
+    for (int q = 0; q < ncol; q++)
         buf[q] = col[q].buf;
-    }
     long nblocks = (n + block - 1) / block;
     hid_t dxpl = H5P_DEFAULT;
     if (c->par) {   /* every rank reads every block: the same transfers everywhere */
@@ -293,10 +294,6 @@ int ckpt_get_columns_blocks(struct ckpt *c, const struct ckpt_col *cols, int nco
     }
     if (dxpl != H5P_DEFAULT)
         H5Pclose(dxpl);
-    for (int q = 0; q < ncol; q++) {
-        if (col[q].ds >= 0)
-            H5Dclose(col[q].ds);
-        free(col[q].buf);
-    }
+    close_columns(col, ncol);
     return rc;
 }

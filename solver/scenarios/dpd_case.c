@@ -53,20 +53,6 @@ static void dpd_case_free_halo(struct dpd_case *c)
     c->halo = NULL;
 }
 
-/* The decomposition of the box the system builder has just sized
- * (md_system_split): the DPD bricks with the cell sweep's reach. */
-struct dpd_case_plan {
-    const struct dpd_input *in;
-    const struct case_common *common;
-    struct cfg *cfg;
-};
-
-static int dpd_case_plan_bricks(void *ctx, const struct box *b, struct halo **out)
-{
-    const struct dpd_case_plan *pl = ctx;
-    return dpd_bricks_plan(pl->in, b, pl->common, pl->cfg, 1, out);
-}
-
 static int dpd_case_read(struct cfg_obj *root, const struct case_common *common, void **state)
 {
     struct particles *p = NULL;
@@ -78,8 +64,8 @@ static int dpd_case_read(struct cfg_obj *root, const struct case_common *common,
      * each rank builds (a lattice) or receives (a file rank 0 read) only
      * its brick's particles */
     int rc = dpd_section_read(root, DPD_ISOTHERMAL, &in);
-    struct dpd_case_plan plan = {&in, common, root->cfg};
-    struct md_system_split split = {dpd_case_plan_bricks, &plan, 0, common->par};
+    struct dpd_split_plan plan = {&in, common, root->cfg};
+    struct md_system_split split = {dpd_split_plan_bricks, &plan, 0, common->par};
     if (!rc)
         rc = md_system_read_split(root, common->seed, root->cfg->shallow ? NULL : &split, &p,
                                   &box, &info, &halo);

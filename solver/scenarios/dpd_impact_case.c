@@ -152,20 +152,6 @@ static void impact_free_halos(struct impact_case *c)
     }
 }
 
-/* The bricks of the box the system builder has just sized (md_system_split):
- * the DPD bricks with the cell sweep's reach. */
-struct impact_plan {
-    const struct dpd_input *in;
-    const struct case_common *common;
-    struct cfg *cfg;
-};
-
-static int impact_plan_bricks(void *ctx, const struct box *b, struct halo **out)
-{
-    const struct impact_plan *pl = ctx;
-    return dpd_bricks_plan(pl->in, b, pl->common, pl->cfg, 1, out);
-}
-
 static int impact_read(struct cfg_obj *root, const struct case_common *common, void **state)
 {
     struct particles *p = NULL;
@@ -179,8 +165,8 @@ static int impact_read(struct cfg_obj *root, const struct case_common *common, v
      * each rank builds (a lattice) or receives (a file rank 0 read) only
      * its brick's target particles */
     int rc = dpd_section_read(root, DPD_ENERGY, &in);
-    struct impact_plan plan = {&in, common, root->cfg};
-    struct md_system_split split = {impact_plan_bricks, &plan, 0, common->par};
+    struct dpd_split_plan plan = {&in, common, root->cfg};
+    struct md_system_split split = {dpd_split_plan_bricks, &plan, 0, common->par};
     if (!rc)
         rc = md_system_read_split(root, common->seed, root->cfg->shallow ? NULL : &split, &p,
                                   &box, &info, &halo);

@@ -125,6 +125,12 @@ int dpd_bricks_plan(const struct dpd_input *in, const struct box *box,
     return 0;
 }
 
+int dpd_split_plan_bricks(void *ctx, const struct box *b, struct halo **out)
+{
+    const struct dpd_split_plan *pl = ctx;
+    return dpd_bricks_plan(pl->in, b, pl->common, pl->cfg, 1, out);
+}
+
 int dpd_bricks(const struct dpd_input *in, const struct box *box, struct particles *p,
                const struct case_common *common, struct cfg *cfg, int sweep,
                struct halo **out)

@@ -71,6 +71,17 @@ int dpd_bricks(const struct dpd_input *in, const struct box *box, struct particl
                const struct case_common *common, struct cfg *cfg, int sweep,
                struct halo **out);
 
+/* The plan callback of md_system_read_split (input/md_system.h) for a DPD
+ * case whose particles are built or received brick by brick: the DPD
+ * bricks of the box the builder has just sized, with the cell sweep's
+ * reach (dpd_bricks_plan with sweep).  ctx: a struct dpd_split_plan. */
+struct dpd_split_plan {
+    const struct dpd_input *in;
+    const struct case_common *common;
+    struct cfg *cfg;
+};
+int dpd_split_plan_bricks(void *ctx, const struct box *b, struct halo **out);
+
 /* The plan alone (no particle moves): *out as dpd_bricks gives it, for a
  * set-up that builds or receives only its brick's particles
  * (md_system_read_split); on the sweep's refusal *out is NULL. */

@@ -29,20 +29,6 @@ static int read_tensile(struct cfg_obj *root, struct dpd_tensile *k)
     return cfg_close(&o);
 }
 
-/* The bricks of the box the system builder has just sized (md_system_split):
- * the DPD bricks with the cell sweep's reach. */
-struct tensile_plan {
-    const struct dpd_input *in;
-    const struct case_common *common;
-    struct cfg *cfg;
-};
-
-static int tensile_plan_bricks(void *ctx, const struct box *b, struct halo **out)
-{
-    const struct tensile_plan *pl = ctx;
-    return dpd_bricks_plan(pl->in, b, pl->common, pl->cfg, 1, out);
-}
-
 int dpd_tensile_read(struct cfg_obj *root, const struct case_common *common, struct dpd *d,
                      struct dpd_tensile *t, struct halo **halo, int sweep)
 {
@@ -61,8 +47,8 @@ int dpd_tensile_read(struct cfg_obj *root, const struct case_common *common, str
     int rc;
     if (split) {
         rc = dpd_section_read(root, DPD_ENERGY, &in);
-        struct tensile_plan plan = {&in, common, root->cfg};
-        struct md_system_split sp = {tensile_plan_bricks, &plan, 0, common->par};
+        struct dpd_split_plan plan = {&in, common, root->cfg};
+        struct md_system_split sp = {dpd_split_plan_bricks, &plan, 0, common->par};
         if (!rc)
             rc = md_system_read_split(root, common->seed, root->cfg->shallow ? NULL : &sp, &p,
                                       &box, &info, &mine);
