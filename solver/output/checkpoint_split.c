@@ -239,6 +239,17 @@ int ckpt_get_particles_part(struct ckpt *c, const char *name, struct particles *
     return get_rows(c, name, p, NULL, NULL, rank, nranks);
 }
 
+/* Whether any rank's *rc is an error; this rank's becomes one too.
+ * Collective. */
+static int any_rank_failed(struct ckpt *c, int *rc, const char *name)
+{
+    int any = *rc != 0, anyall = 0;
+    MPI_Allreduce(&any, &anyall, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
+    if (anyall && !*rc)
+        *rc = where_fail(c, "stopped: another MPI rank failed to read it", name, ERR_INPUT);
+    return anyall;
+}
+
 int ckpt_get_columns_blocks(struct ckpt *c, const struct ckpt_col *cols, int ncol, long n,
                             int (*take)(void *ctx, const void *const *buf, long k), void *ctx)
 {
@@ -259,12 +270,7 @@ int ckpt_get_columns_blocks(struct ckpt *c, const struct ckpt_col *cols, int nco
     long nblocks = (n + block - 1) / block;
     hid_t dxpl = H5P_DEFAULT;
     if (c->par) {   /* every rank reads every block: the same transfers everywhere */
-        int any = rc != 0, anyall = 0;
-        MPI_Allreduce(&any, &anyall, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
-        if (anyall && !rc)
-            rc = where_fail(c, "stopped: another MPI rank failed to read it", cols[0].name,
-                            ERR_INPUT);
-        if (anyall)
+        if (any_rank_failed(c, &rc, cols[0].name))
             nblocks = 0;
         dxpl = H5Pcreate(H5P_DATASET_XFER);
         H5Pset_dxpl_mpio(dxpl, H5FD_MPIO_COLLECTIVE);
@@ -282,15 +288,8 @@ int ckpt_get_columns_blocks(struct ckpt *c, const struct ckpt_col *cols, int nco
         }
         for (long k = 0; !rc && k < count; k++)
             rc = take(ctx, buf, k);
-        if (c->par) {   /* a rank that stopped makes every rank stop */
-            int any = rc != 0, anyall = 0;
-            MPI_Allreduce(&any, &anyall, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
-            if (anyall && !rc)
-                rc = where_fail(c, "stopped: another MPI rank failed to read it", cols[0].name,
-                                ERR_INPUT);
-            if (anyall)
-                break;
-        }
+        if (c->par && any_rank_failed(c, &rc, cols[0].name))
+            break;   /* a rank that stopped makes every rank stop */
     }
     if (dxpl != H5P_DEFAULT)
         H5Pclose(dxpl);
