@@ -172,6 +172,8 @@ static void permute_cycles(void *a, size_t rec, const int32_t *list, long len)
 void mpm_points_permute(struct mpm_points *p, const int32_t *perm, double *tmp, int nthreads)
 {
     long n = p->n;
+    if (n < 2)
+        return;   /* nothing to move (and a rank of bricks may hold no point: no scratch) */
     long moved = 0;
     for (long k = 0; k < n; k++)
         moved += perm[k] != k;
