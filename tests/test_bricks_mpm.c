@@ -22,6 +22,7 @@
 
 #include "helpers/th.h"
 #include "helpers/th_bricks.h"
+#include "helpers/th_restart.h"
 
 #define REL 1e-10
 
@@ -208,6 +209,68 @@ Test(bricks_mpm, checkpoint_moves_between_rank_counts, .timeout = 900)
     const struct thb_restart cases[] = {{m2, 0, "2 to 1", NULL}, {s1, 2, "1 to 2", NULL},
                                         {m2, 4, "2 to 4", NULL}, {m2, 2, "2 to 2", m2}};
     thb_restarts_match(path, 50, cases, 4, s1, compare_impact);
+}
+
+/* A checkpoint of bricks whose checksums hold but whose values no run can
+ * have -- a NaN position, an id given twice, an unknown row order, an
+ * impossible point count -- is refused by a restart on 2 ranks, naming
+ * the file and the dataset, with exit 2. */
+Test(bricks_mpm, restart_refuses_impossible_checkpoint_values, .timeout = 600)
+{
+    char yaml[4096];
+    snprintf(yaml, sizeof yaml, "%s", impact_yaml);
+    char *o = strstr(yaml, "output: {");
+    cr_assert(o);
+    snprintf(o, sizeof yaml - (size_t)(o - yaml),
+             "output: {thermo_every: 10, checkpoint_every: 80}\n"
+             "parallel: {decomposition: bricks}\n");
+    const char *path = write_case("bad-ck.yaml", yaml);
+    char run[600], ck[700];
+    snprintf(run, sizeof run, "%s/bad-ck-2", th_temp_dir());
+    thb_must_run(path, 2, run, NULL);
+    snprintf(ck, sizeof ck, "%s/checkpoint-%010d.h5", run, 80);
+    double nan = NAN;
+    int64_t id = 0, order = 7, count = -5;
+    {   /* the second stored point's id, to give the first the same */
+        hid_t h = H5Fopen(ck, H5F_ACC_RDONLY, H5P_DEFAULT);
+        cr_assert_geq(h, 0, "%s", ck);
+        hid_t ds = H5Dopen2(h, "/model/mpm/points/id", H5P_DEFAULT);
+        int64_t two[2];
+        hid_t fs = H5Dget_space(ds);
+        hsize_t start[1] = {0}, cnt[1] = {2};
+        H5Sselect_hyperslab(fs, H5S_SELECT_SET, start, NULL, cnt, NULL);
+        hid_t ms = H5Screate_simple(1, cnt, NULL);
+        cr_assert_geq(H5Dread(ds, H5T_NATIVE_INT64, ms, fs, H5P_DEFAULT, two), 0);
+        H5Sclose(ms);
+        H5Sclose(fs);
+        H5Dclose(ds);
+        H5Fclose(h);
+        cr_assert_neq(two[0], two[1]);
+        id = two[1];
+    }
+    static const struct {
+        const char *name, *dataset, *want;
+    } bad[] = {
+        {"nan", "/model/mpm/points/x", "checkpoint model/mpm/points/x/x0/v: a non-finite position"},
+        {"dup", "/model/mpm/points/id", "given twice"},
+        {"order", "/model/mpm/points/order", "checkpoint model/mpm/points/order: 7 is no row order"},
+        {"count", "/model/mpm/points/n", "checkpoint model/mpm/points/n: impossible point count -5"},
+    };
+    const void *val[] = {&nan, &id, &order, &count};
+    const long type[] = {(long)H5T_NATIVE_DOUBLE, (long)H5T_NATIVE_INT64, (long)H5T_NATIVE_INT64,
+                         (long)H5T_NATIVE_INT64};
+    for (int k = 0; k < 4; k++) {
+        char dir[700], file[800], out[16384];
+        snprintf(dir, sizeof dir, "%s/bad-ck-%s", th_temp_dir(), bad[k].name);
+        snprintf(file, sizeof file, "%s/checkpoint-%010d.h5", dir, 80);
+        cr_assert_eq(thb_mkdir_copy(ck, dir, file), 0);
+        th_ckpt_poke(file, bad[k].dataset, type[k], val[k]);
+        const char *extra[] = {"--restart", NULL};
+        int rc = thb_run(path, 2, dir, extra, out, sizeof out);
+        cr_assert_eq(rc, 2, "%s: exit %d: %s", bad[k].name, rc, out);
+        cr_assert(strstr(out, "checkpoint-0000000080.h5") && strstr(out, bad[k].want),
+                  "%s: %s", bad[k].name, out);
+    }
 }
 
 /* Bricks thinner than 4 cells are refused naming the case file, line and

@@ -228,25 +228,6 @@ Test(restart, checkpoint_setting_and_the_job_key)
     cr_assert_str_neq(k0, k2);
 }
 
-/* Overwrite element k of a dataset of a checkpoint through HDF5 (the
- * checksum is recomputed: the file is valid, its values are not). */
-static void poke(const char *file, const char *dataset, hid_t memtype, const void *value)
-{
-    hid_t h = H5Fopen(file, H5F_ACC_RDWR, H5P_DEFAULT);
-    cr_assert_geq(h, 0, "%s", file);
-    hid_t ds = H5Dopen2(h, dataset, H5P_DEFAULT);
-    cr_assert_geq(ds, 0, "%s: %s", file, dataset);
-    hid_t fs = H5Dget_space(ds);
-    hsize_t start[1] = {0}, count[1] = {1};
-    H5Sselect_hyperslab(fs, H5S_SELECT_SET, start, NULL, count, NULL);
-    hid_t ms = H5Screate_simple(1, count, NULL);
-    cr_assert_geq(H5Dwrite(ds, memtype, ms, fs, H5P_DEFAULT, value), 0);
-    H5Sclose(ms);
-    H5Sclose(fs);
-    H5Dclose(ds);
-    H5Fclose(h);
-}
-
 /* A checkpoint whose checksums hold but whose values no run can have: a
  * NaN position, a duplicated atom id.  Each is refused naming the file
  * and the dataset. */
@@ -268,9 +249,9 @@ Test(restart, refuses_nonfinite_and_duplicate_values_in_a_checkpoint)
     }
     free(bytes);
     double nan = NAN;
-    poke(copy[0], "/model/md/atoms/x", H5T_NATIVE_DOUBLE, &nan);
+    th_ckpt_poke(copy[0], "/model/md/atoms/x", H5T_NATIVE_DOUBLE, &nan);
     int64_t id2 = 2;   /* the first stored atom (not id 2 in this run) takes id 2 */
-    poke(copy[1], "/model/md/atoms/id", H5T_NATIVE_INT64, &id2);
+    th_ckpt_poke(copy[1], "/model/md/atoms/id", H5T_NATIVE_INT64, &id2);
     int rc = th_restart_solve("nan", path, NULL, copy[0], msg, sizeof msg);
     cr_assert_eq(rc, 2, "%s", msg);
     cr_assert(strstr(msg, "nan.h5: checkpoint model/md/atoms/x/v/f: a non-finite position"), "%s",

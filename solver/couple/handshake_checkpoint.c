@@ -31,10 +31,9 @@ static int put_points(struct ckpt *ck, const struct mpm_points *pt, long n, int 
  * rank order. */
 static int get_points_header(struct ckpt *ck, const struct mpm_points *pt, long *n, int *by_rank)
 {
-    long nstate = 0, order = 0;
-    int rc = ckpt_get_long(ck, "points", n);
+    long nstate = 0;
+    int rc = mpm_ckpt_get_count(ck, "points", n, by_rank);
     if (!rc) rc = ckpt_get_long(ck, "nstate", &nstate);
-    if (!rc && ckpt_has(ck, "order")) rc = ckpt_get_long(ck, "order", &order);
     if (!rc && nstate != pt->nstate)
         rc = err_set(ck->e, ERR_INPUT,
                      "%s: checkpoint has material points with %ld state variables, the case's "
@@ -44,7 +43,6 @@ static int get_points_header(struct ckpt *ck, const struct mpm_points *pt, long 
     if (!rc && nf != (pt->fext ? 3 * *n : 0))
         rc = err_set(ck->e, ERR_INPUT, "%s: checkpoint %s point loads do not match the case's",
                      ck->path, nf > 0 ? "has" : "has no");
-    *by_rank = order == 1;
     return rc;
 }
 

@@ -130,19 +130,17 @@ static int put_points_header(struct ckpt *ck, const struct mpm_points *p, long n
  * and loads; *n the stored count, *by_rank whether a reader sorts by id. */
 static int get_points_header(struct ckpt *ck, const struct mpm_points *p, long *n, int *by_rank)
 {
-    long nstate = 0, has_fext = 0, order = 0;
+    long nstate = 0, has_fext = 0;
     int rc = ckpt_enter(ck, "model/mpm/points");
-    if (!rc) rc = ckpt_get_long(ck, "n", n);
+    if (!rc) rc = mpm_ckpt_get_count(ck, "n", n, by_rank);
     if (!rc) rc = ckpt_get_long(ck, "nstate", &nstate);
     if (!rc) rc = ckpt_get_long(ck, "has_fext", &has_fext);
-    if (!rc && ckpt_has(ck, "order")) rc = ckpt_get_long(ck, "order", &order);
-    if (!rc && (*n < 0 || nstate != p->nstate || (has_fext != 0) != (p->fext != NULL)))
+    if (!rc && (nstate != p->nstate || (has_fext != 0) != (p->fext != NULL)))
         rc = err_set(ck->e, ERR_INPUT,
                      "%s: checkpoint has %ld material points with %ld state variables%s, the "
                      "case's points have %d%s",
                      ck->path, *n, nstate, has_fext ? " and loads" : "", p->nstate,
                      p->fext ? " and loads" : "");
-    *by_rank = order == 1;
     return rc;
 }
 
@@ -158,29 +156,17 @@ static int get_points(struct ckpt *ck, struct mpm *m, struct err *e)
     if (!rc && n != p->n)
         return err_set(ck->e, ERR_INPUT, "%s: checkpoint has %ld material points, the case builds %ld",
                        ck->path, n, p->n);
-    struct ckpt_col col[MPM_CKPT_COLUMNS];
-    int ncol = mpm_ckpt_columns(p, 0, col);
-    void *dst[MPM_CKPT_COLUMNS];
-    for (int q = 0; q < ncol; q++)
-        dst[q] = (void *)col[q].data;
-    for (int q = 0; !rc && q < ncol; q++) {
-        long len = (long)col[q].ncomp * n;
-        if (col[q].memtype == H5T_NATIVE_DOUBLE)
-            rc = ckpt_get_doubles(ck, col[q].name, dst[q], len);
-        else if (col[q].memtype == H5T_NATIVE_INT32)
-            rc = ckpt_get_ints(ck, col[q].name, dst[q], len);
-        else if (col[q].memtype == H5T_NATIVE_INT64)
-            rc = ckpt_get_i64(ck, col[q].name, dst[q], len);
-        else
-            rc = ckpt_get_u32(ck, col[q].name, dst[q], len);
-    }
-    for (long i = 0; !rc && i < n; i++)
-        if (p->body[i] < 0 || p->body[i] >= m->nbody)
-            rc = err_set(ck->e, ERR_INPUT, "%s: material point %ld of the checkpoint is in body "
-                                           "%d; the case has %d bodies",
-                         ck->path, i, (int)p->body[i], m->nbody);
+    long want = p->n;
+    p->n = 0;
+    if (!rc)
+        rc = mpm_ckpt_get_points_where(ck, n, p, 0, m->nbody, NULL, NULL);
+    if (!rc)
+        rc = mpm_ckpt_check_ids(ck, p);
     if (!rc && by_rank)
         rc = mpm_bricks_sort_by_id(NULL, m, e);
+    if (rc)
+        p->n = want;
+    mpm_points_moved(m);
     return rc;
 }
 
@@ -208,6 +194,8 @@ static int get_points_bricks(struct ckpt *ck, struct mpm_model *mm, struct err *
     m->pts.n = 0;
     if (!rc)
         rc = mpm_ckpt_get_points_where(ck, n, &m->pts, 0, m->nbody, in_my_brick, &mine);
+    if (!rc)   /* within a rank; the count over the ranks below */
+        rc = mpm_ckpt_check_ids(ck, &m->pts);
     mpm_points_moved(m);
     rc = mpm_bricks_agree(mm->bricks, rc, e);
     if (!rc && mpm_bricks_npoints(mm->bricks, m) != n)

@@ -1,6 +1,8 @@
 /* mpm_checkpoint: material points in a checkpoint (mpm_checkpoint.h). */
 #include "output/mpm_checkpoint.h"
 
+#include <math.h>
+#include <stdlib.h>
 #include <string.h>
 
 int mpm_ckpt_columns(const struct mpm_points *p, int fext_always, struct ckpt_col *col)
@@ -47,6 +49,17 @@ static int take_point(void *ctx, const void *const *buf, long k)
         return err_set(t->ck->e, ERR_INPUT, "%s: material point %ld of the checkpoint is in "
                                             "body %d; the case has %d bodies",
                        t->ck->path, row, body, t->nbody);
+    if (id < 1)
+        return err_set(t->ck->e, ERR_INPUT, "%s: checkpoint %s/id: material point %ld has id "
+                                            "%lld, below 1",
+                       t->ck->path, t->ck->where, row, (long long)id);
+    for (int q = 0; q < 3; q++)   /* x, x0, v */
+        for (int d = 0; d < 3; d++)
+            if (!isfinite(((const double *)buf[q])[3 * k + d]))
+                return err_set(t->ck->e, ERR_INPUT, "%s: checkpoint %s/x/x0/v: a non-finite "
+                                                    "position or velocity (material point id "
+                                                    "%lld)",
+                               t->ck->path, t->ck->where, (long long)id);
     if (t->keep && !t->keep(t->ctx, x, id))
         return 0;
     if (p->n >= p->cap && mpm_points_reserve(p, p->cap > 0 ? 2 * p->cap : 1024, t->ck->e))
@@ -62,6 +75,47 @@ static int take_point(void *ctx, const void *const *buf, long k)
                (const unsigned char *)buf[q] + bytes * (size_t)k, bytes);
     }
     return 0;
+}
+
+int mpm_ckpt_get_count(struct ckpt *ck, const char *count_name, long *n, int *by_rank)
+{
+    long order = 0;
+    int rc = ckpt_get_long(ck, count_name, n);
+    if (!rc && ckpt_has(ck, "order"))
+        rc = ckpt_get_long(ck, "order", &order);
+    if (!rc && (*n < 0 || *n > 2000000000L))
+        rc = err_set(ck->e, ERR_INPUT, "%s: checkpoint %s/%s: impossible point count %ld",
+                     ck->path, ck->where, count_name, *n);
+    if (!rc && order != 0 && order != 1)
+        rc = err_set(ck->e, ERR_INPUT, "%s: checkpoint %s/order: %ld is no row order (0: memory "
+                                       "order, 1: rank order)",
+                     ck->path, ck->where, order);
+    *by_rank = order == 1;
+    return rc;
+}
+
+static int cmp_id(const void *a, const void *b)
+{
+    int64_t x = *(const int64_t *)a, y = *(const int64_t *)b;
+    return (x > y) - (x < y);
+}
+
+int mpm_ckpt_check_ids(struct ckpt *ck, const struct mpm_points *p)
+{
+    if (p->n < 2)
+        return 0;
+    int64_t *ids = malloc((size_t)p->n * sizeof *ids);
+    if (!ids)
+        return err_nomem(ck->e, "checkpoint ids");
+    memcpy(ids, p->id, (size_t)p->n * sizeof *ids);
+    qsort(ids, (size_t)p->n, sizeof *ids, cmp_id);
+    int rc = 0;
+    for (long i = 1; !rc && i < p->n; i++)
+        if (ids[i] == ids[i - 1])
+            rc = err_set(ck->e, ERR_INPUT, "%s: checkpoint %s/id: id %lld given twice",
+                         ck->path, ck->where, (long long)ids[i]);
+    free(ids);
+    return rc;
 }
 
 int mpm_ckpt_get_points_where(struct ckpt *ck, long n, struct mpm_points *p, int fext_always,

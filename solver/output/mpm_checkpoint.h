@@ -36,4 +36,13 @@ int mpm_ckpt_get_points_where(struct ckpt *ck, long n, struct mpm_points *p, int
                               int nbody, int (*keep)(const void *ctx, const double x[3], int64_t id),
                               const void *ctx);
 
+/* The group's stored point count (dataset count_name) and `order` (absent:
+ * 0) read and checked: a count below 0 or above 2e9, or an order other
+ * than 0 (memory order) and 1 (rank order), is refused naming the file and
+ * the dataset.  *by_rank: the rows are in rank order. */
+int mpm_ckpt_get_count(struct ckpt *ck, const char *count_name, long *n, int *by_rank);
+
+/* No id twice among p's points (e names the file and dataset). */
+int mpm_ckpt_check_ids(struct ckpt *ck, const struct mpm_points *p);
+
 #endif
