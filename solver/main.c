@@ -308,35 +308,15 @@ static int keep_previous_outputs(const char *out, const char *ckpt, struct err *
 
 /* Under mpirun every rank reads the same case and usually fails the same
  * way: say it once.  Every rank calls this at the same point with its own
- * rc; the lowest rank that failed prints its message (naming itself when it
- * is not rank 0: a file only some nodes see), the others stay quiet, and
- * every rank returns non-zero when any failed, so none goes on to wait for
- * the others in an exchange. */
-static int report_first_failure(const struct parallel *par, int rc, const struct err *e)
+ * rc; rank 0 prints the agreed error (the lowest rank's own, named when it
+ * is not rank 0: a file only some nodes see), and every rank returns its
+ * class, so none goes on to wait for the others in an exchange and all
+ * exit with one code. */
+static int report_first_failure(const struct parallel *par, int rc, struct err *e)
 {
-    if (par->size <= 1) {
-        if (rc)
-            fprintf(stderr, "error: %s\n", e->msg);
-        return rc;
-    }
-    long *failed = calloc((size_t)par->size, sizeof *failed);
-    if (!failed) {   /* cannot agree: each says its own */
-        if (rc)
-            fprintf(stderr, "error: rank %d: %s\n", par->rank, e->msg);
-        return rc;
-    }
-    parallel_allgather_long(par, rc != 0, failed);
-    int first = -1;
-    for (int r = 0; r < par->size && first < 0; r++)
-        if (failed[r])
-            first = r;
-    free(failed);
-    if (first == 0 && par->rank == 0)
+    rc = parallel_agree_error(par, rc, e);
+    if (rc && par->rank == 0)
         fprintf(stderr, "error: %s\n", e->msg);
-    else if (first == par->rank)
-        fprintf(stderr, "error: rank %d: %s\n", first, e->msg);
-    if (first >= 0 && !rc)
-        return ERR_RUNTIME;
     return rc;
 }
 
@@ -524,6 +504,9 @@ static int cmd_run_inner(int argc, char **argv, const struct parallel *par)
                         "docs/parallel.md)\n",
                 cr.type->name, par->size);
     rc = cr.type->run(cr.state, &run, &e);
+    /* one error for the run, whichever rank met it: rank 0 records and
+     * prints it, every rank exits with its code */
+    rc = parallel_agree_error(par, rc, &e);
     long steps = 0;
     if (run.steps_run > 0) {   /* the engine, and cases that do not run md.steps, say
                                 * how many steps this process ran */

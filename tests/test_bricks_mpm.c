@@ -230,46 +230,85 @@ Test(bricks_mpm, restart_refuses_impossible_checkpoint_values, .timeout = 600)
     thb_must_run(path, 2, run, NULL);
     snprintf(ck, sizeof ck, "%s/checkpoint-%010d.h5", run, 80);
     double nan = NAN;
-    int64_t id = 0, order = 7, count = -5;
-    {   /* the second stored point's id, to give the first the same */
+    int64_t first_dup = 0, last_dup = 0, order = 7, count = -5;
+    long nrows = 0, row_low = 0, row_high = 0;
+    {   /* two rows of points deep in rank 0's brick (x near its lowest,
+         * the cut is at mid-x) and two deep in rank 1's (near the highest),
+         * wherever the writer held them: each pair's second id is given
+         * to its first */
         hid_t h = H5Fopen(ck, H5F_ACC_RDONLY, H5P_DEFAULT);
         cr_assert_geq(h, 0, "%s", ck);
-        hid_t ds = H5Dopen2(h, "/model/mpm/points/id", H5P_DEFAULT);
-        int64_t two[2];
-        hid_t fs = H5Dget_space(ds);
-        hsize_t start[1] = {0}, cnt[1] = {2};
-        H5Sselect_hyperslab(fs, H5S_SELECT_SET, start, NULL, cnt, NULL);
-        hid_t ms = H5Screate_simple(1, cnt, NULL);
-        cr_assert_geq(H5Dread(ds, H5T_NATIVE_INT64, ms, fs, H5P_DEFAULT, two), 0);
-        H5Sclose(ms);
+        hid_t dx = H5Dopen2(h, "/model/mpm/points/x", H5P_DEFAULT);
+        hid_t di = H5Dopen2(h, "/model/mpm/points/id", H5P_DEFAULT);
+        hid_t fs = H5Dget_space(di);
+        hsize_t dim[1];
+        H5Sget_simple_extent_dims(fs, dim, NULL);
         H5Sclose(fs);
-        H5Dclose(ds);
+        nrows = (long)dim[0];
+        cr_assert_gt(nrows, 4);
+        double *x = malloc((size_t)nrows * 3 * sizeof *x);
+        int64_t *ids = malloc((size_t)nrows * sizeof *ids);
+        cr_assert(x && ids);
+        cr_assert_geq(H5Dread(dx, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, x), 0);
+        cr_assert_geq(H5Dread(di, H5T_NATIVE_INT64, H5S_ALL, H5S_ALL, H5P_DEFAULT, ids), 0);
+        H5Dclose(dx);
+        H5Dclose(di);
         H5Fclose(h);
-        cr_assert_neq(two[0], two[1]);
-        id = two[1];
+        double lo = x[0], hi = x[0];
+        for (long i = 0; i < nrows; i++) {
+            lo = fmin(lo, x[3 * i]);
+            hi = fmax(hi, x[3 * i]);
+        }
+        long low[2] = {-1, -1}, high[2] = {-1, -1};
+        for (long i = 0; i < nrows; i++) {
+            long *pick = x[3 * i] < lo + 0.1 * (hi - lo)   ? low
+                         : x[3 * i] > hi - 0.1 * (hi - lo) ? high
+                                                          : NULL;
+            if (pick && pick[1] < 0)
+                pick[pick[0] < 0 ? 0 : 1] = i;
+        }
+        cr_assert(low[1] >= 0 && high[1] >= 0);
+        row_low = low[0];
+        row_high = high[0];
+        first_dup = ids[low[1]];
+        last_dup = ids[high[1]];
+        cr_assert_neq(ids[low[0]], first_dup);
+        cr_assert_neq(ids[high[0]], last_dup);
+        free(x);
+        free(ids);
     }
+    /* The duplicate found on rank 1 alone must still be the error shown,
+     * with exit 2 from every rank (not rank 0's "another rank failed",
+     * nor exit 1 from whichever rank mpirun hears first). */
     static const struct {
-        const char *name, *dataset, *want;
+        const char *name, *dataset, *want, *also;
     } bad[] = {
-        {"nan", "/model/mpm/points/x", "checkpoint model/mpm/points/x/x0/v: a non-finite position"},
-        {"dup", "/model/mpm/points/id", "given twice"},
-        {"order", "/model/mpm/points/order", "checkpoint model/mpm/points/order: 7 is no row order"},
-        {"count", "/model/mpm/points/n", "checkpoint model/mpm/points/n: impossible point count -5"},
+        {"nan", "/model/mpm/points/x", "checkpoint model/mpm/points/x/x0/v: a non-finite position",
+         NULL},
+        {"dup", "/model/mpm/points/id", "given twice", NULL},
+        {"dup-rank-1", "/model/mpm/points/id", "given twice", "rank 1: "},
+        {"order", "/model/mpm/points/order", "checkpoint model/mpm/points/order: 7 is no row order",
+         NULL},
+        {"count", "/model/mpm/points/n", "checkpoint model/mpm/points/n: impossible point count -5",
+         NULL},
     };
-    const void *val[] = {&nan, &id, &order, &count};
+    const void *val[] = {&nan, &first_dup, &last_dup, &order, &count};
+    const long row[] = {0, row_low, row_high, 0, 0};
     const long type[] = {(long)H5T_NATIVE_DOUBLE, (long)H5T_NATIVE_INT64, (long)H5T_NATIVE_INT64,
-                         (long)H5T_NATIVE_INT64};
-    for (int k = 0; k < 4; k++) {
+                         (long)H5T_NATIVE_INT64, (long)H5T_NATIVE_INT64};
+    for (int k = 0; k < 5; k++) {
         char dir[700], file[800], out[16384];
         snprintf(dir, sizeof dir, "%s/bad-ck-%s", th_temp_dir(), bad[k].name);
         snprintf(file, sizeof file, "%s/checkpoint-%010d.h5", dir, 80);
         cr_assert_eq(thb_mkdir_copy(ck, dir, file), 0);
-        th_ckpt_poke(file, bad[k].dataset, type[k], val[k]);
+        th_ckpt_poke_at(file, bad[k].dataset, type[k], row[k], val[k]);
         const char *extra[] = {"--restart", NULL};
         int rc = thb_run(path, 2, dir, extra, out, sizeof out);
         cr_assert_eq(rc, 2, "%s: exit %d: %s", bad[k].name, rc, out);
         cr_assert(strstr(out, "checkpoint-0000000080.h5") && strstr(out, bad[k].want),
                   "%s: %s", bad[k].name, out);
+        cr_assert(!bad[k].also || strstr(out, bad[k].also), "%s: %s", bad[k].name, out);
+        cr_assert(!strstr(out, "another MPI rank"), "%s: %s", bad[k].name, out);
     }
 }
 

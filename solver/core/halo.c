@@ -75,8 +75,7 @@ static void count_atoms(struct halo *h, const struct particles *p)
 static int collective_rc(const struct halo *h, int rc, struct err *e)
 {
     if (halo_any(h, rc != 0) && !rc)
-        rc = err_set(e, ERR_RUNTIME, "stopped: another MPI rank failed (its message is in its "
-                                     "own output)");
+        rc = err_set_elsewhere(e, ERR_RUNTIME, "stopped: another MPI rank failed");
     return rc;
 }
 

@@ -27,7 +27,7 @@ int halo_id_positions(const struct halo *h, const int64_t *ids, int n, long *pos
     if (sbuf && n)
         memcpy(sbuf, ids, sbytes);
     if (parallel_any(par, rc != 0) && !rc)
-        rc = err_set(e, ERR_RUNTIME, "stopped: another MPI rank failed");
+        rc = err_set_elsewhere(e, ERR_RUNTIME, "stopped: another MPI rank failed");
     int next = (par->rank + 1) % nranks, prev = (par->rank + nranks - 1) % nranks;
     for (int hop = 1; !rc && hop < nranks; hop++) {
         size_t rbytes = 0;

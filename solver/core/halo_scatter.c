@@ -24,8 +24,7 @@ struct scatter_header {
 static int agree(const struct parallel *par, int rc, struct err *e)
 {
     if (parallel_any(par, rc != 0) && !rc)
-        rc = err_set(e, ERR_RUNTIME, "stopped: another MPI rank failed (its message is in its "
-                                     "own output)");
+        rc = err_set_elsewhere(e, ERR_RUNTIME, "stopped: another MPI rank failed");
     return rc;
 }
 

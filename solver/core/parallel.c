@@ -80,6 +80,35 @@ int parallel_any(const struct parallel *par, int flag)
     return out;
 }
 
+int parallel_agree_error(const struct parallel *par, int rc, struct err *e)
+{
+    if (!par || par->size <= 1)
+        return rc;
+    /* the chosen rank by one MIN: own errors first, then the others */
+    int size = par->size;
+    int key = !rc ? 2 * size : (e && e->elsewhere) ? size + par->rank : par->rank;
+    int first = 2 * size;
+    MPI_Allreduce(&key, &first, 1, MPI_INT, MPI_MIN, MPI_COMM_WORLD);
+    if (first == 2 * size)
+        return 0;
+    int root = first % size;
+    struct {
+        int code;
+        char msg[ERR_MSG_MAX];
+    } m;
+    m.code = rc;
+    if (par->rank == root)
+        snprintf(m.msg, sizeof m.msg, "%s", e ? e->msg : "");
+    MPI_Bcast(&m, (int)sizeof m, MPI_BYTE, root, MPI_COMM_WORLD);
+    if (root == 0)
+        err_set(e, m.code, "%s", m.msg);
+    else
+        err_set(e, m.code, "rank %d: %s", root, m.msg);
+    if (e)
+        e->elsewhere = first >= size;
+    return m.code;
+}
+
 int parallel_cart(const struct parallel *par, const int dims[3], const int periodic[3],
                   int coords[3], int nbr[3][2], struct err *e)
 {

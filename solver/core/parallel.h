@@ -39,6 +39,14 @@ void parallel_range(const struct parallel *par, int n, int *lo, int *hi);
 /* 1 on every rank when flag is non-zero on any rank. */
 int parallel_any(const struct parallel *par, int flag);
 
+/* The one error of a run under MPI, agreed by every rank (collective):
+ * the lowest rank whose error is its own (not err_set_elsewhere), else
+ * the lowest that failed.  Every rank returns that error's class and holds
+ * its message in *e, prefixed "rank N: " when N is not 0, so rank 0 can
+ * print and record it and every rank exits with the same code whichever
+ * rank mpirun hears from first.  0 on every rank when none failed. */
+int parallel_agree_error(const struct parallel *par, int rc, struct err *e);
+
 /* --- point-to-point and collectives of the brick decomposition (halo.h) --- */
 
 /* The Cartesian grid of ranks (MPI_Cart_create without reordering, so a

@@ -51,7 +51,7 @@ int velocity_maxwell_split(struct particles *p, double T, uint64_t seed, uint32_
      * ranks, so every rank count gets the serial velocities (the momentum
      * and temperature sums below run in another order: equal to round-off) */
     if (h && halo_any(h, rc != 0) && !rc)   /* no rank left waiting for another */
-        rc = err_set(e, ERR_RUNTIME, "stopped: another MPI rank failed");
+        rc = err_set_elsewhere(e, ERR_RUNTIME, "stopped: another MPI rank failed");
     if (h && !rc)
         rc = halo_id_positions(h, ids, m, pos, NULL, e);
     free(pairs);

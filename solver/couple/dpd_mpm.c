@@ -267,7 +267,7 @@ int dpd_mpm_prepare(struct dpd_mpm *c, struct err *e)
     update_view(c);
     rc = mpm_locate_particles(&c->m, e);
     if (p->halo && halo_any(p->halo, rc != 0) && !rc)
-        rc = err_set(e, ERR_INPUT, "particles outside the MPM grid on another rank");
+        return err_set_elsewhere(e, ERR_INPUT, "particles outside the MPM grid on another rank");
     if (rc) {
         char msg[sizeof e->msg];
         snprintf(msg, sizeof msg, "%s", e->msg);
@@ -501,7 +501,12 @@ int dpd_mpm_step_update(struct dpd_mpm *c, struct err *e)
         timer_start(m->timers, TIMER_MPM_P2G);
     rc = mpm_locate_particles(m, e);
     if (h && halo_any(h, rc != 0) && !rc)   /* every rank stops */
-        rc = err_set(e, ERR_DIVERGED, "a particle left the MPM grid on another rank");
+        rc = err_set_elsewhere(e, ERR_DIVERGED, "a particle left the MPM grid on another rank");
+    if (rc && e->elsewhere) {
+        if (m->timers)
+            timer_stop(m->timers, TIMER_MPM_P2G);
+        return rc;
+    }
     if (rc) {
         char msg[sizeof e->msg];
         snprintf(msg, sizeof msg, "%s", e->msg);

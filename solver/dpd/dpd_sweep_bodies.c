@@ -32,7 +32,7 @@ static int gather_all(const struct halo *h, const struct dpd_body_pair *mine, lo
     int rc = parallel_gather_bytes(par, mine, bytes, &buf, &total, e);
     if (halo_any(h, rc != 0)) {
         free(buf);
-        return rc ? rc : err_set(e, ERR_RUNTIME, "DPD body pairs: another rank failed");
+        return rc ? rc : err_set_elsewhere(e, ERR_RUNTIME, "DPD body pairs: another rank failed");
     }
     long t = (long)total;
     rc = parallel_bcast_bytes(par, &t, sizeof t, e);
@@ -40,7 +40,7 @@ static int gather_all(const struct halo *h, const struct dpd_body_pair *mine, lo
         rc = err_nomem(e, "DPD body pairs");
     if (halo_any(h, rc != 0)) {
         free(buf);
-        return rc ? rc : err_set(e, ERR_RUNTIME, "DPD body pairs: another rank failed");
+        return rc ? rc : err_set_elsewhere(e, ERR_RUNTIME, "DPD body pairs: another rank failed");
     }
     if ((rc = parallel_bcast_bytes(par, buf, (size_t)t, e))) {
         free(buf);

@@ -559,7 +559,7 @@ int dpd_sweep_cells(struct dpd *d, struct err *e)
         free(buf);
         free(touched);
         pair_list_free(&pl);
-        return rc ? rc : err_set(e, ERR_RUNTIME, "stopped: another MPI rank failed");
+        return rc ? rc : err_set_elsewhere(e, ERR_RUNTIME, "stopped: another MPI rank failed");
     }
     /* the free bodies' pairs, swept apart in one global order
      * (dpd_sweep_bodies.h) */
@@ -569,7 +569,7 @@ int dpd_sweep_cells(struct dpd *d, struct err *e)
         struct dpd_body_pair *rec = malloc((size_t)(nb ? nb : 1) * sizeof *rec);
         rc = rec ? 0 : err_nomem(e, "DPD body pairs");
         if (p->halo && halo_any(p->halo, rc != 0) && !rc)
-            rc = err_set(e, ERR_RUNTIME, "stopped: another MPI rank failed");
+            rc = err_set_elsewhere(e, ERR_RUNTIME, "stopped: another MPI rank failed");
         for (long q = 0; !rc && q < nb; q++)
             body_record(d, pl.body + q, prefix, u, rec + q);
         if (!rc)
@@ -644,7 +644,7 @@ int dpd_sweep_cells(struct dpd *d, struct err *e)
         for (int c = 0; c < 3; c++)
             d->body_impulse[b][c] += bimp[b][c];
     if (p->halo && halo_any(p->halo, rc != 0) && !rc)
-        rc = err_set(e, ERR_DIVERGED, "stopped: an internal energy became non-positive on "
+        rc = err_set_elsewhere(e, ERR_DIVERGED, "stopped: an internal energy became non-positive on "
                                       "another MPI rank");
     return rc;
 }

@@ -208,8 +208,7 @@ int mpm_bricks_agree(const struct mpm_bricks *b, int rc, struct err *e)
     if (!b || b->par->size < 2)
         return rc;
     if (parallel_any(b->par, rc != 0) && !rc)
-        rc = err_set(e, ERR_RUNTIME, "stopped: another MPI rank failed (its message is on "
-                                     "that rank's output)");
+        rc = err_set_elsewhere(e, ERR_RUNTIME, "stopped: another MPI rank failed");
     return rc;
 }
 
@@ -666,7 +665,7 @@ static int migrate(struct mpm_bricks *b, struct mpm *m, long *moved, struct err 
                                         "(step %ld)",
                        far_id, m->step);
     if (flag[0] > 0)
-        return err_set(e, ERR_DIVERGED, "step %ld: a material point moved more than a brick "
+        return err_set_elsewhere(e, ERR_DIVERGED, "step %ld: a material point moved more than a brick "
                                         "in one step (on another MPI rank)",
                        m->step);
     if (flag[1] == 0)
@@ -788,8 +787,7 @@ int mpm_bricks_create_fixed(const struct parallel *par, const struct mpm *m,
         rc = whole_sums_init(b, m, e);
     }
     if (par && par->size > 1 && parallel_any(par, rc != 0) && !rc)
-        rc = err_set(e, ERR_RUNTIME, "stopped: another MPI rank failed (its message is on "
-                                     "that rank's output)");
+        rc = err_set_elsewhere(e, ERR_RUNTIME, "stopped: another MPI rank failed");
     if (rc) {
         mpm_bricks_destroy(&b);
         return rc;

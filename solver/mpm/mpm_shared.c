@@ -170,8 +170,7 @@ static int reserve(double **buf, size_t *cap, size_t n, struct err *e)
 static int agree(const struct parallel *par, int rc, struct err *e)
 {
     if (parallel_any(par, rc != 0) && !rc)
-        rc = err_set(e, ERR_RUNTIME, "stopped: another MPI rank failed (its message is on "
-                                     "that rank's output)");
+        rc = err_set_elsewhere(e, ERR_RUNTIME, "stopped: another MPI rank failed");
     return rc;
 }
 

@@ -30,6 +30,14 @@ static int where_fail(struct ckpt *c, const char *what, const char *name, int co
     return code;
 }
 
+/* The same for a rank stopped by another's failure (err.h). */
+static int where_fail_elsewhere(struct ckpt *c, const char *name)
+{
+    int rc = where_fail(c, "stopped: another MPI rank failed to read it", name, ERR_INPUT);
+    c->e->elsewhere = 1;
+    return rc;
+}
+
 static int cmp_i64(const void *a, const void *b)
 {
     int64_t x = *(const int64_t *)a, y = *(const int64_t *)b;
@@ -176,7 +184,7 @@ static int get_rows(struct ckpt *c, const char *name, struct particles *p,
         int any = rc != 0, anyall = 0;
         MPI_Allreduce(&any, &anyall, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
         if (anyall && !rc)
-            rc = where_fail(c, "stopped: another MPI rank failed to read it", name, ERR_INPUT);
+            rc = where_fail_elsewhere(c, name);
         MPI_Allreduce(MPI_IN_PLACE, &nblocks, 1, MPI_LONG, MPI_MAX, MPI_COMM_WORLD);
         if (anyall)   /* a set-up failed somewhere: no rank starts the transfers */
             nblocks = 0;
@@ -246,7 +254,7 @@ static int any_rank_failed(struct ckpt *c, int *rc, const char *name)
     int any = *rc != 0, anyall = 0;
     MPI_Allreduce(&any, &anyall, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
     if (anyall && !*rc)
-        *rc = where_fail(c, "stopped: another MPI rank failed to read it", name, ERR_INPUT);
+        *rc = where_fail_elsewhere(c, name);
     return anyall;
 }
 

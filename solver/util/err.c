@@ -13,6 +13,20 @@ int err_set(struct err *e, int code, const char *fmt, ...)
         vsnprintf(e->msg, sizeof e->msg, fmt, ap);
         va_end(ap);
         e->code = code;
+        e->elsewhere = 0;
+    }
+    return code;
+}
+
+int err_set_elsewhere(struct err *e, int code, const char *fmt, ...)
+{
+    if (e) {
+        va_list ap;
+        va_start(ap, fmt);
+        vsnprintf(e->msg, sizeof e->msg, fmt, ap);
+        va_end(ap);
+        e->code = code;
+        e->elsewhere = 1;
     }
     return code;
 }
@@ -41,6 +55,7 @@ void err_clear(struct err *e)
 {
     if (e) {
         e->code = ERR_OK;
+        e->elsewhere = 0;
         e->msg[0] = '\0';
     }
 }

@@ -22,6 +22,9 @@ enum err_class {
 
 struct err {
     int code;
+    /* 1 when this rank stopped only because another MPI rank failed: the
+     * message worth showing is that rank's (parallel_agree_error) */
+    int elsewhere;
     char msg[ERR_MSG_MAX];
 };
 
@@ -29,6 +32,11 @@ struct err {
  *     return err_set(e, ERR_INPUT, "bad %s", what);
  * is the idiom.  e may be NULL. */
 int err_set(struct err *e, int code, const char *fmt, ...)
+    __attribute__((format(printf, 3, 4)));
+
+/* The same for a rank that stops because another rank failed: keeps the
+ * class the caller gives and marks the error as not this rank's own. */
+int err_set_elsewhere(struct err *e, int code, const char *fmt, ...)
     __attribute__((format(printf, 3, 4)));
 
 /* Prepend context ("while reading X: ") to an existing message. */

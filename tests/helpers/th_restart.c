@@ -69,12 +69,18 @@ static void assert_same_metrics(const char *a, const char *b)
 
 void th_ckpt_poke(const char *file, const char *dataset, long memtype, const void *value)
 {
+    th_ckpt_poke_at(file, dataset, memtype, 0, value);
+}
+
+void th_ckpt_poke_at(const char *file, const char *dataset, long memtype, long row,
+                     const void *value)
+{
     hid_t h = H5Fopen(file, H5F_ACC_RDWR, H5P_DEFAULT);
     cr_assert_geq(h, 0, "%s", file);
     hid_t ds = H5Dopen2(h, dataset, H5P_DEFAULT);
     cr_assert_geq(ds, 0, "%s: %s", file, dataset);
     hid_t fs = H5Dget_space(ds);
-    hsize_t start[1] = {0}, count[1] = {1};
+    hsize_t start[1] = {(hsize_t)row}, count[1] = {1};
     H5Sselect_hyperslab(fs, H5S_SELECT_SET, start, NULL, count, NULL);
     hid_t ms = H5Screate_simple(1, count, NULL);
     cr_assert_geq(H5Dwrite(ds, (hid_t)memtype, ms, fs, H5P_DEFAULT, value), 0);

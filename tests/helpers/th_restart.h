@@ -19,6 +19,9 @@ int th_restart_solve(const char *out_name, const char *case_path, const char *ki
 /* Overwrite the first element of `dataset` of a checkpoint file through
  * HDF5 (the checksum is recomputed: the file is valid, its value is not). */
 void th_ckpt_poke(const char *file, const char *dataset, long memtype, const void *value);
+/* The same at row `row` of a one-dimensional dataset. */
+void th_ckpt_poke_at(const char *file, const char *dataset, long memtype, long row,
+                     const void *value);
 
 /* Whole file into a new buffer (*len its size, may be NULL). */
 char *th_restart_slurp(const char *path, long *len);
