@@ -56,6 +56,23 @@ endif
 PKGS     := hdf5-openmpi jansson yaml-0.1 gsl sqlite3 nettle
 PKG_CFLAGS := $(shell pkg-config --cflags $(PKGS) 2>/dev/null)
 PKG_LIBS   := $(shell pkg-config --libs $(PKGS) 2>/dev/null)
+# HDF5 is linked from its static archive when the -dev package has one
+# (Debian's does): the shared libhdf5 needs libcurl and libcrypto (its S3
+# driver, which Cascade never uses), and loading them with their own
+# dependencies (GnuTLS, Kerberos, LDAP, ...) costs every process about
+# 6.5 MiB of resident memory.  From the archive only the objects Cascade
+# calls are linked, and those libraries are not loaded.  HDF5_STATIC=0
+# links the shared library.
+HDF5_STATIC ?= 1
+HDF5_LIBDIR := $(patsubst -L%,%,$(firstword $(shell pkg-config --libs-only-L hdf5-openmpi 2>/dev/null)))
+ifeq ($(HDF5_STATIC)$(if $(wildcard $(HDF5_LIBDIR)/libhdf5.a),yes),1yes)
+  PKG_LIBS := $(HDF5_LIBDIR)/libhdf5_hl.a $(HDF5_LIBDIR)/libhdf5.a -lsz -lz -ldl \
+              $(shell pkg-config --libs $(filter-out hdf5-openmpi,$(PKGS)) 2>/dev/null) \
+              $(filter-out -lhdf5 -L$(HDF5_LIBDIR),$(shell pkg-config --libs hdf5-openmpi 2>/dev/null))
+  HDF5_HL :=
+else
+  HDF5_HL := -lhdf5_hl
+endif
 
 WARN     := -Wall -Wextra -Wshadow -Wno-unused-parameter -Wno-format-truncation
 ifeq ($(VARIANT),fuzz)
@@ -74,8 +91,8 @@ SAN_LD_fuzz := -fsanitize=address,undefined
 LDFLAGS  := -fopenmp $(SAN_LD_$(VARIANT))
 # hdf5_hl (H5LT: the small datasets and string attributes of h5out.c) has
 # no pkg-config file of its own: it sits beside libhdf5 (whose -L is in
-# PKG_LIBS) and comes before it
-LDLIBS   := -lhdf5_hl $(PKG_LIBS) -lm
+# PKG_LIBS) and comes before it (in the archive case it is in PKG_LIBS)
+LDLIBS   := $(HDF5_HL) $(PKG_LIBS) -lm
 
 # --- sources ---------------------------------------------------------------
 UTIL_SRC     := $(wildcard solver/util/*.c)
