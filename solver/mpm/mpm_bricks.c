@@ -1189,53 +1189,18 @@ int mpm_bricks_sort_by_id(struct mpm_bricks *b, struct mpm *m, struct err *e)
     return mpm_bricks_agree(b, rc, e);
 }
 
-int mpm_bricks_gather_nodes(struct mpm_bricks *b, const struct mpm_grid *g, struct mpm_grid *full,
-                            struct err *e)
+void mpm_bricks_node_block(const struct mpm_bricks *b, long lo[3], long hi[3])
 {
-    /* my owned nodes: global index triple, the 8 doubles of the record, r */
-    long lo[3], hi[3], cnt = 1;
     for (int d = 0; d < 3; d++) {
         long a, z;
         alloc_range(b, d, b->coords[d], &lo[d], &hi[d]);
         owned_range(b, d, b->coords[d], &a, &z);
+        /* the grid's own nodes 0 .. ncell, not its halo's */
+        a = a > 0 ? a : 0;
+        z = z < b->ncell[d] + 1 ? z : b->ncell[d] + 1;
         lo[d] = lo[d] > a ? lo[d] : a;
         hi[d] = hi[d] < z ? hi[d] : z;
-        cnt *= hi[d] - lo[d];
+        if (hi[d] < lo[d])
+            hi[d] = lo[d];
     }
-    enum { REC = 3 + 8 + 4 };
-    double *sb = malloc((size_t)(cnt * REC + 1) * sizeof *sb);
-    int rc = mpm_bricks_agree(b, sb ? 0 : err_nomem(e, "MPM gather"), e);
-    if (rc) {
-        free(sb);
-        return rc;
-    }
-    long k = 0;
-    for (long z = lo[2]; z < hi[2]; z++)
-        for (long y = lo[1]; y < hi[1]; y++)
-            for (long x = lo[0]; x < hi[0]; x++, k++) {
-                long i = (x - g->lo[0] + g->halo) + (y - g->lo[1] + g->halo) * g->stride[1] +
-                         (z - g->lo[2] + g->halo) * g->stride[2];
-                double *r = sb + k * REC;
-                r[0] = (double)x;
-                r[1] = (double)y;
-                r[2] = (double)z;
-                memcpy(r + 3, (const double *)(g->node + i), 8 * sizeof(double));
-                memcpy(r + 11, g->r + 4 * i, 4 * sizeof(double));
-            }
-    void *rb = NULL;
-    size_t rbytes = 0;
-    rc = parallel_gather_bytes(b->par, sb, (size_t)cnt * REC * sizeof *sb, &rb, &rbytes, e);
-    free(sb);
-    if (!rc && b->par->rank == 0) {
-        long n = (long)(rbytes / (REC * sizeof(double)));
-        for (long j = 0; j < n; j++) {
-            const double *r = (const double *)rb + j * REC;
-            long i = ((long)r[0] + full->halo) + ((long)r[1] + full->halo) * full->stride[1] +
-                     ((long)r[2] + full->halo) * full->stride[2];
-            memcpy((double *)(full->node + i), r + 3, 8 * sizeof(double));
-            memcpy(full->r + 4 * i, r + 11, 4 * sizeof(double));
-        }
-    }
-    free(rb);
-    return mpm_bricks_agree(b, rc, e);
 }

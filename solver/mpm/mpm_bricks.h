@@ -216,11 +216,11 @@ void mpm_bricks_totals(const struct mpm_bricks *b, const struct mpm *m, struct m
 long mpm_bricks_npoints(const struct mpm_bricks *b, const struct mpm *m);
 int mpm_bricks_rank(const struct mpm_bricks *b);
 
-/* The owned nodes of every rank (records and the remapped velocities) into
- * the serial layout's node[] and r[] of *full on rank 0 (a uniform grid the
- * caller made with the serial grid's cells).  Collective. */
-int mpm_bricks_gather_nodes(struct mpm_bricks *b, const struct mpm_grid *g, struct mpm_grid *full,
-                            struct err *e);
+/* The nodes of the grid (0 .. ncell along each axis, not its halo) this
+ * rank owns: global nodes [lo[d], hi[d]) along x, y, z, a block of its
+ * patch; the blocks of the ranks tile the grid without overlap (a uniform
+ * grid cut into bricks: the snapshot's collective write of the nodes). */
+void mpm_bricks_node_block(const struct mpm_bricks *b, long lo[3], long hi[3]);
 /* The step-0 mapping (s9, s1-s3 and the reverse halo) for a snapshot of
  * the initial grid.  Collective. */
 int mpm_bricks_map_initial(struct mpm_bricks *b, struct mpm *m, struct err *e);

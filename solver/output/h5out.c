@@ -72,6 +72,7 @@ int h5out_par_begin(struct h5out *h, long n_local, struct err *e)
     MPI_Exscan(&n_local, &off, 1, MPI_LONG, MPI_SUM, MPI_COMM_WORLD);
     MPI_Allreduce(&n_local, &tot, 1, MPI_LONG, MPI_SUM, MPI_COMM_WORLD);
     h->par = 1;
+    h->par_grid = 0;
     h->par_rank = rank;
     h->par_local = n_local;
     h->par_offset = rank == 0 ? 0 : off;   /* MPI_Exscan leaves rank 0's undefined */
@@ -254,20 +255,29 @@ struct shape {
 };
 
 /* The collective transfer of one dataset: a per-particle dataset (dist)
- * takes this rank's rows at its offset, any other is written by rank 0
- * (the others select nothing but take part). */
+ * takes this rank's rows at its offset, a structured snapshot's node
+ * field (dist, h->par_grid) this rank's block of nodes, any other is
+ * written by rank 0 (the others select nothing but take part). */
 static herr_t par_write(const struct h5out *h, hid_t ds, hid_t memtype, const struct shape *full,
                         int dist, const void *data)
 {
     hsize_t start[4] = {0, 0, 0, 0}, count[4], one[4] = {1, 1, 1, 1};
     for (int k = 0; k < full->rank; k++)
         count[k] = full->dims[k];
-    if (dist) {
+    int mine = h->par_rank == 0;
+    if (dist && h->par_grid) {   /* dims are z, y, x (, components) */
+        mine = 1;
+        for (int d = 0; d < 3; d++) {
+            start[2 - d] = (hsize_t)h->par_glo[d];
+            count[2 - d] = (hsize_t)h->par_gn[d];
+            mine &= h->par_gn[d] > 0;
+        }
+    } else if (dist) {
         start[0] = (hsize_t)h->par_offset;
         count[0] = (hsize_t)h->par_local;
+        mine = h->par_local > 0;
     }
-    int mine = dist ? h->par_local > 0 : h->par_rank == 0;
-    static const double nothing = 0;   /* a buffer for a rank that writes no rows */
+    static const double nothing = 0;   /* a buffer for a rank that writes nothing */
     hid_t fs = H5Dget_space(ds);
     hid_t ms = H5Screate_simple(full->rank, mine ? count : one, NULL);
     herr_t st = fs < 0 || ms < 0 ? -1 : 0;
@@ -287,6 +297,15 @@ static herr_t par_write(const struct h5out *h, hid_t ds, hid_t memtype, const st
     return st < 0 || wst < 0 ? -1 : 0;
 }
 
+void h5out_par_grid_block(struct h5out *h, const long lo[3], const long n[3])
+{
+    h->par_grid = 1;
+    for (int d = 0; d < 3; d++) {
+        h->par_glo[d] = lo[d];
+        h->par_gn[d] = n[d];
+    }
+}
+
 /* Writes one dataset with its unit (and, with 6 columns, the component
  * order); `record` lists it as a field of the open snapshot for the XDMF.
  * Small datasets (no chunks) of a serial write go through H5LT; chunked
@@ -299,7 +318,7 @@ static int write_dataset_shaped(struct h5out *h, hid_t group, const char *name, 
 {
     int dist = h->par && record;
     struct shape full = *sh;
-    if (dist) {
+    if (dist && !h->par_grid) {   /* a grid block's dataset has the grid's shape */
         full.dims[0] = (hsize_t)h->par_total;
         n = h->par_total;
     }
@@ -444,7 +463,7 @@ int h5out_snapshot_cell(struct h5out *h, hid_t group, const double lo[3], const 
 
 void h5out_end_snapshot(struct h5out *h, hid_t group)
 {
-    (void)h;
+    h->par_grid = 0;
     if (group >= 0)
         H5Gclose(group);
 }

@@ -84,6 +84,10 @@ struct h5out {
     int par;
     int par_rank;
     long par_local, par_offset, par_total;
+    /* ... and a structured snapshot's node fields this rank's block of
+     * nodes par_glo[d] .. par_glo[d] + par_gn[d] - 1 (h5out_par_grid_block) */
+    int par_grid;
+    long par_glo[3], par_gn[3];
 };
 
 /* Create PATH.tmp; h5out_close renames it over PATH (and writes the XDMF
@@ -149,6 +153,14 @@ int h5out_close(struct h5out *h, struct err *e);
  * collective call another rank skipped.  Collective over MPI_COMM_WORLD. */
 void h5out_par_attach(struct h5out *h, const char *path);
 int h5out_par_begin(struct h5out *h, long n_local, struct err *e);
+/* Inside a collective snapshot, after h5out_begin_grid_snapshot (the whole
+ * grid's dims, origin and spacing on every rank): this rank's block of
+ * nodes, lo[d] .. lo[d] + n[d] - 1 along x, y, z (n[d] may be 0).  Its
+ * h5out_write_grid_doubles calls then take the block's values (x fastest)
+ * and write them into the whole grid's datasets in one collective
+ * transfer, so no rank holds the whole grid.  The blocks of the ranks
+ * must not overlap.  Until h5out_end_snapshot. */
+void h5out_par_grid_block(struct h5out *h, const long lo[3], const long n[3]);
 /* rc: this rank's result since h5out_par_begin; returns it agreed over the
  * ranks; rank 0 has its serial handle back. */
 int h5out_par_end(struct h5out *h, int rc, struct err *e);

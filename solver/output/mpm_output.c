@@ -187,12 +187,10 @@ static int reserve(struct mpm_output *o, long n, struct err *e)
 
 /* Write n x nc values of src times `scale` under name. */
 static int put(struct mpm_output *o, struct run *run, hid_t g, const char *name, const double *src,
-               long n, int nc, double scale, const char *unit, int grid, struct err *e)
+               long n, int nc, double scale, const char *unit, struct err *e)
 {
     for (long k = 0; k < n * nc; k++)
         o->buf[k] = src[k] * scale;
-    if (grid)
-        return h5out_write_grid_doubles(&run->h5, g, name, o->buf, nc, unit, e);
     return h5out_write_doubles(&run->h5, g, name, o->buf, n, nc, unit, e);
 }
 
@@ -210,30 +208,30 @@ static int points_snapshot(struct mpm_output *o, struct run *run, struct mpm_cas
     hid_t g = h5out_begin_snapshot(&run->h5, "points", m->step, m->time / u->time, n, e);
     if (g < 0)
         return ERR_RUNTIME;
-    rc = put(o, run, g, "position", p->x, n, 3, 1.0 / u->length, u->length_name, 0, e);
+    rc = put(o, run, g, "position", p->x, n, 3, 1.0 / u->length, u->length_name, e);
     if (!rc) {
         for (long k = 0; k < 3 * n; k++)
             o->buf[k] = (p->x[k] - p->x0[k]) / u->length;
         rc = h5out_write_doubles(&run->h5, g, "displacement", o->buf, n, 3, u->length_name, e);
     }
     if (!rc)
-        rc = put(o, run, g, "velocity", p->v, n, 3, 1.0 / u->velocity, u->velocity_name, 0, e);
+        rc = put(o, run, g, "velocity", p->v, n, 3, 1.0 / u->velocity, u->velocity_name, e);
     if (!rc)
-        rc = put(o, run, g, "stress", p->stress, n, 6, 1.0 / u->stress, u->stress_name, 0, e);
+        rc = put(o, run, g, "stress", p->stress, n, 6, 1.0 / u->stress, u->stress_name, e);
     if (!rc) {   /* logarithmic strain from F */
         for (long i = 0; i < n; i++)
             mpm_points_strain(p, i, o->buf + 6 * i);
         rc = h5out_write_doubles(&run->h5, g, "strain", o->buf, n, 6, "1", e);
     }
     if (!rc)
-        rc = put(o, run, g, "deformation_gradient", p->F, n, 9, 1.0, "1", 0, e);
+        rc = put(o, run, g, "deformation_gradient", p->F, n, 9, 1.0, "1", e);
     if (!rc)
         rc = put(o, run, g, "volume", p->vol, n, 1, 1.0 / (u->length * u->length * u->length),
-                 u->volume_name, 0, e);
+                 u->volume_name, e);
     if (!rc)
-        rc = put(o, run, g, "mass", p->mass, n, 1, 1.0 / u->mass, u->mass_name, 0, e);
+        rc = put(o, run, g, "mass", p->mass, n, 1, 1.0 / u->mass, u->mass_name, e);
     if (!rc)
-        rc = put(o, run, g, "strain_energy", p->eint, n, 1, 1.0 / u->energy, u->energy_name, 0, e);
+        rc = put(o, run, g, "strain_energy", p->eint, n, 1, 1.0 / u->energy, u->energy_name, e);
     for (int k = 0; !rc && k < p->nstate; k++) {
         for (long i = 0; i < n; i++)
             o->buf[i] = p->state[(long)p->nstate * i + k];
@@ -253,38 +251,56 @@ static int points_snapshot(struct mpm_output *o, struct run *run, struct mpm_cas
     return rc;
 }
 
-/* Node mass, velocity and force into buf (3 arrays of the owned nodes). */
-static long grid_fields(struct mpm_case *c, double *mass, double *vel, double *force, int fresh)
+enum grid_field { GRID_MASS, GRID_VELOCITY, GRID_FORCE };
+
+/* One node field (mass; velocity; force) of the uniform grid's nodes
+ * [lo, hi) (the grid's global node indices, x fastest), or of every node
+ * of a hierarchical grid, times `scale` into out (1 or 3 values a node);
+ * one field at a time, so a snapshot needs 3 doubles a node beyond the
+ * grid. */
+static long grid_field(struct mpm_case *c, const long lo[3], const long hi[3],
+                       enum grid_field field, double scale, int fresh, double *out)
 {
     struct mpm *m = &c->m;
     const struct mpm_grid *g = &m->grid;
-    int musl = m->algorithm == MPM_MUSL;
+    int musl = m->algorithm == MPM_MUSL, uniform = g->kind == MPM_GRID_UNIFORM;
+    long nx = uniform ? hi[0] - lo[0] : g->nnodes, ny = uniform ? hi[1] - lo[1] : 1,
+         nz = uniform ? hi[2] - lo[2] : 1;
     long k = 0;
-    for (long i = 0; i < g->nnodes; i++) {
-        if (g->kind == MPM_GRID_UNIFORM) {
-            long ix = i % g->dim[0] - g->halo, iy = (i / g->dim[0]) % g->dim[1] - g->halo,
-                 iz = i / (g->dim[0] * g->dim[1]) - g->halo;
-            if (ix < 0 || iy < 0 || iz < 0 || ix >= g->nn[0] || iy >= g->nn[1] || iz >= g->nn[2])
-                continue;
-        }
-        const struct mpm_node *nd = &g->node[i];
-        double mi = nd->m;
-        mass[k] = mi;
-        for (int d = 0; d < 3; d++) {
-            if (fresh) {   /* just mapped: momentum and force */
-                vel[3 * k + d] = mi > m->small_mass ? nd->q[d] / mi : 0.0;
-                force[3 * k + d] = nd->f[d];
-            } else {       /* after a step: velocity and acceleration */
-                vel[3 * k + d] = musl ? g->r[4 * i + d] : nd->q[d];
-                force[3 * k + d] = mi * nd->f[d] * UNITS_MVV2E;
+    for (long z = 0; z < nz; z++)
+        for (long y = 0; y < ny; y++)
+            for (long x = 0; x < nx; x++, k++) {
+                long i = !uniform ? x
+                                  : (lo[0] + x - g->lo[0] + g->halo) +
+                                        (lo[1] + y - g->lo[1] + g->halo) * g->dim[0] +
+                                        (lo[2] + z - g->lo[2] + g->halo) * g->dim[0] * g->dim[1];
+                const struct mpm_node *nd = &g->node[i];
+                double mi = nd->m;
+                if (field == GRID_MASS) {
+                    out[k] = mi * scale;
+                    continue;
+                }
+                for (int d = 0; d < 3; d++) {
+                    double v;
+                    if (fresh)   /* just mapped: momentum and force */
+                        v = field == GRID_VELOCITY ? (mi > m->small_mass ? nd->q[d] / mi : 0.0)
+                                                   : nd->f[d];
+                    else         /* after a step: velocity and acceleration */
+                        v = field == GRID_VELOCITY ? (musl ? g->r[4 * i + d] : nd->q[d])
+                                                   : mi * nd->f[d] * UNITS_MVV2E;
+                    out[3 * k + d] = v * scale;
+                }
             }
-        }
-        k++;
-    }
     return k;
 }
 
-static int grid_snapshot(struct mpm_output *o, struct run *run, struct mpm_case *c, struct err *e)
+/* The grid snapshot of nodes [lo, hi) of a uniform grid whose whole has
+ * dims nodes from origin (the grid's units), or of every node of a
+ * hierarchical grid.  block: inside a collective snapshot, this rank's
+ * block of the uniform grid (h5out_par_grid_block); failures agreed. */
+static int grid_write(struct mpm_output *o, struct run *run, struct mpm_case *c, const long lo[3],
+                      const long hi[3], const long dims[3], const double origin[3], int block,
+                      struct err *e)
 {
     const struct mpm_units *u = &c->u;
     struct mpm *m = &c->m;
@@ -292,34 +308,25 @@ static int grid_snapshot(struct mpm_output *o, struct run *run, struct mpm_case 
     /* after a step the nodes hold the updated velocities and accelerations
      * (s5), or, when mpm_step fused them, the fresh mapping of the next step */
     int fresh = m->step == 0 || m->grid_fresh;
-    if (m->step == 0 && !c->bricks) {   /* nothing mapped yet: map the initial state (s1-s3);
-                                           bricks: mapped and gathered by the caller */
-        int rc = mpm_locate_particles(m, e);
-        if (rc)
-            return rc;
-        mpm_clear_grid(m);
-        mpm_map_to_grid(m, MPM_MAP_ALL);
-    }
-    long nn = g->nnodes;
-    double *tmp = mem_alloc((size_t)nn * 7 * sizeof *tmp);
-    if (!tmp)
-        return err_nomem(e, "grid output");
-    double *mass = tmp, *vel = tmp + nn, *force = tmp + 4 * nn;
-    long n = grid_fields(c, mass, vel, force, fresh);
-    int rc = reserve(o, 3 * n, e);
-    hid_t gr = -1;
     int structured = g->kind == MPM_GRID_UNIFORM;
-    if (!rc && structured) {
-        double origin[3], spacing[3];
-        long dims[3];
+    long n = structured ? (hi[0] - lo[0]) * (hi[1] - lo[1]) * (hi[2] - lo[2]) : g->nnodes;
+    int rc = h5out_par_agree(&run->h5, reserve(o, 3 * n, e), e);
+    if (rc)
+        return rc;
+    hid_t gr = -1;
+    if (structured) {
+        double o_len[3], spacing[3];
         for (int d = 0; d < 3; d++) {
-            dims[d] = g->nn[d];
-            origin[d] = (g->origin[d] + g->lo[d] * g->h) / u->length;
+            o_len[d] = origin[d] / u->length;
             spacing[d] = g->h / u->length;
         }
-        gr = h5out_begin_grid_snapshot(&run->h5, "grid", m->step, m->time / u->time, dims, origin,
+        gr = h5out_begin_grid_snapshot(&run->h5, "grid", m->step, m->time / u->time, dims, o_len,
                                        spacing, e);
-    } else if (!rc) {
+        if (gr >= 0 && block) {
+            long count[3] = {hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]};
+            h5out_par_grid_block(&run->h5, lo, count);
+        }
+    } else {
         gr = h5out_begin_snapshot(&run->h5, "grid", m->step, m->time / u->time, n, e);
         if (gr >= 0) {
             for (long i = 0; i < n; i++)
@@ -331,24 +338,56 @@ static int grid_snapshot(struct mpm_output *o, struct run *run, struct mpm_case 
     }
     if (gr < 0 && !rc)
         rc = ERR_RUNTIME;
-    if (!rc)
-        rc = put(o, run, gr, "mass", mass, n, 1, 1.0 / u->mass, u->mass_name, structured, e);
-    if (!rc)
-        rc = put(o, run, gr, "velocity", vel, n, 3, 1.0 / u->velocity, u->velocity_name,
-                 structured, e);
-    if (!rc)
-        rc = put(o, run, gr, "force", force, n, 3, 1.0 / u->force, u->force_name, structured, e);
+    static const struct {
+        const char *name;
+        enum grid_field field;
+        int nc;
+    } fields[] = {{"mass", GRID_MASS, 1}, {"velocity", GRID_VELOCITY, 3}, {"force", GRID_FORCE, 3}};
+    const double scale[] = {1.0 / u->mass, 1.0 / u->velocity, 1.0 / u->force};
+    const char *unit[] = {u->mass_name, u->velocity_name, u->force_name};
+    for (int f = 0; !rc && f < 3; f++) {
+        grid_field(c, lo, hi, fields[f].field, scale[f], fresh, o->buf);
+        rc = structured ? h5out_write_grid_doubles(&run->h5, gr, fields[f].name, o->buf,
+                                                   fields[f].nc, unit[f], e)
+                        : h5out_write_doubles(&run->h5, gr, fields[f].name, o->buf, n,
+                                              fields[f].nc, unit[f], e);
+    }
     if (gr >= 0)
         h5out_end_snapshot(&run->h5, gr);
-    free(tmp);
     return rc;
+}
+
+/* The whole grid of this process (serial, or rank 0 of a hierarchical
+ * grid on bricks). */
+static int grid_snapshot(struct mpm_output *o, struct run *run, struct mpm_case *c, struct err *e)
+{
+    struct mpm *m = &c->m;
+    const struct mpm_grid *g = &m->grid;
+    if (m->step == 0 && !c->bricks) {   /* nothing mapped yet: map the initial state (s1-s3);
+                                           bricks: mapped by the caller */
+        int rc = mpm_locate_particles(m, e);
+        if (rc)
+            return rc;
+        mpm_clear_grid(m);
+        mpm_map_to_grid(m, MPM_MAP_ALL);
+    }
+    long lo[3], hi[3], dims[3];
+    double origin[3];
+    for (int d = 0; d < 3; d++) {
+        lo[d] = g->lo[d];
+        hi[d] = g->lo[d] + g->nn[d];
+        dims[d] = g->nn[d];
+        origin[d] = g->origin[d] + g->lo[d] * g->h;
+    }
+    return grid_write(o, run, c, lo, hi, dims, origin, 0, e);
 }
 
 /* Bricks: every rank writes its own points' rows of each dataset into the
  * one fields.h5, collectively (h5out_par_begin; rank 0's points, then rank
- * 1's, ...: the serial datasets, as MD's atoms); the owned nodes of every
- * rank (a hierarchical grid: rank 0's whole grid) are gathered on rank 0
- * into the serial layout, which writes them with the serial code.
+ * 1's, ...: the serial datasets, as MD's atoms), and, on a uniform grid,
+ * its own block of nodes into the whole grid's datasets (the serial
+ * layout: no rank holds the whole grid).  A hierarchical grid is whole on
+ * every rank (mpm_bricks.h): rank 0 writes it with the serial code.
  * Collective. */
 static int bricks_snapshot(struct mpm_output *o, struct run *run, struct mpm_case *c,
                            struct err *e)
@@ -365,42 +404,32 @@ static int bricks_snapshot(struct mpm_output *o, struct run *run, struct mpm_cas
     rc = run_h5_par_begin(run, m->pts.n, e);
     if (!rc)
         rc = points_snapshot(o, run, c, e);
-    rc = run_h5_par_end(run, rc, e);
-    if (rc || !c->output_grid)
-        return rc;
-    struct mpm_grid full;
-    memset(&full, 0, sizeof full);
-    /* a hierarchical grid is whole on every rank (mpm_bricks.h): rank 0
-     * writes it, from copies made complete when only the shared nodes
-     * were summed */
-    int gather_grid = !b->whole;
-    struct mpm_node *cnode = NULL;   /* only the shared nodes were summed: */
-    double *cr = NULL;               /* complete copies for the writer */
-    if (b->whole)
-        rc = mpm_bricks_complete_grid(b, m, &cnode, &cr, e);
-    if (!rc && gather_grid) {
-        int r0 = 0;
-        if (root) {
-            long ncell[3] = {b->ncell[0], b->ncell[1], b->ncell[2]};
-            r0 = mpm_grid_init_uniform(&full, m->grid.origin, m->grid.h, ncell, m->grid.shape, e);
+    if (!rc && c->output_grid && !b->whole) {
+        long lo[3], hi[3], dims[3];
+        mpm_bricks_node_block(b, lo, hi);
+        double origin[3];
+        for (int d = 0; d < 3; d++) {   /* the whole grid's nodes 0 .. ncell */
+            dims[d] = b->ncell[d] + 1;
+            origin[d] = m->grid.origin[d];
         }
-        rc = mpm_bricks_agree(b, r0, e);
-        if (!rc)
-            rc = mpm_bricks_gather_nodes(b, &m->grid, &full, e);
+        rc = grid_write(o, run, c, lo, hi, dims, origin, 1, e);
     }
+    rc = run_h5_par_end(run, rc, e);
+    if (rc || !c->output_grid || !b->whole)
+        return rc;
+    /* only the shared nodes were summed: complete copies for the writer */
+    struct mpm_node *cnode = NULL;
+    double *cr = NULL;
+    rc = mpm_bricks_complete_grid(b, m, &cnode, &cr, e);
     if (!rc && root && run->h5_open) {
-        /* the serial grid in place of this rank's for the writer */
         struct mpm_grid patch = m->grid;
-        if (gather_grid)
-            m->grid = full;
-        if (cnode) {
+        if (cnode) {   /* none on one rank: its grid is complete */
             m->grid.node = cnode;
             m->grid.r = cr;
         }
         rc = grid_snapshot(o, run, c, e);
         m->grid = patch;
     }
-    mpm_grid_free(&full);
     free(cnode);
     free(cr);
     return mpm_bricks_agree(b, rc, e);
