@@ -56,22 +56,27 @@ endif
 PKGS     := hdf5-openmpi jansson yaml-0.1 gsl sqlite3 nettle
 PKG_CFLAGS := $(shell pkg-config --cflags $(PKGS) 2>/dev/null)
 PKG_LIBS   := $(shell pkg-config --libs $(PKGS) 2>/dev/null)
-# HDF5 is linked from its static archive when the -dev package has one
-# (Debian's does): the shared libhdf5 needs libcurl and libcrypto (its S3
-# driver, which Cascade never uses), and loading them with their own
-# dependencies (GnuTLS, Kerberos, LDAP, ...) costs every process about
-# 6.5 MiB of resident memory.  From the archive only the objects Cascade
-# calls are linked, and those libraries are not loaded.  HDF5_STATIC=0
-# links the shared library.
-HDF5_STATIC ?= 1
+# Libraries are linked from the static archives of their -dev packages
+# when those are installed (Debian ships them): the shared libhdf5 needs
+# libcurl and libcrypto (its S3 driver, which Cascade never uses), and
+# loading them with their own dependencies (GnuTLS, Kerberos, LDAP, ...)
+# costs every process about 6 MiB of resident memory, the shared GSL,
+# SQLite, Nettle, Jansson and libyaml 1.4 MiB more; from an archive only
+# the objects Cascade calls are linked.  MPI, OpenMP and the C library
+# stay shared.  STATIC_DEPS=0 links the shared libraries.
+STATIC_DEPS ?= 1
 HDF5_LIBDIR := $(patsubst -L%,%,$(firstword $(shell pkg-config --libs-only-L hdf5-openmpi 2>/dev/null)))
-ifeq ($(HDF5_STATIC)$(if $(wildcard $(HDF5_LIBDIR)/libhdf5.a),yes),1yes)
-  PKG_LIBS := $(HDF5_LIBDIR)/libhdf5_hl.a $(HDF5_LIBDIR)/libhdf5.a -lsz -lz -ldl \
-              $(shell pkg-config --libs $(filter-out hdf5-openmpi,$(PKGS)) 2>/dev/null) \
-              $(filter-out -lhdf5 -L$(HDF5_LIBDIR),$(shell pkg-config --libs hdf5-openmpi 2>/dev/null))
-  HDF5_HL :=
+DEP_LIBDIRS := $(HDF5_LIBDIR) $(shell pkg-config --variable=libdir jansson 2>/dev/null)
+archive_of = $(firstword $(wildcard $(addsuffix /lib$(1).a,$(DEP_LIBDIRS))))
+STATIC_CANDIDATES := -lhdf5 -ljansson -lyaml -lgsl -lgslcblas -lsqlite3 -lnettle
+ifeq ($(STATIC_DEPS),1)
+  HDF5_HL  := $(or $(call archive_of,hdf5_hl),-lhdf5_hl)
+  PKG_LIBS := $(foreach l,$(PKG_LIBS),$(if $(filter $(STATIC_CANDIDATES),$(l)),$(or $(call archive_of,$(l:-l%=%)),$(l)),$(l)))
+  ifneq ($(call archive_of,hdf5),)
+    PKG_LIBS += -lsz -lz -ldl   # what libhdf5.a needs (szip and deflate filters, plugins)
+  endif
 else
-  HDF5_HL := -lhdf5_hl
+  HDF5_HL  := -lhdf5_hl
 endif
 
 WARN     := -Wall -Wextra -Wshadow -Wno-unused-parameter -Wno-format-truncation
