@@ -537,51 +537,6 @@ int halo_sort_by_id(struct particles *p, struct err *e)
     return rc;
 }
 
-int halo_gather(struct halo *h, const struct particles *p, struct particles **out, struct err *e)
-{
-    *out = NULL;
-    size_t rec = halo_record_size(p);
-    /* a buffer of its own: the brick's every atom, given back at once
-     * (sbuf stays the size of a swap) */
-    unsigned char *mine = malloc(rec * (size_t)(p->n_owned ? p->n_owned : 1));
-    int rc = mine ? 0 : err_nomem(e, "gather buffer");
-    for (int i = 0; !rc && i < p->n_owned; i++)
-        halo_pack(p, i, -1, 0.0, mine + rec * (size_t)i);
-    rc = collective_rc(h, rc, e);
-    void *all = NULL;
-    size_t bytes = 0;
-    if (!rc)
-        rc = parallel_gather_bytes(h->dc.par, mine, rec * (size_t)p->n_owned, &all, &bytes, e);
-    free(mine);
-    if (rc || !all)
-        return rc;
-    int n = (int)(bytes / rec);
-    struct particles *q = particles_create(n);
-    rc = q ? 0 : err_nomem(e, "gathered particles");
-    if (!rc) {
-        q->ntypes = p->ntypes;
-        memcpy(q->mass, p->mass, sizeof q->mass);
-        memcpy(q->type_name, p->type_name, sizeof q->type_name);
-        for (int k = 0; !rc && k < p->nfields; k++)
-            if (particles_add_field(q, p->fields[k].name, p->fields[k].ncomp,
-                                    p->fields[k].ghost_copy, e) < 0)
-                rc = ERR_RUNTIME;
-    }
-    if (!rc)
-        rc = particles_reserve(q, n, e);
-    if (!rc) {
-        for (int i = 0; i < n; i++)
-            halo_unpack(q, i, (const unsigned char *)all + rec * (size_t)i);
-        q->n_owned = n;
-        rc = halo_sort_by_id(q, e);
-    }
-    free(all);
-    if (rc)
-        particles_destroy(&q);
-    *out = q;
-    return rc;
-}
-
 void halo_counts(const struct halo *h, const struct particles *p, long *counts)
 {
     parallel_allgather_long(h->dc.par, p->n_owned, counts);

@@ -160,6 +160,18 @@ int halo_any(const struct halo *h, int flag);
  * other ranks); collective. */
 int halo_gather(struct halo *h, const struct particles *p, struct particles **out, struct err *e);
 
+/* The same a window at a time, so rank 0 never holds every particle (the
+ * XYZ frames and the final state of a run on bricks): the owned particles
+ * of all ranks pass in ascending id order, at most `window` at a time
+ * (<= 0: HALO_GATHER_WINDOW), and rank 0 calls visit with each window's
+ * particles sorted by id (types, masses and fields as p's); the other
+ * ranks call nothing.  An error of visit stops the walk on every rank.
+ * Collective. */
+enum { HALO_GATHER_WINDOW = 32768 };
+int halo_gather_windows(struct halo *h, const struct particles *p, long window,
+                        int (*visit)(void *ctx, struct particles *q, struct err *e),
+                        void *ctx, struct err *e);
+
 /* Owned counts of every rank (counts holds one entry per rank). */
 void halo_counts(const struct halo *h, const struct particles *p, long *counts);
 /* v of every rank (out holds one entry per rank). */

@@ -319,8 +319,12 @@ void md_momentum(const struct md *md, double P[3])
 
 void md_peratom_stress(const struct md *md, double *out)
 {
+    md_peratom_stress_of(md, md_natoms(md), out);
+}
+
+void md_peratom_stress_of(const struct md *md, long natoms, double *out)
+{
     const struct particles *p = md->p;
-    long natoms = md_natoms(md);
     double omega = natoms > 0 ? box_volume(&md->box) / natoms : 1.0;
     for (int i = 0; i < p->n_owned; i++) {
         double m = p->mass[p->type[i]] * UNITS_MVV2E;

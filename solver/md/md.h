@@ -103,6 +103,9 @@ void md_momentum(const struct md *md, double P[3]);        /* amu Å/ps */
 /* Per-particle stress -(m v v + W_i) / (V/N) in eV/Å^3 (6 per particle);
  * needs md->peratom. */
 void md_peratom_stress(const struct md *md, double *out);
+/* The same for a part of the atoms (a window of a decomposed run's
+ * output): N is natoms, the count of the whole system. */
+void md_peratom_stress_of(const struct md *md, long natoms, double *out);
 
 /* Einstein frequency (rad/ps): the largest sqrt(k/m) over a few particles
  * displaced by 1e-3 Å along each axis with all others held, k the restoring

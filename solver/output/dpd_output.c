@@ -131,6 +131,29 @@ int dpd_output_snapshot(struct dpd_output *o, struct run *run, struct dpd *d)
     return run_h5_par_end(run, rc, &e) ? ERR_RUNTIME : 0;
 }
 
+static int xyz_window(void *ctx, struct particles *q, struct err *e)
+{
+    FILE *f = ctx;
+    (void)e;
+    return xyz_write_particles(f, q, NULL) ? ERR_RUNTIME : 0;
+}
+
+/* Bricks: the XYZ frame written by rank 0 as a serial run writes its own
+ * (the particles of every rank in id order), a window at a time
+ * (halo_gather_windows), so no rank holds them all.  Collective. */
+static int xyz_windows(struct run *run, const struct dpd *d)
+{
+    double n = (double)d->p->n_owned;
+    halo_sum(d->p->halo, &n, 1);
+    if (run->xyz)   /* rank 0 */
+        xyz_write_header(run->xyz, (long)n, &d->box, d->step, d->time, 0, 0, NULL);
+    struct err e = {0};
+    int rc = halo_gather_windows(d->p->halo, d->p, 0, xyz_window, run->xyz, &e);
+    if (!rc && run->xyz)
+        rc = run_xyz_frame_done(run, NULL);
+    return halo_agree(d->p->halo, rc, &e);
+}
+
 int dpd_output_step(struct dpd_output *o, struct run *run, struct dpd *d, long total)
 {
     long s = d->step;
@@ -142,19 +165,12 @@ int dpd_output_step(struct dpd_output *o, struct run *run, struct dpd *d, long t
     int frame = run->out.xyz_every > 0 && s % run->out.xyz_every == 0;
     if (!rc && snap)   /* bricks: collective, every rank */
         rc = dpd_output_snapshot(o, run, d);
-    /* bricks: the XYZ frame's particles gathered on rank 0 in id order and
-     * written there as a serial run writes its own (every rank gathers) */
-    struct particles *all = NULL;
-    if (!rc && d->p->halo && frame) {
-        struct err e = {0};
-        rc = halo_gather(d->p->halo, d->p, &all, &e);
-    }
-    const struct particles *fp = d->p->halo ? all : d->p;   /* NULL: not this rank's */
-    if (!rc && fp && run->xyz && frame)
-        rc = xyz_write_frame(run->xyz, fp, &d->box, s, d->time, NULL)
+    if (!rc && frame && d->p->halo)   /* bricks: every rank takes part */
+        rc = xyz_windows(run, d);
+    else if (!rc && frame && run->xyz)
+        rc = xyz_write_frame(run->xyz, d->p, &d->box, s, d->time, NULL)
                  ? ERR_RUNTIME
                  : run_xyz_frame_done(run, NULL);
-    particles_destroy(&all);
     timer_stop(&run->timers, TIMER_OUTPUT);
     return rc;
 }

@@ -1,10 +1,12 @@
 /*
  * final_state: output.final_state for a run on one process, replicated on
- * every rank, or split over bricks.  With bricks every rank's owned
- * particles are gathered on rank 0 in id order (halo_gather, collective:
- * every rank must call this) and rank 0 writes them, so the file is the
- * serial run's whatever the rank count.  Nothing is gathered when the case
- * asks for no final state.
+ * every rank, or split over bricks.  With bricks the owned particles of
+ * every rank pass to rank 0 in id order a window of HALO_GATHER_WINDOW at
+ * a time (halo_gather_windows, collective: every rank must call this;
+ * twice for a data file, its Atoms then its Velocities) and rank 0 writes
+ * them after a header with the totals, so the file is the serial run's
+ * whatever the rank count and no rank holds every particle.  Nothing is
+ * gathered when the case asks for no final state.
  */
 #ifndef CASCADE_FINAL_STATE_H
 #define CASCADE_FINAL_STATE_H

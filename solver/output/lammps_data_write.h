@@ -14,11 +14,27 @@
 #ifndef CASCADE_LAMMPS_DATA_WRITE_H
 #define CASCADE_LAMMPS_DATA_WRITE_H
 
+#include <stdio.h>
+
 #include "core/box.h"
 #include "core/particles.h"
 #include "util/err.h"
 
 int lammps_data_write(const char *path, const struct particles *p, const struct box *b,
                       const char *title, struct err *e);
+
+/* The file in parts, for particles that come a window at a time: the box
+ * bounds widened over p's positions (lo and hi come in holding the bounds
+ * so far: the box's, or another part's); the header of natoms with those
+ * bounds (types and masses from `types`) up to the Atoms heading; the
+ * Atoms lines of a part; the Velocities heading; a part's velocity lines.
+ * The writes are checked by the caller (ferror). */
+void lammps_data_widen(const struct particles *p, const struct box *b, double lo[3],
+                       double hi[3]);
+void lammps_data_header(FILE *f, const char *title, long natoms, const struct particles *types,
+                        const double lo[3], const double hi[3], const struct box *b);
+void lammps_data_atoms(FILE *f, const struct particles *p);
+void lammps_data_velocities_heading(FILE *f);
+void lammps_data_velocities(FILE *f, const struct particles *p);
 
 #endif

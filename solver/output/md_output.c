@@ -149,58 +149,118 @@ static int write_final(struct run *run, struct md *md, struct err *e)
     return wfile_commit(&w, e);
 }
 
-/* An extended XYZ frame: with the per-atom energies and stresses when this
- * step computed them (the engine asks for them on XYZ steps), and the
- * chosen per-particle field as an integer column. */
-static int xyz_frame(struct md_output *o, struct run *run, struct md *md)
+/* The optional XYZ columns of md's particles: the per-atom energies and
+ * stresses when this step computed them (the engine asks for them on XYZ
+ * steps; natoms, the whole system's count, gives each atom's volume), and
+ * the chosen per-particle field as an integer column. */
+static int xyz_columns(struct md_output *o, struct md *md, long natoms, struct xyz_extra *x)
 {
     struct particles *p = md->p;
-    struct xyz_extra x = {0};
+    memset(x, 0, sizeof *x);
     if (o->xyz_field >= 0 && o->xyz_field < p->nfields) {
         int *buf = mem_realloc(o->xyz_buf, (size_t)(p->n_owned + 1) * sizeof *buf);
         if (!buf)
             return err_nomem(&o->err, "XYZ column");
-        {
-            o->xyz_buf = buf;
-            const double *f = particles_field(p, o->xyz_field);
-            for (int i = 0; i < p->n_owned; i++)
-                buf[i] = (int)f[i];
-            x.int_name = p->fields[o->xyz_field].name;
-            x.int_values = buf;
-        }
+        o->xyz_buf = buf;
+        const double *f = particles_field(p, o->xyz_field);
+        for (int i = 0; i < p->n_owned; i++)
+            buf[i] = (int)f[i];
+        x->int_name = p->fields[o->xyz_field].name;
+        x->int_values = buf;
     }
     if (md->peratom) {
         if (grow_atoms(o, p->n_owned) != 0)
             return ERR_RUNTIME;
-        md_peratom_stress(md, o->stress);
+        md_peratom_stress_of(md, natoms, o->stress);
         for (long k = 0; k < 6L * p->n_owned; k++)
             o->stress[k] *= UNITS_EVA3_TO_GPA;
-        x.pe = p->pe;
-        x.stress = o->stress;
+        x->pe = p->pe;
+        x->stress = o->stress;
     }
-    if (xyz_write_frame(run->xyz, p, &md->box, md->step, md->time, &x) != 0)
+    return 0;
+}
+
+/* An extended XYZ frame of md's particles. */
+static int xyz_frame(struct md_output *o, struct run *run, struct md *md)
+{
+    struct xyz_extra x;
+    int rc = xyz_columns(o, md, md_natoms(md), &x);
+    if (rc)
+        return rc;
+    if (xyz_write_frame(run->xyz, md->p, &md->box, md->step, md->time, &x) != 0)
         return err_set(&o->err, ERR_RUNTIME, "cannot write %s/snapshots.xyz: write error",
                        run->opt.out_dir);
     return run_xyz_frame_done(run, &o->err);
 }
 
-/* The XYZ frame (and final.xyz at the end) of a decomposed run: gathered
- * on rank 0, written there. */
+/* Rank 0's writers while the windows of a decomposed run's XYZ step pass. */
+struct xyz_walk {
+    struct md_output *o;
+    struct run *run;
+    const struct md *md;
+    long natoms;          /* of every rank: the atoms' volume V/N */
+    int frame;            /* a frame of snapshots.xyz is due */
+    struct wfile *final;  /* final.xyz (the last step), or NULL */
+};
+
+static int xyz_window(void *ctx, struct particles *q, struct err *e)
+{
+    const struct xyz_walk *w = ctx;
+    struct md view = *w->md;   /* the window's particles in place of the brick's */
+    view.p = q;
+    view.halo = NULL;
+    (void)e;   /* the messages go to o->err, as the serial frames' */
+    if (w->frame) {
+        struct xyz_extra x;
+        int rc = xyz_columns(w->o, &view, w->natoms, &x);
+        if (rc)
+            return rc;
+        if (xyz_write_particles(w->run->xyz, q, &x) != 0)
+            return err_set(&w->o->err, ERR_RUNTIME, "cannot write %s/snapshots.xyz: write error",
+                           w->run->opt.out_dir);
+    }
+    if (w->final && xyz_write_particles(w->final->f, q, NULL) != 0)
+        return err_set(&w->o->err, ERR_RUNTIME, "cannot write %s: write error", w->final->path);
+    return 0;
+}
+
+/* The XYZ frame (and final.xyz at the end) of a decomposed run: rank 0
+ * writes the headers with the totals, then the atoms of every rank in id
+ * order, a window at a time (halo_gather_windows), so no rank holds them
+ * all. */
 static int xyz_gathered(struct md_output *o, struct run *run, struct md *md, long total)
 {
-    struct particles *all = NULL;
-    int rc = halo_gather(md->halo, md->p, &all, &o->err);
-    if (!rc && all && run->xyz) {
-        struct md view = *md;
-        view.p = all;
-        view.halo = NULL;
-        if (md->step % run->out.xyz_every == 0)
-            rc = xyz_frame(o, run, &view);
-        if (!rc && md->step == total)
-            rc = write_final(run, &view, &o->err);
+    double n = (double)md->p->n_owned;
+    halo_sum(md->halo, &n, 1);
+    struct wfile final = {0};
+    struct xyz_walk w = {o, run, md, (long)n, run->xyz && md->step % run->out.xyz_every == 0,
+                         NULL};
+    int rc = 0;
+    if (run->xyz && md->step == total) {   /* rank 0 */
+        char path[4096];
+        run_path(run, "final.xyz", path, sizeof path);
+        rc = wfile_open(&final, path, &o->err);
+        if (!rc) {
+            w.final = &final;
+            xyz_write_header(final.f, (long)n, &md->box, md->step, md->time, 0, 0, NULL);
+        }
     }
-    particles_destroy(&all);
-    if (o->cap_atoms > md->p->n_owned) {   /* rank 0 keeps no scratch for all atoms */
+    if (!rc && w.frame) {
+        const struct particles *p = md->p;
+        int field = o->xyz_field >= 0 && o->xyz_field < p->nfields;
+        xyz_write_header(run->xyz, (long)n, &md->box, md->step, md->time, md->peratom,
+                         md->peratom, field ? p->fields[o->xyz_field].name : NULL);
+    }
+    rc = halo_agree(md->halo, rc, &o->err);
+    if (!rc)
+        rc = halo_gather_windows(md->halo, md->p, 0, xyz_window, &w, &o->err);
+    if (!rc && w.frame)
+        rc = run_xyz_frame_done(run, &o->err);
+    if (w.final && !rc)
+        rc = wfile_commit(&final, &o->err);
+    else if (w.final)
+        wfile_discard(&final);
+    if (o->cap_atoms > md->p->n_owned) {   /* rank 0 keeps no scratch for a window */
         free(o->stress);
         free(o->ibuf);
         o->stress = NULL;

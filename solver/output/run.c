@@ -163,13 +163,23 @@ int run_write_final_state(struct run *r, const struct particles *p, const struct
         rc = wfile_commit(&w, e);
     } else {
         char title[512];
-        snprintf(title, sizeof title, "cascade-solver final state: case %s, step %ld, time %g ps",
-                 r->case_key, step, time);
+        run_final_state_title(r, step, time, title, sizeof title);
         rc = lammps_data_write(path, p, b, title, e);
     }
     if (!rc)
-        result_artifact(&r->result, "final_state", name);
+        run_final_state_recorded(r);
     return rc;
+}
+
+void run_final_state_title(const struct run *r, long step, double time, char *out, size_t len)
+{
+    snprintf(out, len, "cascade-solver final state: case %s, step %ld, time %g ps", r->case_key,
+             step, time);
+}
+
+void run_final_state_recorded(struct run *r)
+{
+    result_artifact(&r->result, "final_state", r->out.final_state);
 }
 
 int run_thermo_header(struct run *r, const char *const *columns, int n)

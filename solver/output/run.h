@@ -94,6 +94,10 @@ void run_discard(struct run *r);
  * (output.final_state) and list it under "artifacts" in result.json. */
 int run_write_final_state(struct run *r, const struct particles *p, const struct box *b,
                           long step, double time, struct err *e);
+/* The parts of it for a writer on bricks (output/final_state.c): the
+ * data file's title; the record of the file in result.json (rank 0). */
+void run_final_state_title(const struct run *r, long step, double time, char *out, size_t len);
+void run_final_state_recorded(struct run *r);
 
 /* Path of a file inside the output directory. */
 void run_path(const struct run *r, const char *name, char *out, size_t len);

@@ -42,4 +42,12 @@ struct xyz_extra {
 int xyz_write_frame(FILE *out, const struct particles *p, const struct box *b, long step,
                     double time, const struct xyz_extra *x);
 
+/* A frame in parts, for particles that come a window at a time: the count
+ * and comment lines of n particles with the optional columns (energies,
+ * stresses, an integer column int_name unless NULL), then the particle
+ * lines of each part with those columns' values. */
+void xyz_write_header(FILE *out, long n, const struct box *b, long step, double time, int pe,
+                      int stress, const char *int_name);
+int xyz_write_particles(FILE *out, const struct particles *p, const struct xyz_extra *x);
+
 #endif
