@@ -157,6 +157,18 @@ int halo_gather_windows(struct halo *h, const struct particles *p, long window,
             end = a;
         }
         long k = below(s, next, n, end);
+        if (k > most) {   /* only with an id given twice: a window of one id */
+            unsigned char *more = realloc(buf, rec * (size_t)k);
+            if (!more) {
+                rc = halo_agree(h, err_nomem(e, "gather windows"), e);
+                break;
+            }
+            buf = more;
+            most = k;
+        }
+        rc = halo_agree(h, 0, e);   /* every rank past its buffer */
+        if (rc)
+            break;
         for (long j = 0; j < k; j++)
             halo_pack(p, s[next + j].i, -1, 0.0, buf + rec * (size_t)j);
         next += k;
