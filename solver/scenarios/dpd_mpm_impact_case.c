@@ -1065,7 +1065,7 @@ static int impact_report(void *state, struct sim *s, int rc, struct err *e)
                 json_object_set_new(par, key[r], json_integer((json_int_t)moves));
         }
     }
-    if (!rc && !rc2)   /* bricks: gathered on rank 0 */
+    if (!rc && !rc2)   /* bricks: rank 0 writes, a window at a time */
         rc2 = final_state_write(run, c->halo[0], d->p, &d->box, d->step, d->time, e);
     return rc ? rc : rc2;
 }
