@@ -5,29 +5,31 @@
 #include <stdio.h>
 #include <string.h>
 
-int err_set(struct err *e, int code, const char *fmt, ...)
+static int set_message(struct err *e, int code, int elsewhere, const char *fmt, va_list ap)
 {
     if (e) {
-        va_list ap;
-        va_start(ap, fmt);
         vsnprintf(e->msg, sizeof e->msg, fmt, ap);
-        va_end(ap);
         e->code = code;
-        e->elsewhere = 0;
+        e->elsewhere = elsewhere;
     }
+    return code;
+}
+
+int err_set(struct err *e, int code, const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    set_message(e, code, 0, fmt, ap);
+    va_end(ap);
     return code;
 }
 
 int err_set_elsewhere(struct err *e, int code, const char *fmt, ...)
 {
-    if (e) {
-        va_list ap;
-        va_start(ap, fmt);
-        vsnprintf(e->msg, sizeof e->msg, fmt, ap);
-        va_end(ap);
-        e->code = code;
-        e->elsewhere = 1;
-    }
+    va_list ap;
+    va_start(ap, fmt);
+    set_message(e, code, 1, fmt, ap);
+    va_end(ap);
     return code;
 }
 
