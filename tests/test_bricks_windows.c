@@ -4,12 +4,12 @@
  * atoms in id order, written by rank 0 a window of HALO_GATHER_WINDOW
  * (32,768) atoms at a time (core/halo.h, halo_gather_windows), so no rank
  * holds them all; an XYZ frame's per-atom stresses divide by the volume
- * per atom of the whole system, not of a window.  With 42,592 atoms the walk takes two windows; on 2 and
- * 3 ranks the files have the serial run's header lines, every atom once,
- * in ascending id order (a serial run writes its own order), with the
- * serial positions and velocities to
- * REL of each column's largest magnitude (the sums of a brick run in
- * another order).
+ * per atom of the whole system, not of a window.  With 42,592 atoms the
+ * walk takes two windows; on 2 and 3 ranks the files have the serial
+ * run's header lines, every atom once, in ascending id order (a serial
+ * run writes its own order), with the serial positions, velocities,
+ * forces, energies and stresses to REL of each column's largest
+ * magnitude (the sums of a brick run in another order).
  */
 #include <criterion/criterion.h>
 #include <math.h>
@@ -196,7 +196,8 @@ Test(bricks_windows, final_state_and_xyz_pass_in_windows, .timeout = 600)
     char sd[700], sx[700];
     snprintf(sd, sizeof sd, "%s/state.data", serial);
     snprintf(sx, sizeof sx, "%s/final.xyz", serial);
-    struct rows atoms0 = read_section(sd, "Atoms", 1, 3), vel0 = read_section(sd, "Velocities", 0, 3);
+    struct rows atoms0 = read_section(sd, "Atoms", 1, 3);
+    struct rows vel0 = read_section(sd, "Velocities", 0, 3);
     struct rows xyz0 = read_frame(sx, 0, 0);
     char sf[700];
     snprintf(sf, sizeof sf, "%s/snapshots.xyz", serial);
@@ -214,7 +215,8 @@ Test(bricks_windows, final_state_and_xyz_pass_in_windows, .timeout = 600)
         snprintf(x, sizeof x, "%s/final.xyz", dir);
         snprintf(tag, sizeof tag, "%d ranks, state.data", nps[k]);
         compare_data_headers(sd, d, tag);
-        struct rows atoms = read_section(d, "Atoms", 1, 3), vel = read_section(d, "Velocities", 0, 3);
+        struct rows atoms = read_section(d, "Atoms", 1, 3);
+        struct rows vel = read_section(d, "Velocities", 0, 3);
         compare_rows(&atoms0, &atoms, 3, tag);
         compare_rows(&vel0, &vel, 3, tag);
         snprintf(tag, sizeof tag, "%d ranks, final.xyz", nps[k]);

@@ -83,8 +83,10 @@ int dpd_pair_heat(struct dpd *d, double dt, const double *w, double *heat, struc
         if (!(u[i] > 0))
             bad = i;
     if (p->halo && halo_any(p->halo, bad >= 0) && bad < 0)
-        return err_set_elsewhere(e, ERR_DIVERGED, "an internal energy became zero or negative at step %ld "
-                                        "on another rank", d->step);
+        return err_set_elsewhere(e, ERR_DIVERGED,
+                                 "an internal energy became zero or negative at step %ld "
+                                 "on another rank",
+                                 d->step);
     for (int i = bad; i >= 0 && i < p->n_owned; i++)
         if (!(u[i] > 0))
             return err_set(e, ERR_DIVERGED,

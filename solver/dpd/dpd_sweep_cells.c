@@ -644,7 +644,8 @@ int dpd_sweep_cells(struct dpd *d, struct err *e)
         for (int c = 0; c < 3; c++)
             d->body_impulse[b][c] += bimp[b][c];
     if (p->halo && halo_any(p->halo, rc != 0) && !rc)
-        rc = err_set_elsewhere(e, ERR_DIVERGED, "stopped: an internal energy became non-positive on "
-                                      "another MPI rank");
+        rc = err_set_elsewhere(e, ERR_DIVERGED,
+                               "stopped: an internal energy became non-positive on "
+                               "another MPI rank");
     return rc;
 }

@@ -102,8 +102,9 @@ static int agree(const struct sim *s, int rc, const char *what, struct err *e)
     if (!par || par->size < 2)
         return rc;
     if (parallel_any(par, rc != 0) && !rc)
-        rc = err_set_elsewhere(e, ERR_RUNTIME, "step %ld: stopped: another MPI rank failed to write %s",
-                     s->step, what);
+        rc = err_set_elsewhere(e, ERR_RUNTIME,
+                               "step %ld: stopped: another MPI rank failed to write %s", s->step,
+                               what);
     return rc;
 }
 

@@ -665,9 +665,10 @@ static int migrate(struct mpm_bricks *b, struct mpm *m, long *moved, struct err 
                                         "(step %ld)",
                        far_id, m->step);
     if (flag[0] > 0)
-        return err_set_elsewhere(e, ERR_DIVERGED, "step %ld: a material point moved more than a brick "
-                                        "in one step (on another MPI rank)",
-                       m->step);
+        return err_set_elsewhere(e, ERR_DIVERGED,
+                                 "step %ld: a material point moved more than a brick "
+                                 "in one step (on another MPI rank)",
+                                 m->step);
     if (flag[1] == 0)
         return 0;
     int rc = 0;

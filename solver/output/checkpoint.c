@@ -154,8 +154,9 @@ static int ck_any(const struct ckpt *c, int flag)
 int ckpt_agree(const struct ckpt *c, int rc)
 {
     if (ck_any(c, rc != 0) && !rc)
-        rc = err_set_elsewhere(c->e, ERR_RUNTIME, "%s: stopped: another MPI rank failed to %s the checkpoint",
-                     c->path, c->writing ? "write" : "read");
+        rc = err_set_elsewhere(c->e, ERR_RUNTIME,
+                               "%s: stopped: another MPI rank failed to %s the checkpoint", c->path,
+                               c->writing ? "write" : "read");
     return rc;
 }
 

@@ -47,8 +47,9 @@ static int par_any(const struct h5out *h, int flag)
 int h5out_par_agree(const struct h5out *h, int rc, struct err *e)
 {
     if (par_any(h, rc != 0) && !rc)
-        rc = err_set_elsewhere(e, ERR_RUNTIME, "cannot write %s: stopped: another MPI rank failed to write it",
-                     h->path);
+        rc = err_set_elsewhere(e, ERR_RUNTIME,
+                               "cannot write %s: stopped: another MPI rank failed to write it",
+                               h->path);
     return rc;
 }
 

@@ -21,7 +21,7 @@
  * DPD particles on the DPD halo's bricks (dpd_tensile_read), the grid
  * whole on every rank with its node sums over the ranks (couple/dpd_mpm.c);
  * the grips' forces, heats and counts are sums, the final state is
- * gathered on rank 0.
+ * written by rank 0 a window at a time (output/final_state.h).
  *
  * Metrics: those of dpd_tensile (peak_stress, strain_at_peak, ...) and cell
  * (Å), grid_nodes, heat_dr, heat_grid (eV given to the internal energies by

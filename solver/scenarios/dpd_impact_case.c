@@ -57,7 +57,7 @@
  * (dpd.sweep: cells), the flyer's pairs apart in one global order on
  * every rank (dpd/dpd_sweep_bodies.h), so the flyer's velocity is the same
  * on every rank.  The region means, profiles, front probes and CNA counts
- * are sums over the ranks; the final state is gathered on rank 0.
+ * are sums over the ranks; the final state is written by rank 0 a window at a time.
  *
  * Metrics: wave_speed and its companions (m/s; the threshold-free front
  * fit over probe slabs between the regions, scenarios/impact_front.h:

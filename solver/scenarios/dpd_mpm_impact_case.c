@@ -89,7 +89,7 @@
  * bricks, its grid whole on every rank with the node sums over the ranks
  * (couple/dpd_mpm.c), the free flyer's force a sum over the ranks; the
  * region means, profiles, front probes, CNA counts and internal
- * temperature are sums, the final state is gathered on rank 0.  The
+ * temperature are sums, the final state is written by rank 0 a window at a time.  The
  * concurrent model's partners are made before the split (add_partners)
  * and are DPD particles of the bricks; its material points stay whole on
  * every rank (the coupling adds their share of the nodes once), so the

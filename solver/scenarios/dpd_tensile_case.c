@@ -34,7 +34,7 @@
  * particles on the DPD halo's bricks with the cell-colour Shardlow sweep
  * (dpd.sweep: cells, the same order on any rank count), the grips
  * prescribed bodies whose forces and impulses are sums over the ranks
- * (dpd_sweep_cells.c); the final state is gathered on rank 0.
+ * (dpd_sweep_cells.c); the final state is written by rank 0 a window at a time.
  *
  * Metrics: peak_stress (GPa), strain_at_peak (1), strain_rate (1/ps),
  * strain_final (1), rod_length (Å), area (Å^2), grip_particles (1).

@@ -274,7 +274,7 @@ static int md_case_report(void *state, struct sim *s, int run_rc, struct err *e)
     if (md->halo)
         md_output_decomposition(s->run, md);
     int rc = md_output_end(&c->out, s->run, e);
-    if (md->halo)   /* rank 0 wrote: all ranks or none go on to the gather */
+    if (md->halo)   /* rank 0 wrote: all ranks or none go on to the final state */
         rc = halo_agree(md->halo, rc, e);
     if (!run_rc && !rc)
         rc = final_state_write(s->run, md->halo, md->p, &md->box, md->step, md->time, e);
