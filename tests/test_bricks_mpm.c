@@ -186,20 +186,26 @@ Test(bricks_mpm, gimp_wave_with_load_and_grip_matches_serial, .timeout = 900)
     json_decref(r);
 }
 
+/* The impact case with its output line replaced by `output` (bricks). */
+static const char *impact_with_output(const char *name, const char *output)
+{
+    static char yaml[4096];
+    snprintf(yaml, sizeof yaml, "%s", impact_yaml);
+    char *o = strstr(yaml, "output: {");
+    cr_assert(o);
+    snprintf(o, sizeof yaml - (size_t)(o - yaml),
+             "output: %s\nparallel: {decomposition: bricks}\n", output);
+    return write_case(name, yaml);
+}
+
 /* A checkpoint written on N ranks restarts on M: the restarted run ends
  * where the uninterrupted serial one does (to REL); on the same rank count
  * the thermo is the same text (a continuing run puts its points in id
  * order and maps afresh after each checkpoint, as a restarted one does). */
 Test(bricks_mpm, checkpoint_moves_between_rank_counts, .timeout = 900)
 {
-    char yaml[4096];
-    snprintf(yaml, sizeof yaml, "%s", impact_yaml);
-    char *o = strstr(yaml, "output: {");
-    cr_assert(o);
-    snprintf(o, sizeof yaml - (size_t)(o - yaml),
-             "output: {thermo_every: 10, snapshot_every: 50, checkpoint_every: 50}\n"
-             "parallel: {decomposition: bricks}\n");
-    const char *path = write_case("ck.yaml", yaml);
+    const char *path =
+        impact_with_output("ck.yaml", "{thermo_every: 10, snapshot_every: 50, checkpoint_every: 50}");
     char s1[600], m2[600];
     snprintf(s1, sizeof s1, "%s/ck-serial", th_temp_dir());
     snprintf(m2, sizeof m2, "%s/ck-2", th_temp_dir());
@@ -217,14 +223,8 @@ Test(bricks_mpm, checkpoint_moves_between_rank_counts, .timeout = 900)
  * the file and the dataset, with exit 2. */
 Test(bricks_mpm, restart_refuses_impossible_checkpoint_values, .timeout = 600)
 {
-    char yaml[4096];
-    snprintf(yaml, sizeof yaml, "%s", impact_yaml);
-    char *o = strstr(yaml, "output: {");
-    cr_assert(o);
-    snprintf(o, sizeof yaml - (size_t)(o - yaml),
-             "output: {thermo_every: 10, checkpoint_every: 80}\n"
-             "parallel: {decomposition: bricks}\n");
-    const char *path = write_case("bad-ck.yaml", yaml);
+    const char *path =
+        impact_with_output("bad-ck.yaml", "{thermo_every: 10, checkpoint_every: 80}");
     char run[600], ck[700];
     snprintf(run, sizeof run, "%s/bad-ck-2", th_temp_dir());
     thb_must_run(path, 2, run, NULL);

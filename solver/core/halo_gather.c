@@ -159,22 +159,21 @@ int halo_gather_windows(struct halo *h, const struct particles *p, long window,
         long k = below(s, next, n, end);
         if (k > most) {   /* only with an id given twice: a window of one id */
             unsigned char *more = realloc(buf, rec * (size_t)k);
-            if (!more) {
-                rc = halo_agree(h, err_nomem(e, "gather windows"), e);
-                break;
+            if (more) {
+                buf = more;
+                most = k;
+            } else {   /* this rank sends nothing; the agreement below stops all */
+                rc = err_nomem(e, "gather windows");
             }
-            buf = more;
-            most = k;
         }
-        rc = halo_agree(h, 0, e);   /* every rank past its buffer */
-        if (rc)
-            break;
-        for (long j = 0; j < k; j++)
+        long send = rc ? 0 : k;
+        for (long j = 0; j < send; j++)
             halo_pack(p, s[next + j].i, -1, 0.0, buf + rec * (size_t)j);
         next += k;
         void *all = NULL;
         size_t bytes = 0;
-        rc = parallel_gather_bytes(h->dc.par, buf, rec * (size_t)k, &all, &bytes, e);
+        int rg = parallel_gather_bytes(h->dc.par, buf, rec * (size_t)send, &all, &bytes, e);
+        rc = rc ? rc : rg;
         if (!rc && root)
             rc = unpack_sorted(q, all, rec, (int)(bytes / rec), e);
         if (!rc && root)

@@ -1,7 +1,6 @@
 /* final_state: output.final_state on one process or on bricks (final_state.h). */
 #include "output/final_state.h"
 
-#include <math.h>
 #include <string.h>
 
 #include "output/lammps_data_write.h"
@@ -38,7 +37,8 @@ int final_state_write(struct run *run, struct halo *halo, const struct particles
         return run_write_final_state(run, p, b, step, time, e);
     /* bricks: rank 0 writes the header with the totals of every rank, then
      * the particles in id order a window at a time (halo_gather_windows),
-     * so no rank holds them all; the file is the serial run's */
+     * so no rank holds them all: the serial run's atoms and values, in id
+     * order (a serial run writes its own order) */
     const char *dot = strrchr(name, '.');
     int root = run->opt.rank == 0;
     struct final_walk w = {NULL, NULL, dot && strcmp(dot, ".xyz") == 0, 0};

@@ -4,8 +4,9 @@
  * every rank pass to rank 0 in id order a window of HALO_GATHER_WINDOW at
  * a time (halo_gather_windows, collective: every rank must call this;
  * twice for a data file, its Atoms then its Velocities) and rank 0 writes
- * them after a header with the totals, so the file is the serial run's
- * whatever the rank count and no rank holds every particle.  Nothing is
+ * them after a header with the totals: the serial run's header and atoms
+ * (to round-off) whatever the rank count, in id order (a serial run
+ * writes its own order), and no rank holds every particle.  Nothing is
  * gathered when the case asks for no final state.
  */
 #ifndef CASCADE_FINAL_STATE_H
