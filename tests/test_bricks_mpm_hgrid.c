@@ -266,3 +266,69 @@ Test(bricks_mpm_hgrid, thin_bricks_are_refused, .timeout = 300)
                   strstr(out, "thinner than 4 cells"),
               "%s", out);
 }
+
+/* A two-level grid much larger than its bodies (479,757 nodes around
+ * 27,648 points): the grid is whole on every rank, but for a snapshot
+ * only rank 0, the writer, holds complete copies of the node arrays; the
+ * other ranks send it the nodes they are the lowest to touch, a window of
+ * node indices at a time (mpm_shared_gather_root).  A sum of copies of
+ * the whole grid over every rank put rank 1 about 9 MiB above the serial
+ * run's peak here; now it stays well below it.  The grid fields equal the
+ * serial ones. */
+Test(bricks_mpm_hgrid, only_the_writer_holds_the_grid_for_a_snapshot, .timeout = 600)
+{
+    const char *yaml =
+        "type: mpm\n"
+        "mpm:\n"
+        "  units: si\n"
+        "  grid:\n"
+        "    origin: [0, 0, 0]\n"
+        "    cell: 0.01\n"
+        "    cells: [96, 72, 72]\n"
+        "    levels:\n"
+        "      - {coarsen: xyz, region: {shape: slab, axis: x, lo: 0.88, hi: 1.0e9}}\n"
+        "  materials:\n"
+        "    - {name: al, law: linear_elastic, density: 2700, E: 70.0e9, nu: 0.3}\n"
+        "  bodies:\n"
+        "    - {name: A, material: al, velocity: [200, 0, 0],\n"
+        "       region: {shape: box, lo: [0.36, 0.30, 0.30], hi: [0.48, 0.42, 0.42]}}\n"
+        "    - {name: B, material: al, velocity: [-200, 0, 0],\n"
+        "       region: {shape: box, lo: [0.48, 0.30, 0.30], hi: [0.60, 0.42, 0.42]}}\n"
+        "  steps: 2\n"
+        "output: {thermo_every: 1, snapshot_every: 2, hdf5: true}\n"
+        "parallel: {decomposition: bricks, grid: [2, 1, 1]}\n";
+    const char *path = th_write_temp(0, "hgrid-memory.yaml", yaml);
+    char d0[600], d2[600];
+    snprintf(d0, sizeof d0, "%s/hgrid-memory-serial", th_temp_dir());
+    snprintf(d2, sizeof d2, "%s/hgrid-memory-2", th_temp_dir());
+    thb_must_run(path, 0, d0, NULL);
+    thb_must_run(path, 2, d2, NULL);
+    json_t *r0 = thb_result(d0), *r2 = thb_result(d2);
+    cr_assert_eq((long)thb_metric(r2, "nodes"), 479757L);
+    cr_assert_eq((long)thb_metric(r2, "points"), 27648L);
+    double serial = json_number_value(
+        json_object_get(json_object_get(r0, "timing"), "peak_rss_mib"));
+    json_t *rss = json_object_get(json_object_get(r2, "parallel"), "peak_rss_mib_per_rank");
+    cr_assert_eq(json_array_size(rss), 2);
+    double writer = json_number_value(json_array_get(rss, 0)),
+           other = json_number_value(json_array_get(rss, 1));
+    cr_log_info("479,757 nodes: peak RSS serial %.1f MiB, on 2 ranks %.1f (rank 0) and %.1f MiB",
+                serial, writer, other);
+    cr_assert_gt(serial, 0);
+#if defined(__SANITIZE_ADDRESS__)
+    cr_log_info("sanitizer build: the peak RSS bounds are not checked");
+#else
+    /* the node arrays and their copy are 96 bytes a node, 44 MiB */
+    cr_assert_lt(other, serial - 15.0,
+                 "peak RSS of rank 1 %.1f MiB, of the serial run %.1f MiB: it seems to hold "
+                 "a copy of the whole grid for the snapshot",
+                 other, serial);
+    cr_assert_lt(writer, serial + 15.0, "peak RSS of rank 0 %.1f MiB, of the serial run %.1f MiB",
+                 writer, serial);
+#endif
+    thb_compare_grid(d0, d2, 2, grid_sets, REL, "two-level grid memory case, step 2");
+    static const char *const energies[] = {"ke", "strain_energy", "etotal", NULL};
+    thb_compare_metrics(d0, d2, energies, REL, "two-level grid memory case");
+    json_decref(r0);
+    json_decref(r2);
+}

@@ -1009,23 +1009,21 @@ int mpm_bricks_complete_grid(struct mpm_bricks *b, const struct mpm *m, struct m
     *r = NULL;
     if (!b->shared)
         return 0;
-    /* copies: each rank's own arrays stay zero beyond its touched nodes,
-     * which the grid stages rely on (mpm_grid.h, `active`) */
+    /* rank 0's copies (its own arrays stay zero beyond its touched nodes,
+     * which the grid stages rely on: mpm_grid.h, `active`); the other
+     * ranks send their nodes a window at a time and hold no copy */
     const struct mpm_grid *g = &m->grid;
     size_t nn = (size_t)(g->nnodes > 0 ? g->nnodes : 1);
-    struct mpm_node *cn = malloc(nn * sizeof *cn);
-    double *cr = malloc(nn * 4 * sizeof *cr);
-    int rc = mpm_bricks_agree(b, cn && cr ? 0 : err_nomem(e, "MPM grid snapshot"), e);
-    if (!rc) {
-        memcpy(cn, g->node, (size_t)g->nnodes * sizeof *cn);
-        if (g->r)
-            memcpy(cr, g->r, (size_t)g->nnodes * 4 * sizeof *cr);
-        else
-            memset(cr, 0, nn * 4 * sizeof *cr);
-        rc = mpm_shared_complete(b->shared, (double *)cn, 8, e);
-    }
+    int root = mpm_bricks_rank(b) == 0;
+    struct mpm_node *cn = root ? malloc(nn * sizeof *cn) : NULL;
+    double *cr = root ? malloc(nn * 4 * sizeof *cr) : NULL;
+    int rc = mpm_bricks_agree(b, root && !(cn && cr) ? err_nomem(e, "MPM grid snapshot") : 0, e);
     if (!rc)
-        rc = mpm_shared_complete(b->shared, cr, 4, e);
+        rc = mpm_shared_gather_root(b->shared, (const double *)g->node, 8, (double *)cn, e);
+    if (!rc && g->r)   /* the remap's arrays: every rank has them or none */
+        rc = mpm_shared_gather_root(b->shared, g->r, 4, cr, e);
+    else if (!rc && root)
+        memset(cr, 0, nn * 4 * sizeof *cr);
     if (rc) {
         free(cn);
         free(cr);

@@ -193,10 +193,11 @@ int mpm_bricks_step_map(struct mpm_bricks *b, struct mpm *m, struct err *e);
 int mpm_bricks_step_update(struct mpm_bricks *b, struct mpm *m, double dt, struct err *e);
 
 /* A whole grid whose sums only the sharing ranks exchanged (mpm_shared.h):
- * copies of the nodes and of the remap r, every node complete, for output
- * of the whole grid (*node and *r malloc'ed, the caller frees them; both
- * NULL for other decompositions, whose arrays are complete already).
- * Collective. */
+ * on rank 0, copies of the nodes and of the remap r with every node
+ * complete, for output of the whole grid (*node and *r malloc'ed, the
+ * caller frees them); NULL on the other ranks, which send their nodes a
+ * window at a time (mpm_shared_gather_root), and for other
+ * decompositions, whose arrays are complete already.  Collective. */
 int mpm_bricks_complete_grid(struct mpm_bricks *b, const struct mpm *m, struct mpm_node **node,
                              double **r, struct err *e);
 

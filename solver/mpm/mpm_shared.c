@@ -354,19 +354,53 @@ int mpm_shared_sum(struct mpm_shared *s, double *base, int nc, int aux_max, stru
     return 0;
 }
 
-int mpm_shared_complete(struct mpm_shared *s, double *base, int nc, struct err *e)
+/* Node indices a window of the gather spans: with 8 doubles and the index
+ * a record, at most 2.4 MB sent by a rank a window. */
+#define GATHER_WINDOW_NODES 32768L
+
+int mpm_shared_gather_root(struct mpm_shared *s, const double *base, int nc, double *out,
+                           struct err *e)
 {
     const struct parallel *par = s->par;
+    int root = !par || par->rank == 0;
+    if (root)   /* rank 0 is the lowest toucher of every node it touches */
+        memcpy(out, base, (size_t)s->nnodes * (size_t)nc * sizeof *out);
     if (!par || par->size < 2)
         return 0;
-    if (!s->valid)
-        return err_set(e, ERR_RUNTIME, "MPM shared nodes: a completion without a plan");
-    /* a node a lower rank touches too is that rank's to give */
-    for (int r = 0; r < par->rank; r++) {
-        const int32_t *l = s->list + s->displ[r];
-        for (long j = 0; j < s->count[r]; j++)
-            memset(base + (long)l[j] * nc, 0, (size_t)nc * sizeof(double));
+    int rc = s->valid ? 0 : err_set(e, ERR_RUNTIME, "MPM shared nodes: a gather without a plan");
+    double *pack =
+        root ? NULL : malloc((size_t)GATHER_WINDOW_NODES * (size_t)(nc + 1) * sizeof *pack);
+    if (!rc && !root && !pack)
+        rc = err_nomem(e, "MPM grid gather");
+    if (parallel_any(par, rc != 0)) {
+        free(pack);
+        return rc ? rc : err_set_elsewhere(e, ERR_RUNTIME, "MPM grid gather: another rank failed");
     }
-    parallel_sum(par, base, (size_t)s->nnodes * (size_t)nc);
-    return 0;
+    long j = 0;   /* cursor into the touched nodes (ascending) */
+    for (long lo = 0; lo < s->nnodes && !rc; lo += GATHER_WINDOW_NODES) {
+        long hi = lo + GATHER_WINDOW_NODES < s->nnodes ? lo + GATHER_WINDOW_NODES : s->nnodes;
+        size_t n = 0;
+        if (!root)
+            for (; j < s->ntouched && s->touched[j] < hi; j++) {
+                if (!s->first[j])
+                    continue;   /* a lower rank gives it */
+                double *rec = pack + n++ * (size_t)(nc + 1);
+                rec[0] = (double)s->touched[j];
+                memcpy(rec + 1, base + (size_t)s->touched[j] * (size_t)nc,
+                       (size_t)nc * sizeof *rec);
+            }
+        void *rbuf = NULL;
+        size_t rbytes = 0;
+        rc = parallel_gather_bytes(par, pack, n * (size_t)(nc + 1) * sizeof *pack, &rbuf,
+                                   &rbytes, e);
+        const double *in = rbuf;
+        size_t nin = rbytes / ((size_t)(nc + 1) * sizeof *in);
+        for (size_t k = 0; !rc && k < nin; k++) {
+            const double *rec = in + k * (size_t)(nc + 1);
+            memcpy(out + (size_t)rec[0] * (size_t)nc, rec + 1, (size_t)nc * sizeof *out);
+        }
+        free(rbuf);
+    }
+    free(pack);
+    return rc;
 }

@@ -80,11 +80,15 @@ int mpm_shared_plan(struct mpm_shared *s, const struct mpm *m, struct err *e);
  * Collective. */
 int mpm_shared_sum(struct mpm_shared *s, double *base, int nc, int aux_max, struct err *e);
 
-/* Every node of the grid complete on every rank (base: nc doubles a node):
- * each node's value kept only by the lowest rank that touches it, then
- * summed over all ranks.  Exact: one non-zero term a node.  For output of
- * the whole grid; collective. */
-int mpm_shared_complete(struct mpm_shared *s, double *base, int nc, struct err *e);
+/* Every node of the grid complete on rank 0 alone, for output of the
+ * whole grid (base: nc doubles a node, as the step left it): rank 0
+ * copies its own arrays into out (nnodes * nc doubles, rank 0's; NULL
+ * elsewhere) and receives, a window of node indices at a time, the
+ * nodes each other rank is the lowest to touch (one non-zero term a
+ * node: exact), so no other rank holds more than a window of records.
+ * Collective; an error on one rank is an error on every rank. */
+int mpm_shared_gather_root(struct mpm_shared *s, const double *base, int nc, double *out,
+                           struct err *e);
 
 /* Shared nodes of this rank (with any other rank, each counted once). */
 long mpm_shared_nodes(const struct mpm_shared *s);
