@@ -73,6 +73,49 @@ static int in_brick(const void *ctx, const double x[3])
     return decomp_owns(ctx, x);
 }
 
+/* The extent of the sites a lattice_fill_where pass visits, storing none
+ * (the predicate keeps no site). */
+struct site_extent {
+    double *lo, *hi;
+};
+
+static int extent_of_site(const void *ctx, const double x[3])
+{
+    const struct site_extent *t = ctx;
+    for (int d = 0; d < 3; d++) {
+        t->lo[d] = fmin(t->lo[d], x[d]);
+        t->hi[d] = fmax(t->hi[d], x[d]);
+    }
+    return 0;
+}
+
+/* The box split->plan is given (md_system_split.on_extent): b, each
+ * non-periodic axis cut to [lo, hi] where the extent is not empty. */
+static void extent_box(const struct box *b, const double lo[3], const double hi[3],
+                       struct box *out)
+{
+    *out = *b;
+    for (int d = 0; d < 3; d++)
+        if (b->bc[d] != BOUNDARY_PERIODIC && lo[d] <= hi[d]) {
+            out->lo[d] = lo[d];
+            out->hi[d] = hi[d];
+        }
+}
+
+/* The extent of p's owned atoms. */
+static void particles_extent(const struct particles *p, double lo[3], double hi[3])
+{
+    for (int d = 0; d < 3; d++) {
+        lo[d] = INFINITY;
+        hi[d] = -INFINITY;
+    }
+    for (int i = 0; i < p->n_owned; i++)
+        for (int d = 0; d < 3; d++) {
+            lo[d] = fmin(lo[d], p->x[3 * i + d]);
+            hi[d] = fmax(hi[d], p->x[3 * i + d]);
+        }
+}
+
 /* The serial displacement of the atom built i-th is the i-th triple of
  * uniforms of one sequence; a rank holding the atoms of its brick (built
  * in id order, id = i + 1) runs through the sequence and keeps its own. */
@@ -268,7 +311,20 @@ int md_system_read_split(struct cfg_obj *root, uint64_t seed, const struct md_sy
             b->hi[d] = info->lattice.origin[d] + info->cells[d] * cell[d];
         }
         /* bricks: each rank builds the sites of its own brick only */
-        if (split && (rc = split->plan(split->ctx, b, &halo))) {
+        struct box plan_box = *b;
+        if (split && split->on_extent) {
+            double lo[3] = {INFINITY, INFINITY, INFINITY};
+            double hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+            struct site_extent ext = {lo, hi};
+            int64_t count_id = 1;
+            if (lattice_fill_where(&info->lattice, info->cells, has_region ? &region : NULL,
+                                   extent_of_site, &ext, p, t, &count_id, e) < 0) {
+                particles_destroy(&p);
+                return ERR_RUNTIME;
+            }
+            extent_box(b, lo, hi, &plan_box);
+        }
+        if (split && (rc = split->plan(split->ctx, &plan_box, &halo))) {
             particles_destroy(&p);
             return rc;
         }
@@ -293,16 +349,30 @@ int md_system_read_split(struct cfg_obj *root, uint64_t seed, const struct md_sy
             rc = read_file(&fr, p, b, e);
         if (root_reads) {
             long n = 0;
+            double ext[6];   /* lo, hi: rank 0's, the file's atoms */
+            particles_extent(p, ext, ext + 3);
             rc = parallel_bcast_err(par, rc, e);
             if (!rc)
                 rc = halo_scatter_header(par, p, b, &n, e);
+            if (!rc && split->on_extent)
+                rc = parallel_bcast_bytes(par, ext, sizeof ext, e);
             /* the same box on every rank: the same plan */
-            if (!rc && (rc = split->plan(split->ctx, b, &halo)) == 0)
+            struct box plan_box = *b;
+            if (split->on_extent)
+                extent_box(b, ext, ext + 3, &plan_box);
+            if (!rc && (rc = split->plan(split->ctx, &plan_box, &halo)) == 0)
                 rc = halo_scatter(par, halo, p, n, e);
             if (halo)
                 rc = halo_adopt(halo, p, rc, e);
-        } else if (!rc && split && (rc = split->plan(split->ctx, b, &halo)) == 0 && halo) {
-            rc = halo_distribute(halo, p, e);
+        } else if (!rc && split) {
+            struct box plan_box = *b;
+            if (split->on_extent) {
+                double lo[3], hi[3];
+                particles_extent(p, lo, hi);
+                extent_box(b, lo, hi, &plan_box);
+            }
+            if ((rc = split->plan(split->ctx, &plan_box, &halo)) == 0 && halo)
+                rc = halo_distribute(halo, p, e);
         }
     }
     if (!rc && halo && displace > 0 && has_lat)

@@ -62,6 +62,11 @@ struct md_system_split {
                     * file is refused at its tilt line */
     const struct parallel *par;   /* the run's ranks (NULL: serial): with more than
                                    * one, rank 0 alone reads a data or XYZ file */
+    int on_extent;  /* plan gets the box with each non-periodic axis cut to the
+                     * atoms' extent (of all ranks: a lattice's sites the region
+                     * keeps, before `displace`, from a pass that stores none; a
+                     * file's atoms, from rank 0), for a body much smaller than
+                     * its box; 0: the box */
 };
 
 /* The key max_particles of a section that builds atoms (system, and the

@@ -165,8 +165,8 @@ static int impact_read(struct cfg_obj *root, const struct case_common *common, v
      * each rank builds (a lattice) or receives (a file rank 0 read) only
      * its brick's target particles */
     int rc = dpd_section_read(root, DPD_ENERGY, &in);
-    struct dpd_split_plan plan = {&in, common, root->cfg};
-    struct md_system_split split = {dpd_split_plan_bricks, &plan, 0, common->par};
+    struct dpd_split_plan plan = {&in, common, root->cfg, 0};
+    struct md_system_split split = {dpd_split_plan_bricks, &plan, 0, common->par, 0};
     if (!rc)
         rc = md_system_read_split(root, common->seed, root->cfg->shallow ? NULL : &split, &p,
                                   &box, &info, &halo);

@@ -125,10 +125,27 @@ int dpd_bricks_plan(const struct dpd_input *in, const struct box *box,
     return 0;
 }
 
+/* A box's non-periodic axes less `skin` at both ends where they are
+ * longer than 2 skin (the first ghost build's shrink-wrap, nearly). */
+static void skin_box(const struct box *box, double skin, struct box *plan)
+{
+    *plan = *box;
+    for (int d = 0; d < 3; d++) {
+        if (box->bc[d] == BOUNDARY_PERIODIC || !(box->hi[d] - box->lo[d] > 2 * skin))
+            continue;
+        plan->lo[d] = box->lo[d] + skin;
+        plan->hi[d] = box->hi[d] - skin;
+    }
+}
+
 int dpd_split_plan_bricks(void *ctx, const struct box *b, struct halo **out)
 {
     const struct dpd_split_plan *pl = ctx;
-    return dpd_bricks_plan(pl->in, b, pl->common, pl->cfg, 1, out);
+    if (!pl->grid_carried)
+        return dpd_bricks_plan(pl->in, b, pl->common, pl->cfg, 1, out);
+    struct box plan;
+    skin_box(b, pl->in->skin, &plan);
+    return dpd_bricks_plan(pl->in, &plan, pl->common, pl->cfg, 0, out);
 }
 
 int dpd_bricks(const struct dpd_input *in, const struct box *box, struct particles *p,

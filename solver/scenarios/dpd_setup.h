@@ -74,11 +74,16 @@ int dpd_bricks(const struct dpd_input *in, const struct box *box, struct particl
 /* The plan callback of md_system_read_split (input/md_system.h) for a DPD
  * case whose particles are built or received brick by brick: the DPD
  * bricks of the box the builder has just sized, with the cell sweep's
- * reach (dpd_bricks_plan with sweep).  ctx: a struct dpd_split_plan. */
+ * reach (dpd_bricks_plan with sweep).  ctx: a struct dpd_split_plan.
+ * grid_carried: a grid-carried body (no sweep), given its extent
+ * (md_system_split.on_extent): the bricks are planned without the sweep,
+ * on that extent less the skin at both ends of each non-periodic axis,
+ * as dpd_bricks_plan_box gives it from the particles. */
 struct dpd_split_plan {
     const struct dpd_input *in;
     const struct case_common *common;
     struct cfg *cfg;
+    int grid_carried;
 };
 int dpd_split_plan_bricks(void *ctx, const struct box *b, struct halo **out);
 

@@ -37,18 +37,19 @@ int dpd_tensile_read(struct cfg_obj *root, const struct case_common *common, str
     struct md_system_info info;
     struct dpd_input in;
     memset(t, 0, sizeof *t);
-    /* With the sweep (dpd_tensile) the bricks are planned on the box, so
-     * each rank builds (a lattice) or receives (a file) only its brick's
-     * particles: the dpd section first, its ranges size the bricks.  The
-     * grid-carried rod plans on the rod's extent (dpd_bricks_plan_box),
-     * known only once the whole rod is built. */
-    int split = sweep && halo;
+    /* Each rank builds (a lattice) or receives (a file) only its brick's
+     * particles: the dpd section first, its ranges size the bricks.  With
+     * the sweep (dpd_tensile) the bricks are planned on the box; the
+     * grid-carried rod (no sweep) on the rod's extent less the skin, the
+     * box its first ghost build shrink-wraps to (md_system_split.on_extent:
+     * a pass over the lattice's sites that stores none, or rank 0's file). */
+    int split = halo != NULL;
     struct halo *mine = NULL;
     int rc;
     if (split) {
         rc = dpd_section_read(root, DPD_ENERGY, &in);
-        struct dpd_split_plan plan = {&in, common, root->cfg};
-        struct md_system_split sp = {dpd_split_plan_bricks, &plan, 0, common->par};
+        struct dpd_split_plan plan = {&in, common, root->cfg, !sweep};
+        struct md_system_split sp = {dpd_split_plan_bricks, &plan, 0, common->par, !sweep};
         if (!rc)
             rc = md_system_read_split(root, common->seed, root->cfg->shallow ? NULL : &sp, &p,
                                       &box, &info, &mine);
@@ -109,19 +110,10 @@ int dpd_tensile_read(struct cfg_obj *root, const struct case_common *common, str
         for (int i = 0; i < p->n_owned; i++)
             p->v[3 * i + axis] += v * (2 * p->x[3 * i + axis] - xlo - xhi) / (xhi - xlo);
     }
-    /* bricks: a split build keeps what each rank built (a particle a
-     * displacement moved just out of its brick migrates at the first list
-     * build); otherwise each rank keeps its brick's particles, drawn and
-     * marked over all of them (the grid-carried rod has no sweep, and is
-     * planned on the rod's extent: dpd_bricks_plan_box) */
-    if (mine) {
+    /* bricks: each rank keeps what it built (a particle a displacement
+     * moved just out of its brick migrates at the first list build) */
+    if (mine)
         rc = halo_adopt(mine, p, 0, e);
-    } else if (halo) {
-        struct box plan = box;
-        if (!sweep)
-            dpd_bricks_plan_box(&box, p, 0, in.skin, &plan);
-        rc = dpd_bricks(&in, &plan, p, common, root->cfg, sweep, halo);
-    }
     if (rc) {
         particles_destroy(&p);
         return rc;

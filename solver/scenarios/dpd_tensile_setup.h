@@ -51,12 +51,12 @@ struct dpd_tensile {
  * with the grips as prescribed bodies 0 (low end) and 1 (high end).  On
  * failure after building, d is freed.  halo (NULL: never): under mpirun
  * the rod on bricks when the `parallel` section and the box give them
- * (*halo the new halo, owned by the caller, or NULL); sweep: the DPD step
- * sweeps pairs (dpd_tensile; not the grid-carried rod), so the ghost shell
- * covers the cell sweep's reach, and each rank builds only its brick's
- * part of the rod (the bricks planned on the box first); without the
- * sweep every rank builds the whole rod, whose extent plans the bricks,
- * and keeps its brick's (dpd_bricks). */
+ * (*halo the new halo, owned by the caller, or NULL); each rank builds
+ * (or receives) only its brick's part of the rod.  sweep: the DPD step
+ * sweeps pairs (dpd_tensile; not the grid-carried rod), so the ghost
+ * shell covers the cell sweep's reach and the bricks are planned on the
+ * box; without the sweep they are planned on the rod's extent less the
+ * skin (dpd_split_plan.grid_carried). */
 int dpd_tensile_read(struct cfg_obj *root, const struct case_common *common, struct dpd *d,
                      struct dpd_tensile *t, struct halo **halo, int sweep);
 

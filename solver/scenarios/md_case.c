@@ -105,7 +105,7 @@ static int md_case_read(struct cfg_obj *root, const struct case_common *common, 
     struct md_system_info info;
     struct halo *halo = NULL;
     struct md_case_plan plan = {common, pot ? pot->cutoff + ms.skin : 0.0, root->cfg};
-    struct md_system_split split = {md_case_plan_bricks, &plan, 1, common->par};
+    struct md_system_split split = {md_case_plan_bricks, &plan, 1, common->par, 0};
     rc = md_system_read_split(root, common->seed, &split, &p, &box, &info, &halo);
     if (rc || root->cfg->shallow) {
         potential_destroy(&pot);
