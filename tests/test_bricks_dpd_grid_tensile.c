@@ -141,3 +141,33 @@ Test(bricks_dpd_grid_tensile, short_rod_replicates_under_auto, .timeout = 600)
     memcpy(cells, "cells: [ 8, 3, 3]", 17);
     thb_short_replicates(th_write_temp(0, "rshort.yaml", yaml), 4, "rshort");
 }
+
+/* The rod read from a data file (the final state of one serial step):
+ * rank 0 reads it, broadcasts the rod's extent with the box, and every
+ * rank plans the same bricks on it before receiving its brick's
+ * particles (md_system_split.on_extent); on 1, 2 and 4 ranks the run
+ * matches the serial one to REL. */
+Test(bricks_dpd_grid_tensile, rod_from_a_data_file_matches_serial, .timeout = 600)
+{
+    th_write_temp(2, "cg.yaml", PARAMS);
+    char yaml[2048], mk[600];
+    rod_case(yaml, sizeof yaml, "output: {final_state: rod.data}\n", "");
+    char *st = strstr(yaml, "steps: 100");
+    cr_assert_not_null(st);
+    memcpy(st, "steps: 1  ", 10);
+    snprintf(mk, sizeof mk, "%s/rod-data-maker", th_temp_dir());
+    thb_must_run(th_write_temp(0, "rod_mk.yaml", yaml), 0, mk, NULL);
+    char data[700], system[1024];
+    snprintf(data, sizeof data, "%s/rod.data", mk);
+    snprintf(system, sizeof system, "  read_data: %s\n  elements: [Cu]\n", data);
+    rod_case(yaml, sizeof yaml, OUTPUT, "parallel: {decomposition: bricks}\n");
+    char *lat = strstr(yaml, "  lattice:"), *bnd = strstr(yaml, "  boundary:");
+    cr_assert(lat && bnd);
+    char tail[2048];
+    snprintf(tail, sizeof tail, "%s", bnd);
+    snprintf(lat, sizeof yaml - (size_t)(lat - yaml), "%s%s", system, tail);
+    const char *path = th_write_temp(1, "rod_data.yaml", yaml);
+    static const int nps[] = {1, 2, 4};
+    thb_matches_serial(path, "rod-data", nps, 3, NPART, assert_measured, compare_runs,
+                       "grid tensile from a data file");
+}
