@@ -388,6 +388,10 @@ int halo_build(struct halo *h, struct particles *p, double range, struct err *e)
     int rc = 0;
     p->n_ghost = 0;
     h->nswap = 0;
+    /* an owned particle is its own copy, shifted by no box length; its slot
+     * may hold a ghost's shift from before a checkpoint read refilled the
+     * slots, and DPD's pair keys read it (dpd_pair_key_pre) */
+    memset(p->gshift, 0, (size_t)3 * (size_t)p->n_owned * sizeof *p->gshift);
     /* a free axis shrink-wraps: its bricks may have become thinner than
      * the range since the grid was chosen, and one swap would miss ghosts */
     for (int d = 0; d < 3; d++)

@@ -124,6 +124,7 @@
 #include "analysis/wave_arrival.h"
 #include "core/halo.h"
 #include "core/units.h"
+#include "core/velocity.h"
 #include "dpd/cg_lattice.h"
 #include "engine/models.h"
 #include "scenarios/dpd_bar.h"
@@ -411,18 +412,41 @@ static int add_partners(struct particles *p, const struct points *pts, struct er
                                    PARTNER_BIT, PARTNER_ID0, &added, e);
 }
 
-/* Under mpirun, for dpd_grid_impact (docs/dpd_mpm.md "Under MPI"): the
- * flyer run's particles p keep their brick's share of the DPD halo
- * (dpd_bricks without the sweep's reach: the grid model has no Shardlow
- * sweep), every other run its own of a halo over the same bricks, so that
- * a run and its reference run hold the same material on each rank.  Every
- * rank built all particles (with the partners); the grid, and for
- * dpd_mpm_impact the material points, stay whole on every rank.  No-op
- * serially and replicated. */
+/* Under mpirun (docs/dpd_mpm.md "Under MPI"): the flyer run's particles p
+ * keep their brick's share of the DPD halo (no sweep's reach: the grid
+ * model has no Shardlow sweep), every other run its own of a halo over
+ * the same bricks, so that a run and its reference run hold the same
+ * material on each rank.  dpd_grid_impact: each rank built only its
+ * brick's particles, on the bricks impact_read planned.  dpd_mpm_impact:
+ * every rank built all particles (with the partners) and keeps its
+ * brick's (dpd_bricks), planned here on the DPD part's extent.  The
+ * grid, and for dpd_mpm_impact the material points, stay whole on every
+ * rank.  No-op serially and replicated. */
 static int impact_bricks(struct impact_case *c, int r, struct particles *p,
                          const struct dpd_input *in, const struct box *box,
                          const struct case_common *common, struct cfg *cfg)
 {
+    if (!c->concurrent) {
+        /* each rank built its brick's target (md_system_read_split, whose
+         * plan gave c->halo[0]; none serially or replicated) and flyer:
+         * every run keeps it, on its own halo over the same bricks (a
+         * particle a displacement moved just out of its brick migrates at
+         * the first list build) */
+        if (!c->halo[0])
+            return 0;
+        struct err *e = cfg->err;
+        int rc = 0;
+        if (r > 0) {
+            if (!(c->halo[r] = calloc(1, sizeof *c->halo[r])))
+                rc = err_nomem(e, "reference run bricks");
+            else
+                rc = halo_init_like(c->halo[r], c->halo[0], e);
+        }
+        struct halo *h = c->halo[r] ? c->halo[r] : c->halo[0];
+        p->halo = h;
+        p->par = NULL;   /* no replicated sums: each rank owns its brick */
+        return halo_adopt(h, p, rc, e);
+    }
     if (r == 0) {
         /* The DPD halo holds only the DPD part (for dpd_mpm_impact with
          * the partners, not the material points), and the reference run
@@ -459,10 +483,29 @@ static int impact_read(struct cfg_obj *root, const struct case_common *common, v
     if (!c)
         return err_nomem(root->cfg->err, "impact case");
     c->concurrent = concurrent;
-    /* both types run on bricks (impact_bricks) */
-    int rc = md_system_read(root, common->seed, &p, &box, &info);
-    if (!rc)
-        rc = dpd_section_read(root, DPD_ENERGY, &in);
+    /* both types run on bricks (impact_bricks).  dpd_grid_impact builds
+     * (a lattice) or receives (a file rank 0 read) only each rank's
+     * brick of the target, the bricks planned on the target's extent
+     * less the skin; the dpd section first, its ranges size the bricks.
+     * The concurrent model builds the whole target on every rank: its
+     * DPD part, which the bricks hold, is known only once the target is
+     * split at the face (split_target), and its material points stay
+     * whole on every rank. */
+    int rc = dpd_section_read(root, DPD_ENERGY, &in);
+    struct halo *mine = NULL;
+    if (!rc && concurrent) {
+        rc = md_system_read(root, common->seed, &p, &box, &info);
+    } else if (!rc) {
+        struct dpd_split_plan plan = {&in, common, root->cfg, 1};
+        struct md_system_split sp = {dpd_split_plan_bricks, &plan, 0, common->par, 1};
+        rc = md_system_read_split(root, common->seed, root->cfg->shallow ? NULL : &sp, &p, &box,
+                                  &info, &mine);
+    }
+    c->halo[0] = mine;   /* the flyer run's, owned by the case */
+    if (mine) {
+        p->halo = mine;
+        p->par = NULL;   /* no replicated sums: each rank owns its brick */
+    }
     if (!rc)
         rc = dpd_impact_keys_read(root, &c->k);
     if (!rc)
@@ -491,8 +534,14 @@ static int impact_read(struct cfg_obj *root, const struct case_common *common, v
     double a = c->k.a > 0 ? c->k.a : in.prm.lattice_constant;
     struct dpd_bar bar;
     struct particles *hom = NULL;
-    rc = dpd_init_velocities(&in, p, common, e);
-    dpd_bar_measure(p, 0, 0.5 * a, &bar);
+    /* the k-th Maxwell draw to the k-th id of all ranks: the serial
+     * velocities (to round-off on bricks, bitwise serially); the bar's
+     * faces over every rank's particles */
+    for (int t = 0; t < p->ntypes; t++)
+        p->mass[t] = in.prm.mass;
+    if (in.t_init > 0)
+        rc = velocity_maxwell_split(p, in.t_init, common->seed, 1u, mine, e);
+    dpd_bar_measure_over(p, 0, 0.5 * a, mine, &bar);
     c->face = bar.face_lo[ax];
     c->length = bar.extent[ax];
     c->bar = bar;
@@ -501,7 +550,10 @@ static int impact_read(struct cfg_obj *root, const struct case_common *common, v
         cg_lattice_elastic(&in.prm.sc, in.prm.lattice_constant, &c->c11, &c->c12, &c44);
         c->rho = 4 * in.prm.mass / pow(in.prm.lattice_constant, 3);
     }
-    c->n_target = p->n_owned;
+    double ntarget = (double)p->n_owned;
+    if (mine)
+        halo_sum(mine, &ntarget, 1);
+    c->n_target = lround(ntarget);
     c->steps = in.steps;
     c->cell = gk.cell;
     for (int r = 0; r < 2 && !rc; r++)
@@ -569,8 +621,8 @@ static int impact_read(struct cfg_obj *root, const struct case_common *common, v
             break;
         }
         long nf = 0;
-        if (flyer[r])
-            rc = dpd_impact_add_flyer(src[r], &bar, &c->k, a, &nf, e);
+        if (flyer[r])   /* each rank the flyer sites of its brick */
+            rc = dpd_impact_add_flyer_over(src[r], &bar, &c->k, a, mine, &nf, e);
         if (r == 0)
             c->n_flyer = nf;
         if (!rc)
