@@ -15,6 +15,7 @@
  * with a run on bricks (a stated statistical tolerance, below).
  */
 #include <criterion/criterion.h>
+#include <hdf5.h>
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
@@ -22,6 +23,7 @@
 
 #include "helpers/th.h"
 #include "helpers/th_bricks.h"
+#include "helpers/th_restart.h"
 
 #define REL 1e-10
 
@@ -242,4 +244,69 @@ Test(bricks_dpd, box_too_small_for_the_cell_sweep_is_refused, .timeout = 300)
     int rc = thb_run(path, 0, dir, NULL, out, sizeof out);
     cr_assert_neq(rc, 0, "%s", out);
     cr_assert(strstr(out, "at least 3 r_d = 32.535 Å long along x"), "%s", out);
+}
+
+/* A restart on bricks reads, on each rank, only the stored particles of
+ * its brick (model_particles_read_brick), so an id stored twice, once deep
+ * in each rank's brick, is found by comparing the ranks' ids: the restart
+ * stops with exit 2 naming the file and the dataset, rank 1's words
+ * printed once. */
+Test(bricks_dpd, restart_refuses_an_id_stored_in_two_bricks, .timeout = 600)
+{
+    th_write_temp(2, "cg.yaml", PARAMS);
+    const char *path = th_write_temp(
+        0, "dupid.yaml",
+        "type: dpd\nseed: 5\nsystem:\n  lattice: {style: fcc, a: 7.28, cells: [8, 6, 6]}\n"
+        "  element: Cu\ndpd: {parameters: cg.yaml, variant: dpde, gamma: 2.0, steps: 20, "
+        "timestep: 0.01, initial_temperature: 600, sweep: cells}\n"
+        "parallel: {decomposition: bricks, grid: [2, 1, 1]}\n"
+        "output: {thermo_every: 10, checkpoint_every: 10}\n");
+    char run[600], ck[700];
+    snprintf(run, sizeof run, "%s/dupid-2", th_temp_dir());
+    thb_must_run(path, 2, run, NULL);
+    snprintf(ck, sizeof ck, "%s/checkpoint-%010d.h5", run, 10);
+    long row_high = -1;
+    int64_t low_id = 0;
+    {   /* a row near the lowest x (rank 0's brick) and one near the highest
+         * (rank 1's): the second gets the first's id */
+        hid_t h = H5Fopen(ck, H5F_ACC_RDONLY, H5P_DEFAULT);
+        cr_assert_geq(h, 0, "%s", ck);
+        hid_t dx = H5Dopen2(h, "/model/dpd/particles/x", H5P_DEFAULT);
+        hid_t di = H5Dopen2(h, "/model/dpd/particles/id", H5P_DEFAULT);
+        hid_t fs = H5Dget_space(di);
+        hsize_t dim[1];
+        H5Sget_simple_extent_dims(fs, dim, NULL);
+        H5Sclose(fs);
+        long n = (long)dim[0];
+        cr_assert_eq(n, 1152);
+        double *x = malloc((size_t)n * 3 * sizeof *x);
+        int64_t *ids = malloc((size_t)n * sizeof *ids);
+        cr_assert(x && ids);
+        cr_assert_geq(H5Dread(dx, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, x), 0);
+        cr_assert_geq(H5Dread(di, H5T_NATIVE_INT64, H5S_ALL, H5S_ALL, H5P_DEFAULT, ids), 0);
+        H5Dclose(dx);
+        H5Dclose(di);
+        H5Fclose(h);
+        long lo = 0, hi = 0;
+        for (long i = 1; i < n; i++) {
+            lo = x[3 * i] < x[3 * lo] ? i : lo;
+            hi = x[3 * i] > x[3 * hi] ? i : hi;
+        }
+        low_id = ids[lo];
+        row_high = hi;
+        free(x);
+        free(ids);
+    }
+    char dir[700], file[800], out[16384];
+    snprintf(dir, sizeof dir, "%s/dupid-bad", th_temp_dir());
+    snprintf(file, sizeof file, "%s/checkpoint-%010d.h5", dir, 10);
+    cr_assert_eq(thb_mkdir_copy(ck, dir, file), 0);
+    th_ckpt_poke_at(file, "/model/dpd/particles/id", (long)H5T_NATIVE_INT64, row_high, &low_id);
+    const char *extra[] = {"--restart", NULL};
+    int rc = thb_run(path, 2, dir, extra, out, sizeof out);
+    cr_assert_eq(rc, 2, "exit %d: %s", rc, out);
+    cr_assert(strstr(out, "checkpoint-0000000010.h5") &&
+                  strstr(out, "model/dpd/particles/id: 1 id(s) given twice"),
+              "%s", out);
+    cr_assert(!strstr(out, "another MPI rank"), "%s", out);
 }

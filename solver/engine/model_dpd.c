@@ -166,10 +166,12 @@ static int dpd_model_checkpoint_read(void *self, struct ckpt *ck, struct err *e)
             d->body[b].force[c] = bf[3 * b + c];
         }
     if (!rc) rc = ckpt_get_box(ck, box, &d->box);
-    if (!rc) rc = ckpt_get_particles(ck, parts, d->p);
-    /* bricks: every rank read every particle; the sync keeps its brick's */
-    if (!rc && d->p->halo)
-        m->read_all = 1;
+    /* bricks: each rank reads the particles of its brick of the stored
+     * box; the sync puts them where the continuing run has them */
+    if (d->p->halo)
+        rc = model_particles_read_brick(d->p->halo, &d->box, ck, parts, d->p, rc, e);
+    else if (!rc)
+        rc = ckpt_get_particles(ck, parts, d->p);
     return rc;
 }
 
@@ -188,13 +190,7 @@ static void dpd_model_checkpoint_sync(void *self)
     struct err e = {0};
     struct particles *p = d->p;
     particles_clear_ghosts(p);
-    int rc = 0;
-    if (m->read_all) {
-        decomp_set_box(&h->dc, &d->box);
-        rc = halo_distribute(h, p, &e);
-    }
-    if (!rc)
-        rc = halo_remap(h, &d->box, p, 0, &e);
+    int rc = halo_remap(h, &d->box, p, 0, &e);
     /* dynamic balance: both runs cut at the stored particles */
     if (!rc)
         rc = halo_balance_sync(h, p, dpd_ghost_range(d), d->step, &e);
@@ -202,7 +198,6 @@ static void dpd_model_checkpoint_sync(void *self)
         rc = halo_migrate(h, p, &e);
     if (!rc)
         rc = halo_sort_by_id(p, &e);
-    m->read_all = 0;
     m->sync_rc = rc;
 }
 

@@ -82,37 +82,6 @@ static int in_brick(const void *ctx, const double x[3])
     return decomp_owns(ctx, x);
 }
 
-static int cmp_id(const void *a, const void *b)
-{
-    int64_t x = *(const int64_t *)a, y = *(const int64_t *)b;
-    return (x > y) - (x < y);
-}
-
-/* Each rank checked the ids it kept; one id on two ranks is refused too. */
-static int ids_unique_over_ranks(struct md *md, struct ckpt *ck, struct err *e)
-{
-    int n = md->p->n_owned;
-    int64_t *ids = malloc((size_t)(n ? n : 1) * sizeof *ids);
-    long *pos = malloc((size_t)(n ? n : 1) * sizeof *pos), shared = 0;
-    int rc = halo_agree(md->halo, ids && pos ? 0 : err_nomem(e, "checkpoint ids"), e);
-    if (!rc) {
-        memcpy(ids, md->p->id, (size_t)n * sizeof *ids);
-        qsort(ids, (size_t)n, sizeof *ids, cmp_id);
-        rc = halo_id_positions(md->halo, ids, n, pos, &shared, e);
-    }
-    double dup = (double)shared;
-    if (!rc)
-        halo_sum(md->halo, &dup, 1);
-    if (!rc && dup > 0)
-        rc = err_set(e, ERR_INPUT,
-                     "%s: checkpoint model/md/atoms/id: %.0f id(s) given twice (in two ranks' "
-                     "bricks)",
-                     ck->path, dup / 2);
-    free(ids);
-    free(pos);
-    return rc;
-}
-
 int model_md_atoms_read(struct md *md, struct ckpt *ck, const char *group, int rc,
                         int *read_all, struct err *e)
 {
@@ -132,7 +101,7 @@ int model_md_atoms_read(struct md *md, struct ckpt *ck, const char *group, int r
             rc = halo_agree(md->halo, rc, e);
         }
         if (!rc)
-            rc = ids_unique_over_ranks(md, ck, e);
+            rc = model_ids_unique_over_ranks(md->halo, md->p, ck, group, e);
         *read_all = !rc && !ck->par;   /* the sync counts them and migrates strays */
         return rc;
     }

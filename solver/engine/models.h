@@ -35,6 +35,21 @@ extern const struct sim_model_ops sim_model_md;
 int model_checkpoint_rows(struct halo *h, const struct particles *p, long *offset, long *total,
                           struct err *e);
 
+/* Bricks: the stored particles of `group` whose positions lie in this
+ * rank's brick, with the bricks cut over the stored box b first
+ * (decomp_set_box), read in blocks (ckpt_get_particles_where: the memory
+ * is the brick and one block, never the whole set) and in stored order,
+ * so the rank holds what reading every particle and keeping its brick's
+ * (halo_distribute) gave; ids checked unique over the ranks (one id in
+ * two bricks is refused naming the file and dataset).  rc: the result of
+ * the reads before.  Collective. */
+int model_particles_read_brick(struct halo *h, const struct box *b, struct ckpt *ck,
+                               const char *group, struct particles *p, int rc, struct err *e);
+/* Each rank checked the ids of group it kept; one id on two ranks is
+ * refused too.  Collective. */
+int model_ids_unique_over_ranks(struct halo *h, const struct particles *p, struct ckpt *ck,
+                                const char *group, struct err *e);
+
 /* A checkpoint's atoms (group, e.g. "model/md/atoms") into md after its
  * box was read: serially all of them; on bricks each rank its brick's
  * (or, from a collective file, an even share that the sync migrates:
@@ -96,7 +111,6 @@ struct dpd_model {
     int snapshots;              /* 1: per-particle energies when a snapshot is due */
     long ck_offset, ck_total;   /* bricks: this rank's first row and all rows of a
                                  * checkpoint's particles (checkpoint_collect) */
-    int read_all;               /* bricks: a checkpoint read put every particle on every rank */
     int sync_rc;                /* bricks: the redistribution after a checkpoint failed */
 };
 extern const struct sim_model_ops sim_model_dpd;
