@@ -169,7 +169,7 @@ static int dpd_model_checkpoint_read(void *self, struct ckpt *ck, struct err *e)
     /* bricks: each rank reads the particles of its brick of the stored
      * box; the sync puts them where the continuing run has them */
     if (d->p->halo)
-        rc = model_particles_read_brick(d->p->halo, &d->box, ck, parts, d->p, rc, e);
+        rc = model_particles_read_brick(d->p->halo, &d->box, ck, parts, NULL, d->p, rc, e);
     else if (!rc)
         rc = ckpt_get_particles(ck, parts, d->p);
     return rc;

@@ -312,10 +312,13 @@ static void dpd_mpm_model_checkpoint_sync(void *self)
     struct err e = {0};
     struct particles *p = d->p;
     particles_clear_ghosts(p);
-    decomp_set_box(&h->dc, &d->box);
-    swap_list_field(p);
-    int rc = halo_distribute(h, p, &e);
-    swap_list_field(d->p);
+    int rc = 0;
+    if (m->read_all == 1) {   /* every particle read: keep the brick's */
+        decomp_set_box(&h->dc, &d->box);
+        swap_list_field(p);
+        rc = halo_distribute(h, p, &e);
+        swap_list_field(d->p);
+    }
     if (!rc)
         rc = rebuild_ordered_at_field(d, m->c->partner_bit, &e);
     m->read_all = 0;
@@ -390,10 +393,17 @@ static int dpd_mpm_model_checkpoint_read(void *self, struct ckpt *ck, struct err
     int frozen_at = -1;
     if (!rc)
         rc = dpd_mpm_frozen_take(c, &frozen, &frozen_at, e);
-    if (!rc) {
-        snprintf(sub, sizeof sub, "%s/particles", base);
+    /* bricks, a checkpoint written on bricks (the list positions a field):
+     * each rank reads only the particles whose list positions lie in its
+     * brick of the stored box, where the continuing run's last migration
+     * put them; otherwise every rank reads every particle and the sync
+     * keeps its brick's */
+    int brick = h && !have_lists;
+    snprintf(sub, sizeof sub, "%s/particles", base);
+    if (brick)
+        rc = model_particles_read_brick(h, &d->box, ck, sub, LIST_FIELD, d->p, rc, e);
+    else if (!rc)
         rc = ckpt_get_particles(ck, sub, d->p);
-    }
     if (!rc)
         rc = dpd_mpm_frozen_put(c, frozen, frozen_at, e);
     free(frozen);
@@ -401,9 +411,15 @@ static int dpd_mpm_model_checkpoint_read(void *self, struct ckpt *ck, struct err
     long nall = h ? (long)(cnt[0] + cnt[1]) : n;
     for (int b = 0; h && b < d->nbodies; b++)
         nall += d->body[b].n;
-    if (!rc && d->p->n_owned != nall)
-        rc = err_set(e, ERR_INPUT, "%s: checkpoint of %s has %d DPD particles, the case has %ld",
-                     ck->path, base, d->p->n_owned, nall);
+    long nread = d->p->n_owned;
+    if (brick) {   /* over the ranks (every rank takes part, whatever its rc) */
+        double t = rc ? 0.0 : (double)nread;
+        halo_sum(h, &t, 1);
+        nread = lround(t);
+    }
+    if (!rc && nread != nall)
+        rc = err_set(e, ERR_INPUT, "%s: checkpoint of %s has %ld DPD particles, the case has %ld",
+                     ck->path, base, nread, nall);
     if (!rc && d->sort_every != 0)
         rc = err_set(e, ERR_RUNTIME, "DPD/MPM: particles sorted in space cannot be restored");
     if (!rc && have_lists && !(xb = malloc((size_t)3 * (nall ? nall : 1) * sizeof *xb)))
@@ -413,7 +429,9 @@ static int dpd_mpm_model_checkpoint_read(void *self, struct ckpt *ck, struct err
         if (!(rc = ckpt_enter(ck, sub)))
             rc = ckpt_get_doubles(ck, "list_positions", xb, 3 * nall);
     }
-    if (!rc && h) {   /* every particle on every rank: the sync keeps the brick's */
+    if (!rc && brick) {   /* the brick's particles: the sync rebuilds at their lists */
+        m->read_all = 2;
+    } else if (!rc && h) {   /* every particle on every rank: the sync keeps the brick's */
         int k = xb ? particles_add_field(d->p, LIST_FIELD, 3, 0, e) : 0;
         if (k < 0)
             rc = ERR_RUNTIME;

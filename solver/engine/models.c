@@ -81,12 +81,14 @@ int model_ids_unique_over_ranks(struct halo *h, const struct particles *p, struc
 }
 
 int model_particles_read_brick(struct halo *h, const struct box *b, struct ckpt *ck,
-                               const char *group, struct particles *p, int rc, struct err *e)
+                               const char *group, const char *field, struct particles *p, int rc,
+                               struct err *e)
 {
     if (!rc)
         decomp_set_box(&h->dc, b);
     if (!rc)
-        rc = ckpt_get_particles_where(ck, group, p, in_brick, &h->dc);
+        rc = field ? ckpt_get_particles_where_field(ck, group, p, field, in_brick, &h->dc)
+                   : ckpt_get_particles_where(ck, group, p, in_brick, &h->dc);
     rc = halo_adopt(h, p, rc, e);
     return rc ? rc : model_ids_unique_over_ranks(h, p, ck, group, e);
 }

@@ -35,8 +35,10 @@ extern const struct sim_model_ops sim_model_md;
 int model_checkpoint_rows(struct halo *h, const struct particles *p, long *offset, long *total,
                           struct err *e);
 
-/* Bricks: the stored particles of `group` whose positions lie in this
- * rank's brick, with the bricks cut over the stored box b first
+/* Bricks: the stored particles of `group` whose positions (or values of
+ * p's 3-component field `field`, e.g. the positions of the last list
+ * build; NULL: the positions) lie in this rank's brick, with the bricks
+ * cut over the stored box b first
  * (decomp_set_box), read in blocks (ckpt_get_particles_where: the memory
  * is the brick and one block, never the whole set) and in stored order,
  * so the rank holds what reading every particle and keeping its brick's
@@ -44,7 +46,8 @@ int model_checkpoint_rows(struct halo *h, const struct particles *p, long *offse
  * two bricks is refused naming the file and dataset).  rc: the result of
  * the reads before.  Collective. */
 int model_particles_read_brick(struct halo *h, const struct box *b, struct ckpt *ck,
-                               const char *group, struct particles *p, int rc, struct err *e);
+                               const char *group, const char *field, struct particles *p, int rc,
+                               struct err *e);
 /* Each rank checked the ids of group it kept; one id on two ranks is
  * refused too.  Collective. */
 int model_ids_unique_over_ranks(struct halo *h, const struct particles *p, struct ckpt *ck,
@@ -127,7 +130,8 @@ struct dpd_mpm_model {
     long ck_offset, ck_total;   /* bricks: this rank's first row and all rows of a
                                  * checkpoint's particles (checkpoint_collect) */
     long ck_carried, ck_partners;   /* bricks: the classes' counts over the ranks */
-    int read_all;               /* bricks: a checkpoint read put every particle on every rank */
+    int read_all;               /* bricks: a checkpoint read put every particle on every
+                                 * rank (1) or its brick's (2) */
     int sync_rc;                /* bricks: the redistribution after a checkpoint failed */
 };
 extern const struct sim_model_ops sim_model_dpd_mpm;

@@ -122,6 +122,12 @@ int ckpt_get_particles(struct ckpt *c, const char *name, struct particles *p);
  * ranks the caller checks). */
 int ckpt_get_particles_where(struct ckpt *c, const char *name, struct particles *p,
                              int (*keep)(const void *ctx, const double x[3]), const void *ctx);
+/* The same, keep() given the row's values of p's field `field` (3
+ * components, stored with the particles) instead of its position. */
+int ckpt_get_particles_where_field(struct ckpt *c, const char *name, struct particles *p,
+                                   const char *field,
+                                   int (*keep)(const void *ctx, const double x[3]),
+                                   const void *ctx);
 
 /* Collective checkpoints of a brick decomposition (docs/parallel.md,
  * "Output"): rank 0 writes the file serially, a particle set with

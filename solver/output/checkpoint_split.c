@@ -135,8 +135,8 @@ static int check_particle(struct ckpt *c, const struct particles *p, const struc
 /* The stored particles [lo, hi) (hi < 0: all) that keep selects, in
  * blocks; collective transfers when the file is open on every rank. */
 static int get_rows(struct ckpt *c, const char *name, struct particles *p,
-                    int (*keep)(const void *ctx, const double x[3]), const void *ctx, int rank,
-                    int nranks)
+                    int (*keep)(const void *ctx, const double x[3]), const void *ctx,
+                    const char *keep_field, int rank, int nranks)
 {
     int rc = ckpt_enter(c, name);
     long n = 0;
@@ -169,6 +169,17 @@ static int get_rows(struct ckpt *c, const char *name, struct particles *p,
                                      p->fields[k].ncomp, -1, NULL};
     for (int k = 0; k < p->nfields; k++)
         snprintf(col[9 + k].name, sizeof col[9 + k].name, "field_%s", p->fields[k].name);
+    /* the column keep() sees: the positions, or a field of 3 components */
+    int kc = 0;
+    if (keep_field) {
+        int k = particles_find_field(p, keep_field);
+        if (k < 0 || p->fields[k].ncomp != 3)
+            rc = err_set(c->e, ERR_RUNTIME,
+                         "checkpoint read: no field %s of 3 components to select by",
+                         keep_field);
+        else
+            kc = 9 + k;
+    }
     long lo = nranks > 0 ? n * rank / nranks : 0;
     long hi = nranks > 0 ? n * (rank + 1) / nranks : n;
     long block = n < CKPT_READ_BLOCK ? (n > 0 ? n : 1) : CKPT_READ_BLOCK;
@@ -203,7 +214,7 @@ static int get_rows(struct ckpt *c, const char *name, struct particles *p,
         for (long k = 0; !rc && k < count; k++) {
             if ((rc = check_particle(c, p, col, k)))
                 break;
-            if (keep && !keep(ctx, (const double *)col[0].buf + 3 * k))
+            if (keep && !keep(ctx, (const double *)col[kc].buf + 3 * k))
                 continue;
             if ((rc = particles_reserve(p, p->n_owned + 1, c->e)))
                 break;
@@ -238,13 +249,21 @@ static int get_rows(struct ckpt *c, const char *name, struct particles *p,
 int ckpt_get_particles_where(struct ckpt *c, const char *name, struct particles *p,
                              int (*keep)(const void *ctx, const double x[3]), const void *ctx)
 {
-    return get_rows(c, name, p, keep, ctx, 0, 0);
+    return get_rows(c, name, p, keep, ctx, NULL, 0, 0);
+}
+
+int ckpt_get_particles_where_field(struct ckpt *c, const char *name, struct particles *p,
+                                   const char *field,
+                                   int (*keep)(const void *ctx, const double x[3]),
+                                   const void *ctx)
+{
+    return get_rows(c, name, p, keep, ctx, field, 0, 0);
 }
 
 int ckpt_get_particles_part(struct ckpt *c, const char *name, struct particles *p, int rank,
                             int nranks)
 {
-    return get_rows(c, name, p, NULL, NULL, rank, nranks);
+    return get_rows(c, name, p, NULL, NULL, NULL, rank, nranks);
 }
 
 /* Whether any rank's *rc is an error; this rank's becomes one too.
