@@ -349,13 +349,17 @@ Test(structure, pairs_at_the_cutoff_are_judged_consistently)
     for (int i = 0; i < f.n; i++)
         for (int k = f.offset[i]; k < f.offset[i + 1]; k++) {
             int j = f.origin[f.nbr[k]];
+            double rk = frame_dist2(&f, i, f.nbr[k]);
+            /* the list is sorted by the distances its readers recompute */
+            cr_assert(k == f.offset[i] || frame_dist2(&f, i, f.nbr[k - 1]) <= rk,
+                      "list of %d not sorted at %d", i, k - f.offset[i]);
             int back = 0;
             for (int q = f.offset[j]; q < f.offset[j + 1]; q++)
-                if (f.origin[f.nbr[q]] == i && f.r2[q] == f.r2[k])
+                if (f.origin[f.nbr[q]] == i && frame_dist2(&f, j, f.nbr[q]) == rk)
                     back = 1;
-            cr_assert(back, "pair %d-%d (r = %.15g Å) seen from %d only", i, j, sqrt(f.r2[k]), i);
+            cr_assert(back, "pair %d-%d (r = %.15g Å) seen from %d only", i, j, sqrt(rk), i);
             pairs++;
-            in_near += fabs(sqrt(f.r2[k]) - sp.cutoff) < 1e-4;
+            in_near += fabs(sqrt(rk) - sp.cutoff) < 1e-4;
         }
     cr_assert_gt(in_near, 0, "no neighbour pair just inside the cutoff");
     cr_assert_gt(near, in_near, "no pair just outside the cutoff");

@@ -214,10 +214,14 @@ void frame_query(const struct frame *f, int i, double radius,
     }
 }
 
+/* Lists longer than this sort with their distances recomputed at each
+ * comparison instead of from a buffer on the stack. */
+#define SORT_STACK 256
+
 struct collect {
     const struct frame *f;
     int *nbr;
-    double *r2;
+    double *r2;   /* SORT_STACK squared distances, as the query gives them */
     int n;
 };
 
@@ -231,9 +235,9 @@ static void count_cb(void *ctx, int entry, double r2)
 static void fill_cb(void *ctx, int entry, double r2)
 {
     struct collect *c = ctx;
-    c->nbr[c->n] = entry;
-    c->r2[c->n] = r2;
-    c->n++;
+    if (c->n < SORT_STACK)
+        c->r2[c->n] = r2;
+    c->nbr[c->n++] = entry;
 }
 
 /* Order: distance, then owned index, then image shift (total and
@@ -250,7 +254,7 @@ static int before(const struct frame *f, int a, double ra, int b, double rb)
     return 0;
 }
 
-static void sort_list(const struct frame *f, int *nbr, double *r2, int n)
+static void sort_list_by(const struct frame *f, int *nbr, double *r2, int n)
 {
     for (int i = 1; i < n; i++) {
         int a = nbr[i];
@@ -263,6 +267,28 @@ static void sort_list(const struct frame *f, int *nbr, double *r2, int n)
         }
         nbr[j + 1] = a;
         r2[j + 1] = ra;
+    }
+}
+
+/* Owned entry i's list by distance, then owned index, then image shift.
+ * r2: the query's squared distances of the first SORT_STACK entries,
+ * the bits frame_dist2 gives a reader of the list (the same pair vector,
+ * the same operations; C11 contracts no multiply-add). */
+static void sort_list(const struct frame *f, int i, int *nbr, double *r2, int n)
+{
+    if (n <= SORT_STACK) {
+        sort_list_by(f, nbr, r2, n);
+        return;
+    }
+    for (int k = 1; k < n; k++) {
+        int a = nbr[k];
+        double ra = frame_dist2(f, i, a);
+        int j = k - 1;
+        while (j >= 0 && before(f, a, ra, nbr[j], frame_dist2(f, i, nbr[j]))) {
+            nbr[j + 1] = nbr[j];
+            j--;
+        }
+        nbr[j + 1] = a;
     }
 }
 
@@ -325,20 +351,17 @@ int frame_build(struct frame *f, const double *x, int n, const struct box *b, do
     long total = f->offset[n];
     if (f->cap_nbr < total + 1) {
         int *nb = realloc(f->nbr, (size_t)(total + 1) * sizeof *nb);
-        if (nb)
-            f->nbr = nb;
-        double *r2 = realloc(f->r2, (size_t)(total + 1) * sizeof *r2);
-        if (r2)
-            f->r2 = r2;
-        if (!nb || !r2)
+        if (!nb)
             return err_nomem(e, "analysis neighbours");
+        f->nbr = nb;
         f->cap_nbr = total + 1;
     }
 #pragma omp parallel for num_threads(f->nthreads) schedule(static)
     for (int i = 0; i < n; i++) {
-        struct collect c = {f, f->nbr + f->offset[i], f->r2 + f->offset[i], 0};
+        double r2[SORT_STACK];
+        struct collect c = {f, f->nbr + f->offset[i], r2, 0};
         frame_query(f, i, radius, fill_cb, &c);
-        sort_list(f, c.nbr, c.r2, c.n);
+        sort_list(f, i, c.nbr, r2, c.n);
     }
     return 0;
 }
@@ -354,6 +377,5 @@ void frame_free(struct frame *f)
     free(f->cell_s);
     free(f->offset);
     free(f->nbr);
-    free(f->r2);
     memset(f, 0, sizeof *f);
 }

@@ -48,8 +48,10 @@ struct frame {
     /* neighbour lists of the owned particles */
     double radius;       /* Å */
     int *offset;         /* n + 1 */
-    int *nbr;            /* entry indices */
-    double *r2;          /* squared distances (Å^2) */
+    int *nbr;            /* entry indices, nearest first; the squared distance of
+                          * entry k of i's list is frame_dist2(f, i, nbr[k]), the
+                          * bits the list was sorted by (not stored: 8 bytes a
+                          * neighbour, some 18 neighbours an atom) */
     long cap_nbr;
     int cap_offset;
     int nthreads;

@@ -220,11 +220,24 @@ static int is_surface(const struct structure_params *p, const struct frame *f, i
     return off > p->surface_offset * p->surface_radius;
 }
 
+/* The squared distance of entry k of i's list: from r2 for the first
+ * LIST_R2_KEPT, recomputed beyond (the same bits: frame.h). */
+#define LIST_R2_KEPT 14
+
+static double list_r2(const struct frame *f, int i, const int *nb, const double *r2, int k)
+{
+    return k < LIST_R2_KEPT ? r2[k] : frame_dist2(f, i, nb[k]);
+}
+
 static int classify_one(const struct structure_params *p, const struct frame *f, int i)
 {
     const int *nb = f->nbr + f->offset[i];
-    const double *r2 = f->r2 + f->offset[i];
     int m = f->offset[i + 1] - f->offset[i];
+    /* the squared distances of the first 14 (the most any rule below
+     * reads; the coordination counts go on with list_r2) */
+    double r2[LIST_R2_KEPT];
+    for (int k = 0; k < m && k < LIST_R2_KEPT; k++)
+        r2[k] = frame_dist2(f, i, nb[k]);
     int ncoord, cls = -1;
     if (p->ref == STRUCT_REF_DIAMOND) {
         double rc2 = p->cutoff * p->cutoff;
@@ -245,7 +258,7 @@ static int classify_one(const struct structure_params *p, const struct frame *f,
             rc2 = rc * rc;
         }
         ncoord = 0;
-        while (ncoord < m && r2[ncoord] < rc2)
+        while (ncoord < m && list_r2(f, i, nb, r2, ncoord) < rc2)
             ncoord++;
         if (ncoord == 4)
             return STRUCT_COORD4;
@@ -282,7 +295,7 @@ static int classify_one(const struct structure_params *p, const struct frame *f,
                 return cls;
         }
         ncoord = 0;
-        while (ncoord < m && r2[ncoord] < rc2)
+        while (ncoord < m && list_r2(f, i, nb, r2, ncoord) < rc2)
             ncoord++;
         cls = ncoord == 12 ? STRUCT_OTHER12 : STRUCT_NOT12;
     }
