@@ -269,24 +269,10 @@ Test(bricks_dpd, restart_refuses_an_id_stored_in_two_bricks, .timeout = 600)
     int64_t low_id = 0;
     {   /* a row near the lowest x (rank 0's brick) and one near the highest
          * (rank 1's): the second gets the first's id */
-        hid_t h = H5Fopen(ck, H5F_ACC_RDONLY, H5P_DEFAULT);
-        cr_assert_geq(h, 0, "%s", ck);
-        hid_t dx = H5Dopen2(h, "/model/dpd/particles/x", H5P_DEFAULT);
-        hid_t di = H5Dopen2(h, "/model/dpd/particles/id", H5P_DEFAULT);
-        hid_t fs = H5Dget_space(di);
-        hsize_t dim[1];
-        H5Sget_simple_extent_dims(fs, dim, NULL);
-        H5Sclose(fs);
-        long n = (long)dim[0];
+        double *x = NULL;
+        int64_t *ids = NULL;
+        long n = th_ckpt_positions_ids(ck, "/model/dpd/particles", &x, &ids);
         cr_assert_eq(n, 1152);
-        double *x = malloc((size_t)n * 3 * sizeof *x);
-        int64_t *ids = malloc((size_t)n * sizeof *ids);
-        cr_assert(x && ids);
-        cr_assert_geq(H5Dread(dx, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, x), 0);
-        cr_assert_geq(H5Dread(di, H5T_NATIVE_INT64, H5S_ALL, H5S_ALL, H5P_DEFAULT, ids), 0);
-        H5Dclose(dx);
-        H5Dclose(di);
-        H5Fclose(h);
         long lo = 0, hi = 0;
         for (long i = 1; i < n; i++) {
             lo = x[3 * i] < x[3 * lo] ? i : lo;

@@ -236,24 +236,10 @@ Test(bricks_mpm, restart_refuses_impossible_checkpoint_values, .timeout = 600)
          * the cut is at mid-x) and two deep in rank 1's (near the highest),
          * wherever the writer held them: each pair's second id is given
          * to its first */
-        hid_t h = H5Fopen(ck, H5F_ACC_RDONLY, H5P_DEFAULT);
-        cr_assert_geq(h, 0, "%s", ck);
-        hid_t dx = H5Dopen2(h, "/model/mpm/points/x", H5P_DEFAULT);
-        hid_t di = H5Dopen2(h, "/model/mpm/points/id", H5P_DEFAULT);
-        hid_t fs = H5Dget_space(di);
-        hsize_t dim[1];
-        H5Sget_simple_extent_dims(fs, dim, NULL);
-        H5Sclose(fs);
-        nrows = (long)dim[0];
+        double *x = NULL;
+        int64_t *ids = NULL;
+        nrows = th_ckpt_positions_ids(ck, "/model/mpm/points", &x, &ids);
         cr_assert_gt(nrows, 4);
-        double *x = malloc((size_t)nrows * 3 * sizeof *x);
-        int64_t *ids = malloc((size_t)nrows * sizeof *ids);
-        cr_assert(x && ids);
-        cr_assert_geq(H5Dread(dx, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, x), 0);
-        cr_assert_geq(H5Dread(di, H5T_NATIVE_INT64, H5S_ALL, H5S_ALL, H5P_DEFAULT, ids), 0);
-        H5Dclose(dx);
-        H5Dclose(di);
-        H5Fclose(h);
         double lo = x[0], hi = x[0];
         for (long i = 0; i < nrows; i++) {
             lo = fmin(lo, x[3 * i]);

@@ -228,6 +228,32 @@ long lattice_fill_where(const struct lattice *l, const long n[3], const struct r
     return added;
 }
 
+struct site_extent {
+    double *lo, *hi;
+};
+
+static int extent_of_site(const void *ctx, const double x[3])
+{
+    const struct site_extent *t = ctx;
+    for (int d = 0; d < 3; d++) {
+        t->lo[d] = fmin(t->lo[d], x[d]);
+        t->hi[d] = fmax(t->hi[d], x[d]);
+    }
+    return 0;   /* store none */
+}
+
+long lattice_extent(const struct lattice *l, const long n[3], const struct region *region,
+                    double lo[3], double hi[3], struct err *e)
+{
+    for (int d = 0; d < 3; d++) {
+        lo[d] = INFINITY;
+        hi[d] = -INFINITY;
+    }
+    struct site_extent ext = {lo, hi};
+    int64_t id = 1;
+    return lattice_fill_where(l, n, region, extent_of_site, &ext, NULL, 0, &id, e);
+}
+
 double lattice_nn_distance(const struct lattice *l)
 {
     switch (l->style) {

@@ -55,6 +55,13 @@ long lattice_fill_where(const struct lattice *l, const long n[3], const struct r
                         int (*keep)(const void *ctx, const double x[3]), const void *keep_ctx,
                         struct particles *p, int type, int64_t *next_id, struct err *e);
 
+/* The extent of the sites lattice_fill_where visits (those inside
+ * `region`, may be NULL) into lo and hi (lo > hi for none), from a pass
+ * that stores none: the whole body's extent for a rank that then builds
+ * its own brick.  Returns their count, or -1 (memory, recorded in e). */
+long lattice_extent(const struct lattice *l, const long n[3], const struct region *region,
+                    double lo[3], double hi[3], struct err *e);
+
 /* Nearest-neighbour distance of the lattice (Å). */
 double lattice_nn_distance(const struct lattice *l);
 

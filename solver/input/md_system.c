@@ -73,22 +73,6 @@ static int in_brick(const void *ctx, const double x[3])
     return decomp_owns(ctx, x);
 }
 
-/* The extent of the sites a lattice_fill_where pass visits, storing none
- * (the predicate keeps no site). */
-struct site_extent {
-    double *lo, *hi;
-};
-
-static int extent_of_site(const void *ctx, const double x[3])
-{
-    const struct site_extent *t = ctx;
-    for (int d = 0; d < 3; d++) {
-        t->lo[d] = fmin(t->lo[d], x[d]);
-        t->hi[d] = fmax(t->hi[d], x[d]);
-    }
-    return 0;
-}
-
 /* The box split->plan is given (md_system_split.on_extent): b, each
  * non-periodic axis cut to [lo, hi] where the extent is not empty. */
 static void extent_box(const struct box *b, const double lo[3], const double hi[3],
@@ -313,12 +297,9 @@ int md_system_read_split(struct cfg_obj *root, uint64_t seed, const struct md_sy
         /* bricks: each rank builds the sites of its own brick only */
         struct box plan_box = *b;
         if (split && split->on_extent) {
-            double lo[3] = {INFINITY, INFINITY, INFINITY};
-            double hi[3] = {-INFINITY, -INFINITY, -INFINITY};
-            struct site_extent ext = {lo, hi};
-            int64_t count_id = 1;
-            if (lattice_fill_where(&info->lattice, info->cells, has_region ? &region : NULL,
-                                   extent_of_site, &ext, p, t, &count_id, e) < 0) {
+            double lo[3], hi[3];
+            if (lattice_extent(&info->lattice, info->cells, has_region ? &region : NULL, lo, hi,
+                               e) < 0) {
                 particles_destroy(&p);
                 return ERR_RUNTIME;
             }

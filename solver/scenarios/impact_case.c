@@ -208,24 +208,6 @@ static double nn_distance(enum lattice_style st, double a)
     return lattice_nn_distance(&l);
 }
 
-/* The target's extent and site count from a pass over every site of the
- * lattice that stores none (lattice_fill_where): a rank of a brick run
- * needs the whole target's extent (the box, the layers, the surface)
- * before it builds its own brick, and the pass costs no memory. */
-struct target_extent {
-    double *lo, *hi;
-};
-
-static int extent_of_site(const void *ctx, const double x[3])
-{
-    const struct target_extent *t = ctx;
-    for (int d = 0; d < 3; d++) {
-        t->lo[d] = fmin(t->lo[d], x[d]);
-        t->hi[d] = fmax(t->hi[d], x[d]);
-    }
-    return 0;
-}
-
 /* decomp_owns as a lattice_fill_where predicate */
 static int in_brick(const void *ctx, const double x[3])
 {
@@ -262,12 +244,10 @@ static int build(struct impact *c, const struct impact_spec *s, struct potential
     int tt = particles_type_index(p, s->telement, element_mass(s->telement));
     int ct = particles_type_index(p, s->celement, element_mass(s->celement));
     int64_t next_id = 1;
-    for (int d = 0; d < 3; d++) {
-        c->lo[d] = INFINITY;
-        c->hi[d] = -INFINITY;
-    }
-    struct target_extent ext = {c->lo, c->hi};
-    c->ntarget = lattice_fill_where(&tl, s->cells, NULL, extent_of_site, &ext, p, tt, &next_id, e);
+    /* a rank of a brick run needs the whole target's extent (the box, the
+     * layers, the surface) before it builds its own brick: a pass over
+     * every site that stores none */
+    c->ntarget = lattice_extent(&tl, s->cells, NULL, c->lo, c->hi, e);
     if (c->ntarget < 0) {
         particles_destroy(&p);
         return ERR_RUNTIME;

@@ -90,6 +90,32 @@ void th_ckpt_poke_at(const char *file, const char *dataset, long memtype, long r
     H5Fclose(h);
 }
 
+long th_ckpt_positions_ids(const char *file, const char *group, double **x, int64_t **ids)
+{
+    char px[256], pid[256];
+    snprintf(px, sizeof px, "%s/x", group);
+    snprintf(pid, sizeof pid, "%s/id", group);
+    hid_t h = H5Fopen(file, H5F_ACC_RDONLY, H5P_DEFAULT);
+    cr_assert_geq(h, 0, "%s", file);
+    hid_t dx = H5Dopen2(h, px, H5P_DEFAULT);
+    hid_t di = H5Dopen2(h, pid, H5P_DEFAULT);
+    cr_assert(dx >= 0 && di >= 0, "%s: %s", file, group);
+    hid_t fs = H5Dget_space(di);
+    hsize_t dim[1];
+    H5Sget_simple_extent_dims(fs, dim, NULL);
+    H5Sclose(fs);
+    long n = (long)dim[0];
+    *x = malloc((size_t)(n ? n : 1) * 3 * sizeof **x);
+    *ids = malloc((size_t)(n ? n : 1) * sizeof **ids);
+    cr_assert(*x && *ids);
+    cr_assert_geq(H5Dread(dx, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, *x), 0);
+    cr_assert_geq(H5Dread(di, H5T_NATIVE_INT64, H5S_ALL, H5S_ALL, H5P_DEFAULT, *ids), 0);
+    H5Dclose(dx);
+    H5Dclose(di);
+    H5Fclose(h);
+    return n;
+}
+
 char *th_restart_slurp(const char *path, long *len)
 {
     FILE *f = fopen(path, "rb");

@@ -9,6 +9,7 @@
 #define CASCADE_TEST_TH_RESTART_H
 
 #include <stddef.h>
+#include <stdint.h>
 
 /* cascade-solver run case_path --out <tmp>/out_name --threads 1; kill_at:
  * step to SIGKILL at (NULL: none); restart: NULL none, "" --restart alone,
@@ -22,6 +23,10 @@ void th_ckpt_poke(const char *file, const char *dataset, long memtype, const voi
 /* The same at row `row` of a one-dimensional dataset. */
 void th_ckpt_poke_at(const char *file, const char *dataset, long memtype, long row,
                      const void *value);
+
+/* The positions (3 a row) and ids of a checkpoint's particle group
+ * ("/model/dpd/particles"), malloc'ed; returns the row count. */
+long th_ckpt_positions_ids(const char *file, const char *group, double **x, int64_t **ids);
 
 /* Whole file into a new buffer (*len its size, may be NULL). */
 char *th_restart_slurp(const char *path, long *len);
