@@ -247,28 +247,30 @@ Test(bricks_dpd, box_too_small_for_the_cell_sweep_is_refused, .timeout = 300)
 }
 
 /* A restart on bricks reads, on each rank, only the stored particles of
- * its brick (model_particles_read_brick), so an id stored twice, once deep
- * in each rank's brick, is found by comparing the ranks' ids: the restart
- * stops with exit 2 naming the file and the dataset, rank 1's words
- * printed once. */
-Test(bricks_dpd, restart_refuses_an_id_stored_in_two_bricks, .timeout = 600)
+ * its brick (model_particles_read_brick).  What no run stores is refused
+ * with exit 2, naming the file and the dataset, printed once without
+ * "another MPI rank": an id stored twice, once deep in each rank's brick
+ * (found by comparing the ranks' ids, rank 1's words), a NaN position,
+ * and positions 1e300 and 1e5 Å outside a 58 Å box (more than a box
+ * length: the box wraps its particles at every list build). */
+Test(bricks_dpd, restart_refuses_impossible_stored_particles, .timeout = 600)
 {
     th_write_temp(2, "cg.yaml", PARAMS);
     const char *path = th_write_temp(
-        0, "dupid.yaml",
+        0, "badck.yaml",
         "type: dpd\nseed: 5\nsystem:\n  lattice: {style: fcc, a: 7.28, cells: [8, 6, 6]}\n"
         "  element: Cu\ndpd: {parameters: cg.yaml, variant: dpde, gamma: 2.0, steps: 20, "
         "timestep: 0.01, initial_temperature: 600, sweep: cells}\n"
         "parallel: {decomposition: bricks, grid: [2, 1, 1]}\n"
         "output: {thermo_every: 10, checkpoint_every: 10}\n");
     char run[600], ck[700];
-    snprintf(run, sizeof run, "%s/dupid-2", th_temp_dir());
+    snprintf(run, sizeof run, "%s/badck-2", th_temp_dir());
     thb_must_run(path, 2, run, NULL);
     snprintf(ck, sizeof ck, "%s/checkpoint-%010d.h5", run, 10);
     long row_high = -1;
     int64_t low_id = 0;
     {   /* a row near the lowest x (rank 0's brick) and one near the highest
-         * (rank 1's): the second gets the first's id */
+         * (rank 1's) */
         double *x = NULL;
         int64_t *ids = NULL;
         long n = th_ckpt_positions_ids(ck, "/model/dpd/particles", &x, &ids);
@@ -283,16 +285,32 @@ Test(bricks_dpd, restart_refuses_an_id_stored_in_two_bricks, .timeout = 600)
         free(x);
         free(ids);
     }
-    char dir[700], file[800], out[16384];
-    snprintf(dir, sizeof dir, "%s/dupid-bad", th_temp_dir());
-    snprintf(file, sizeof file, "%s/checkpoint-%010d.h5", dir, 10);
-    cr_assert_eq(thb_mkdir_copy(ck, dir, file), 0);
-    th_ckpt_poke_at(file, "/model/dpd/particles/id", (long)H5T_NATIVE_INT64, row_high, &low_id);
-    const char *extra[] = {"--restart", NULL};
-    int rc = thb_run(path, 2, dir, extra, out, sizeof out);
-    cr_assert_eq(rc, 2, "exit %d: %s", rc, out);
-    cr_assert(strstr(out, "checkpoint-0000000010.h5") &&
-                  strstr(out, "model/dpd/particles/id: 1 id(s) given twice"),
-              "%s", out);
-    cr_assert(!strstr(out, "another MPI rank"), "%s", out);
+    double nan = NAN, huge = 1e300, far = -1e5;
+    static const struct {
+        const char *name, *dataset, *want;
+    } bad[] = {
+        {"dup", "/model/dpd/particles/id", "model/dpd/particles/id: 1 id(s) given twice"},
+        {"nan", "/model/dpd/particles/x", "model/dpd/particles/x/v/f: a non-finite position"},
+        {"huge", "/model/dpd/particles/x", "model/dpd/particles/x: particle"},
+        {"far", "/model/dpd/particles/x", "model/dpd/particles/x: particle"},
+    };
+    const void *val[] = {&low_id, &nan, &huge, &far};
+    const long type[] = {(long)H5T_NATIVE_INT64, (long)H5T_NATIVE_DOUBLE,
+                         (long)H5T_NATIVE_DOUBLE, (long)H5T_NATIVE_DOUBLE};
+    const long row[] = {row_high, 3 * row_high, 3 * row_high, 3 * row_high};
+    for (int k = 0; k < 4; k++) {
+        char dir[700], file[800], out[16384];
+        snprintf(dir, sizeof dir, "%s/badck-%s", th_temp_dir(), bad[k].name);
+        snprintf(file, sizeof file, "%s/checkpoint-%010d.h5", dir, 10);
+        cr_assert_eq(thb_mkdir_copy(ck, dir, file), 0);
+        th_ckpt_poke_at(file, bad[k].dataset, type[k], row[k], val[k]);
+        const char *extra[] = {"--restart", NULL};
+        int rc = thb_run(path, 2, dir, extra, out, sizeof out);
+        cr_assert_eq(rc, 2, "%s: exit %d: %s", bad[k].name, rc, out);
+        cr_assert(strstr(out, "checkpoint-0000000010.h5") && strstr(out, bad[k].want),
+                  "%s: %s", bad[k].name, out);
+        cr_assert(k < 2 || strstr(out, "more than a box length outside the stored box"), "%s: %s",
+                  bad[k].name, out);
+        cr_assert(!strstr(out, "another MPI rank"), "%s: %s", bad[k].name, out);
+    }
 }

@@ -16,6 +16,7 @@
  * (to the same tolerance) and on 2 (bitwise: the same arithmetic).
  */
 #include <criterion/criterion.h>
+#include <hdf5.h>
 #include <jansson.h>
 #include <math.h>
 #include <stdio.h>
@@ -23,6 +24,7 @@
 
 #include "helpers/th.h"
 #include "helpers/th_bricks.h"
+#include "helpers/th_restart.h"
 
 #define REL 1e-10
 #define NPART 432
@@ -170,4 +172,44 @@ Test(bricks_dpd_grid_tensile, rod_from_a_data_file_matches_serial, .timeout = 60
     static const int nps[] = {1, 2, 4};
     thb_matches_serial(path, "rod-data", nps, 3, NPART, assert_measured, compare_runs,
                        "grid tensile from a data file");
+}
+
+/* A restart on bricks selects each rank's particles by their stored
+ * positions of the last list build (field_list_position): a NaN there, or
+ * a value more than a box length outside the stored box, is refused with
+ * exit 2 naming the file and the dataset, printed once. */
+Test(bricks_dpd_grid_tensile, restart_refuses_impossible_list_positions, .timeout = 600)
+{
+    th_write_temp(2, "cg.yaml", PARAMS);
+    char yaml[2048];
+    rod_case(yaml, sizeof yaml, "output: {thermo_every: 10, checkpoint_every: 50}\n",
+             "parallel: {decomposition: bricks}\n");
+    const char *path = th_write_temp(0, "rod_badlist.yaml", yaml);
+    char run[600], ck[700];
+    snprintf(run, sizeof run, "%s/rod-badlist-2", th_temp_dir());
+    thb_must_run(path, 2, run, NULL);
+    snprintf(ck, sizeof ck, "%s/checkpoint-%010d.h5", run, 50);
+    double nan = NAN, huge = 1e300, far = -1e5;
+    static const char *const name[] = {"nan", "huge", "far"};
+    static const char *const want[] = {"a non-finite value of the field it selects by",
+                                       "more than a box length outside the stored box",
+                                       "more than a box length outside the stored box"};
+    const double *val[] = {&nan, &huge, &far};
+    for (int k = 0; k < 3; k++) {
+        char dir[700], file[800], out[16384];
+        snprintf(dir, sizeof dir, "%s/rod-badlist-%s", th_temp_dir(), name[k]);
+        snprintf(file, sizeof file, "%s/checkpoint-%010d.h5", dir, 50);
+        cr_assert_eq(thb_mkdir_copy(ck, dir, file), 0);
+        /* the x component of row 100 (flat: 3 a particle) */
+        th_ckpt_poke_at(file, "/model/dpd_mpm/particles/field_list_position",
+                        (long)H5T_NATIVE_DOUBLE, 300, val[k]);
+        const char *extra[] = {"--restart", NULL};
+        int rc = thb_run(path, 2, dir, extra, out, sizeof out);
+        cr_assert_eq(rc, 2, "%s: exit %d: %s", name[k], rc, out);
+        cr_assert(strstr(out, "checkpoint-0000000050.h5") &&
+                      strstr(out, "model/dpd_mpm/particles/field_list_position") &&
+                      strstr(out, want[k]),
+                  "%s: %s", name[k], out);
+        cr_assert(!strstr(out, "another MPI rank"), "%s: %s", name[k], out);
+    }
 }

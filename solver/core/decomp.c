@@ -216,3 +216,8 @@ int decomp_owns(const struct decomp *dc, const double x[3])
             return 0;
     return 1;
 }
+
+int decomp_owns_point(const void *dc, const double x[3])
+{
+    return decomp_owns(dc, x);
+}

@@ -71,6 +71,10 @@ int decomp_coord(const struct decomp *dc, int d, double x);
 
 /* 1 when x lies in this rank's brick. */
 int decomp_owns(const struct decomp *dc, const double x[3]);
+/* The same as a point predicate (dc: a struct decomp), for the builders
+ * and readers that keep one brick's points (lattice_fill_where,
+ * ckpt_get_particles_where). */
+int decomp_owns_point(const void *dc, const double x[3]);
 
 /* The rank whose brick holds x (positions beyond the box clamp to the
  * nearest brick, as decomp_coord). */

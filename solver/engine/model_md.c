@@ -77,33 +77,24 @@ static int md_model_checkpoint_write_part(void *self, struct ckpt *ck, struct er
                        : 0;
 }
 
-static int in_brick(const void *ctx, const double x[3])
-{
-    return decomp_owns(ctx, x);
-}
-
 int model_md_atoms_read(struct md *md, struct ckpt *ck, const char *group, int rc,
                         int *read_all, struct err *e)
 {
     *read_all = 0;
-    if (md->halo) {   /* bricks: each rank reads its brick's atoms */
+    if (md->halo && !ck->par) {   /* bricks: each rank reads its brick's atoms */
+        rc = model_particles_read_brick(md->halo, &md->box, ck, group, NULL, md->p, rc, e);
+        *read_all = !rc;   /* the sync migrates strays */
+        return rc;
+    }
+    if (md->halo) {   /* a collective file: an even share of the stored rows */
+        const struct parallel *par = md->halo->dc.par;
         if (!rc)
             decomp_set_box(&md->halo->dc, &md->box);
-        if (ck->par) {   /* an even share of the stored rows, read collectively */
-            const struct parallel *par = md->halo->dc.par;
-            if (!rc)
-                rc = ckpt_get_particles_part(ck, group, md->p, par->rank, par->size);
-            /* counted over the ranks; the sync migrates them to their bricks */
-            rc = halo_adopt(md->halo, md->p, rc, e);
-        } else {
-            if (!rc)
-                rc = ckpt_get_particles_where(ck, group, md->p, in_brick, &md->halo->dc);
-            rc = halo_agree(md->halo, rc, e);
-        }
         if (!rc)
-            rc = model_ids_unique_over_ranks(md->halo, md->p, ck, group, e);
-        *read_all = !rc && !ck->par;   /* the sync counts them and migrates strays */
-        return rc;
+            rc = ckpt_get_particles_part(ck, group, md->p, par->rank, par->size);
+        /* counted over the ranks; the sync migrates them to their bricks */
+        rc = halo_adopt(md->halo, md->p, rc, e);
+        return rc ? rc : model_ids_unique_over_ranks(md->halo, md->p, ck, group, e);
     }
     if (!rc) rc = ckpt_get_particles(ck, group, md->p);
     return rc;

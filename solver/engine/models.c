@@ -1,6 +1,7 @@
 /* models: the registry of model stage tables (models.h). */
 #include "engine/models.h"
 
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -45,11 +46,6 @@ int model_checkpoint_rows(struct halo *h, const struct particles *p, long *offse
     return rc;
 }
 
-static int in_brick(const void *ctx, const double x[3])
-{
-    return decomp_owns(ctx, x);
-}
-
 static int cmp_id(const void *a, const void *b)
 {
     int64_t x = *(const int64_t *)a, y = *(const int64_t *)b;
@@ -80,6 +76,27 @@ int model_ids_unique_over_ranks(struct halo *h, const struct particles *p, struc
     return rc;
 }
 
+/* Values of a stored particle set's positions (v: 3 a particle) more
+ * than a box length outside the stored box b are no state of a run (the
+ * box wraps or shrink-wraps the particles at every list build): refused,
+ * naming the file and the dataset. */
+static int check_near_box(const struct particles *p, const double *v, const struct box *b,
+                          struct ckpt *ck, const char *group, const char *dataset,
+                          struct err *e)
+{
+    for (int i = 0; i < p->n_owned; i++)
+        for (int d = 0; d < 3; d++) {
+            double L = b->hi[d] - b->lo[d], x = v[3 * i + d];
+            if (!(x >= b->lo[d] - L && x < b->hi[d] + L))
+                return err_set(e, ERR_INPUT,
+                               "%s: checkpoint %s/%s: particle %lld at %c = %g Å, more than a "
+                               "box length outside the stored box [%g, %g)",
+                               ck->path, group, dataset, (long long)p->id[i], "xyz"[d], x,
+                               b->lo[d], b->hi[d]);
+        }
+    return 0;
+}
+
 int model_particles_read_brick(struct halo *h, const struct box *b, struct ckpt *ck,
                                const char *group, const char *field, struct particles *p, int rc,
                                struct err *e)
@@ -87,8 +104,16 @@ int model_particles_read_brick(struct halo *h, const struct box *b, struct ckpt 
     if (!rc)
         decomp_set_box(&h->dc, b);
     if (!rc)
-        rc = field ? ckpt_get_particles_where_field(ck, group, p, field, in_brick, &h->dc)
-                   : ckpt_get_particles_where(ck, group, p, in_brick, &h->dc);
+        rc = field ? ckpt_get_particles_where_field(ck, group, p, field, decomp_owns_point, &h->dc)
+                   : ckpt_get_particles_where(ck, group, p, decomp_owns_point, &h->dc);
+    if (!rc)
+        rc = check_near_box(p, p->x, b, ck, group, "x", e);
+    if (!rc && field) {
+        char name[96];
+        snprintf(name, sizeof name, "field_%s", field);
+        rc = check_near_box(p, particles_field(p, particles_find_field(p, field)), b, ck, group,
+                            name, e);
+    }
     rc = halo_adopt(h, p, rc, e);
     return rc ? rc : model_ids_unique_over_ranks(h, p, ck, group, e);
 }

@@ -43,7 +43,8 @@ int model_checkpoint_rows(struct halo *h, const struct particles *p, long *offse
  * is the brick and one block, never the whole set) and in stored order,
  * so the rank holds what reading every particle and keeping its brick's
  * (halo_distribute) gave; ids checked unique over the ranks (one id in
- * two bricks is refused naming the file and dataset).  rc: the result of
+ * two bricks is refused naming the file and dataset), and positions (and
+ * the selecting field) more than a box length outside b refused too.  rc: the result of
  * the reads before.  Collective. */
 int model_particles_read_brick(struct halo *h, const struct box *b, struct ckpt *ck,
                                const char *group, const char *field, struct particles *p, int rc,

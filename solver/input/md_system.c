@@ -67,12 +67,6 @@ int md_check_count(struct cfg_obj *o, const char *key, double count, long max, c
                         count, o->path, max, given ? "" : " (the default; set it to allow more)");
 }
 
-/* decomp_owns as a lattice_fill_where predicate */
-static int in_brick(const void *ctx, const double x[3])
-{
-    return decomp_owns(ctx, x);
-}
-
 /* The box split->plan is given (md_system_split.on_extent): b, each
  * non-periodic axis cut to [lo, hi] where the extent is not empty. */
 static void extent_box(const struct box *b, const double lo[3], const double hi[3],
@@ -310,7 +304,7 @@ int md_system_read_split(struct cfg_obj *root, uint64_t seed, const struct md_sy
             return rc;
         }
         rc = lattice_fill_where(&info->lattice, info->cells, has_region ? &region : NULL,
-                                halo ? in_brick : NULL, halo ? &halo->dc : NULL, p, t, &next_id,
+                                halo ? decomp_owns_point : NULL, halo ? &halo->dc : NULL, p, t, &next_id,
                                 e) < 0
                  ? ERR_RUNTIME
                  : 0;

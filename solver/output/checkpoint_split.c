@@ -214,7 +214,15 @@ static int get_rows(struct ckpt *c, const char *name, struct particles *p,
         for (long k = 0; !rc && k < count; k++) {
             if ((rc = check_particle(c, p, col, k)))
                 break;
-            if (keep && !keep(ctx, (const double *)col[kc].buf + 3 * k))
+            const double *sel = (const double *)col[kc].buf + 3 * k;
+            if (kc > 0 && !(isfinite(sel[0]) && isfinite(sel[1]) && isfinite(sel[2]))) {
+                char what[128];
+                snprintf(what, sizeof what, "a non-finite value of the field it selects by (id %lld)",
+                         (long long)((const int64_t *)col[4].buf)[k]);
+                rc = where_fail(c, what, col[kc].name, ERR_INPUT);
+                break;
+            }
+            if (keep && !keep(ctx, sel))
                 continue;
             if ((rc = particles_reserve(p, p->n_owned + 1, c->e)))
                 break;

@@ -208,12 +208,6 @@ static double nn_distance(enum lattice_style st, double a)
     return lattice_nn_distance(&l);
 }
 
-/* decomp_owns as a lattice_fill_where predicate */
-static int in_brick(const void *ctx, const double x[3])
-{
-    return decomp_owns(ctx, x);
-}
-
 /* Whether the run is split into bricks (*halo, new) or not (NULL); every
  * boundary runs on bricks. */
 static int plan_bricks(const struct case_common *common, const struct box *box, double range,
@@ -329,7 +323,7 @@ static int build(struct impact *c, const struct impact_spec *s, struct potential
         return rc;
     }
     next_id = 1;
-    rc = lattice_fill_where(&tl, s->cells, NULL, halo ? in_brick : NULL, halo ? &halo->dc : NULL,
+    rc = lattice_fill_where(&tl, s->cells, NULL, halo ? decomp_owns_point : NULL, halo ? &halo->dc : NULL,
                             p, tt, &next_id, e) < 0
              ? ERR_RUNTIME
              : 0;
