@@ -304,8 +304,8 @@ int md_system_read_split(struct cfg_obj *root, uint64_t seed, const struct md_sy
             return rc;
         }
         rc = lattice_fill_where(&info->lattice, info->cells, has_region ? &region : NULL,
-                                halo ? decomp_owns_point : NULL, halo ? &halo->dc : NULL, p, t, &next_id,
-                                e) < 0
+                                halo ? decomp_owns_point : NULL, halo ? &halo->dc : NULL, p, t,
+                                &next_id, e) < 0
                  ? ERR_RUNTIME
                  : 0;
         if (halo)

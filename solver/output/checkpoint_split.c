@@ -217,7 +217,8 @@ static int get_rows(struct ckpt *c, const char *name, struct particles *p,
             const double *sel = (const double *)col[kc].buf + 3 * k;
             if (kc > 0 && !(isfinite(sel[0]) && isfinite(sel[1]) && isfinite(sel[2]))) {
                 char what[128];
-                snprintf(what, sizeof what, "a non-finite value of the field it selects by (id %lld)",
+                snprintf(what, sizeof what,
+                         "a non-finite value of the field it selects by (id %lld)",
                          (long long)((const int64_t *)col[4].buf)[k]);
                 rc = where_fail(c, what, col[kc].name, ERR_INPUT);
                 break;

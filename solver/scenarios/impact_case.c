@@ -323,8 +323,8 @@ static int build(struct impact *c, const struct impact_spec *s, struct potential
         return rc;
     }
     next_id = 1;
-    rc = lattice_fill_where(&tl, s->cells, NULL, halo ? decomp_owns_point : NULL, halo ? &halo->dc : NULL,
-                            p, tt, &next_id, e) < 0
+    rc = lattice_fill_where(&tl, s->cells, NULL, halo ? decomp_owns_point : NULL,
+                            halo ? &halo->dc : NULL, p, tt, &next_id, e) < 0
              ? ERR_RUNTIME
              : 0;
     if (halo)
