@@ -377,13 +377,13 @@ Test(bricks, bad_grid_names_file_and_line, .timeout = 300)
     cr_assert_eq(th_run(a11, out, sizeof out), 2, "%s", out);
     cr_assert(strstr(out, "twice.yaml:10:") && strstr(out, "duplicate key 'balance_every'"), "%s",
               out);
-    path = th_write_temp(3, "mpmevery.yaml",
-                         "type: mpm\nparallel:\n  decomposition: bricks\n  balance: shift\n"
-                         "  balance_every: 10\n");
+    path = th_write_temp(3, "hsevery.yaml",
+                         "type: handshake_wave\nparallel:\n  decomposition: bricks\n"
+                         "  balance: shift\n  balance_every: 10\n");
     const char *a9[] = {th_solver(), "check", path, NULL};
     cr_assert_eq(th_run(a9, out, sizeof out), 2, "%s", out);
-    cr_assert(strstr(out, "mpmevery.yaml:5:") && strstr(out, "parallel.balance_every") &&
-                  strstr(out, "'mpm' sets its brick faces once"),
+    cr_assert(strstr(out, "hsevery.yaml:5:") && strstr(out, "parallel.balance_every") &&
+                  strstr(out, "'handshake_wave' sets its brick faces once"),
               "%s", out);
 }
 

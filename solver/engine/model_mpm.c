@@ -73,8 +73,10 @@ static int mpm_model_force(void *self, struct sim *s, struct err *e)
 {
     struct mpm_model *mm = self;
     (void)s;
-    if (mm->sync_rc)
-        return err_set(e, mm->sync_rc, "mpm: no memory to reorder the points after a checkpoint");
+    if (mm->sync_err.code) {   /* checkpoint_sync has no error channel of its own */
+        *e = mm->sync_err;
+        return e->code;
+    }
     return mm->bricks ? mpm_bricks_step_map(mm->bricks, mm->m, e) : mpm_step_map(mm->m, e);
 }
 
@@ -302,10 +304,12 @@ static void mpm_model_checkpoint_sync(void *self)
             g->node_next = t;
         }
         mm->m->fused_ready = mm->m->grid_fresh = 0;
-        /* the order a restart reads them in; an error (out of memory) stops
-         * the next step */
-        struct err e = {0};
-        mm->sync_rc = mpm_bricks_sort_by_id(mm->bricks, mm->m, &e);
+        /* with a dynamic balance both runs cut at these points (the same
+         * cuts), then put them in the order a restart reads them in; an
+         * error stops the next step */
+        memset(&mm->sync_err, 0, sizeof mm->sync_err);
+        if (!mpm_bricks_balance_sync(mm->bricks, mm->m, &mm->sync_err))
+            mpm_bricks_sort_by_id(mm->bricks, mm->m, &mm->sync_err);
     }
 }
 

@@ -100,7 +100,8 @@ struct mpm_model {
     struct mpm_bricks *bricks;
     long ck_offset, ck_total;      /* bricks: this rank's first row and all rows of a
                                     * checkpoint's points (checkpoint_collect) */
-    int sync_rc;                   /* bricks: the reorder of checkpoint_sync failed */
+    struct err sync_err;           /* bricks: what stopped checkpoint_sync (re-cut or
+                                    * reorder), reported by the next step (code 0: none) */
 };
 extern const struct sim_model_ops sim_model_mpm;
 /* The time step the model takes from its current state (ps). */

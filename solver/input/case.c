@@ -75,8 +75,8 @@ int case_resolve(struct case_doc *cd, int shallow, int nthreads, const struct pa
     if (out->common.parallel.balance_every > 0 && !out->type->rebalances)
         return cfg_error_at(&cfg, "parallel.balance_every",
                             "case type '%s' sets its brick faces once, at set-up: "
-                            "balance_every runs with md, cluster_impact and dpd (docs/parallel.md); "
-                            "remove the key",
+                            "balance_every runs with md, cluster_impact, dpd and mpm "
+                            "(docs/parallel.md); remove the key",
                             out->type->name);
     out->common.seed = (uint64_t)seed;
     out->common.nthreads = nthreads;

@@ -2,6 +2,7 @@
  * reverse and forward halo of the nodes (mpm_bricks.h). */
 #include "mpm/mpm_bricks.h"
 
+#include <limits.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -638,6 +639,21 @@ static void scan_leavers(const struct mpm_bricks *b, const struct mpm *m, long *
     *far_id = far >= 0 ? (long long)p->id[far] : -1;
 }
 
+/* The reorder's scratch follows the point count. */
+static int reserve_scratch(struct mpm *m, struct err *e)
+{
+    long n = m->pts.n;
+    if (m->scratch_cap >= n)
+        return 0;
+    free(m->scratch);
+    m->scratch_cap = n + n / 8 + 16;
+    m->scratch = malloc((size_t)m->scratch_cap * sizeof *m->scratch);
+    if (m->scratch)
+        return 0;
+    m->scratch_cap = 0;
+    return err_nomem(e, "reorder scratch");
+}
+
 static int migrate(struct mpm_bricks *b, struct mpm *m, long *moved, struct err *e)
 {
     struct mpm_points *p = &m->pts;
@@ -734,15 +750,103 @@ static int migrate(struct mpm_bricks *b, struct mpm *m, long *moved, struct err 
             *moved += nin;
         }
     }
-    if (!rc && m->scratch_cap < p->n) {   /* the reorder's scratch follows the count */
-        free(m->scratch);
-        m->scratch_cap = p->n + p->n / 8 + 16;
-        m->scratch = malloc((size_t)m->scratch_cap * sizeof *m->scratch);
-        if (!m->scratch) {
-            m->scratch_cap = 0;
-            rc = err_nomem(e, "reorder scratch");
+    if (!rc)
+        rc = reserve_scratch(m, e);
+    return mpm_bricks_agree(b, rc, e);
+}
+
+/* Every point to the rank whose brick holds its cell, wherever that is:
+ * one all-to-all (a re-cut may move a face by more than a brick).  The
+ * kept points stay in their order; the arrivals follow, in rank order.
+ * Collective. */
+static int migrate_to_owners(struct mpm_bricks *b, struct mpm *m, long *moved, struct err *e)
+{
+    const struct parallel *par = b->par;
+    struct mpm_points *p = &m->pts;
+    int nr = par->size, me = par->rank;
+    long n = p->n, rec = point_doubles(p);
+    size_t rbytes = (size_t)rec * sizeof(double);
+    int *dest = malloc((size_t)(n > 0 ? n : 1) * sizeof *dest);
+    int *cnt = calloc((size_t)nr * 4, sizeof *cnt);
+    long *nsend = calloc((size_t)nr, sizeof *nsend);
+    unsigned char *sb = NULL, *rb = NULL;
+    int rc = dest && cnt && nsend ? 0 : err_nomem(e, "MPM re-cut");
+    long nout = 0;
+    for (long i = 0; !rc && i < n; i++) {
+        int c[3];
+        long cell[3];
+        point_brick(b, &m->grid, p->x + 3 * i, c, cell);
+        dest[i] = rank_of(b, c);
+        if (dest[i] != me) {
+            nsend[dest[i]]++;
+            nout++;
         }
     }
+    int *scount = cnt, *sdispl = cnt + nr, *rcount = cnt + 2 * nr, *rdispl = cnt + 3 * nr;
+    if (!rc && (double)nout * (double)rbytes > INT_MAX)   /* MPI's counts are ints */
+        rc = err_set(e, ERR_RUNTIME, "MPM re-cut: %ld points (%.0f bytes) to send from "
+                                         "rank %d, more than one MPI message holds",
+                         nout, (double)nout * (double)rbytes, me);
+    if (!rc) {
+        for (int r = 0, off = 0; r < nr; r++) {
+            scount[r] = (int)((size_t)nsend[r] * rbytes);
+            sdispl[r] = off;
+            off += scount[r];
+        }
+        sb = malloc((size_t)nout * rbytes + 1);
+        if (!sb)
+            rc = err_nomem(e, "MPM re-cut");
+    }
+    rc = mpm_bricks_agree(b, rc, e);
+    if (!rc) {   /* pack by destination rank, in point order; compact the kept ones */
+        long *fill = nsend;   /* reused: the next record of each rank */
+        for (int r = 0; r < nr; r++)
+            fill[r] = sdispl[r] / (long)rbytes;
+        long keep = 0;
+        for (long i = 0; i < n; i++) {
+            if (dest[i] != me) {
+                pack_point(p, i, (double *)(sb + (size_t)fill[dest[i]]++ * rbytes));
+                continue;
+            }
+            if (keep != i)
+                copy_point(p, keep, p, i);
+            keep++;
+        }
+        p->n = keep;
+        rc = parallel_alltoall_int(par, scount, rcount, e);
+    }
+    long nin = 0;
+    if (!rc) {
+        double total = 0;
+        for (int r = 0; r < nr; r++)
+            total += rcount[r];
+        if (total > INT_MAX)
+            rc = err_set(e, ERR_RUNTIME, "MPM re-cut: %.0f bytes of points to receive on "
+                                         "rank %d, more than one MPI message holds",
+                         total, me);
+        for (int r = 0, off = 0; !rc && r < nr; r++) {
+            rdispl[r] = off;
+            off += rcount[r];
+        }
+        nin = (long)(total / (double)rbytes);
+        if (!rc && !(rb = malloc((size_t)total + 1)))
+            rc = err_nomem(e, "MPM re-cut");
+        if (!rc && p->n + nin > p->cap)
+            rc = mpm_points_reserve(p, p->n + nin + p->n / 8, e);
+    }
+    rc = mpm_bricks_agree(b, rc, e);
+    if (!rc)
+        rc = parallel_alltoallv_bytes(par, sb, scount, sdispl, rb, rcount, rdispl, e);
+    for (long k = 0; !rc && k < nin; k++)
+        unpack_point(p, p->n++, (const double *)(rb + (size_t)k * rbytes));
+    *moved = nout + nin;
+    if (!rc)
+        rc = reserve_scratch(m, e);
+    free(dest);
+    free(cnt);
+    free(nsend);
+    free(sb);
+    free(rb);
     return mpm_bricks_agree(b, rc, e);
 }
 
@@ -886,10 +990,27 @@ static int distribute_whole(struct mpm_bricks *b, struct mpm *m, struct err *e)
     return mpm_bricks_agree(b, whole_sums_init(b, m, e), e);
 }
 
-int mpm_bricks_distribute(struct mpm_bricks *b, struct mpm *m, struct err *e)
+/* The node lists of the links and the ghost marks, before new ones are
+ * built (build_links). */
+static void free_links(struct mpm_bricks *b)
 {
-    if (b->whole)
-        return distribute_whole(b, m, e);
+    for (int k = 0; k < MPM_BRICKS_NBR; k++) {
+        struct mpm_bricks_link *L = &b->link[k];
+        free(L->ghost);
+        free(L->owned);
+        L->ghost = L->owned = NULL;
+        L->nghost = L->nowned = 0;
+    }
+    free(b->is_ghost);
+    b->is_ghost = NULL;
+}
+
+/* m's uniform grid (the serial grid the case built, or this rank's patch
+ * under the cuts before a re-cut: only its origin, cell, shape and faces
+ * are read) replaced by the patch of this rank's brick under the present
+ * cuts, with its node lists; the patch's nodes are zero. */
+static int make_patch(struct mpm_bricks *b, struct mpm *m, struct err *e)
+{
     struct mpm_grid *old = &m->grid, patch;
     long pa[3], pb[3], npatch[3];
     for (int d = 0; d < 3; d++) {
@@ -900,7 +1021,7 @@ int mpm_bricks_distribute(struct mpm_bricks *b, struct mpm *m, struct err *e)
     memcpy(origin, old->origin, sizeof origin);
     int rc = mpm_grid_init_uniform(&patch, origin, old->h, npatch, old->shape, e);
     if (rc)
-        return mpm_bricks_agree(b, rc, e);
+        return rc;
     /* the patch's nodes are numbered from its first global node; the grid's
      * faces and cells stay the serial grid's */
     for (int d = 0; d < 3; d++) {
@@ -908,6 +1029,7 @@ int mpm_bricks_distribute(struct mpm_bricks *b, struct mpm *m, struct err *e)
         patch.ncell[d] = b->ncell[d];
     }
     rc = mpm_grid_set_faces(&patch, old->face, e);
+    free_links(b);
     if (!rc)
         rc = build_links(b, &patch, e);
     /* the brick's cells in the keys of the patch (mpm_lin_cell: the global
@@ -919,7 +1041,7 @@ int mpm_bricks_distribute(struct mpm_bricks *b, struct mpm *m, struct err *e)
     }
     if (rc) {
         mpm_grid_free(&patch);
-        return mpm_bricks_agree(b, rc, e);
+        return rc;
     }
     mpm_grid_free(old);
     m->grid = patch;
@@ -933,7 +1055,45 @@ int mpm_bricks_distribute(struct mpm_bricks *b, struct mpm *m, struct err *e)
         m->bins[s].blk_step = -1;
     }
     mpm_points_moved(m);
-    return mpm_bricks_agree(b, 0, e);
+    return 0;
+}
+
+int mpm_bricks_distribute(struct mpm_bricks *b, struct mpm *m, struct err *e)
+{
+    if (b->whole)
+        return distribute_whole(b, m, e);
+    return mpm_bricks_agree(b, make_patch(b, m, e), e);
+}
+
+/* The fused pass's mapping of the coming step dropped: the grid holds this
+ * step's velocities again (snapshots read them) and the next step maps
+ * afresh. */
+static void drop_fused_mapping(struct mpm *m)
+{
+    if (m->fused_ready) {
+        struct mpm_grid *g = &m->grid;
+        struct mpm_node *t = g->node;
+        g->node = g->node_next;
+        g->node_next = t;
+    }
+    m->fused_ready = m->grid_fresh = 0;
+}
+
+int mpm_bricks_recut(struct mpm_bricks *b, struct mpm *m, struct err *e)
+{
+    long moved = 0;
+    int rc = migrate_to_owners(b, m, &moved, e);
+    if (rc)
+        return rc;
+    /* a fused mapping was summed on the old patch, of points some of
+     * which have left: every rank maps afresh */
+    drop_fused_mapping(m);
+    b->scan_valid = 0;   /* the last step's leaver scan used the old cuts */
+    m->bins[0].blk_step = -1;
+    mpm_points_moved(m);
+    if (!b->whole)
+        rc = make_patch(b, m, e);
+    return mpm_bricks_agree(b, rc, e);
 }
 
 int mpm_bricks_prepare(struct mpm_bricks *b, struct mpm *m, struct err *e)
@@ -975,7 +1135,9 @@ int mpm_bricks_step_map(struct mpm_bricks *b, struct mpm *m, struct err *e)
 {
     tstart(m, TIMER_COMM);
     long moved = 0;
-    int rc = b->fixed ? 0 : migrate(b, m, &moved, e);   /* fixed owners: no migration */
+    int rc = mpm_bricks_balance_step(b, m, e);   /* new cuts when due and needed */
+    if (!rc && !b->fixed)                        /* fixed owners: no migration */
+        rc = migrate(b, m, &moved, e);
     tstop(m, TIMER_COMM);
     if (rc)
         return rc;
@@ -1131,12 +1293,7 @@ int mpm_bricks_step_update(struct mpm_bricks *b, struct mpm *m, double dt, struc
             m->body[k].reaction[d] = s[ns++];
     m->vmax = mx[0];
     if (fused && mx[1] > 0) {
-        if (m->fused_ready) {   /* back to the velocities of this step; map afresh */
-            struct mpm_node *t = g->node;
-            g->node = g->node_next;
-            g->node_next = t;
-        }
-        m->fused_ready = m->grid_fresh = 0;
+        drop_fused_mapping(m);   /* back to the velocities of this step; map afresh */
     } else if (fused) {
         rc = nodes_reverse(b, m, e);   /* the next step's s1-s3 to the owners */
     }

@@ -7,7 +7,9 @@
  * rank
  *   - owns the material points whose cell lies in its brick; they migrate
  *     to the owner of their new cell at the start of every step (a point
- *     moves less than a cell per step, so to one of the 26 neighbours);
+ *     moves less than a cell per step, so to one of the 26 neighbours;
+ *     when the dynamic balance moves the cuts, to any rank in one
+ *     all-to-all: mpm_bricks_recut);
  *   - owns the nodes of its brick's cells from their lower corner on (the
  *     first brick along an axis also the serial grid's halo node below 0,
  *     the last one the nodes at and beyond the upper face), so every node
@@ -129,6 +131,13 @@ struct mpm_bricks {
     long scan_nleave;             /* this rank's points whose cell another brick owns */
     long long scan_far_id;        /* id of a point of this rank beyond the neighbours, or -1 */
     int scan_any_far, scan_any_leave;   /* the same over all ranks */
+    /* dynamic balance (`parallel.balance_every`; mpm_bricks_balance.c): the
+     * schedule and what its checks found */
+    long balance_every;           /* steps between checks, 0: the cuts stay */
+    double balance_threshold;     /* max/mean points above which the cuts move */
+    long balance_next;            /* the next check at the first step at or after this */
+    long balance_checks, balance_shifts;
+    double balance_worst;         /* the largest max/mean a check measured */
 };
 
 /* Whether a `type: mpm` case runs on bricks: *out a new decomposition
@@ -225,6 +234,31 @@ void mpm_bricks_node_block(const struct mpm_bricks *b, long lo[3], long hi[3]);
 /* The step-0 mapping (s9, s1-s3 and the reverse halo) for a snapshot of
  * the initial grid.  Collective. */
 int mpm_bricks_map_initial(struct mpm_bricks *b, struct mpm *m, struct err *e);
+
+/* The cuts have changed (b->cut): every point goes to the owner of its
+ * cell, whichever rank that is (one all-to-all exchange, not the 26
+ * neighbours of a step's migration), a uniform grid's patch, node lists
+ * and colouring blocks are made anew for the new brick, and the next step
+ * maps afresh (a fused mapping of the old patch is dropped).  Kept points
+ * stay in their order, arrivals follow in rank order.  Collective. */
+int mpm_bricks_recut(struct mpm_bricks *b, struct mpm *m, struct err *e);
+
+/* Dynamic balance, as the particles' engines have it (core/halo.h,
+ * halo_balance_step): checks every `every` steps (from step `every` on)
+ * whether the largest point count of a rank exceeds `threshold` times the
+ * mean, and if so moves the cuts to the quantiles of the points' present
+ * cells (mpm_bricks_shift_cuts) and the points with them
+ * (mpm_bricks_recut).  Not for fixed owners (the handshake's). */
+void mpm_bricks_balance_schedule(struct mpm_bricks *b, long every, double threshold);
+/* At the start of a step (before the step's migration), when a check is
+ * due.  Collective; 0 when nothing is due or nothing moved. */
+int mpm_bricks_balance_step(struct mpm_bricks *b, struct mpm *m, struct err *e);
+/* A checkpoint written or read (before the points go into id order): with
+ * a schedule, the cuts go to the points now and the next check is set
+ * from the present step, so a continuing run and one restarted from the
+ * checkpoint go on with the same cuts and the same points per rank.
+ * Collective. */
+int mpm_bricks_balance_sync(struct mpm_bricks *b, struct mpm *m, struct err *e);
 
 /* This rank's points in id order (the order a restart reads them in, so
  * that a run continued after a checkpoint and one restarted from it sum in

@@ -38,16 +38,21 @@ static json_t *parallel_record(struct result *res)
 void decomp_record_write(struct run *run, const struct halo *h, const struct particles *p)
 {
     decomp_record_write_counts(run, h->dc.par, h->dc.grid, p->n_owned);
-    json_t *rec = h->balance_every > 0 ? parallel_record(&run->result) : NULL;
+    struct decomp_balance_record b = {h->balance_every, h->balance_threshold, h->balance_checks,
+                                      h->balance_shifts, h->balance_worst};
+    decomp_record_add_balance(&run->result, &b);
+}
+
+void decomp_record_add_balance(struct result *res, const struct decomp_balance_record *b)
+{
+    json_t *rec = b->every > 0 ? parallel_record(res) : NULL;
     if (!rec)
         return;
-    /* the dynamic balance: how often it looked, how often it moved the
-     * cuts (checkpoint syncs included), the worst it found */
-    json_object_set_new(rec, "balance_every", json_integer((json_int_t)h->balance_every));
-    json_object_set_new(rec, "balance_threshold", json_real(h->balance_threshold));
-    json_object_set_new(rec, "balance_checks", json_integer((json_int_t)h->balance_checks));
-    json_object_set_new(rec, "balance_shifts", json_integer((json_int_t)h->balance_shifts));
-    json_object_set_new(rec, "imbalance_worst_at_checks", json_real(h->balance_worst));
+    json_object_set_new(rec, "balance_every", json_integer((json_int_t)b->every));
+    json_object_set_new(rec, "balance_threshold", json_real(b->threshold));
+    json_object_set_new(rec, "balance_checks", json_integer((json_int_t)b->checks));
+    json_object_set_new(rec, "balance_shifts", json_integer((json_int_t)b->shifts));
+    json_object_set_new(rec, "imbalance_worst_at_checks", json_real(b->worst));
 }
 
 /* A per-rank count under `key` and its max/mean imbalance under

@@ -25,4 +25,15 @@ void decomp_record_add_counts(struct result *res, const struct parallel *par, co
                               long mine);
 void decomp_record_add_integer(struct result *res, const char *key, long value);
 
+/* A dynamic balance's record (`parallel.balance_every`): the schedule, how
+ * often it looked, how often it moved the cuts (checkpoint syncs
+ * included) and the worst max/mean it found; nothing when every is 0. */
+struct decomp_balance_record {
+    long every;
+    double threshold;
+    long checks, shifts;
+    double worst;
+};
+void decomp_record_add_balance(struct result *res, const struct decomp_balance_record *b);
+
 #endif

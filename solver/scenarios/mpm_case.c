@@ -206,6 +206,11 @@ static int mpm_case_report(void *state, struct sim *s, int run_rc, struct err *e
             decomp_record_add_integer(res, "mpm_shared_nodes_max", shared);
             decomp_record_add_integer(res, "mpm_shared_node_plans", plans);
         }
+        const struct mpm_bricks *b = c->bricks;
+        struct decomp_balance_record bal = {b->balance_every, b->balance_threshold,
+                                            b->balance_checks, b->balance_shifts,
+                                            b->balance_worst};
+        decomp_record_add_balance(res, &bal);
     }
     return mpm_output_end(&c->out, s->run, e);
 }
@@ -326,4 +331,5 @@ const struct case_type mpm_case_type = {
     .checkpoints = 1,
     .decomposes = 1,
     .balances = 1,
+    .rebalances = 1,
 };

@@ -630,6 +630,9 @@ int mpm_case_read(struct cfg_obj *root, const struct case_common *common, struct
         rc = mpm_bricks_distribute(c->bricks, &c->m, cfg->err);
     if (!rc && c->bricks)
         rc = mpm_bricks_prepare(c->bricks, &c->m, cfg->err);
+    if (!rc && c->bricks && common->parallel.balance_every > 0)
+        mpm_bricks_balance_schedule(c->bricks, common->parallel.balance_every,
+                                    common->parallel.balance_threshold);
     if (!rc) {
         *out = c;
         c = NULL;
