@@ -279,3 +279,41 @@ Test(bricks_handshake, copies_apart_from_their_points_match_serial, .timeout = 9
         json_decref(r);
     }
 }
+
+/* Dynamic balance with a handshake target (parallel.balance_every): the
+ * MD's cuts move at the checks (threshold 1: at every check with any
+ * imbalance left), the copies of regions II and III move with the atoms
+ * while their material points stay on the ranks they were dealt to, and
+ * their rows come by the all-to-all the copies apart from their points
+ * already use.  The target at 300 K with the bath (its atoms' spread, and
+ * so the cuts, change from check to check).  On 1 x 1 x 2 bricks the run
+ * matches the serial one, and a checkpoint at step 50 (the cuts moved to
+ * the stored atoms, in the continuing run too) restarts 2 to 2 with the
+ * same thermo and the last snapshot's particles bit for bit (a restart
+ * that kept the set-up's cuts differs), and 2 to 1 and 1 to 2 onto the
+ * serial run. */
+Test(bricks_handshake, dynamic_balance_matches_serial_and_restarts, .timeout = 900)
+{
+    const char *path = write_target_on("hs_dyn.yaml", 1, ", checkpoint_every: 50",
+                                       ", grid: [1, 1, 2], balance: shift, balance_every: 10, "
+                                       "balance_threshold: 1.0");
+    char s1[600], m2[600];
+    serial_and_2_ranks(path, "hs-dyn", s1, m2, sizeof s1, compare_thermal);
+    long checks = 0, shifts = 0;
+    thb_balance_record(m2, &checks, &shifts, NULL);
+    cr_assert_geq(checks, 5, "%ld checks in 100 steps, every 10", checks);
+    cr_assert_geq(shifts, 3, "%ld shifts at threshold 1", shifts);
+    json_t *r = thb_result(m2);
+    long remote = (long)json_integer_value(
+        json_object_get(json_object_get(r, "parallel"), "handshake_remote_copies_max"));
+    json_decref(r);
+    cr_assert_gt(remote, 0, "no copy's point was on another rank");
+    const struct thb_restart cases[] = {
+        {m2, 2, "2 to 2", m2}, {m2, 0, "2 to 1", NULL}, {s1, 2, "1 to 2", NULL}};
+    thb_restarts_match(path, 50, cases, 3, s1, compare_thermal);
+    char r0[700];
+    snprintf(r0, sizeof r0, "%s/ck-restart-0", th_temp_dir());
+    static const char *const sets[] = {"position", "velocity", NULL};
+    static const int ncomp[] = {3, 3};
+    thb_compare_snapshot(m2, r0, "/particles/00000100", sets, ncomp, 0.0, "2 to 2, bit for bit");
+}

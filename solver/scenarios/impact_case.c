@@ -262,13 +262,6 @@ static int build(struct impact *c, const struct impact_spec *s, struct potential
                           "the target (%.1f x %.1f x %.1f Å) has no free interior inside its "
                           "%.1f Å of fixed and damped layers", c->hi[0] - c->lo[0],
                           c->hi[1] - c->lo[1], c->hi[2] - c->lo[2], layer);
-    } else if (b->ops->prepare && common->parallel.balance_every > 0) {
-        /* its copies of regions II and III and their links to the MPM are
-         * kept per brick from the set-up (couple/handshake_bricks.h) */
-        rc = cfg_error_at(cfg, "parallel.balance_every",
-                          "a handshake target keeps the bricks of its set-up: balance_every "
-                          "runs with target.boundary: fixed_damped (balance: shift alone "
-                          "cuts once, at set-up)");
     }
     if (!rc && cluster_cut_sphere(impact_styles[s->clat], s->ca, s->natoms,
                                   s->has_center ? s->center : NULL, &cut, e)) {
