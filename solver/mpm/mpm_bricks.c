@@ -784,9 +784,10 @@ static int migrate_to_owners(struct mpm_bricks *b, struct mpm *m, long *moved, s
     }
     int *scount = cnt, *sdispl = cnt + nr, *rcount = cnt + 2 * nr, *rdispl = cnt + 3 * nr;
     if (!rc && (double)nout * (double)rbytes > INT_MAX)   /* MPI's counts are ints */
-        rc = err_set(e, ERR_RUNTIME, "MPM re-cut: %ld points (%.0f bytes) to send from "
-                                         "rank %d, more than one MPI message holds",
-                         nout, (double)nout * (double)rbytes, me);
+        rc = err_set(e, ERR_RUNTIME,
+                     "MPM re-cut: %ld points (%.0f bytes) to send from rank %d, more than one "
+                     "MPI message holds",
+                     nout, (double)nout * (double)rbytes, me);
     if (!rc) {
         for (int r = 0, off = 0; r < nr; r++) {
             scount[r] = (int)((size_t)nsend[r] * rbytes);
@@ -821,8 +822,9 @@ static int migrate_to_owners(struct mpm_bricks *b, struct mpm *m, long *moved, s
         for (int r = 0; r < nr; r++)
             total += rcount[r];
         if (total > INT_MAX)
-            rc = err_set(e, ERR_RUNTIME, "MPM re-cut: %.0f bytes of points to receive on "
-                                         "rank %d, more than one MPI message holds",
+            rc = err_set(e, ERR_RUNTIME,
+                         "MPM re-cut: %.0f bytes of points to receive on rank %d, more than "
+                         "one MPI message holds",
                          total, me);
         for (int r = 0, off = 0; !rc && r < nr; r++) {
             rdispl[r] = off;
