@@ -343,3 +343,38 @@ Test(bricks_handshake_bar, packet_checkpoint_moves_between_rank_counts, .timeout
     checkpoints_move(write_case(5, "packet_ck.yaml", packet_yaml, ", checkpoint_every: 50"),
                      "packet-ck", compare_packet);
 }
+
+/* The thermal bar with the cuts moved during the run
+ * (parallel.balance_every, threshold 1: at every check with any imbalance
+ * left; checks ride on list builds, which the atoms' thermal motion brings
+ * with a thin skin, while a 0 K bar may build its lists once): the atoms
+ * and copies migrate at the checks, the material points stay where they
+ * were dealt (handshake_bricks.h), and the run matches the serial one on
+ * 1, 2 and 4 ranks; on 2 ranks the checks ran and moved the cuts. */
+Test(bricks_handshake_bar, thermal_with_moving_cuts_matches_serial_on_1_2_4_ranks,
+     .timeout = 900)
+{
+    /* a skin of 0.1 Å: the atoms' thermal motion rebuilds the lists every
+     * few steps */
+    char fmt[4096];
+    const char *md = strstr(thermal_yaml, "md: {timestep: 0.002, steps: 80}");
+    const char *at = strstr(thermal_yaml, "decomposition: bricks}");
+    cr_assert(md && at);
+    snprintf(fmt, sizeof fmt,
+             "%.*smd: {timestep: 0.002, steps: 80, skin: 0.1}%.*sdecomposition: bricks, "
+             "balance: shift, balance_every: 10, balance_threshold: 1.0}\n",
+             (int)(md - thermal_yaml), thermal_yaml,
+             (int)(at - md - strlen("md: {timestep: 0.002, steps: 80}")),
+             md + strlen("md: {timestep: 0.002, steps: 80}"));
+    ranks_match_serial(write_case(7, "thermal_every.yaml", fmt, ""), "thermal-every",
+                       compare_thermal, "bath_heat", 1e-3);
+    char d2[600];
+    snprintf(d2, sizeof d2, "%s/thermal-every-2", th_temp_dir());
+    long checks = 0, shifts = 0;
+    double worst = 0, end = thb_balance_record(d2, &checks, &shifts, &worst);
+    cr_log_info("thermal bar on 2 ranks, balance_every 10: %ld checks, %ld shifts, max/mean "
+                "%g at worst, %g at the end",
+                checks, shifts, worst, end);
+    cr_assert_geq(checks, 3, "%ld checks in 80 steps, every 10", checks);
+    cr_assert_geq(shifts, 1, "%ld shifts at threshold 1", shifts);
+}

@@ -72,12 +72,6 @@ int case_resolve(struct case_doc *cd, int shallow, int nthreads, const struct pa
                             "runs with md, cluster_impact, dpd, mpm and the handshake cases "
                             "(docs/parallel.md); remove the key",
                             out->type->name);
-    if (out->common.parallel.balance_every > 0 && !out->type->rebalances)
-        return cfg_error_at(&cfg, "parallel.balance_every",
-                            "case type '%s' sets its brick faces once, at set-up: "
-                            "balance_every runs with md, cluster_impact, dpd and mpm "
-                            "(docs/parallel.md); remove the key",
-                            out->type->name);
     out->common.seed = (uint64_t)seed;
     out->common.nthreads = nthreads;
     out->common.par = par;

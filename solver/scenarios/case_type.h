@@ -48,11 +48,10 @@ struct case_type {
     /* Splits its particles over the ranks in bricks (`parallel` section);
      * other types run replicated data under mpirun. */
     int decomposes;
-    /* Moves its brick faces with `parallel.balance: shift`; the other
-     * types refuse the key rather than ignore it. */
+    /* Moves its brick faces with `parallel.balance: shift`, and again
+     * during the run with `parallel.balance_every`; the other types
+     * refuse the keys rather than ignore them. */
     int balances;
-    /* Moves them again during the run (`parallel.balance_every`). */
-    int rebalances;
 };
 
 extern const struct case_type *const case_types[];   /* NULL-terminated */

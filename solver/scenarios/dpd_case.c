@@ -283,5 +283,4 @@ const struct case_type dpd_case_type = {
     .checkpoints = 1,
     .decomposes = 1,
     .balances = 1,
-    .rebalances = 1,
 };

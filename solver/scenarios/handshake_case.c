@@ -198,6 +198,11 @@ int hs_case_build(struct hs_case *c, enum mpm_face_bc x_hi_face, int end_margin,
     c->built = 1;
     if (rc)
         return rc;
+    /* moved again during the run when asked: the copies follow the atoms,
+     * the points stay where they were dealt (couple/handshake_bricks.h) */
+    if (halo && common->parallel.balance_every > 0)
+        halo_balance_schedule(c->md.halo, common->parallel.balance_every,
+                              common->parallel.balance_threshold, 0);
     if ((rc = md_check_timestep(&c->md, cfg, "md.timestep")))
         return rc;
     return hs_profile_init(&c->prof, &c->hs, 0, c->slab * u[0], e);

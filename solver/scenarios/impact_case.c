@@ -821,5 +821,4 @@ const struct case_type impact_case_type = {
     .checkpoints = 1,
     .decomposes = 1,
     .balances = 1,
-    .rebalances = 1,
 };

@@ -366,5 +366,4 @@ const struct case_type md_case_type = {
     .checkpoints = 1,
     .decomposes = 1,
     .balances = 1,
-    .rebalances = 1,
 };

@@ -331,5 +331,4 @@ const struct case_type mpm_case_type = {
     .checkpoints = 1,
     .decomposes = 1,
     .balances = 1,
-    .rebalances = 1,
 };
