@@ -10,6 +10,7 @@
 #include <sys/stat.h>
 
 #include "helpers/th.h"
+#include "helpers/th_restart.h"
 
 void thb_mpi_env(int np)
 {
@@ -275,6 +276,23 @@ int thb_mkdir_copy(const char *from, const char *dir, const char *to)
     if (b && fclose(b) != 0)
         rc = -1;
     return rc;
+}
+
+void thb_restart_refuses(const char *path, const char *ck, long step, const char *stem, int np,
+                         const char *dataset, long type, long row, const void *val,
+                         const char *want, char *out, size_t len)
+{
+    char dir[700], file[800], name[64];
+    snprintf(dir, sizeof dir, "%s/%s", th_temp_dir(), stem);
+    snprintf(name, sizeof name, "checkpoint-%010ld.h5", step);
+    snprintf(file, sizeof file, "%s/%s", dir, name);
+    cr_assert_eq(thb_mkdir_copy(ck, dir, file), 0, "%s", ck);
+    th_ckpt_poke_at(file, dataset, type, row, val);
+    const char *extra[] = {"--restart", NULL};
+    int rc = thb_run(path, np, dir, extra, out, len);
+    cr_assert_eq(rc, 2, "%s: exit %d: %s", stem, rc, out);
+    cr_assert(strstr(out, name) && strstr(out, want), "%s: %s", stem, out);
+    cr_assert(!strstr(out, "another MPI rank"), "%s: %s", stem, out);
 }
 
 void thb_restart_at(const char *path, const char *from_dir, long step, int np, int k, char *dir,

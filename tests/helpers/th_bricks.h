@@ -105,6 +105,15 @@ int thb_mkdir_copy(const char *from, const char *dir, const char *to);
  * TEMP/ck-restart-K whose name goes to dir; asserts that it ran. */
 void thb_restart_at(const char *path, const char *from_dir, long step, int np, int k, char *dir,
                     size_t len);
+/* One impossible value in a copy of checkpoint ck of step `step` (in
+ * TEMP/<stem>): `val`, of HDF5 memory type `type`, at flat row `row` of
+ * `dataset` (th_ckpt_poke_at).  Restarted on np ranks the run must stop
+ * with exit 2 and the failing rank's own message (not "another MPI
+ * rank"), naming the checkpoint file and containing `want`.  The output
+ * is left in out for the caller's further checks. */
+void thb_restart_refuses(const char *path, const char *ck, long step, const char *stem, int np,
+                         const char *dataset, long type, long row, const void *val,
+                         const char *want, char *out, size_t len);
 /* One restart of the checkpoint tests: from the run in `from`, on np ranks
  * (0: without mpirun); when bitwise_with is given, the restarted run's
  * thermo.csv must be that run's text after the header (the same rank
