@@ -351,7 +351,6 @@ double mpm_grid_bytes(const struct mpm_grid *g)
                                     4 * sizeof(double));
     b += (double)g->nbc * (sizeof(int32_t) + 1);
     if (g->hg)
-        b += (double)g->hg->ncell * sizeof(struct mpm_hcell) +
-             (double)g->hg->nnodes * 3 * sizeof(int32_t) + (double)g->hg->ntree * 4;
+        b += mpm_hgrid_bytes(g->hg);
     return b;
 }

@@ -300,7 +300,70 @@ static int hgrid_balance(struct builder *b)
     return err_set(b->e, ERR_INPUT, "hierarchical grid: 2:1 balance did not converge");
 }
 
-/* Assign node indices and each cell's candidate nodes. */
+/* Index of the node at finest-lattice (i, j, k), or -1: a binary search of
+ * node_ijk, which is in the order of node_key. */
+static long node_find(const struct mpm_hgrid *hg, const long ijk[3])
+{
+    const int64_t want = node_key(hg, ijk[0], ijk[1], ijk[2]);
+    long lo = 0, hi = hg->nnodes - 1;
+    while (lo <= hi) {
+        long mid = (lo + hi) / 2;
+        const int32_t *n = hg->node_ijk + 3 * mid;
+        int64_t k = node_key(hg, n[0], n[1], n[2]);
+        if (k < want)
+            lo = mid + 1;
+        else if (k > want)
+            hi = mid - 1;
+        else
+            return mid;
+    }
+    return -1;
+}
+
+/* The 27 candidate nodes of cell cl (-1 where absent). */
+static void cell_table(const struct mpm_hgrid *hg, const struct mpm_hcell *cl, int32_t node[27])
+{
+    for (int q = 0; q < 27; q++) {
+        int ab[3] = {q % 3, (q / 3) % 3, q / 9};
+        long ijk[3];
+        int ok = !(ab[0] == 1 && ab[1] == 1 && ab[2] == 1);
+        for (int d = 0; d < 3 && ok; d++) {
+            long s = 1L << cl->lg[d];
+            if (ab[d] == 1 && s < 2)
+                ok = 0;
+            ijk[d] = cl->lo[d] + (ab[d] == 0 ? 0 : ab[d] == 1 ? s / 2 : s);
+        }
+        node[q] = ok ? (int32_t)node_find(hg, ijk) : -1;
+    }
+}
+
+/* Whether a cell's table breaks what the shape functions rely on: corners
+ * always exist, and a face centre implies its four edge midpoints. */
+static int table_invalid(const int32_t node[27])
+{
+    for (int q = 0; q < 27; q++) {
+        int ab[3] = {q % 3, (q / 3) % 3, q / 9};
+        int nmid = (ab[0] == 1) + (ab[1] == 1) + (ab[2] == 1);
+        if (nmid == 0 && node[q] < 0)
+            return 1;
+        if (nmid != 2 || node[q] < 0)
+            continue;
+        for (int d = 0; d < 3; d++) {
+            if (ab[d] != 1)
+                continue;
+            for (int end = 0; end <= 2; end += 2) {
+                int e2[3] = {ab[0], ab[1], ab[2]};
+                e2[d] = end;
+                if (node[e2[0] + 3 * e2[1] + 9 * e2[2]] < 0)
+                    return 2;
+            }
+        }
+    }
+    return 0;
+}
+
+/* Assign node indices; check every cell's candidate nodes (the tables
+ * themselves are made on first use, mpm_hgrid_make_cells). */
 static int hgrid_nodes(struct builder *b)
 {
     struct mpm_hgrid *hg = b->hg;
@@ -321,50 +384,69 @@ static int hgrid_nodes(struct builder *b)
         hg->node_ijk[3 * n + 1] = (int32_t)((keys[n] / nx) % ny);
         hg->node_ijk[3 * n + 2] = (int32_t)(keys[n] / nx / ny);
     }
+    free(keys);
+    /* the cells of the tree are final: trim the array grown by doubling */
+    struct mpm_hcell *trim = realloc(hg->cell, (size_t)(hg->ncell > 0 ? hg->ncell : 1) *
+                                                   sizeof *trim);
+    if (trim) {
+        hg->cell = trim;
+        hg->cap_cell = hg->ncell;
+    }
+    hg->cell_node_bytes = (size_t)(hg->ncell > 0 ? hg->ncell : 1) * MPM_HCELL_NODES *
+                          sizeof *hg->cell_node;
+    hg->cell_node = mpm_grid_zeroed_alloc(hg->cell_node_bytes);
+    hg->cell_made = calloc((size_t)(hg->ncell > 0 ? hg->ncell : 1), 1);
+    if (!hg->cell_node || !hg->cell_made)
+        return err_nomem(b->e, "hierarchical grid node tables");
     for (int l = 0; l <= MPM_MAX_LEVELS; l++)
         hg->ncell_level[l] = 0;
     for (long c = 0; c < hg->ncell; c++) {
-        struct mpm_hcell *cl = &hg->cell[c];
+        const struct mpm_hcell *cl = &hg->cell[c];
         hg->ncell_level[cl->level]++;
-        for (int q = 0; q < 27; q++) {
-            int ab[3] = {q % 3, (q / 3) % 3, q / 9};
-            long ijk[3];
-            int ok = !(ab[0] == 1 && ab[1] == 1 && ab[2] == 1);
-            for (int d = 0; d < 3 && ok; d++) {
-                long s = 1L << cl->lg[d];
-                if (ab[d] == 1 && s < 2)
-                    ok = 0;
-                ijk[d] = cl->lo[d] + (ab[d] == 0 ? 0 : ab[d] == 1 ? s / 2 : s);
-            }
-            cl->node[q] = ok ? (int32_t)key_find(keys, nkeys, node_key(hg, ijk[0], ijk[1], ijk[2]))
-                             : -1;
-        }
-        /* corners always exist; a face centre implies its four edge midpoints
-         * (the construction of the shape functions relies on it) */
-        for (int q = 0; q < 27; q++) {
-            int ab[3] = {q % 3, (q / 3) % 3, q / 9};
-            int nmid = (ab[0] == 1) + (ab[1] == 1) + (ab[2] == 1);
-            if ((nmid == 0 && cl->node[q] < 0))
-                rc = err_set(b->e, ERR_RUNTIME, "hierarchical grid: cell %ld lacks a corner", c);
-            if (nmid == 2 && cl->node[q] >= 0) {
-                for (int d = 0; d < 3; d++) {
-                    if (ab[d] != 1)
-                        continue;
-                    for (int end = 0; end <= 2; end += 2) {
-                        int e2[3] = {ab[0], ab[1], ab[2]};
-                        e2[d] = end;
-                        if (cl->node[e2[0] + 3 * e2[1] + 9 * e2[2]] < 0)
-                            rc = err_set(b->e, ERR_RUNTIME,
-                                         "hierarchical grid: cell %ld has a face centre node "
-                                         "without its edge midpoints",
-                                         c);
-                    }
-                }
-            }
-        }
+        int32_t node[27];
+        cell_table(hg, cl, node);
+        int bad = table_invalid(node);
+        if (bad == 1)
+            return err_set(b->e, ERR_RUNTIME, "hierarchical grid: cell %ld lacks a corner", c);
+        if (bad == 2)
+            return err_set(b->e, ERR_RUNTIME,
+                           "hierarchical grid: cell %ld has a face centre node without its "
+                           "edge midpoints",
+                           c);
     }
-    free(keys);
-    return rc;
+    return 0;
+}
+
+void mpm_hgrid_make_cells(struct mpm_hgrid *hg, const int32_t *cell, long n)
+{
+    for (long i = 0; i < n; i++) {
+        long c = cell[i];
+        if (c < 0 || c >= hg->ncell || hg->cell_made[c])
+            continue;
+        int32_t node[27];
+        cell_table(hg, &hg->cell[c], node);
+        int32_t *t = hg->cell_node + (long)MPM_HCELL_NODES * c;
+        memcpy(t, node, sizeof node);
+        for (int q = 27; q < MPM_HCELL_NODES; q++)
+            t[q] = -1;
+        hg->cell_made[c] = 1;
+        hg->ncell_made++;
+    }
+}
+
+const int32_t *mpm_hgrid_nodes(struct mpm_hgrid *hg, long c)
+{
+    int32_t c32 = (int32_t)c;
+    mpm_hgrid_make_cells(hg, &c32, 1);
+    return mpm_hgrid_cell_nodes(hg, c);
+}
+
+double mpm_hgrid_bytes(const struct mpm_hgrid *hg)
+{
+    long nroot = hg->nroot[0] * hg->nroot[1] * hg->nroot[2];
+    return (double)hg->ncell * (sizeof(struct mpm_hcell) + 1) +
+           (double)hg->ncell_made * MPM_HCELL_NODES * sizeof(int32_t) +
+           (double)hg->nnodes * 3 * sizeof(int32_t) + (double)(hg->ntree + nroot) * 4;
 }
 
 int mpm_hgrid_build(struct mpm_hgrid **out, const double origin[3], double h,
@@ -445,6 +527,8 @@ void mpm_hgrid_destroy(struct mpm_hgrid **hg)
     free((*hg)->tree);
     free((*hg)->cell);
     free((*hg)->node_ijk);
+    mpm_grid_zeroed_free((*hg)->cell_node, (*hg)->cell_node_bytes);
+    free((*hg)->cell_made);
     free(*hg);
     *hg = NULL;
 }

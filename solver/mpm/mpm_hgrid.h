@@ -15,6 +15,14 @@
  *
  * Cells are found from a position by a dense array of root blocks (the
  * coarsest cell size) and a descent of at most MPM_MAX_LEVELS steps.
+ *
+ * A cell's candidate nodes (its node table, 27 entries) are made when a
+ * particle first lies in it (mpm_hgrid_make_cells, called by the locate
+ * step): the tables come zero from the kernel and only the made ones are
+ * resident, so a rank that holds the whole grid but whose particles lie in
+ * a part of it holds the tables of that part -- the cells' geometry (16
+ * bytes a cell), the tree and the nodes' coordinates (12 bytes a node) are
+ * whole, the tables (128 bytes a cell) are not.
  */
 #ifndef CASCADE_MPM_HGRID_H
 #define CASCADE_MPM_HGRID_H
@@ -34,9 +42,12 @@ struct mpm_hcell {
     int32_t lo[3];      /* finest-lattice coordinates of the low corner     */
     uint8_t lg[3];      /* log2 of the cell size (finest cells) per direction */
     uint8_t level;
-    int32_t node[27];   /* node at candidate (a, b, c) in {0,1,2}^3, index
-                           a + 3b + 9c (1 = midpoint); -1 when absent       */
 };
+
+/* Entries between two cells' node tables: 27 used (the node at candidate
+ * (a, b, c) in {0,1,2}^3 at index a + 3b + 9c, 1 = midpoint; -1 when
+ * absent), padded to 128 bytes so a table is two whole cache lines. */
+#define MPM_HCELL_NODES 32
 
 struct mpm_hlevel {
     unsigned coarsen;   /* direction bits (x 1, y 2, z 4) halved from level l-1 */
@@ -61,8 +72,15 @@ struct mpm_hgrid {
     long ncell, cap_cell;
     long ncell_level[MPM_MAX_LEVELS + 1];
 
-    int32_t *node_ijk;               /* 3 per node: finest-lattice coordinates */
+    int32_t *node_ijk;               /* 3 per node: finest-lattice coordinates, in
+                                        lexicographic order (k slowest) */
     long nnodes;
+
+    int32_t *cell_node;              /* node tables, MPM_HCELL_NODES a cell, made on
+                                        first use (zero pages until then) */
+    size_t cell_node_bytes;
+    uint8_t *cell_made;              /* per cell: its node table is made */
+    long ncell_made;
 };
 
 /* Build the grid over ncell finest cells of edge h (Å) from `origin`, with
@@ -75,6 +93,26 @@ int mpm_hgrid_build3(struct mpm_hgrid **out, const double origin[3], const doubl
                      const long ncell[3], const struct mpm_hlevel *levels, int nlevels,
                      enum mpm_hanging hanging, struct err *e);
 void mpm_hgrid_destroy(struct mpm_hgrid **hg);
+
+/* Make the node tables of the cells cell[0..n) (entries < 0 skipped) that
+ * are not made yet.  Not thread-safe: the locate step calls it after its
+ * threaded pass, before any pass reads the tables. */
+void mpm_hgrid_make_cells(struct mpm_hgrid *hg, const int32_t *cell, long n);
+
+/* The node table of cell c, which must be made (the cells of located
+ * particles are). */
+static inline const int32_t *mpm_hgrid_cell_nodes(const struct mpm_hgrid *hg, long c)
+{
+    return hg->cell_node + (long)MPM_HCELL_NODES * c;
+}
+
+/* The node table of cell c, made now if it is not yet (for callers outside
+ * the step: set-up, output, tests). */
+const int32_t *mpm_hgrid_nodes(struct mpm_hgrid *hg, long c);
+
+/* Bytes the grid's structure holds: the cells, tree, node coordinates and
+ * the node tables made so far. */
+double mpm_hgrid_bytes(const struct mpm_hgrid *hg);
 
 /* Cell containing x (Å), or -1 outside. */
 static inline long mpm_hgrid_find(const struct mpm_hgrid *hg, const double x[3])

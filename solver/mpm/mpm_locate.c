@@ -130,6 +130,8 @@ static int locate_set(struct mpm *m, struct mpm_view *w, int kind, long *bad, st
             b->order[cnt[b->blk[p]]++] = (int32_t)p;
     }
     *bad = first_bad < n ? first_bad : -1;
+    if (kind == MPM_ST_HIER)   /* the node tables of the cells the stencils will read */
+        mpm_hgrid_make_cells(g->hg, b->cell, n);
     return 0;
 }
 

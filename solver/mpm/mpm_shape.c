@@ -31,6 +31,7 @@ void mpm_stencil_hier(const struct mpm_grid *g, long c, const double *x, struct 
 {
     const struct mpm_hgrid *hg = g->hg;
     const struct mpm_hcell *cl = &hg->cell[c];
+    const int32_t *node = mpm_hgrid_cell_nodes(hg, c);   /* made by the locate step */
     int standard = hg->hanging == MPM_HANGING_STANDARD;
     double b[3][3], db[3][3];
     for (int d = 0; d < 3; d++) {
@@ -58,12 +59,12 @@ void mpm_stencil_hier(const struct mpm_grid *g, long c, const double *x, struct 
      * Same products, same order of the nodes, so the same bits. */
     int present = 0;   /* the 8 corners always are: more is a hanging node */
     for (int q = 0; q < 27; q++)
-        present += cl->node[q] >= 0;
+        present += node[q] >= 0;
     if (present == 8) {
         for (int k = 0; k < 8; k++) {
             int q = hier_corner[k];
             int a0 = q % 3, a1 = (q / 3) % 3, a2 = q / 9;
-            s->node[k] = cl->node[q];
+            s->node[k] = node[q];
             s->w[k] = b[0][a0] * b[1][a1] * b[2][a2];
             s->gx[k] = db[0][a0] * b[1][a1] * b[2][a2];
             s->gy[k] = b[0][a0] * db[1][a1] * b[2][a2];
@@ -74,7 +75,7 @@ void mpm_stencil_hier(const struct mpm_grid *g, long c, const double *x, struct 
     }
     double N[27], Gx[27], Gy[27], Gz[27];
     for (int q = 0; q < 27; q++) {
-        if (cl->node[q] < 0)
+        if (node[q] < 0)
             continue;
         int a0 = q % 3, a1 = (q / 3) % 3, a2 = q / 9;
         N[q] = b[0][a0] * b[1][a1] * b[2][a2];
@@ -85,14 +86,14 @@ void mpm_stencil_hier(const struct mpm_grid *g, long c, const double *x, struct 
     /* copy the hierarchical functions, then move surplus weight down */
     double Bn[27], Bx[27], By[27], Bz[27];
     for (int q = 0; q < 27; q++)
-        if (cl->node[q] >= 0) {
+        if (node[q] >= 0) {
             Bn[q] = N[q];
             Bx[q] = Gx[q];
             By[q] = Gy[q];
             Bz[q] = Gz[q];
         }
     for (int q = 0; q < 27; q++) {
-        if (cl->node[q] < 0)
+        if (node[q] < 0)
             continue;
         int ab[3] = {q % 3, (q / 3) % 3, q / 9};
         int nmid = (ab[0] == 1) + (ab[1] == 1) + (ab[2] == 1);
@@ -147,9 +148,9 @@ void mpm_stencil_hier(const struct mpm_grid *g, long c, const double *x, struct 
     }
     int n = 0;
     for (int q = 0; q < 27; q++) {
-        if (cl->node[q] < 0)
+        if (node[q] < 0)
             continue;
-        s->node[n] = cl->node[q];
+        s->node[n] = node[q];
         s->w[n] = N[q];
         s->gx[n] = Gx[q];
         s->gy[n] = Gy[q];

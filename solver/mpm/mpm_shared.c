@@ -106,7 +106,7 @@ static void mark_touched(struct mpm_shared *s, const struct mpm *m)
     for (long c = 0; c < s->ncell; c++) {
         if (!s->cell_mark[c])
             continue;
-        const int32_t *node = hg->cell[c].node;
+        const int32_t *node = mpm_hgrid_cell_nodes(hg, c);   /* located: made */
         for (int q = 0; q < 27; q++)
             if (node[q] >= 0)
                 s->node_mark[node[q]] = MARK_TOUCHED;
