@@ -121,3 +121,10 @@ void decomp_record_add_integer(struct result *res, const char *key, long value)
     if (rec)
         json_object_set_new(rec, key, json_integer((json_int_t)value));
 }
+
+void decomp_record_add_cell_tables(struct result *res, const struct parallel *par, long ncell,
+                                   long made)
+{
+    decomp_record_add_integer(res, "mpm_cells", ncell);
+    decomp_record_add_counts(res, par, "mpm_cell_tables_per_rank", made);
+}

@@ -25,6 +25,12 @@ void decomp_record_add_counts(struct result *res, const struct parallel *par, co
                               long mine);
 void decomp_record_add_integer(struct result *res, const char *key, long value);
 
+/* A hierarchical MPM grid held whole on every rank: its cell count
+ * (`mpm_cells`) and the node tables each rank made, those of the cells
+ * its particles lay in (`mpm_cell_tables_per_rank`; collective). */
+void decomp_record_add_cell_tables(struct result *res, const struct parallel *par, long ncell,
+                                   long made);
+
 /* A dynamic balance's record (`parallel.balance_every`): the schedule, how
  * often it looked, how often it moved the cuts (checkpoint syncs
  * included) and the worst max/mean it found; nothing when every is 0. */

@@ -4,6 +4,7 @@
 
 #include "core/halo.h"
 #include "couple/handshake_bricks.h"
+#include "mpm/mpm_hgrid.h"
 #include "output/decomp_record.h"
 
 void handshake_record_parallel(const struct handshake *hs, struct result *res)
@@ -17,4 +18,7 @@ void handshake_record_parallel(const struct handshake *hs, struct result *res)
     hs_bricks_shared_counts(hs, &shared, &plans);
     decomp_record_add_integer(res, "mpm_shared_nodes_max", shared);
     decomp_record_add_integer(res, "mpm_shared_node_plans", plans);
+    const struct mpm_hgrid *hg = hs->mpm.grid.hg;
+    if (hg)
+        decomp_record_add_cell_tables(res, hs->md->halo->dc.par, hg->ncell, hg->ncell_made);
 }

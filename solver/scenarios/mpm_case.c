@@ -14,6 +14,7 @@
 
 #include "core/units.h"
 #include "mpm/mpm_bricks.h"
+#include "mpm/mpm_hgrid.h"
 #include "output/decomp_record.h"
 #include "scenarios/mpm_case.h"
 
@@ -205,6 +206,8 @@ static int mpm_case_report(void *state, struct sim *s, int run_rc, struct err *e
         if (c->bricks->shared) {
             decomp_record_add_integer(res, "mpm_shared_nodes_max", shared);
             decomp_record_add_integer(res, "mpm_shared_node_plans", plans);
+            decomp_record_add_cell_tables(res, c->bricks->par, m->grid.hg->ncell,
+                                          m->grid.hg->ncell_made);
         }
         const struct mpm_bricks *b = c->bricks;
         struct decomp_balance_record bal = {b->balance_every, b->balance_threshold,

@@ -246,6 +246,30 @@ void thb_check_parallel_record(const char *dir, int np, long n)
     json_decref(r);
 }
 
+double thb_check_cell_tables(const char *dir, int np, double most)
+{
+    json_t *r = thb_result(dir);
+    json_t *par = json_object_get(r, "parallel");
+    cr_assert_not_null(par, "%s: no parallel record", dir);
+    long cells = (long)json_integer_value(json_object_get(par, "mpm_cells"));
+    json_t *per = json_object_get(par, "mpm_cell_tables_per_rank");
+    cr_assert_eq((long)json_array_size(per), np, "%s: mpm_cell_tables_per_rank", dir);
+    double worst = 0;
+    long sum = 0;
+    for (int k = 0; k < np; k++) {
+        long made = (long)json_integer_value(json_array_get(per, (size_t)k));
+        double f = cells > 0 ? (double)made / (double)cells : 1.0;
+        sum += made;
+        cr_assert(made >= 0 && f < most,
+                  "%s: rank %d made the node tables of %ld of %ld cells (%.3f, at most %.3f)", dir,
+                  k, made, cells, f, most);
+        worst = f > worst ? f : worst;
+    }
+    cr_assert_gt(sum, 0, "%s: no rank made a node table", dir);
+    json_decref(r);
+    return worst;
+}
+
 void thb_assert_bricks(const char *dir, int np, const int *grid)
 {
     json_t *r = thb_result(dir);

@@ -166,6 +166,12 @@ void thb_short_replicates(const char *path, int np, const char *stem);
  * imbalance their max over mean, a grid of np bricks. */
 void thb_check_parallel_record(const char *dir, int np, long n);
 
+/* A hierarchical grid whole on np ranks (run dir's parallel record): no
+ * rank made the node tables of `most` times the grid's cells or more (a
+ * rank makes those of its particles' cells, solver/mpm/mpm_hgrid.h; an
+ * empty brick none), some rank made some; returns the largest fraction. */
+double thb_check_cell_tables(const char *dir, int np, double most);
+
 /* The dynamic balance's part of run dir's parallel record
  * (parallel.balance_every): checks, shifts and the worst max/mean a check
  * found (each may be NULL); returns the run's final max/mean.  The
