@@ -426,9 +426,13 @@ void mpm_hgrid_make_cells(struct mpm_hgrid *hg, const int32_t *cell, long n)
         int32_t node[27];
         cell_table(hg, &hg->cell[c], node);
         int32_t *t = hg->cell_node + (long)MPM_HCELL_NODES * c;
+        const struct mpm_hcell *cl = &hg->cell[c];
         memcpy(t, node, sizeof node);
         for (int q = 27; q < MPM_HCELL_NODES; q++)
             t[q] = -1;
+        for (int d = 0; d < 3; d++)
+            t[MPM_HCELL_LO + d] = cl->lo[d];
+        t[MPM_HCELL_LG] = (int32_t)(cl->lg[0] | (unsigned)cl->lg[1] << 8 | (unsigned)cl->lg[2] << 16);
         hg->cell_made[c] = 1;
         hg->ncell_made++;
     }

@@ -44,10 +44,15 @@ struct mpm_hcell {
     uint8_t level;
 };
 
-/* Entries between two cells' node tables: 27 used (the node at candidate
- * (a, b, c) in {0,1,2}^3 at index a + 3b + 9c, 1 = midpoint; -1 when
- * absent), padded to 128 bytes so a table is two whole cache lines. */
+/* Entries between two cells' node tables, 128 bytes, so a table is two
+ * whole cache lines: 27 nodes (the node at candidate (a, b, c) in
+ * {0,1,2}^3 at index a + 3b + 9c, 1 = midpoint; -1 when absent), then a
+ * copy of the cell's geometry for the shape functions, which then read
+ * one record: its low corner (MPM_HCELL_LO, 3 entries) and its sizes
+ * (MPM_HCELL_LG: lg[0] | lg[1] << 8 | lg[2] << 16). */
 #define MPM_HCELL_NODES 32
+#define MPM_HCELL_LO 27
+#define MPM_HCELL_LG 30
 
 struct mpm_hlevel {
     unsigned coarsen;   /* direction bits (x 1, y 2, z 4) halved from level l-1 */

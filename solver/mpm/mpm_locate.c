@@ -93,7 +93,9 @@ static int locate_set(struct mpm *m, struct mpm_view *w, int kind, long *bad, st
         return rc;
     b->blk_step = -1;
     long first_bad = n;
-#pragma omp parallel num_threads(nt) reduction(min : first_bad)
+    int unmade = 0;   /* a particle lies in a cell whose node table is not made yet */
+    const uint8_t *made = kind == MPM_ST_HIER ? g->hg->cell_made : NULL;
+#pragma omp parallel num_threads(nt) reduction(min : first_bad) reduction(| : unmade)
     {
         int t = omp_get_thread_num(), T = omp_get_num_threads();
         long lo = n * t / T, hi = n * (t + 1) / T;
@@ -108,8 +110,10 @@ static int locate_set(struct mpm *m, struct mpm_view *w, int kind, long *bad, st
                 blk = 0;
             }
             b->blk[p] = (int32_t)blk;
-            if (kind == MPM_ST_HIER)
+            if (kind == MPM_ST_HIER) {
                 b->cell[p] = c;
+                unmade |= !made[c];
+            }
             cnt[blk]++;
         }
 #pragma omp barrier
@@ -130,7 +134,7 @@ static int locate_set(struct mpm *m, struct mpm_view *w, int kind, long *bad, st
             b->order[cnt[b->blk[p]]++] = (int32_t)p;
     }
     *bad = first_bad < n ? first_bad : -1;
-    if (kind == MPM_ST_HIER)   /* the node tables of the cells the stencils will read */
+    if (unmade)   /* the node tables of the cells the stencils will read */
         mpm_hgrid_make_cells(g->hg, b->cell, n);
     return 0;
 }

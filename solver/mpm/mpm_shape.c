@@ -30,16 +30,18 @@ static const double inv_pow2[8] = {1.0, 0.5, 0.25, 0.125, 0.0625, 0.03125, 0.015
 void mpm_stencil_hier(const struct mpm_grid *g, long c, const double *x, struct mpm_stencil *s)
 {
     const struct mpm_hgrid *hg = g->hg;
-    const struct mpm_hcell *cl = &hg->cell[c];
-    const int32_t *node = mpm_hgrid_cell_nodes(hg, c);   /* made by the locate step */
+    /* the node table, made by the locate step, with the cell's geometry */
+    const int32_t *node = mpm_hgrid_cell_nodes(hg, c);
+    const int32_t *lo = node + MPM_HCELL_LO;
+    const uint32_t lgs = (uint32_t)node[MPM_HCELL_LG];
     int standard = hg->hanging == MPM_HANGING_STANDARD;
     double b[3][3], db[3][3];
     for (int d = 0; d < 3; d++) {
         /* 1 / size: sizes are powers of two, so the product is the quotient,
          * bit for bit, without a division */
-        double isize = inv_pow2[cl->lg[d] & 7];
+        double isize = inv_pow2[(lgs >> (8 * d)) & 7];
         double inv = g->inv_hd[d] * isize;   /* d t / d x */
-        double t = ((x[d] - g->origin[d]) * g->inv_hd[d] - (double)cl->lo[d]) * isize;
+        double t = ((x[d] - g->origin[d]) * g->inv_hd[d] - (double)lo[d]) * isize;
         double xi = 2.0 * t - 1.0;
         b[d][0] = 1.0 - t;
         db[d][0] = -inv;
