@@ -18,11 +18,16 @@ int decomp_check_grid(const int grid[3], const struct box *b, double range, char
         }
         if (grid[d] == 1 && b->bc[d] != BOUNDARY_PERIODIC)
             continue;
-        double w = box_length(b, d) / grid[d];
+        /* a tilted box's bricks are as thick as its height across the
+         * faces of the edge, shared */
+        int tilted = box_tilted(b);
+        double full = tilted ? box_height(b, d) : box_length(b, d);
+        double w = full / grid[d];
         if (!(w >= range)) {
-            snprintf(why, len, "bricks of %g Å along %c (box %g Å / %d) are thinner than the "
+            snprintf(why, len, "bricks of %g Å along %c (box %g Å %s/ %d) are thinner than the "
                      "interaction range %g Å (cutoff + skin): the halo exchange reaches only "
-                     "the next brick", w, "xyz"[d], box_length(b, d), grid[d], range);
+                     "the next brick", w, "xyz"[d], full, tilted ? "high across its faces " : "",
+                     grid[d], range);
             return -1;
         }
     }
@@ -57,6 +62,11 @@ int decomp_choose_grid(int nranks, const struct box *b, double range, int grid[3
 
 void decomp_set_box(struct decomp *dc, const struct box *b)
 {
+    dc->tilted = box_tilted(b);
+    for (int d = 0; d < 3; d++) {
+        dc->tilt[d] = b->tilt[d];
+        dc->height[d] = dc->tilted ? box_height(b, d) : b->hi[d] - b->lo[d];
+    }
     for (int d = 0; d < 3; d++) {
         dc->blo[d] = b->lo[d];
         dc->bhi[d] = b->hi[d];
@@ -96,6 +106,44 @@ void decomp_free(struct decomp *dc)
     }
 }
 
+/* The fraction of the box along axis d where x lies: (x_d - lo_d) / L_d
+ * in an orthogonal box, the fractional coordinate s_d in a tilted one
+ * (box_to_fractional's arithmetic). */
+static double box_fraction(const struct decomp *dc, int d, const double x[3])
+{
+    double L[3];
+    for (int k = 0; k < 3; k++)
+        L[k] = dc->bhi[k] - dc->blo[k];
+    if (!dc->tilted)
+        return (x[d] - dc->blo[d]) / L[d];
+    double s2 = (x[2] - dc->blo[2]) / L[2];
+    if (d == 2)
+        return s2;
+    double s1 = (x[1] - dc->blo[1] - dc->tilt[2] * s2) / L[1];
+    if (d == 1)
+        return s1;
+    return (x[0] - dc->blo[0] - dc->tilt[0] * s1 - dc->tilt[1] * s2) / L[0];
+}
+
+double decomp_cut_coord(const struct decomp *dc, int d, const double x[3])
+{
+    if (!dc->tilted)
+        return x[d];
+    return dc->blo[d] + box_fraction(dc, d, x) * (dc->bhi[d] - dc->blo[d]);
+}
+
+int decomp_coord_at(const struct decomp *dc, int d, const double x[3])
+{
+    return decomp_coord(dc, d, decomp_cut_coord(dc, d, x));
+}
+
+double decomp_range_along(const struct decomp *dc, int d, double r)
+{
+    if (!dc->tilted)
+        return r;
+    return r * ((dc->bhi[d] - dc->blo[d]) / dc->height[d]);
+}
+
 double decomp_min_width(const struct decomp *dc, int d)
 {
     double L = dc->bhi[d] - dc->blo[d], w = INFINITY;
@@ -128,7 +176,7 @@ int decomp_shift(struct decomp *dc, const double *x, int n, double range, struct
         }
         memset(hist, 0, SHIFT_BINS * sizeof *hist);
         for (int i = 0; i < n; i++) {
-            double q = (x[3 * i + d] - dc->blo[d]) / L * SHIFT_BINS;
+            double q = box_fraction(dc, d, x + 3 * i) * SHIFT_BINS;
             int b = !(q >= 0) ? 0 : q >= SHIFT_BINS - 1 ? SHIFT_BINS - 1 : (int)q;
             hist[b] += 1.0;
         }
@@ -152,7 +200,7 @@ int decomp_shift(struct decomp *dc, const double *x, int n, double range, struct
         /* every brick at least the range wide (the halo reaches one brick):
          * push cuts up from below, then down from above; equal bricks are
          * wide enough (decomp_check_grid), so this always fits */
-        double wmin = range / L * (1 + 1e-12);
+        double wmin = decomp_range_along(dc, d, range) / L * (1 + 1e-12);
         for (int c = 1; c < g; c++)
             frac[c] = fmax(frac[c], frac[c - 1] + wmin);
         for (int c = g - 1; c >= 1; c--)
@@ -167,6 +215,7 @@ int decomp_shift(struct decomp *dc, const double *x, int n, double range, struct
         for (int d = 0; d < 3; d++) {
             b.lo[d] = dc->blo[d];
             b.hi[d] = dc->bhi[d];
+            b.tilt[d] = dc->tilt[d];
         }
         decomp_set_box(dc, &b);
     }
@@ -204,7 +253,7 @@ int decomp_owner(const struct decomp *dc, const double x[3])
 {
     int c[3];
     for (int d = 0; d < 3; d++)
-        c[d] = decomp_coord(dc, d, x[d]);
+        c[d] = decomp_coord_at(dc, d, x);
     /* MPI_Cart_create without reordering: row-major, the last axis fastest */
     return (c[0] * dc->grid[1] + c[1]) * dc->grid[2] + c[2];
 }
@@ -212,7 +261,7 @@ int decomp_owner(const struct decomp *dc, const double x[3])
 int decomp_owns(const struct decomp *dc, const double x[3])
 {
     for (int d = 0; d < 3; d++)
-        if (decomp_coord(dc, d, x[d]) != dc->coords[d])
+        if (decomp_coord_at(dc, d, x) != dc->coords[d])
             return 0;
     return 1;
 }

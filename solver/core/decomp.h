@@ -1,5 +1,5 @@
 /*
- * decomp: the brick decomposition of an orthogonal box over MPI ranks.
+ * decomp: the brick decomposition of the box over MPI ranks.
  *
  * The box is cut into grid[0] x grid[1] x grid[2] equal bricks, one per
  * rank (the Cartesian grid of core/parallel.h).  A particle belongs to the
@@ -8,6 +8,18 @@
  * owner.  The halo exchange (halo.h) needs each brick at least as wide as
  * the interaction range (cutoff + skin) along every decomposed or periodic
  * axis, so that one exchange per face reaches every ghost.
+ *
+ * A tilted box (core/box.h: LAMMPS' restricted triclinic cell, periodic
+ * along all three axes) is cut as LAMMPS cuts it, in fractional ("lamda")
+ * coordinates: brick c along axis d holds the positions whose fractional
+ * coordinate s_d falls in its share of [0, 1), so the bricks are
+ * parallelepipeds with the cell's faces.  The decomposition keeps its
+ * bricks as intervals of the "cut coordinate" u_d = lo_d + s_d L_d
+ * (decomp_cut_coord; the position itself in an orthogonal box), and a
+ * length across the faces of edge d -- the interaction range, a brick's
+ * thickness -- is r L_d / h_d in u_d, h_d the cell's height across those
+ * faces (box_height), so a particle within r of a brick's faces is within
+ * r L_d / h_d of its interval (decomp_range_along).
  */
 #ifndef CASCADE_DECOMP_H
 #define CASCADE_DECOMP_H
@@ -30,6 +42,10 @@ struct decomp {
      * fractions of the box, grid[d] + 1 of them from 0 to 1; NULL: equal
      * bricks */
     double *frac[3];
+    /* a tilted box (decomp_set_box): its tilt, xy xz yz, and its heights
+     * across the faces of each edge; tilted 0: an orthogonal box */
+    int tilted;
+    double tilt[3], height[3];
 };
 
 /* The grid for nranks bricks of the box: of the factorisations px py pz =
@@ -60,14 +76,27 @@ void decomp_free(struct decomp *dc);
  * box when it shrink-wraps. */
 int decomp_shift(struct decomp *dc, const double *x, int n, double range, struct err *e);
 
-/* The thinnest brick along axis d (Å). */
+/* The thinnest brick along axis d, in cut coordinates (Å). */
 double decomp_min_width(const struct decomp *dc, int d);
 
 /* The box changed (free axes shrink-wrap): recompute the bricks. */
 void decomp_set_box(struct decomp *dc, const struct box *b);
 
-/* Brick coordinate along axis d of a position. */
+/* Brick coordinate along axis d of the cut coordinate x (decomp_cut_coord;
+ * in an orthogonal box the position's coordinate d). */
 int decomp_coord(const struct decomp *dc, int d, double x);
+
+/* The cut coordinate u_d of position x: x[d] in an orthogonal box, lo_d +
+ * s_d L_d in a tilted one (s the fractional coordinates). */
+double decomp_cut_coord(const struct decomp *dc, int d, const double x[3]);
+
+/* Brick coordinate along axis d of position x. */
+int decomp_coord_at(const struct decomp *dc, int d, const double x[3]);
+
+/* A distance across the faces of edge d (the range of the halo exchange,
+ * a brick's least thickness) in cut coordinates: r in an orthogonal box,
+ * r L_d / h_d in a tilted one. */
+double decomp_range_along(const struct decomp *dc, int d, double r);
 
 /* 1 when x lies in this rank's brick. */
 int decomp_owns(const struct decomp *dc, const double x[3]);

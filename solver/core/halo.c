@@ -259,7 +259,7 @@ int halo_migrate(struct halo *h, struct particles *p, struct err *e)
                 rc = err_nomem(e, "migration");
             int nup = 0, ndown = 0;
             for (int i = 0; !rc && i < p->n_owned; i++) {
-                int c = decomp_coord(dc, d, p->x[3 * i + d]);
+                int c = decomp_coord_at(dc, d, p->x + 3 * i);
                 dir[i] = 0;
                 if (c != me) {
                     int up = dc->periodic[d] ? (c - me + g) % g <= g / 2 : c > me;
@@ -355,7 +355,7 @@ static int swap_ghosts(struct halo *h, struct particles *p, struct halo_swap *sw
         long kout = nout - done_out < HALO_CHUNK ? nout - done_out : HALO_CHUNK;
         long kin = nin - done_in < HALO_CHUNK ? nin - done_in : HALO_CHUNK;
         for (long k = 0; k < kout; k++)
-            halo_pack_ghost(p, sw->send[done_out + k], d, sw->shift,
+            halo_pack_ghost(p, sw->send[done_out + k], d, sw->shift, sw->tilted ? sw->vec : NULL,
                             (unsigned char *)h->sbuf + rec * (size_t)k);
         /* a side that is done takes no part (MPI_PROC_NULL): between two
          * ranks as many pieces travel as the sender has, however many
@@ -396,17 +396,23 @@ int halo_build(struct halo *h, struct particles *p, double range, struct err *e)
      * the range since the grid was chosen, and one swap would miss ghosts */
     for (int d = 0; d < 3; d++)
         if ((dc->grid[d] > 1 || dc->periodic[d]) &&
-            !(decomp_min_width(dc, d) >= range))   /* the same on every rank */
+            !(decomp_min_width(dc, d) >= decomp_range_along(dc, d, range)))   /* the same on every rank */
             return err_set(e, ERR_RUNTIME,
                            "the bricks along %c are %g Å thick, thinner than the interaction "
                            "range %g Å (the box shrank): run on fewer ranks along %c",
-                           "xyz"[d], decomp_min_width(dc, d), range, "xyz"[d]);
+                           "xyz"[d],
+                           decomp_min_width(dc, d) * range / decomp_range_along(dc, d, range),
+                           range, "xyz"[d]);
     long widest = 1;   /* the most particles one swap sends or receives */
     for (int d = 0; d < 3 && !rc; d++) {
         if (dc->grid[d] == 1 && !dc->periodic[d])
             continue;
         int nbefore = p->n_owned + p->n_ghost;
         double L = dc->bhi[d] - dc->blo[d];
+        double reach = decomp_range_along(dc, d, range);   /* range in an orthogonal box */
+        /* a tilted cell's edge d: (lx 0 0), (xy ly 0), (xz yz lz) */
+        double edge[3] = {d == 0 ? L : d == 1 ? dc->tilt[0] : dc->tilt[1],
+                          d == 1 ? L : d == 2 ? dc->tilt[2] : 0.0, d == 2 ? L : 0.0};
         for (int dir = 0; dir < 2 && !rc; dir++) {
             if (h->half_shell && d == 2 && dir == 1)
                 continue;   /* the ghosts below the lower z face: half_shell in halo.h */
@@ -419,11 +425,14 @@ int halo_build(struct halo *h, struct particles *p, double range, struct err *e)
                 sw->shift = L;
             if (dc->periodic[d] && dir == 1 && dc->coords[d] == dc->grid[d] - 1)
                 sw->shift = -L;
+            sw->tilted = dc->tilted && sw->shift != 0;
+            for (int c = 0; c < 3; c++)
+                sw->vec[c] = sw->shift > 0 ? edge[c] : -edge[c];
             sw->nsend = 0;
             if (sw->dest >= 0)
                 for (int i = 0; i < nbefore && !rc; i++) {
-                    double x = p->x[3 * i + d];
-                    if (dir == 0 ? x < dc->lo[d] + range : x >= dc->hi[d] - range)
+                    double x = dc->tilted ? decomp_cut_coord(dc, d, p->x + 3 * i) : p->x[3 * i + d];
+                    if (dir == 0 ? x < dc->lo[d] + reach : x >= dc->hi[d] - reach)
                         rc = push_send(sw, i, e);
                 }
             rc = collective_rc(h, rc, e);
@@ -458,7 +467,10 @@ static int forward(struct halo *h, double *arr, int ncomp, int with_shift, struc
         double *sb = h->sbuf;
         for (int k = 0; k < sw->nsend; k++) {
             memcpy(sb + (size_t)ncomp * k, arr + (size_t)ncomp * sw->send[k], row);
-            if (with_shift)
+            if (with_shift && sw->tilted)
+                for (int c = 0; c < 3; c++)
+                    sb[(size_t)ncomp * k + c] += sw->vec[c];
+            else if (with_shift)
                 sb[(size_t)ncomp * k + sw->dim] += sw->shift;
         }
         int rc = parallel_sendrecv_known(h->dc.par, sw->dest, sb, row * (size_t)sw->nsend, sw->src,

@@ -41,6 +41,13 @@
  * Sutton-Chen); full lists (three-body terms, DPD's sweep) need the whole
  * shell.
  *
+ * A tilted box (decomp.h) is cut in fractional coordinates: the swaps
+ * select by the cut coordinate and the range across the faces
+ * (decomp_cut_coord, decomp_range_along), and a periodic face shifts by
+ * the cell's edge vector, which moves up to all three coordinates -- the
+ * ghosts of LAMMPS' triclinic exchange.  The half shell holds: the lower
+ * z faces are planes of constant z in the restricted triclinic cell.
+ *
  * ghost.c dispatches to these when a particle set has a halo
  * (particles.halo), so the force kernels do not change.
  */
@@ -57,6 +64,8 @@
 struct halo_swap {
     int dim, dest, src;     /* send to dest, receive from src (-1: none) */
     double shift;           /* added to coordinate dim of what is sent (periodic face) */
+    int tilted;             /* a tilted box's face: vec, not shift, is added */
+    double vec[3];          /* the edge vector dim of a tilted box, signed as shift */
     int *send;              /* local indices sent */
     int nsend, cap_send;
     int first, nrecv;       /* ghosts received: [first, first + nrecv) */

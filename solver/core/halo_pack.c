@@ -89,10 +89,14 @@ size_t halo_ghost_record_size(const struct particles *p)
     return n;
 }
 
-void halo_pack_ghost(const struct particles *p, int i, int dim, double shift, unsigned char *buf)
+void halo_pack_ghost(const struct particles *p, int i, int dim, double shift, const double *vec,
+                     unsigned char *buf)
 {
     double x[3] = {p->x[3 * i], p->x[3 * i + 1], p->x[3 * i + 2]};
-    if (dim >= 0)
+    if (vec)
+        for (int c = 0; c < 3; c++)
+            x[c] += vec[c];
+    else if (dim >= 0)
         x[dim] += shift;
     PUT(x, sizeof x);
     PUT(p->v + 3 * (size_t)i, 3 * sizeof(double));

@@ -25,7 +25,11 @@ void halo_unpack(struct particles *p, int i, const unsigned char *buf);
  * least 6 doubles (the widest forward/reverse row, the virial) and at
  * least every field's row. */
 size_t halo_ghost_record_size(const struct particles *p);
-void halo_pack_ghost(const struct particles *p, int i, int dim, double shift, unsigned char *buf);
+/* x[dim] gets shift added, as halo_pack; with vec (a tilted box's edge
+ * vector, its sign shift's) x gets vec added instead.  The copy's box
+ * shift counts one edge dim more or less by the sign of shift. */
+void halo_pack_ghost(const struct particles *p, int i, int dim, double shift, const double *vec,
+                     unsigned char *buf);
 /* The unpacked ghost's force, energy and virial are zero. */
 void halo_unpack_ghost(struct particles *p, int i, const unsigned char *buf);
 

@@ -15,20 +15,7 @@ int md_bricks_plan(const struct parallel *par, const struct parallel_settings *p
     /* one rank: bricks only when asked for (auto keeps the serial path) */
     if (ps->decomposition == DECOMP_AUTO && par->size == 1)
         return 0;
-    /* the halo exchange cuts the box along x, y and z and ships images by
-     * box lengths: it has no tilted cell (core/box.h) */
-    if (box_tilted(b)) {
-        if (ps->decomposition == DECOMP_BRICKS || ps->grid_given)
-            return cfg_error_at(c, ps->grid_given ? "parallel.grid" : "parallel.decomposition",
-                                "the box is tilted (xy xz yz = %g %g %g): the brick "
-                                "decomposition has orthogonal boxes only; use decomposition: "
-                                "replicated (or auto)", b->tilt[0], b->tilt[1], b->tilt[2]);
-        if (par->rank == 0)
-            fprintf(stderr, "note: the box is tilted (xy xz yz = %g %g %g): replicated data "
-                            "(the brick decomposition has orthogonal boxes only)\n",
-                    b->tilt[0], b->tilt[1], b->tilt[2]);
-        return 0;
-    }
+    /* a tilted box is cut in its fractional coordinates (core/decomp.h) */
     int grid[3] = {1, 1, 1};
     char why[512];
     if (ps->grid_given) {
@@ -40,17 +27,24 @@ int md_bricks_plan(const struct parallel *par, const struct parallel_settings *p
         for (int d = 0; d < 3; d++)
             grid[d] = ps->grid[d];
     } else if (decomp_choose_grid(par->size, b, range, grid) != 0) {
+        /* a tilted box's bricks are as thick as its heights across its faces */
+        char shape[160];
+        if (box_tilted(b))
+            snprintf(shape, sizeof shape, "tilted box, %g x %g x %g Å high across its faces,",
+                     box_height(b, 0), box_height(b, 1), box_height(b, 2));
+        else
+            snprintf(shape, sizeof shape, "%g x %g x %g Å box", box_length(b, 0),
+                     box_length(b, 1), box_length(b, 2));
         if (ps->decomposition == DECOMP_BRICKS)
             return cfg_error_at(c, "parallel.decomposition",
-                                "no grid of %d bricks of the %g x %g x %g Å box is at least "
-                                "the interaction range %g Å (cutoff + skin) wide; use fewer "
-                                "ranks or decomposition: replicated",
-                                par->size, box_length(b, 0), box_length(b, 1), box_length(b, 2),
-                                range);
+                                "no grid of %d bricks of the %s is at least the interaction "
+                                "range %g Å (cutoff + skin) wide; use fewer ranks or "
+                                "decomposition: replicated",
+                                par->size, shape, range);
         if (par->rank == 0)
-            fprintf(stderr, "note: the %g x %g x %g Å box has no grid of %d bricks at least "
-                            "%g Å (cutoff + skin) wide: replicated data\n",
-                    box_length(b, 0), box_length(b, 1), box_length(b, 2), par->size, range);
+            fprintf(stderr, "note: the %s has no grid of %d bricks at least %g Å (cutoff + "
+                            "skin) wide: replicated data\n",
+                    shape, par->size, range);
         return 0;
     }
     struct halo *h = malloc(sizeof *h);
