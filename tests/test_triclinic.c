@@ -528,6 +528,30 @@ Test(triclinic, md_case_on_bricks_matches_serial, .timeout = 600)
                                ", balance: shift, balance_every: 10, balance_threshold: 1.0");
 }
 
+static void compare_tilted(const char *ref, const char *dir, const char *tag)
+{
+    static const char *const cols[] = {"pe_eV", "etotal_eV", "temp_K", "press_GPa", NULL};
+    thb_compare_series(ref, dir, cols, 1e-10, tag);
+}
+
+/* A checkpoint of the tilted cell written on 2 ranks (bricks: each rank
+ * writes its own atoms, the tilt with the box) restarts on 1, 2 and 4
+ * ranks onto the serial run, 2 to 2 bit for bit (tests/helpers/th_bricks.h,
+ * thb_checkpoint_moves). */
+Test(triclinic, checkpoint_on_bricks_moves_between_rank_counts, .timeout = 600)
+{
+    const char *data = write_tilted_crystal("ck.data", 0, 3.615, 4, "Cu");
+    char yaml[2048];
+    snprintf(yaml, sizeof yaml,
+             "system: {read_data: %s, elements: [Cu]}\n"
+             "potential: {style: eam/alloy, file: Cu_mishin1.eam.alloy}\n"
+             "md: {steps: 100, timestep: 0.001}\n"
+             "output: {thermo_every: 10, snapshot_every: 100, checkpoint_every: 50}\n",
+             data);
+    const char *path = th_write_temp(7, "ck.yaml", yaml);
+    thb_checkpoint_moves(path, "tilted", compare_tilted, "the tilted cell");
+}
+
 Test(triclinic, sw_silicon_on_bricks_matches_serial, .timeout = 600)
 {
     const char *data = write_tilted_crystal("sw.data", 1, 5.431, 2, "Si");
