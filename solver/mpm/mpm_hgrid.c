@@ -154,26 +154,131 @@ static long key_find(const int64_t *keys, long n, int64_t k)
     return -1;
 }
 
-static int node_set(struct mpm_hgrid *hg, int64_t **keys_out, long *n_out, struct err *e)
+/* Sorted unique keys of keys[0..n), in place; returns their count. */
+static long sort_unique(int64_t *keys, long n)
 {
-    int64_t *keys = malloc((size_t)hg->ncell * 8 * sizeof *keys);
-    if (!keys)
-        return err_nomem(e, "hierarchical grid nodes");
-    long n = 0;
-    for (long c = 0; c < hg->ncell; c++) {
-        const struct mpm_hcell *cl = &hg->cell[c];
-        for (int q = 0; q < 8; q++) {
-            long ijk[3];
-            for (int d = 0; d < 3; d++)
-                ijk[d] = cl->lo[d] + (((q >> d) & 1) ? (1L << cl->lg[d]) : 0);
-            keys[n++] = node_key(hg, ijk[0], ijk[1], ijk[2]);
-        }
-    }
     qsort(keys, (size_t)n, sizeof *keys, cmp_i64);
     long u = 0;
     for (long k = 0; k < n; k++)
         if (u == 0 || keys[k] != keys[u - 1])
             keys[u++] = keys[k];
+    return u;
+}
+
+/* A heap of runs by their next key, for the merge of node_set. */
+struct run_heap {
+    long *run;                 /* run indices, heap-ordered by key */
+    long n;
+    const int64_t *keys;
+    long *at, *end;            /* per run: next position, one past its last */
+};
+
+static void run_heap_down(struct run_heap *h, long i)
+{
+    for (;;) {
+        long l = 2 * i + 1, r = l + 1, m = i;
+        if (l < h->n && h->keys[h->at[h->run[l]]] < h->keys[h->at[h->run[m]]])
+            m = l;
+        if (r < h->n && h->keys[h->at[h->run[r]]] < h->keys[h->at[h->run[m]]])
+            m = r;
+        if (m == i)
+            return;
+        long t = h->run[i];
+        h->run[i] = h->run[m];
+        h->run[m] = t;
+        i = m;
+    }
+}
+
+/* The sorted unique keys of every cell corner.  The corners are made a
+ * chunk of cells at a time (cells in tree order lie close together, so a
+ * chunk's corners are mostly shared among its cells) and each chunk's made
+ * unique, then the chunks' runs merged: the transient is the runs (a
+ * little more than the nodes) and one chunk, not eight keys a cell. */
+enum { NODE_SET_CHUNK = 32768 };   /* cells a chunk: 2 MB of corner keys */
+
+static int node_set(struct mpm_hgrid *hg, int64_t **keys_out, long *n_out, struct err *e)
+{
+    *keys_out = NULL;
+    *n_out = 0;
+    long nchunk = (hg->ncell + NODE_SET_CHUNK - 1) / NODE_SET_CHUNK;
+    int64_t *chunk = malloc((size_t)NODE_SET_CHUNK * 8 * sizeof *chunk);
+    long *bounds = malloc((size_t)(nchunk + 1) * sizeof *bounds);
+    int64_t *runs = NULL;
+    long nruns = 0, cap = 0;
+    int rc = chunk && bounds ? 0 : err_nomem(e, "hierarchical grid nodes");
+    for (long ch = 0; ch < nchunk && !rc; ch++) {
+        long c0 = ch * NODE_SET_CHUNK, c1 = c0 + NODE_SET_CHUNK < hg->ncell ? c0 + NODE_SET_CHUNK
+                                                                             : hg->ncell;
+        long n = 0;
+        for (long c = c0; c < c1; c++) {
+            const struct mpm_hcell *cl = &hg->cell[c];
+            for (int q = 0; q < 8; q++) {
+                long ijk[3];
+                for (int d = 0; d < 3; d++)
+                    ijk[d] = cl->lo[d] + (((q >> d) & 1) ? (1L << cl->lg[d]) : 0);
+                chunk[n++] = node_key(hg, ijk[0], ijk[1], ijk[2]);
+            }
+        }
+        n = sort_unique(chunk, n);
+        if (nruns + n > cap) {
+            long nc = cap ? 2 * cap : 8 * NODE_SET_CHUNK;
+            while (nc < nruns + n)
+                nc *= 2;
+            int64_t *r = realloc(runs, (size_t)nc * sizeof *r);
+            if (!r) {
+                rc = err_nomem(e, "hierarchical grid nodes");
+                break;
+            }
+            runs = r;
+            cap = nc;
+        }
+        bounds[ch] = nruns;
+        memcpy(runs + nruns, chunk, (size_t)n * sizeof *chunk);
+        nruns += n;
+    }
+    free(chunk);
+    int64_t *keys = NULL;
+    long *heap = NULL, *at = NULL;
+    if (!rc) {
+        bounds[nchunk] = nruns;
+        keys = malloc((size_t)(nruns > 0 ? nruns : 1) * sizeof *keys);
+        heap = malloc((size_t)(nchunk > 0 ? nchunk : 1) * sizeof *heap);
+        at = malloc((size_t)(nchunk > 0 ? nchunk : 1) * sizeof *at);
+        if (!keys || !heap || !at)
+            rc = err_nomem(e, "hierarchical grid nodes");
+    }
+    long u = 0;
+    if (!rc) {
+        struct run_heap h = {heap, 0, runs, at, bounds + 1};
+        for (long ch = 0; ch < nchunk; ch++) {
+            at[ch] = bounds[ch];
+            if (at[ch] < bounds[ch + 1])
+                heap[h.n++] = ch;
+        }
+        for (long i = h.n / 2 - 1; i >= 0; i--)
+            run_heap_down(&h, i);
+        while (h.n > 0) {
+            long r = heap[0];
+            int64_t k = runs[at[r]++];
+            if (u == 0 || keys[u - 1] != k)
+                keys[u++] = k;
+            if (at[r] == h.end[r])
+                heap[0] = heap[--h.n];
+            run_heap_down(&h, 0);
+        }
+        int64_t *fit = realloc(keys, (size_t)(u > 0 ? u : 1) * sizeof *fit);
+        if (fit)
+            keys = fit;
+    }
+    free(runs);
+    free(bounds);
+    free(heap);
+    free(at);
+    if (rc) {
+        free(keys);
+        return rc;
+    }
     *keys_out = keys;
     *n_out = u;
     return 0;
