@@ -106,23 +106,27 @@ void decomp_free(struct decomp *dc)
     }
 }
 
+void decomp_box(const struct decomp *dc, struct box *b)
+{
+    memset(b, 0, sizeof *b);
+    for (int d = 0; d < 3; d++) {
+        b->lo[d] = dc->blo[d];
+        b->hi[d] = dc->bhi[d];
+        b->tilt[d] = dc->tilt[d];
+    }
+}
+
 /* The fraction of the box along axis d where x lies: (x_d - lo_d) / L_d
- * in an orthogonal box, the fractional coordinate s_d in a tilted one
- * (box_to_fractional's arithmetic). */
+ * in an orthogonal box, the fractional coordinate s_d in a tilted one. */
 static double box_fraction(const struct decomp *dc, int d, const double x[3])
 {
-    double L[3];
-    for (int k = 0; k < 3; k++)
-        L[k] = dc->bhi[k] - dc->blo[k];
     if (!dc->tilted)
-        return (x[d] - dc->blo[d]) / L[d];
-    double s2 = (x[2] - dc->blo[2]) / L[2];
-    if (d == 2)
-        return s2;
-    double s1 = (x[1] - dc->blo[1] - dc->tilt[2] * s2) / L[1];
-    if (d == 1)
-        return s1;
-    return (x[0] - dc->blo[0] - dc->tilt[0] * s1 - dc->tilt[1] * s2) / L[0];
+        return (x[d] - dc->blo[d]) / (dc->bhi[d] - dc->blo[d]);
+    struct box b;
+    decomp_box(dc, &b);
+    double s[3];
+    box_to_fractional(&b, x, s);
+    return s[d];
 }
 
 double decomp_cut_coord(const struct decomp *dc, int d, const double x[3])
@@ -210,13 +214,8 @@ int decomp_shift(struct decomp *dc, const double *x, int n, double range, struct
     }
     free(hist);
     if (!rc) {
-        struct box b = {0};
-        memset(&b, 0, sizeof b);
-        for (int d = 0; d < 3; d++) {
-            b.lo[d] = dc->blo[d];
-            b.hi[d] = dc->bhi[d];
-            b.tilt[d] = dc->tilt[d];
-        }
+        struct box b;
+        decomp_box(dc, &b);
         decomp_set_box(dc, &b);
     }
     return rc;

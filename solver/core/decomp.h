@@ -79,6 +79,10 @@ int decomp_shift(struct decomp *dc, const double *x, int n, double range, struct
 /* The thinnest brick along axis d, in cut coordinates (Å). */
 double decomp_min_width(const struct decomp *dc, int d);
 
+/* The box the bricks cut (bounds and tilt; the boundaries left periodic,
+ * as a tilted box's are). */
+void decomp_box(const struct decomp *dc, struct box *b);
+
 /* The box changed (free axes shrink-wrap): recompute the bricks. */
 void decomp_set_box(struct decomp *dc, const struct box *b);
 

@@ -410,9 +410,11 @@ int halo_build(struct halo *h, struct particles *p, double range, struct err *e)
         int nbefore = p->n_owned + p->n_ghost;
         double L = dc->bhi[d] - dc->blo[d];
         double reach = decomp_range_along(dc, d, range);   /* range in an orthogonal box */
-        /* a tilted cell's edge d: (lx 0 0), (xy ly 0), (xz yz lz) */
-        double edge[3] = {d == 0 ? L : d == 1 ? dc->tilt[0] : dc->tilt[1],
-                          d == 1 ? L : d == 2 ? dc->tilt[2] : 0.0, d == 2 ? L : 0.0};
+        double edge[3];   /* a tilted cell's edge d: (lx 0 0), (xy ly 0), (xz yz lz) */
+        struct box cell;
+        decomp_box(dc, &cell);
+        const int unit[3] = {d == 0, d == 1, d == 2};
+        box_image_shift(&cell, unit, edge);
         for (int dir = 0; dir < 2 && !rc; dir++) {
             if (h->half_shell && d == 2 && dir == 1)
                 continue;   /* the ghosts below the lower z face: half_shell in halo.h */
